@@ -1,0 +1,72 @@
+//! Errors of ops and of the log.
+
+use super::ObjectId;
+use crate::math::TransformError;
+use crate::solid::SolidError;
+
+/// Why an op could not be applied. The document is unchanged.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum OpError {
+    /// The op names an object that does not exist: it was deleted, or
+    /// never created (ids start at 1 and are never reused).
+    #[error("object {0} does not exist (deleted, or never created)")]
+    BadId(ObjectId),
+    /// The op needs another kind of object.
+    #[error("object {id} is a {found}, but `{op}` needs a {expected}")]
+    WrongKind {
+        /// The object.
+        id: ObjectId,
+        /// The op's name.
+        op: &'static str,
+        /// The kind the op needs.
+        expected: &'static str,
+        /// The kind the object is.
+        found: &'static str,
+    },
+    /// A non-uniform scale applied on top of a rotation would shear the
+    /// object, which a scale-rotate-translate placement cannot express.
+    #[error("a non-uniform scale {scale:?} on top of a rotated placement would shear; scale before rotating, or edit the object's sizes")]
+    ShearingScale {
+        /// The scale asked for.
+        scale: [f64; 3],
+    },
+    /// A transform is non-finite, singular or has a zero rotation.
+    #[error(transparent)]
+    Transform(#[from] TransformError),
+    /// A solid's parameters are invalid.
+    #[error(transparent)]
+    Solid(#[from] SolidError),
+}
+
+/// Why the log could not do what was asked. The log and its document are
+/// unchanged.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum LogError {
+    /// Undo at the start of history.
+    #[error("nothing to undo")]
+    NothingToUndo,
+    /// Redo at the end of history.
+    #[error("nothing to redo")]
+    NothingToRedo,
+    /// The op failed; see the inner error.
+    #[error(transparent)]
+    Op(#[from] OpError),
+    /// Replaying recorded op `index` failed. Ops are deterministic, so this
+    /// means the recorded history is not one this version can reproduce
+    /// (a hand-edited or corrupted log).
+    #[error("replaying op {index} of the history failed: {error}")]
+    Replay {
+        /// 0-based index of the op in the log.
+        index: usize,
+        /// What went wrong.
+        error: OpError,
+    },
+    /// A cursor past the end of the recorded ops.
+    #[error("cursor {cursor} is past the {len} recorded ops")]
+    BadCursor {
+        /// The cursor asked for.
+        cursor: usize,
+        /// The number of ops.
+        len: usize,
+    },
+}

@@ -1,0 +1,278 @@
+//! [`OpLog`]: history of ops with a cursor, undo, redo, replay and
+//! checkpoints. See the module doc of [`crate::doc`] for the choices.
+
+use std::time::{Duration, Instant};
+
+use super::{Document, LogError, Op, OpOutcome};
+
+/// When the log takes a checkpoint (a snapshot of the document). Only
+/// speed depends on this, never the document's content.
+#[derive(Clone, Copy, Debug)]
+pub struct CheckpointPolicy {
+    /// Take a checkpoint at least every this many ops.
+    pub every_ops: usize,
+    /// Take a checkpoint once the ops since the last one took this long to
+    /// apply, so undo never replays more than about this much work.
+    pub every_cost: Duration,
+}
+
+impl Default for CheckpointPolicy {
+    fn default() -> Self {
+        Self {
+            every_ops: 32,
+            every_cost: Duration::from_millis(8),
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Checkpoint {
+    /// The document after the first `at` ops.
+    at: usize,
+    doc: Document,
+}
+
+/// The history of a document: recorded ops, a cursor (how many of them are
+/// applied), the current document and checkpoints.
+#[derive(Clone, Debug)]
+pub struct OpLog {
+    ops: Vec<Op>,
+    cursor: usize,
+    doc: Document,
+    checkpoints: Vec<Checkpoint>,
+    ops_since: usize,
+    cost_since: Duration,
+    policy: CheckpointPolicy,
+}
+
+impl Default for OpLog {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl OpLog {
+    /// An empty history over an empty document.
+    pub fn new() -> Self {
+        Self::with_policy(CheckpointPolicy::default())
+    }
+
+    /// An empty history with a given checkpoint policy.
+    pub fn with_policy(policy: CheckpointPolicy) -> Self {
+        Self {
+            ops: Vec::new(),
+            cursor: 0,
+            doc: Document::new(),
+            checkpoints: vec![Checkpoint {
+                at: 0,
+                doc: Document::new(),
+            }],
+            ops_since: 0,
+            cost_since: Duration::ZERO,
+            policy,
+        }
+    }
+
+    /// Replays `ops` from an empty document and leaves the cursor at
+    /// `cursor` (the ops after it stay available to redo).
+    pub fn replay(ops: Vec<Op>, cursor: usize) -> Result<Self, LogError> {
+        if cursor > ops.len() {
+            return Err(LogError::BadCursor {
+                cursor,
+                len: ops.len(),
+            });
+        }
+        let mut log = Self::new();
+        log.ops = ops;
+        log.seek(cursor)?;
+        Ok(log)
+    }
+
+    /// Rebuilds a log from its ops, cursor and the document at the cursor
+    /// (as a saved file stores them), without replaying: reopening costs
+    /// what the document costs, not what the history does. The first undo
+    /// then replays from the start once and leaves checkpoints behind, so
+    /// later undos are bounded again.
+    pub fn from_snapshot(ops: Vec<Op>, cursor: usize, doc: Document) -> Result<Self, LogError> {
+        if cursor > ops.len() {
+            return Err(LogError::BadCursor {
+                cursor,
+                len: ops.len(),
+            });
+        }
+        let mut log = Self::new();
+        log.ops = ops;
+        log.cursor = cursor;
+        if cursor > 0 {
+            log.checkpoints.push(Checkpoint {
+                at: cursor,
+                doc: doc.clone(),
+            });
+        }
+        log.doc = doc;
+        Ok(log)
+    }
+
+    /// The document at the cursor.
+    pub fn document(&self) -> &Document {
+        &self.doc
+    }
+
+    /// Every recorded op, including the redo tail past the cursor.
+    pub fn ops(&self) -> &[Op] {
+        &self.ops
+    }
+
+    /// How many ops are applied.
+    pub fn cursor(&self) -> usize {
+        self.cursor
+    }
+
+    /// Number of recorded ops.
+    pub fn len(&self) -> usize {
+        self.ops.len()
+    }
+
+    /// True when no op was recorded.
+    pub fn is_empty(&self) -> bool {
+        self.ops.is_empty()
+    }
+
+    /// True when there is an op to undo.
+    pub fn can_undo(&self) -> bool {
+        self.cursor > 0
+    }
+
+    /// True when there is an op to redo.
+    pub fn can_redo(&self) -> bool {
+        self.cursor < self.ops.len()
+    }
+
+    /// Number of checkpoints held (for tests and diagnostics).
+    pub fn checkpoint_count(&self) -> usize {
+        self.checkpoints.len()
+    }
+
+    /// Applies `op` at the cursor. On success the redo tail is dropped and
+    /// `op` is recorded; on error nothing changes.
+    pub fn apply(&mut self, op: Op) -> Result<OpOutcome, LogError> {
+        let mut next = self.doc.clone();
+        let start = Instant::now();
+        let outcome = op.apply(&mut next)?;
+        let cost = start.elapsed();
+        self.ops.truncate(self.cursor);
+        self.checkpoints.retain(|c| c.at <= self.cursor);
+        self.ops.push(op);
+        self.cursor += 1;
+        self.doc = next;
+        self.note_progress(cost);
+        Ok(outcome)
+    }
+
+    /// Steps the cursor back one op.
+    pub fn undo(&mut self) -> Result<(), LogError> {
+        if self.cursor == 0 {
+            return Err(LogError::NothingToUndo);
+        }
+        self.seek(self.cursor - 1)
+    }
+
+    /// Re-applies the op after the cursor.
+    pub fn redo(&mut self) -> Result<(), LogError> {
+        if self.cursor == self.ops.len() {
+            return Err(LogError::NothingToRedo);
+        }
+        self.seek(self.cursor + 1)
+    }
+
+    /// Moves the cursor to `target` (0..=len), undoing or redoing as many
+    /// ops as needed. On error nothing changes.
+    pub fn seek(&mut self, target: usize) -> Result<(), LogError> {
+        if target > self.ops.len() {
+            return Err(LogError::BadCursor {
+                cursor: target,
+                len: self.ops.len(),
+            });
+        }
+        if target == self.cursor {
+            return Ok(());
+        }
+        // Start from the latest state at or before the target that we hold:
+        // the current document when moving forward, else a checkpoint.
+        let cp = self
+            .checkpoints
+            .iter()
+            .rposition(|c| c.at <= target)
+            .expect("checkpoint 0 always exists");
+        let (mut at, mut doc) = if target > self.cursor && self.cursor >= self.checkpoints[cp].at {
+            (self.cursor, self.doc.clone())
+        } else {
+            (self.checkpoints[cp].at, self.checkpoints[cp].doc.clone())
+        };
+        let mut new_checkpoints = Vec::new();
+        let mut ops_since = at - self.checkpoints[cp].at.min(at);
+        let mut cost_since = Duration::ZERO;
+        while at < target {
+            let start = Instant::now();
+            self.ops[at]
+                .apply(&mut doc)
+                .map_err(|error| LogError::Replay { index: at, error })?;
+            at += 1;
+            ops_since += 1;
+            cost_since += start.elapsed();
+            if at < target && self.wants_checkpoint(ops_since, cost_since) {
+                new_checkpoints.push(Checkpoint {
+                    at,
+                    doc: doc.clone(),
+                });
+                ops_since = 0;
+                cost_since = Duration::ZERO;
+            }
+        }
+        for c in new_checkpoints {
+            self.insert_checkpoint(c);
+        }
+        self.cursor = target;
+        self.doc = doc;
+        let last = self
+            .checkpoints
+            .iter()
+            .rfind(|c| c.at <= target)
+            .map_or(0, |c| c.at);
+        self.ops_since = target - last;
+        self.cost_since = cost_since;
+        if self.wants_checkpoint(self.ops_since, self.cost_since) {
+            self.insert_checkpoint(Checkpoint {
+                at: target,
+                doc: self.doc.clone(),
+            });
+            self.ops_since = 0;
+            self.cost_since = Duration::ZERO;
+        }
+        Ok(())
+    }
+
+    fn wants_checkpoint(&self, ops: usize, cost: Duration) -> bool {
+        ops >= self.policy.every_ops || cost >= self.policy.every_cost
+    }
+
+    fn note_progress(&mut self, cost: Duration) {
+        self.ops_since += 1;
+        self.cost_since += cost;
+        if self.wants_checkpoint(self.ops_since, self.cost_since) {
+            self.insert_checkpoint(Checkpoint {
+                at: self.cursor,
+                doc: self.doc.clone(),
+            });
+            self.ops_since = 0;
+            self.cost_since = Duration::ZERO;
+        }
+    }
+
+    fn insert_checkpoint(&mut self, c: Checkpoint) {
+        match self.checkpoints.binary_search_by_key(&c.at, |x| x.at) {
+            Ok(_) => {}
+            Err(pos) => self.checkpoints.insert(pos, c),
+        }
+    }
+}

@@ -1,0 +1,66 @@
+//! Document objects: what each kind stores, and its evaluated mesh.
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use crate::math::Transform;
+use crate::mesh::TriMesh;
+use crate::solid::{tessellate, SolidShape};
+
+use super::OpError;
+
+/// An object of the document: its parameters and its evaluated mesh.
+#[derive(Clone, Debug)]
+pub struct Object {
+    /// What the object is, with every parameter.
+    pub kind: ObjectKind,
+    /// The object's mesh in model space, evaluated when the object changed.
+    /// Triangles carry the object's id as their source.
+    pub mesh: Arc<TriMesh>,
+}
+
+/// The kinds of object a document can hold.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum ObjectKind {
+    /// A parametric solid (box, sphere, ...).
+    Solid(Solid),
+}
+
+impl ObjectKind {
+    /// The kind's name, as errors and reports say it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Solid(_) => "solid",
+        }
+    }
+
+    /// Evaluates the object's mesh in model space.
+    pub fn evaluate(&self) -> Result<TriMesh, OpError> {
+        match self {
+            Self::Solid(s) => s.evaluate(),
+        }
+    }
+}
+
+/// A parametric solid placed by a transform.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Solid {
+    /// The shape and its sizes.
+    pub shape: SolidShape,
+    /// Segments around each circle.
+    pub segments: u32,
+    /// Placement in model space.
+    pub transform: Transform,
+}
+
+impl Solid {
+    /// Meshes the shape and places it.
+    pub fn evaluate(&self) -> Result<TriMesh, OpError> {
+        let affine = self.transform.to_affine()?;
+        let mut mesh = tessellate(&self.shape, self.segments)?;
+        mesh.transform(&affine);
+        Ok(mesh)
+    }
+}

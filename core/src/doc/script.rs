@@ -1,0 +1,128 @@
+//! Op scripts: JSON lines (`.jsonl`), one op per line, run in order.
+//!
+//! Besides ops, a line may be `{"op":"undo"}` or `{"op":"redo"}`. Blank
+//! lines and lines starting with `#` are skipped. A line may carry
+//! `"v": N`, the op format version it was written for; versions newer than
+//! [`OP_FORMAT_VERSION`] are refused. Errors name the 1-based line.
+
+use serde_json::Value;
+
+use super::{LogError, Op, OpLog, OP_FORMAT_VERSION, OP_NAMES};
+
+/// One command of a script.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ScriptCommand {
+    /// Apply an op.
+    Op(Op),
+    /// Undo the last op.
+    Undo,
+    /// Redo the next op.
+    Redo,
+}
+
+/// A command and the line it came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScriptLine {
+    /// 1-based line number.
+    pub line: usize,
+    /// The command.
+    pub command: ScriptCommand,
+}
+
+/// A script line that could not be parsed or run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("script line {line}: {kind}")]
+pub struct ScriptError {
+    /// 1-based line number.
+    pub line: usize,
+    /// What went wrong.
+    pub kind: ScriptErrorKind,
+}
+
+/// What went wrong on a script line.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ScriptErrorKind {
+    /// The line is not valid JSON, or a field is missing or mistyped.
+    #[error("{0}")]
+    Json(String),
+    /// The line is JSON but not an object with a string `"op"` field.
+    #[error("expected an object with a string \"op\" field, like {{\"op\":\"add_solid\",...}}")]
+    NotAnOp,
+    /// The `"op"` names no known op.
+    #[error("unknown op `{name}`; known ops: undo, redo, {}", OP_NAMES.join(", "))]
+    UnknownOp {
+        /// The name given.
+        name: String,
+    },
+    /// The line was written for a newer op format.
+    #[error(
+        "op format version {0} is newer than this build's {OP_FORMAT_VERSION}; update Shapewright"
+    )]
+    UnsupportedVersion(u64),
+    /// The op was parsed but failed when run.
+    #[error(transparent)]
+    Log(#[from] LogError),
+}
+
+/// Parses a whole script. Stops at the first bad line.
+pub fn parse_script(text: &str) -> Result<Vec<ScriptLine>, ScriptError> {
+    let mut out = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let trimmed = raw.trim();
+        if trimmed.is_empty() || trimmed.starts_with('#') {
+            continue;
+        }
+        let command = parse_line(trimmed).map_err(|kind| ScriptError { line, kind })?;
+        out.push(ScriptLine { line, command });
+    }
+    Ok(out)
+}
+
+fn parse_line(text: &str) -> Result<ScriptCommand, ScriptErrorKind> {
+    let mut value: Value =
+        serde_json::from_str(text).map_err(|e| ScriptErrorKind::Json(e.to_string()))?;
+    let obj = value.as_object_mut().ok_or(ScriptErrorKind::NotAnOp)?;
+    if let Some(v) = obj.remove("v") {
+        let v = v
+            .as_u64()
+            .ok_or_else(|| ScriptErrorKind::Json("\"v\" must be a positive integer".into()))?;
+        if v > OP_FORMAT_VERSION as u64 {
+            return Err(ScriptErrorKind::UnsupportedVersion(v));
+        }
+    }
+    let name = obj
+        .get("op")
+        .and_then(Value::as_str)
+        .ok_or(ScriptErrorKind::NotAnOp)?
+        .to_owned();
+    match name.as_str() {
+        "undo" | "redo" if obj.len() == 1 => Ok(if name == "undo" {
+            ScriptCommand::Undo
+        } else {
+            ScriptCommand::Redo
+        }),
+        "undo" | "redo" => Err(ScriptErrorKind::Json(format!("`{name}` takes no fields"))),
+        n if OP_NAMES.contains(&n) => serde_json::from_value(value)
+            .map(ScriptCommand::Op)
+            .map_err(|e| ScriptErrorKind::Json(e.to_string())),
+        _ => Err(ScriptErrorKind::UnknownOp { name }),
+    }
+}
+
+/// Runs parsed script lines on `log`, stopping at the first failure. The
+/// failing line changes nothing; earlier lines stay applied.
+pub fn run_script(log: &mut OpLog, lines: &[ScriptLine]) -> Result<(), ScriptError> {
+    for l in lines {
+        let result = match &l.command {
+            ScriptCommand::Op(op) => log.apply(op.clone()).map(|_| ()),
+            ScriptCommand::Undo => log.undo(),
+            ScriptCommand::Redo => log.redo(),
+        };
+        result.map_err(|e| ScriptError {
+            line: l.line,
+            kind: e.into(),
+        })?;
+    }
+    Ok(())
+}

@@ -1,0 +1,18 @@
+//! Math shared by every module: glam's f64 types, rigid and affine
+//! transforms with validation, and tolerances.
+//!
+//! All geometry is `f64`. glam's scalar paths are deterministic (no fused
+//! multiply-add unless asked), which keeps replays bit-identical.
+
+mod transform;
+
+pub use glam::{DAffine3, DMat3, DMat4, DQuat, DVec2, DVec3};
+pub use transform::{Transform, TransformError};
+
+/// Lengths below this (in model units, metres) are treated as zero.
+pub const LENGTH_EPS: f64 = 1e-12;
+
+/// True when every component is finite.
+pub fn all_finite(v: &[f64]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}

@@ -1,0 +1,16 @@
+//! Triangle meshes: the flat buffer every border uses, validation of the
+//! closed 2-manifold invariants, and OBJ / STL / PLY files.
+
+mod error;
+mod obj;
+mod ply;
+mod stl;
+mod trimesh;
+mod validate;
+
+pub use error::MeshIoError;
+pub use obj::{read_obj, write_obj};
+pub use ply::write_ply;
+pub use stl::{read_stl, write_stl};
+pub use trimesh::TriMesh;
+pub use validate::{validate, ValidationReport, ValidationSettings};

@@ -1,0 +1,185 @@
+//! [`TriMesh`]: positions, normals, triangles and per-triangle source ids as
+//! flat arrays (the shape of Manifold's `MeshGL`), so they cross to numpy,
+//! Vulkan and USD without conversion loops.
+
+use glam::{DAffine3, DVec3};
+use serde::{Deserialize, Serialize};
+
+/// An indexed triangle mesh.
+///
+/// `normals` is either empty or holds one unit normal per position.
+/// `tri_source` is either empty or holds, per triangle, the id of the
+/// document object it came from (so a union can be traced back to parts).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TriMesh {
+    /// Vertex positions.
+    pub positions: Vec<[f64; 3]>,
+    /// Per-vertex unit normals, or empty.
+    pub normals: Vec<[f64; 3]>,
+    /// Triangles as vertex indices, counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+    /// Per-triangle source object id, or empty.
+    pub tri_source: Vec<u32>,
+}
+
+impl TriMesh {
+    /// A mesh from positions and triangles, without normals or sources.
+    pub fn new(positions: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Self {
+        Self {
+            positions,
+            normals: Vec::new(),
+            triangles,
+            tri_source: Vec::new(),
+        }
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Position of vertex `i` as a vector.
+    pub fn position(&self, i: u32) -> DVec3 {
+        DVec3::from_array(self.positions[i as usize])
+    }
+
+    /// The three corners of triangle `t`.
+    pub fn corners(&self, t: usize) -> [DVec3; 3] {
+        let [a, b, c] = self.triangles[t];
+        [self.position(a), self.position(b), self.position(c)]
+    }
+
+    /// Signed volume enclosed (positive for outward-facing triangles).
+    ///
+    /// Accumulated relative to the bounding-box centre, so that meshes far
+    /// from the origin do not lose digits.
+    pub fn signed_volume(&self) -> f64 {
+        let origin = self
+            .bbox()
+            .map(|(lo, hi)| (lo + hi) * 0.5)
+            .unwrap_or(DVec3::ZERO);
+        let mut sum = 0.0;
+        for t in 0..self.triangles.len() {
+            let [a, b, c] = self.corners(t);
+            sum += (a - origin).dot((b - origin).cross(c - origin));
+        }
+        sum / 6.0
+    }
+
+    /// Total surface area.
+    pub fn area(&self) -> f64 {
+        (0..self.triangles.len())
+            .map(|t| {
+                let [a, b, c] = self.corners(t);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum()
+    }
+
+    /// Axis-aligned bounding box of the positions, or `None` when empty.
+    pub fn bbox(&self) -> Option<(DVec3, DVec3)> {
+        let mut it = self.positions.iter().map(|p| DVec3::from_array(*p));
+        let first = it.next()?;
+        Some(it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+    }
+
+    /// Recomputes per-vertex normals as the angle-weighted average of the
+    /// incident face normals.
+    pub fn compute_normals(&mut self) {
+        let mut acc = vec![DVec3::ZERO; self.positions.len()];
+        for tri in &self.triangles {
+            let p = tri.map(|i| DVec3::from_array(self.positions[i as usize]));
+            let n = (p[1] - p[0]).cross(p[2] - p[0]);
+            let len = n.length();
+            if len <= 0.0 {
+                continue;
+            }
+            let n = n / len;
+            for k in 0..3 {
+                let e1 = p[(k + 1) % 3] - p[k];
+                let e2 = p[(k + 2) % 3] - p[k];
+                let angle = e1.angle_between(e2);
+                if angle.is_finite() {
+                    acc[tri[k] as usize] += n * angle;
+                }
+            }
+        }
+        self.normals = acc
+            .into_iter()
+            .map(|n| n.try_normalize().unwrap_or(DVec3::Z).to_array())
+            .collect();
+    }
+
+    /// Applies an affine transform to positions (and normals, by the inverse
+    /// transpose). A transform with negative determinant flips the triangle
+    /// winding so that the mesh stays outward-facing.
+    pub fn transform(&mut self, m: &DAffine3) {
+        for p in &mut self.positions {
+            *p = m.transform_point3(DVec3::from_array(*p)).to_array();
+        }
+        let normal_m = m.matrix3.inverse().transpose();
+        for n in &mut self.normals {
+            let v = normal_m * DVec3::from_array(*n);
+            *n = v.try_normalize().unwrap_or(DVec3::Z).to_array();
+        }
+        if m.matrix3.determinant() < 0.0 {
+            for t in &mut self.triangles {
+                t.swap(1, 2);
+            }
+        }
+    }
+
+    /// Appends `other`, offsetting its indices. Normals and sources are
+    /// kept only when both meshes have them.
+    pub fn append(&mut self, other: &TriMesh) {
+        let base = self.positions.len() as u32;
+        let keep_normals = self.normals.len() == self.positions.len()
+            && other.normals.len() == other.positions.len();
+        let keep_sources = self.tri_source.len() == self.triangles.len()
+            && other.tri_source.len() == other.triangles.len();
+        self.positions.extend_from_slice(&other.positions);
+        self.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|i| i + base)));
+        if keep_normals {
+            self.normals.extend_from_slice(&other.normals);
+        } else {
+            self.normals.clear();
+        }
+        if keep_sources {
+            self.tri_source.extend_from_slice(&other.tri_source);
+        } else {
+            self.tri_source.clear();
+        }
+    }
+
+    /// Sets every triangle's source id to `id`.
+    pub fn set_source(&mut self, id: u32) {
+        self.tri_source = vec![id; self.triangles.len()];
+    }
+
+    /// Merges vertices whose positions are bit-identical, keeping the first.
+    /// Used after reading STL, whose triangles carry their own corners.
+    pub fn weld_exact(&mut self) {
+        let mut map = std::collections::HashMap::with_capacity(self.positions.len());
+        let mut remap = Vec::with_capacity(self.positions.len());
+        let mut positions = Vec::with_capacity(self.positions.len());
+        for p in &self.positions {
+            let key = p.map(f64::to_bits);
+            let idx = *map.entry(key).or_insert_with(|| {
+                positions.push(*p);
+                (positions.len() - 1) as u32
+            });
+            remap.push(idx);
+        }
+        for t in &mut self.triangles {
+            *t = t.map(|i| remap[i as usize]);
+        }
+        self.positions = positions;
+        self.normals.clear();
+    }
+}
