@@ -18,4 +18,4 @@ echo "== ruff"
 .venv/bin/ruff check scripts tests
 echo "== pytest"
 cargo build --release -q -p shapewright-xr
-.venv/bin/python -m pytest -q tests/python
+.venv/bin/python -m pytest -q tests/python tests/blender

@@ -1,12 +1,12 @@
 //! The command-line subcommands: thin wrappers that read files, call the
 //! core and write files.
 
-use std::io::BufWriter;
+use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use shapewright::doc::{parse_script, run_script, OpLog};
-use shapewright::mesh::{self, TriMesh, ValidationReport};
+use shapewright::mesh::{self, MeshFormat, TriMesh, ValidationReport};
 
 /// `apply SCRIPT --out FILE`.
 pub fn apply(script: &Path, out: &Path) -> Result<()> {
@@ -42,48 +42,37 @@ pub fn info(file: &Path) -> Result<()> {
 
 /// Writes `mesh` in the format named by `path`'s extension.
 pub fn write_mesh(mesh: &TriMesh, path: &Path) -> Result<()> {
-    let ext = extension(path);
-    if !matches!(ext.as_str(), "stl" | "obj" | "ply") {
+    let Some(format) = MeshFormat::from_path(path) else {
         bail!(
-            "cannot write {}: unknown extension `.{ext}` (use .stl, .obj or .ply)",
+            "cannot write {}: unknown extension (use .stl, .obj or .ply)",
             path.display()
         );
-    }
+    };
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let file =
         std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
     let mut w = BufWriter::new(file);
-    match ext.as_str() {
-        "stl" => mesh::write_stl(mesh, &mut w),
-        "obj" => mesh::write_obj(mesh, &mut w),
-        _ => mesh::write_ply(mesh, &mut w),
-    }
-    .with_context(|| format!("writing {}", path.display()))?;
-    Ok(())
+    format
+        .write(mesh, &mut w)
+        .and_then(|()| w.flush())
+        .with_context(|| format!("writing {}", path.display()))
 }
 
 /// Reads a mesh in the format named by `path`'s extension.
 pub fn read_mesh(path: &Path) -> Result<TriMesh> {
-    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-    let mesh = match extension(path).as_str() {
-        "stl" => mesh::read_stl(&bytes),
-        "obj" => mesh::read_obj(&bytes),
-        other => bail!(
-            "cannot read {}: unknown extension `.{other}` (use .stl or .obj)",
+    let Some(result) = MeshFormat::from_path(path)
+        .and_then(|f| std::fs::read(path).map(|bytes| f.read(&bytes)).transpose())
+    else {
+        bail!(
+            "cannot read {}: unknown extension (use .stl or .obj)",
             path.display()
-        ),
-    }
-    .with_context(|| format!("in {}", path.display()))?;
-    Ok(mesh)
-}
-
-fn extension(path: &Path) -> String {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase()
+        );
+    };
+    result
+        .with_context(|| format!("reading {}", path.display()))?
+        .with_context(|| format!("in {}", path.display()))
 }
 
 /// The report as `info` prints it.

@@ -2,6 +2,7 @@
 //! closed 2-manifold invariants, and OBJ / STL / PLY files.
 
 mod error;
+mod format;
 mod obj;
 mod ply;
 mod stl;
@@ -9,6 +10,7 @@ mod trimesh;
 mod validate;
 
 pub use error::MeshIoError;
+pub use format::MeshFormat;
 pub use obj::{read_obj, write_obj};
 pub use ply::write_ply;
 pub use stl::{read_stl, write_stl};
