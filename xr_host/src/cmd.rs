@@ -16,8 +16,9 @@ pub fn apply(script: &Path, out: &Path) -> Result<()> {
     let mut log = OpLog::new();
     run_script(&mut log, &lines).with_context(|| format!("in {}", script.display()))?;
     let doc = log.document();
-    let mut mesh = doc.combined_mesh();
-    mesh.compute_normals();
+    let mesh = doc
+        .printable_mesh()
+        .context("building the printable union")?;
     write_mesh(&mesh, out)?;
     let report = mesh::validate(&mesh, &Default::default());
     println!(

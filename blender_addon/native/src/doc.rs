@@ -159,7 +159,8 @@ impl Session {
         report_dict(py, &report)
     }
 
-    /// Writes all objects' meshes to `path` (.stl, .obj or .ply).
+    /// Writes the printable union of all objects to `path` (.stl, .obj or
+    /// .ply).
     fn export_mesh(&self, py: Python<'_>, path: std::path::PathBuf) -> PyResult<()> {
         let format = MeshFormat::from_path(&path).ok_or_else(|| {
             ParseError::new_err(format!(
@@ -168,9 +169,10 @@ impl Session {
             ))
         })?;
         let doc = self.0.document();
+        let mesh = py
+            .detach(|| doc.printable_mesh())
+            .map_err(|e| crate::error::OpRejected::new_err(e.to_string()))?;
         py.detach(|| {
-            let mut mesh = doc.combined_mesh();
-            mesh.compute_normals();
             let mut w = std::io::BufWriter::new(std::fs::File::create(&path)?);
             format.write(&mesh, &mut w)?;
             std::io::Write::flush(&mut w)

@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use super::{ContentHasher, Object, ObjectId, ObjectKind, OpError};
-use crate::mesh::TriMesh;
+use crate::mesh::{union, BooleanError, TriMesh};
 
 /// Objects by stable id, plus the id counter. Cloning is cheap: objects
 /// are shared until one is changed.
@@ -105,6 +105,14 @@ impl Document {
             out.append(&obj.mesh);
         }
         out
+    }
+
+    /// The printable model: the boolean union of every object's closed
+    /// mesh, one closed oriented 2-manifold. Triangles keep the id of the
+    /// object they came from.
+    pub fn printable_mesh(&self) -> Result<TriMesh, BooleanError> {
+        let meshes: Vec<&TriMesh> = self.objects.values().map(|o| o.mesh.as_ref()).collect();
+        union(&meshes)
     }
 
     /// A hash of the document's content: ids, the id counter, every

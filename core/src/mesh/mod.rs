@@ -1,6 +1,8 @@
 //! Triangle meshes: the flat buffer every border uses, validation of the
-//! closed 2-manifold invariants, and OBJ / STL / PLY files.
+//! closed 2-manifold invariants, booleans (the printable union), and
+//! OBJ / STL / PLY files.
 
+mod boolean;
 mod error;
 mod format;
 mod obj;
@@ -9,6 +11,7 @@ mod stl;
 mod trimesh;
 mod validate;
 
+pub use boolean::{union, BooleanError};
 pub use error::MeshIoError;
 pub use format::MeshFormat;
 pub use obj::{read_obj, write_obj};
