@@ -188,12 +188,7 @@ impl Gc {
         let surf = self.surface()?;
         let frame = self.frames()?.at(&self.spine, v)?;
         let iso = surf.iso_curve_v(v);
-        let f = DAffine3::from_cols(
-            frame.r,
-            frame.s,
-            frame.tangent,
-            frame.origin,
-        );
+        let f = DAffine3::from_cols(frame.r, frame.s, frame.tangent, frame.origin);
         let local = iso.transformed(&f.inverse());
         let mut next = self.clone();
         next.sections

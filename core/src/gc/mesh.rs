@@ -81,13 +81,14 @@ pub fn inscribed_radius(ring: &[DVec3]) -> f64 {
 
 /// Rows offset inwards by `tau`. Each vertex moves along its mitred
 /// normal (`(n0 + n1) / (1 + n0 . n1)` of its two edge normals), which
-/// keeps the wall thickness exact at sharp corners. On a straight run
-/// between two creases (`creases`: ring indices of C0 knots) the inner
-/// samples are placed proportionally between the two inner corners, so
-/// that samples next to a corner do not overshoot it. On curved runs next
-/// to a sharp corner, samples closer to it than about τ can still
-/// overshoot: that is caught (inner edge reversed) and reported as
-/// [`GcError::ThicknessTooLarge`].
+/// keeps the wall thickness exact at sharp corners. Samples next to a
+/// crease (`creases`: ring indices of C0 knots) can overshoot the inner
+/// corner; so along each run between two creases the offset samples that
+/// overshoot are dropped and the run's inner samples are re-placed along
+/// the remaining inner polyline at the outer samples' arc-length
+/// fractions (on a straight run: proportionally between the inner
+/// corners; on a circle: where they were). A remaining reversed inner
+/// edge is reported as [`GcError::ThicknessTooLarge`].
 fn offset_rows(
     rows: &[Vec<DVec3>],
     vs: &[f64],
@@ -121,33 +122,84 @@ fn offset_rows(
         for i in 0..m {
             let (n0, n1) = (en[(i + m - 1) % m], en[i]);
             let d = n0.dot(n1);
-            if d < -0.5 {
-                return Err(too_thick(0.0));
+            if d < -0.9 {
+                // Adjacent faces turn by more than ~154 degrees: the
+                // surface folds here (or has a needle-sharp crease), and
+                // no inward offset exists.
+                return Err(GcError::DegenerateSurface(vs[j]));
             }
             inner.push(ring[i] - (n0 + n1) * (tau / (1.0 + d)));
+        }
+        let naive = inner.clone();
+        // Anchors: the creases, thinned so that no two are closer than 2τ
+        // along the ring (of a close pair the smoother one is dropped).
+        let arc = |a: usize, b: usize| -> f64 {
+            let len = if b > a { b - a } else { b + m - a };
+            (0..len)
+                .map(|t| (ring[(a + t + 1) % m] - ring[(a + t) % m]).length())
+                .sum()
+        };
+        let turn = |i: usize| en[(i + m - 1) % m].dot(en[i]);
+        let mut creases: Vec<usize> = creases.to_vec();
+        while creases.len() > 1 {
+            let n = creases.len();
+            let close = (0..n).find(|&k| arc(creases[k], creases[(k + 1) % n]) < 2.0 * tau);
+            let Some(k) = close else { break };
+            let (i0, i1) = (creases[k], creases[(k + 1) % n]);
+            let drop = if turn(i0) > turn(i1) { k } else { (k + 1) % n };
+            creases.remove(drop);
         }
         for (k, &a) in creases.iter().enumerate() {
             let b = creases[(k + 1) % creases.len()];
             let len = if b > a { b - a } else { b + m - a };
-            let (pa, pb) = (ring[a], ring[b]);
-            let ab = pb - pa;
-            let ab_len = ab.length();
-            if len < 2 || !(ab_len > 0.0) {
+            let len = if creases.len() == 1 { m } else { len };
+            if len < 2 {
                 continue;
             }
-            let dir = ab / ab_len;
-            let straight = (1..len).all(|t| {
-                let d = ring[(a + t) % m] - pa;
-                (d - dir * d.dot(dir)).length() <= 1e-9 * ab_len
-            });
-            if !straight {
-                continue;
+            let at = |t: usize| (a + t) % m;
+            // Outer arc-length fractions along the run.
+            let mut cum = vec![0.0; len + 1];
+            for t in 0..len {
+                cum[t + 1] = cum[t] + (ring[at(t + 1)] - ring[at(t)]).length();
             }
-            let (ia, ib) = (inner[a], inner[b]);
+            // The inner run without the samples that overshoot a corner.
+            let (ia, ib) = (naive[a], naive[b]);
+            let ta = ring[at(1)] - ring[a];
+            let tb = ring[b] - ring[at(len - 1)];
+            let mut kept = vec![ia];
             for t in 1..len {
-                let i = (a + t) % m;
-                let s = (ring[i] - pa).dot(dir) / ab_len;
-                inner[i] = ia + (ib - ia) * s;
+                let q = naive[at(t)];
+                let last = kept[kept.len() - 1];
+                if (q - ia).dot(ta) > 0.0
+                    && (q - ib).dot(tb) < 0.0
+                    && (q - last).dot(ring[at(t)] - ring[at(t - 1)]) > 0.0
+                {
+                    kept.push(q);
+                }
+            }
+            kept.push(ib);
+            let mut kcum = vec![0.0; kept.len()];
+            for t in 1..kept.len() {
+                kcum[t] = kcum[t - 1] + (kept[t] - kept[t - 1]).length();
+            }
+            let total = kcum[kept.len() - 1];
+            if !(total > 0.0) || !(cum[len] > 0.0) {
+                return Err(too_thick(r_in.min(tau)));
+            }
+            // Place the inner samples at the outer fractions along it.
+            let mut seg = 1;
+            for t in 1..len {
+                let target = cum[t] / cum[len] * total;
+                while seg + 1 < kept.len() && kcum[seg] < target {
+                    seg += 1;
+                }
+                let (l0, l1) = (kcum[seg - 1], kcum[seg]);
+                let f = if l1 > l0 {
+                    ((target - l0) / (l1 - l0)).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                inner[at(t)] = kept[seg - 1] + (kept[seg] - kept[seg - 1]) * f;
             }
         }
         for i in 0..m {

@@ -222,12 +222,7 @@ impl KeySection {
     /// The local-to-world map of the section placed in `frame`:
     /// frame * rotation(twist) * scale.
     pub fn placement(&self, frame: &Frame) -> DAffine3 {
-        let f = DAffine3::from_cols(
-            frame.r,
-            frame.s,
-            frame.tangent,
-            frame.origin,
-        );
+        let f = DAffine3::from_cols(frame.r, frame.s, frame.tangent, frame.origin);
         f * DAffine3::from_rotation_z(self.twist) * DAffine3::from_scale(DVec3::splat(self.scale))
     }
 
