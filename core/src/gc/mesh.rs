@@ -12,6 +12,11 @@
 //! - container: shell whose inner wall stops at the floor (the spine point
 //!   at arc length τ from the closed end) + the outer cap + the floor cap.
 //!
+//! Fold check: every grid sample must advance along the spine tangent from
+//! one ring to the next, else [`GcError::Folded`]. A final
+//! [`crate::mesh::validate`] guarantees the result is a closed, oriented,
+//! positive-volume 2-manifold or an error.
+//!
 //! Thickness checks: τ must be below the inscribed radius of every sampled
 //! ring (distance from the ring centroid to its nearest edge), every inner
 //! edge must keep the direction of its outer edge (no swallowtail where
@@ -21,7 +26,7 @@
 use glam::{DVec3, DVec4};
 
 use super::{ClosedEnd, Gc, GcError, ShapeType};
-use crate::mesh::TriMesh;
+use crate::mesh::{validate, TriMesh};
 use crate::nurbs::{knot_aligned_samples, knot_multiplicities, NurbsSurface};
 
 /// Samples over `[breaks[0], breaks[last]]` containing every break, with
@@ -123,10 +128,10 @@ fn offset_rows(
             let (n0, n1) = (en[(i + m - 1) % m], en[i]);
             let d = n0.dot(n1);
             if d < -0.9 {
-                // Adjacent faces turn by more than ~154 degrees: the
-                // surface folds here (or has a needle-sharp crease), and
-                // no inward offset exists.
-                return Err(GcError::DegenerateSurface(vs[j]));
+                // Adjacent faces turn by more than ~154 degrees (a
+                // needle-sharp crease or a fold at this resolution): no
+                // inward offset of any useful thickness exists there.
+                return Err(too_thick(0.0));
             }
             inner.push(ring[i] - (n0 + n1) * (tau / (1.0 + d)));
         }
@@ -318,6 +323,19 @@ pub fn mesh_gc(gc: &Gc) -> Result<TriMesh, GcError> {
             }
         }
     }
+    // Every ring must move forward along the spine: a sample going
+    // backwards means the side surface folds over (tight bend).
+    let tangents: Vec<DVec3> = vs.iter().map(|v| gc.spine.curve.tangent(*v)).collect();
+    for j in 0..rows.len() - 1 {
+        let t = tangents[j] + tangents[j + 1];
+        if rows[j]
+            .iter()
+            .zip(&rows[j + 1])
+            .any(|(p, q)| (*q - *p).dot(t) <= 0.0)
+        {
+            return Err(GcError::Folded(vs[j]));
+        }
+    }
     let mut b = Builder {
         m,
         ..Default::default()
@@ -393,6 +411,10 @@ pub fn mesh_gc(gc: &Gc) -> Result<TriMesh, GcError> {
         }
     }
     let mut mesh = TriMesh::new(b.pos, b.tris);
+    let report = validate(&mesh, &Default::default());
+    if !report.is_closed_manifold() {
+        return Err(GcError::InvalidMesh(report.problems()));
+    }
     mesh.compute_normals();
     Ok(mesh)
 }

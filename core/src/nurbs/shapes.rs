@@ -42,6 +42,13 @@ pub fn ellipse(rx: f64, ry: f64) -> NurbsCurve {
 /// the angles increase strictly from the first vertex (star-shaped about
 /// the origin), else at normalized cumulative chord length.
 pub fn closed_polyline(vertices: &[DVec3]) -> Result<NurbsCurve, NurbsError> {
+    closed_polyline_with(vertices, None)
+}
+
+fn closed_polyline_with(
+    vertices: &[DVec3],
+    params: Option<Vec<f64>>,
+) -> Result<NurbsCurve, NurbsError> {
     let n = vertices.len();
     if n < 3 {
         return Err(NurbsError::TooFewPoints { got: n, need: 3 });
@@ -55,7 +62,9 @@ pub fn closed_polyline(vertices: &[DVec3]) -> Result<NurbsCurve, NurbsError> {
         .map(|v| (v.y.atan2(v.x) - a0).rem_euclid(std::f64::consts::TAU))
         .collect();
     let by_angle = ang.windows(2).all(|w| w[1] > w[0]) && ang[0] == 0.0;
-    let mut t: Vec<f64> = if by_angle {
+    let mut t: Vec<f64> = if let Some(p) = params {
+        p
+    } else if by_angle {
         ang.iter().map(|a| a / std::f64::consts::TAU).collect()
     } else {
         let mut acc = vec![0.0];
@@ -89,7 +98,9 @@ pub fn regular_polygon(sides: usize, r: f64) -> Result<NurbsCurve, NurbsError> {
             DVec3::new(r * a.cos(), r * a.sin(), 0.0)
         })
         .collect();
-    closed_polyline(&v)
+    // Exact knots i / n (not recomputed from the vertices' angles).
+    let t = (0..sides).map(|i| i as f64 / sides as f64).collect();
+    closed_polyline_with(&v, Some(t))
 }
 
 /// The axis-aligned `w x h` rectangle centered at the origin, starting at

@@ -30,9 +30,14 @@ pub enum SkinV {
     },
 }
 
+/// Knots of different curves closer than this (relative to the domain) are
+/// snapped to one value before the union is taken.
+pub const KNOT_SNAP: f64 = 1e-12;
+
 /// Raises all curves to their highest degree and refines them to the union
 /// of their knot vectors (each value with its largest multiplicity). The
-/// curves must be clamped and share one domain.
+/// curves must be clamped and share one domain. Knots closer than
+/// [`KNOT_SNAP`] are first snapped together (a shape change below 1e-12).
 pub fn make_compatible(curves: &[NurbsCurve]) -> Result<Vec<NurbsCurve>, NurbsError> {
     if curves.is_empty() {
         return Ok(Vec::new());
@@ -48,6 +53,39 @@ pub fn make_compatible(curves: &[NurbsCurve]) -> Result<Vec<NurbsCurve>, NurbsEr
     let raised: Vec<NurbsCurve> = curves
         .iter()
         .map(|c| c.clamped().elevate_degree(p - c.degree))
+        .collect();
+    // Canonical knot values: values closer than KNOT_SNAP (relative to the
+    // domain) are one knot (e.g. i/n computed two ways), else refinement
+    // would create spans of a few ulps.
+    let tol = KNOT_SNAP * (dom.1 - dom.0);
+    let mut values: Vec<f64> = raised
+        .iter()
+        .flat_map(|c| c.knots.iter().copied())
+        .collect();
+    values.sort_by(|a, b| a.total_cmp(b));
+    let mut canon: Vec<f64> = Vec::new();
+    for v in values {
+        match canon.last() {
+            Some(last) if v - *last <= tol => {}
+            _ => canon.push(v),
+        }
+    }
+    let snap = |v: f64| -> f64 {
+        let i = canon.partition_point(|c| *c < v - tol);
+        if i < canon.len() && (canon[i] - v).abs() <= tol {
+            canon[i]
+        } else {
+            v
+        }
+    };
+    let raised: Vec<NurbsCurve> = raised
+        .into_iter()
+        .map(|mut c| {
+            for k in &mut c.knots {
+                *k = snap(*k);
+            }
+            c
+        })
         .collect();
     // Union knot vector.
     let mut union: Vec<(f64, usize)> = Vec::new();
