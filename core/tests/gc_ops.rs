@@ -166,7 +166,7 @@ fn bad_input_is_a_typed_error_and_changes_nothing() {
         .unwrap();
     let before = log.document().content_hash();
     let n_ops = log.len();
-    let mut bad_create = |f: &dyn Fn(&mut GcCreate)| {
+    let bad_create = |f: &dyn Fn(&mut GcCreate)| {
         let Op::GcCreate(mut c) = create(ShapeType::Solid) else {
             unreachable!()
         };

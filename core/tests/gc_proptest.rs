@@ -244,7 +244,7 @@ fn most_random_gcs_and_edits_succeed() {
                     matches!(
                         err,
                         LogError::Op(OpError::Gc(
-                            GcError::ThicknessTooLarge { .. } | GcError::Folded(_)
+                            GcError::ThicknessTooLarge { .. } | GcError::InvalidMesh(_)
                         ))
                     ),
                     "create failed: {err:?} {}",

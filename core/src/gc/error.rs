@@ -97,12 +97,9 @@ pub enum GcError {
     /// degenerate triangle at this resolution.
     #[error("the surface is degenerate near v = {0}")]
     DegenerateSurface(f64),
-    /// The side surface folds back along the spine (a section reaches
-    /// farther than the spine's bend radius), so it would self-intersect.
-    #[error("the surface folds over itself near v = {0}: a section is larger than the spine's bend radius there")]
-    Folded(f64),
-    /// The mesh failed validation (a last safety net; should not happen).
-    #[error("the GC mesh is not a closed positive-volume 2-manifold: {0}")]
+    /// The mesh failed validation: in practice a side surface turned
+    /// inside out by a bend much tighter than the sections are wide.
+    #[error("the GC mesh is not a closed positive-volume 2-manifold ({0}); is the spine bent more tightly than the sections are wide?")]
     InvalidMesh(String),
     /// Mesh resolution out of range.
     #[error("resolution {u} x {v} is out of range (4..=4096 each)")]

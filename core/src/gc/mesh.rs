@@ -12,10 +12,11 @@
 //! - container: shell whose inner wall stops at the floor (the spine point
 //!   at arc length τ from the closed end) + the outer cap + the floor cap.
 //!
-//! Fold check: every grid sample must advance along the spine tangent from
-//! one ring to the next, else [`GcError::Folded`]. A final
-//! [`crate::mesh::validate`] guarantees the result is a closed, oriented,
-//! positive-volume 2-manifold or an error.
+//! A final [`crate::mesh::validate`] guarantees the result is a closed,
+//! oriented, positive-volume 2-manifold or [`GcError::InvalidMesh`] (a
+//! side surface folded inside out by a bend much tighter than the
+//! sections are wide ends here). Self-intersections that keep the volume
+//! positive are not detected (no triangle-triangle test).
 //!
 //! Thickness checks: τ must be below the inscribed radius of every sampled
 //! ring (distance from the ring centroid to its nearest edge), every inner
@@ -321,19 +322,6 @@ pub fn mesh_gc(gc: &Gc) -> Result<TriMesh, GcError> {
             if (r[(i + 1) % m] - r[i]).length_squared() == 0.0 {
                 return Err(GcError::DegenerateSurface(vs[j]));
             }
-        }
-    }
-    // Every ring must move forward along the spine: a sample going
-    // backwards means the side surface folds over (tight bend).
-    let tangents: Vec<DVec3> = vs.iter().map(|v| gc.spine.curve.tangent(*v)).collect();
-    for j in 0..rows.len() - 1 {
-        let t = tangents[j] + tangents[j + 1];
-        if rows[j]
-            .iter()
-            .zip(&rows[j + 1])
-            .any(|(p, q)| (*q - *p).dot(t) <= 0.0)
-        {
-            return Err(GcError::Folded(vs[j]));
         }
     }
     let mut b = Builder {
