@@ -15,4 +15,5 @@ pub mod gc;
 pub mod math;
 pub mod mesh;
 pub mod nurbs;
+pub mod sketch;
 pub mod solid;
