@@ -1,6 +1,8 @@
 //! GC edit benchmark (issue 3): one edit = re-interpolate the spine, re-frame
 //! by RMF, re-loft K = 8 sections and mesh at VR preview resolution.
 
+#![allow(missing_docs)] // criterion_main! generates an undocumented `main`
+
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use glam::DVec3;
 use shapewright::gc::{fit_spine, mesh_gc, Gc, KeySection, Profile, Resolution, ShapeType};
