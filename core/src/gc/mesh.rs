@@ -12,7 +12,9 @@
 //! - container: shell whose inner wall stops at the floor (the spine point
 //!   at arc length τ from the closed end) + the outer cap + the floor cap.
 //!
-//! A final [`crate::mesh::validate`] guarantees the result is a closed,
+//! The topology is closed and oriented by construction; a final geometric
+//! check (finite, no degenerate triangle, positive volume, as
+//! [`crate::mesh::validate`] defines them) makes the result a closed,
 //! oriented, positive-volume 2-manifold or [`GcError::InvalidMesh`] (a
 //! side surface folded inside out by a bend much tighter than the
 //! sections are wide ends here). Self-intersections that keep the volume
@@ -27,7 +29,7 @@
 use glam::{DVec3, DVec4};
 
 use super::{ClosedEnd, Gc, GcError, ShapeType};
-use crate::mesh::{validate, TriMesh};
+use crate::mesh::{TriMesh, ValidationSettings};
 use crate::nurbs::{knot_aligned_samples, knot_multiplicities, NurbsSurface};
 
 /// Samples over `[breaks[0], breaks[last]]` containing every break, with
@@ -399,10 +401,38 @@ pub fn mesh_gc(gc: &Gc) -> Result<TriMesh, GcError> {
         }
     }
     let mut mesh = TriMesh::new(b.pos, b.tris);
-    let report = validate(&mesh, &Default::default());
-    if !report.is_closed_manifold() {
-        return Err(GcError::InvalidMesh(report.problems()));
-    }
+    check_geometry(&mesh)?;
     mesh.compute_normals();
     Ok(mesh)
+}
+
+/// The geometric half of [`crate::mesh::validate`] (the topology is closed
+/// and oriented by construction, and the tests run the full validation):
+/// finite positions, no degenerate triangle (area at most 1e-14 times the
+/// squared bounding-box diagonal, validate's default), positive volume.
+/// O(n), a third of the cost of the full validation.
+fn check_geometry(mesh: &TriMesh) -> Result<(), GcError> {
+    if mesh.positions.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(GcError::InvalidMesh("non-finite vertices".into()));
+    }
+    let Some((lo, hi)) = mesh.bbox() else {
+        return Err(GcError::InvalidMesh("no triangles".into()));
+    };
+    let tol = ValidationSettings::default().degenerate_area_rel * (hi - lo).length_squared();
+    let degenerate = (0..mesh.triangles.len())
+        .filter(|t| {
+            let [a, b, c] = mesh.corners(*t);
+            !(0.5 * (b - a).cross(c - a).length() > tol)
+        })
+        .count();
+    if degenerate > 0 {
+        return Err(GcError::InvalidMesh(format!(
+            "{degenerate} degenerate triangles"
+        )));
+    }
+    let v = mesh.signed_volume();
+    if !(v > 0.0) {
+        return Err(GcError::InvalidMesh(format!("non-positive volume {v}")));
+    }
+    Ok(())
 }
