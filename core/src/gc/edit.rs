@@ -174,7 +174,7 @@ impl Gc {
     /// Insertion: a new key section at `v` (strictly between the first and
     /// last sections and different from every section's) is the iso-curve
     /// `S(u, v)` expressed in the frame at `A(v)`. The surface is unchanged
-    /// (see the module doc of [`super::model`]). Returns the new index.
+    /// (see the module doc of [`crate::gc`]). Returns the new index.
     pub fn insert_section(&mut self, v: f64) -> Result<usize, GcError> {
         if !v.is_finite() {
             return Err(GcError::NonFinite("insert parameter"));

@@ -43,7 +43,7 @@ pub use interp::{
     interpolate_natural_cubic, interpolate_natural_cubic_h, parameters, ParamMethod,
 };
 pub use linalg::solve;
-pub use skin::{make_compatible, skin, SkinV};
+pub use skin::{make_compatible, skin, skin_params, SkinV, KNOT_SNAP};
 pub use surface::NurbsSurface;
 pub use tessellate::{curve_polyline, knot_aligned_samples, uniform_samples};
 

@@ -179,3 +179,46 @@ pub fn skin(
         control,
     )
 }
+
+/// The `v`-parameters of §10.3 (eq. 10.8 generalized): for each column of
+/// corresponding control points of the compatible sections, normalized
+/// chord lengths between consecutive sections, averaged over the columns.
+/// In `[0, 1]`, strictly increasing unless two sections coincide.
+pub fn skin_params(sections: &[NurbsCurve]) -> Result<Vec<f64>, NurbsError> {
+    let k = sections.len();
+    if k < 2 {
+        return Err(NurbsError::TooFewPoints { got: k, need: 2 });
+    }
+    let comp = make_compatible(sections)?;
+    let n = comp[0].control.len();
+    let mut v = vec![0.0; k];
+    let mut columns = 0usize;
+    for i in 0..n {
+        let pts: Vec<_> = comp
+            .iter()
+            .map(|c| super::euclidean(c.control[i]))
+            .collect();
+        let d: Vec<f64> = pts.windows(2).map(|w| (w[1] - w[0]).length()).collect();
+        let total: f64 = d.iter().sum();
+        if !(total > 0.0) {
+            continue;
+        }
+        columns += 1;
+        let mut acc = 0.0;
+        for (j, dj) in d.iter().enumerate() {
+            acc += dj;
+            v[j + 1] += acc / total;
+        }
+    }
+    if columns == 0 {
+        return Err(NurbsError::CoincidentPoints(0, 1));
+    }
+    for x in &mut v {
+        *x /= columns as f64;
+    }
+    v[k - 1] = 1.0;
+    if let Some(j) = v.windows(2).position(|w| !(w[1] > w[0])) {
+        return Err(NurbsError::CoincidentPoints(j, j + 1));
+    }
+    Ok(v)
+}

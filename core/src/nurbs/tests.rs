@@ -53,6 +53,21 @@ fn skinning_interpolates_every_section() {
 }
 
 #[test]
+fn skinning_with_chord_length_v_params() {
+    let (secs, _) = sections();
+    let v = skin_params(&secs).unwrap();
+    assert_eq!(v[0], 0.0);
+    assert_eq!(v[v.len() - 1], 1.0);
+    let s = skin(&secs, &v, SkinV::Averaged { q: 3 }).unwrap();
+    for (c, vk) in secs.iter().zip(&v) {
+        for i in 0..=100 {
+            let u = i as f64 / 100.0;
+            assert!((s.point(u, *vk) - c.point(u)).length() < 1e-9);
+        }
+    }
+}
+
+#[test]
 fn inserting_an_iso_curve_leaves_the_surface_unchanged() {
     let (mut secs, mut v) = sections();
     let s = skin(&secs, &v, SkinV::NaturalCubic).unwrap();
