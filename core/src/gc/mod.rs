@@ -29,8 +29,11 @@ mod section;
 pub use assembly::{GcAssembly, GcPart};
 pub use error::GcError;
 pub use mesh::{inscribed_radius, mesh_gc, samples_between};
-pub use model::{fit_spine, ClosedEnd, Gc, Resolution, ShapeType, Spine, SpineFrames, RMF_STEPS};
-pub use section::{loop_self_intersects, signed_area, KeySection, Profile};
+pub use model::{
+    fit_spine, ClosedEnd, Gc, Resolution, ShapeType, Spine, SpineFrames, MAX_SPINE_POINTS,
+    RMF_STEPS,
+};
+pub use section::{loop_self_intersects, signed_area, KeySection, Profile, MAX_CURVE_DEGREE};
 
 #[cfg(test)]
 mod tests;

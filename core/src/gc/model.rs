@@ -17,6 +17,10 @@ use super::{GcError, KeySection};
 use crate::math::{rmf_step, Frame};
 use crate::nurbs::{interpolate, skin, NurbsCurve, NurbsSurface, ParamMethod, SkinV};
 
+/// Most points a spine may be interpolated through (the dense solve is
+/// cubic in the count; sketched spines are simplified by RDP first).
+pub const MAX_SPINE_POINTS: usize = 1024;
+
 /// Double-reflection steps over the spine domain.
 pub const RMF_STEPS: usize = 256;
 
@@ -118,6 +122,12 @@ pub fn fit_spine(points: &[DVec3], normal: DVec3) -> Result<Spine, GcError> {
     }
     if points.len() < 2 {
         return Err(GcError::ZeroLengthSpine);
+    }
+    if points.len() > MAX_SPINE_POINTS {
+        return Err(GcError::BadSize {
+            what: "spine point count (at most 1024; simplify the stroke first)",
+            value: points.len() as f64,
+        });
     }
     let n = normal.try_normalize().ok_or(GcError::ZeroPlaneNormal)?;
     let size = points

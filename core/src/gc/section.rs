@@ -16,6 +16,10 @@ use super::GcError;
 use crate::math::Frame;
 use crate::nurbs::{interpolate_closed, shapes, NurbsCurve, ParamMethod};
 
+/// Highest degree of a `Curve` section (every section is raised to the
+/// highest degree present when lofting).
+pub const MAX_CURVE_DEGREE: usize = 7;
+
 /// The shape of a key section in its local frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "template", rename_all = "snake_case")]
@@ -181,6 +185,11 @@ impl Profile {
             }
             Self::Curve { curve } => {
                 curve.validate()?;
+                if curve.degree > MAX_CURVE_DEGREE || curve.control.len() > 4096 {
+                    return Err(GcError::DegenerateSection(
+                        "a curve section may have degree at most 7 and 4096 control points",
+                    ));
+                }
                 if !curve.is_clamped() || curve.domain() != (0.0, 1.0) {
                     return Err(GcError::DegenerateSection(
                         "a curve section must be clamped on [0, 1]",
