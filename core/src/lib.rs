@@ -11,6 +11,9 @@
 #![forbid(unsafe_code)]
 
 pub mod doc;
+pub mod gc;
 pub mod math;
 pub mod mesh;
+pub mod nurbs;
+pub mod sketch;
 pub mod solid;

@@ -1,6 +1,7 @@
 //! Errors of ops and of the log.
 
 use super::ObjectId;
+use crate::gc::GcError;
 use crate::math::TransformError;
 use crate::solid::SolidError;
 
@@ -36,6 +37,9 @@ pub enum OpError {
     /// A solid's parameters are invalid.
     #[error(transparent)]
     Solid(#[from] SolidError),
+    /// A generalized cylinder could not be built, edited or meshed.
+    #[error(transparent)]
+    Gc(#[from] GcError),
 }
 
 /// Why the log could not do what was asked. The log and its document are

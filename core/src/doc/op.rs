@@ -26,6 +26,17 @@ pub const OP_NAMES: &[&str] = &[
     "transform_by",
     "duplicate",
     "delete",
+    "gc_create",
+    "gc_bend",
+    "gc_replace_spine",
+    "gc_resize",
+    "gc_shift",
+    "gc_twist",
+    "gc_replace_section",
+    "gc_delete_section",
+    "gc_insert_section",
+    "gc_set_shape",
+    "gc_set_resolution",
 ];
 
 /// One change to a document.
@@ -44,6 +55,28 @@ pub enum Op {
     Duplicate(Duplicate),
     /// Delete an object. Its id is never reused.
     Delete(Delete),
+    /// Create a generalized-cylinder assembly with one part.
+    GcCreate(crate::gc::ops::GcCreate),
+    /// Bend a GC's spine by moving a key point.
+    GcBend(crate::gc::ops::GcBend),
+    /// Replace a GC's spine.
+    GcReplaceSpine(crate::gc::ops::GcReplaceSpine),
+    /// Resize a key section.
+    GcResize(crate::gc::ops::GcResize),
+    /// Shift a key section along the spine.
+    GcShift(crate::gc::ops::GcShift),
+    /// Twist a key section (propagated linearly).
+    GcTwist(crate::gc::ops::GcTwist),
+    /// Replace a key section.
+    GcReplaceSection(crate::gc::ops::GcReplaceSection),
+    /// Delete a key section.
+    GcDeleteSection(crate::gc::ops::GcDeleteSection),
+    /// Insert a key section (shape unchanged).
+    GcInsertSection(crate::gc::ops::GcInsertSection),
+    /// Set a GC's shape type and thickness.
+    GcSetShape(crate::gc::ops::GcSetShape),
+    /// Set a GC's mesh resolution.
+    GcSetResolution(crate::gc::ops::GcSetResolution),
 }
 
 /// What applying an op produced.
@@ -131,6 +164,17 @@ impl Op {
             Self::TransformBy(_) => "transform_by",
             Self::Duplicate(_) => "duplicate",
             Self::Delete(_) => "delete",
+            Self::GcCreate(_) => "gc_create",
+            Self::GcBend(_) => "gc_bend",
+            Self::GcReplaceSpine(_) => "gc_replace_spine",
+            Self::GcResize(_) => "gc_resize",
+            Self::GcShift(_) => "gc_shift",
+            Self::GcTwist(_) => "gc_twist",
+            Self::GcReplaceSection(_) => "gc_replace_section",
+            Self::GcDeleteSection(_) => "gc_delete_section",
+            Self::GcInsertSection(_) => "gc_insert_section",
+            Self::GcSetShape(_) => "gc_set_shape",
+            Self::GcSetResolution(_) => "gc_set_resolution",
         }
     }
 
@@ -175,6 +219,17 @@ impl Op {
                 doc.remove(op.id)?;
                 Ok(OpOutcome::default())
             }
+            Self::GcCreate(op) => op.apply(doc),
+            Self::GcBend(op) => op.apply(doc),
+            Self::GcReplaceSpine(op) => op.apply(doc),
+            Self::GcResize(op) => op.apply(doc),
+            Self::GcShift(op) => op.apply(doc),
+            Self::GcTwist(op) => op.apply(doc),
+            Self::GcReplaceSection(op) => op.apply(doc),
+            Self::GcDeleteSection(op) => op.apply(doc),
+            Self::GcInsertSection(op) => op.apply(doc),
+            Self::GcSetShape(op) => op.apply(doc),
+            Self::GcSetResolution(op) => op.apply(doc),
         }
     }
 }

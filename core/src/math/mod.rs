@@ -4,8 +4,10 @@
 //! All geometry is `f64`. glam's scalar paths are deterministic (no fused
 //! multiply-add unless asked), which keeps replays bit-identical.
 
+pub mod frames;
 mod transform;
 
+pub use frames::{double_reflection, rmf_step, Frame};
 pub use glam::{DAffine3, DMat3, DMat4, DQuat, DVec2, DVec3};
 pub use transform::{Transform, TransformError};
 

@@ -1,0 +1,39 @@
+//! Generalized cylinders (paper: "Interactive modeling of man-made shapes
+//! by assembling generalized cylinders", §3.1-3.2; SPEC.md §1).
+//!
+//! A [`Gc`] is a planar spine, key sections placed on it by
+//! rotation-minimizing frames ([`crate::math::frames`]), and the NURBS
+//! surface skinned exactly through them ([`crate::nurbs::skin`]). Shape
+//! types solid / shell / container with thickness τ mesh to closed,
+//! oriented 2-manifolds ([`mesh_gc`]). The edits of §3.2 (bend, replace
+//! spine, resize, shift, twist, replace, delete, insert) are methods
+//! on [`Gc`] and ops ([`ops`]) on the document object kind
+//! [`GcAssembly`].
+//!
+//! Choices: sections are stored in their local frames (profile, scale,
+//! twist, spine parameter) and placed at evaluation, so spine edits
+//! re-frame them, as the paper's bend does; the `v`-interpolation is
+//! natural cubic at the sections' spine parameters so an inserted
+//! iso-curve leaves the surface unchanged (checked to 1e-9 in tests).
+
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod assembly;
+mod edit;
+mod error;
+mod mesh;
+mod model;
+pub mod ops;
+mod section;
+
+pub use assembly::{GcAssembly, GcPart};
+pub use error::GcError;
+pub use mesh::{inscribed_radius, mesh_gc, samples_between};
+pub use model::{
+    fit_spine, ClosedEnd, Gc, Resolution, ShapeType, Spine, SpineFrames, MAX_SPINE_POINTS,
+    RMF_STEPS,
+};
+pub use section::{loop_self_intersects, signed_area, KeySection, Profile, MAX_CURVE_DEGREE};
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,25 @@
+//! The sketch pipeline (paper §3.3 and §4; SPEC.md §1 "Sketch input"):
+//! a 3D stroke is projected onto its sketch plane, resampled by arc length
+//! and simplified by Ramer-Douglas-Peucker; closed section strokes are
+//! matched against the section templates with a similarity score
+//! ([`match_section`]); open spine strokes are fitted by a least-squares
+//! cubic NURBS to a tolerance ([`fit_spine_stroke`]). Degenerate strokes
+//! (too few points, zero length, self-intersecting section loops, NaN)
+//! get a typed [`SketchError`].
+
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod error;
+mod spine;
+mod stroke;
+mod template;
+
+pub use error::SketchError;
+pub use spine::{fit_spine_stroke, SpineFit, SPINE_SAMPLES};
+pub use stroke::{
+    closed_loop_self_intersects, length, project_stroke, rdp, rdp_closed, resample, SketchPlane,
+};
+pub use template::{match_section, match_section_stroke, SectionMatch, MATCH_SAMPLES};
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,205 @@
+//! Section template matching (§3.3 "matched to templates"): a closed
+//! stroke in its plane is compared with a circle, an ellipse, a rectangle
+//! and a regular polygon (corner count from RDP), each fitted to the
+//! stroke (center = area centroid, axes = principal axes of the second
+//! moments, sizes from extents or mean distances). The similarity score
+//! is `1 - rms / r`, where `rms` is the root-mean-square distance from the
+//! resampled stroke to the fitted outline and `r` the stroke's mean
+//! radius: 1 for a perfect fit, 0 at an error as large as the shape.
+
+use glam::{DMat2, DVec2, DVec3};
+
+use super::stroke::{closed_loop_self_intersects, length, rdp_closed, resample};
+use super::SketchError;
+use crate::gc::Profile;
+
+/// Samples the stroke is resampled to before matching.
+pub const MATCH_SAMPLES: usize = 96;
+
+/// The result of matching a closed stroke.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SectionMatch {
+    /// The best template, centered at the origin, unrotated.
+    pub profile: Profile,
+    /// Its similarity score in `[0, 1]`.
+    pub score: f64,
+    /// Where the template's center lies in the sketch plane.
+    pub center: DVec2,
+    /// Rotation of the template in the plane (radians), e.g. for a twist.
+    pub rotation: f64,
+    /// Every candidate's name and score, best first.
+    pub candidates: Vec<(&'static str, f64)>,
+    /// The stroke itself as a `Points` profile (centered, counter-clockwise,
+    /// simplified), for when no template fits well enough.
+    pub sketch: Profile,
+}
+
+fn outline(profile: &Profile, center: DVec2, rot: f64) -> Option<Vec<DVec2>> {
+    let c = profile.curve().ok()?;
+    let m = DMat2::from_angle(rot);
+    Some(
+        (0..256)
+            .map(|i| {
+                let p = c.point(i as f64 / 256.0);
+                center + m * DVec2::new(p.x, p.y)
+            })
+            .collect(),
+    )
+}
+
+fn rms_to(points: &[DVec2], poly: &[DVec2]) -> f64 {
+    let n = poly.len();
+    let s: f64 = points
+        .iter()
+        .map(|p| {
+            (0..n)
+                .map(|i| {
+                    let (a, b) = (poly[i], poly[(i + 1) % n]);
+                    let ab = b - a;
+                    let t = ((*p - a).dot(ab) / ab.length_squared().max(1e-300)).clamp(0.0, 1.0);
+                    (a + ab * t - *p).length_squared()
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .sum();
+    (s / points.len() as f64).sqrt()
+}
+
+/// Matches a closed stroke (2D points in its sketch plane, the first
+/// point not repeated) against the section templates.
+pub fn match_section(points: &[DVec2]) -> Result<SectionMatch, SketchError> {
+    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
+        return Err(SketchError::NonFinite(i));
+    }
+    let mut distinct: Vec<DVec2> = Vec::with_capacity(points.len());
+    for p in points {
+        if distinct.last() != Some(p) {
+            distinct.push(*p);
+        }
+    }
+    if distinct.len() > 1 && distinct[0] == distinct[distinct.len() - 1] {
+        distinct.pop();
+    }
+    if distinct.len() < 3 {
+        return Err(SketchError::TooFewPoints {
+            got: distinct.len(),
+            need: 3,
+        });
+    }
+    let total = length(&distinct, true);
+    if !(total > 0.0) {
+        return Err(SketchError::ZeroLength);
+    }
+    let mut pts = resample(&distinct, MATCH_SAMPLES, true)?;
+    if closed_loop_self_intersects(&pts) {
+        return Err(SketchError::SelfIntersecting);
+    }
+    let n = pts.len();
+    // Area and area centroid (shoelace).
+    let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let (p, q) = (pts[i], pts[(i + 1) % n]);
+        let cr = p.x * q.y - q.x * p.y;
+        a2 += cr;
+        cx += (p.x + q.x) * cr;
+        cy += (p.y + q.y) * cr;
+    }
+    if !(a2.abs() > 1e-9 * total * total) {
+        return Err(SketchError::ZeroLength);
+    }
+    if a2 < 0.0 {
+        pts[1..].reverse();
+    }
+    let center = DVec2::new(cx, cy) / (3.0 * a2);
+    // Principal axes of the samples.
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    for p in &pts {
+        let d = *p - center;
+        sxx += d.x * d.x;
+        sxy += d.x * d.y;
+        syy += d.y * d.y;
+    }
+    let phi = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    let (e1, e2) = (
+        DVec2::new(phi.cos(), phi.sin()),
+        DVec2::new(-phi.sin(), phi.cos()),
+    );
+    let ext1 = pts
+        .iter()
+        .map(|p| (*p - center).dot(e1).abs())
+        .fold(0.0, f64::max);
+    let ext2 = pts
+        .iter()
+        .map(|p| (*p - center).dot(e2).abs())
+        .fold(0.0, f64::max);
+    let r_mean = pts.iter().map(|p| (*p - center).length()).sum::<f64>() / n as f64;
+    let mut cands: Vec<(&'static str, Profile, f64)> = vec![
+        ("circle", Profile::Circle { radius: r_mean }, 0.0),
+        ("ellipse", Profile::Ellipse { rx: ext1, ry: ext2 }, phi),
+        (
+            "rectangle",
+            Profile::Rectangle {
+                width: 2.0 * ext1,
+                height: 2.0 * ext2,
+            },
+            phi,
+        ),
+    ];
+    let corners = rdp_closed(&pts, 0.1 * r_mean);
+    if (3..=12).contains(&corners.len()) {
+        let radius =
+            corners.iter().map(|c| (*c - center).length()).sum::<f64>() / corners.len() as f64;
+        // Rotation: the circular mean of the corner angles modulo 2π/n.
+        let k = corners.len() as f64;
+        let (mut sn, mut cs) = (0.0, 0.0);
+        for c in &corners {
+            let d = *c - center;
+            let a = d.y.atan2(d.x) * k;
+            sn += a.sin();
+            cs += a.cos();
+        }
+        cands.push((
+            "polygon",
+            Profile::Polygon {
+                sides: corners.len() as u32,
+                radius,
+            },
+            sn.atan2(cs) / k,
+        ));
+    }
+    let mut scored: Vec<(&'static str, Profile, f64, f64)> = cands
+        .into_iter()
+        .filter_map(|(name, prof, rot)| {
+            let o = outline(&prof, center, rot)?;
+            let score = (1.0 - rms_to(&pts, &o) / r_mean).clamp(0.0, 1.0);
+            Some((name, prof, rot, score))
+        })
+        .collect();
+    // Best first; on a tie the simpler template (earlier in the list) wins.
+    scored.sort_by(|a, b| b.3.total_cmp(&a.3));
+    let best = scored.first().cloned().ok_or(SketchError::ZeroLength)?;
+    let simplified = rdp_closed(&pts, 0.01 * r_mean);
+    let sketch = Profile::Points {
+        points: simplified
+            .iter()
+            .map(|p| [p.x - center.x, p.y - center.y])
+            .collect(),
+    };
+    Ok(SectionMatch {
+        profile: best.1,
+        score: best.3,
+        center,
+        rotation: best.2,
+        candidates: scored.iter().map(|s| (s.0, s.3)).collect(),
+        sketch,
+    })
+}
+
+/// [`match_section`] for a 3D stroke projected onto `plane`.
+pub fn match_section_stroke(
+    points: &[DVec3],
+    plane: &super::SketchPlane,
+) -> Result<SectionMatch, SketchError> {
+    let p2 = super::project_stroke(points, plane)?;
+    match_section(&p2)
+}
