@@ -36,6 +36,9 @@ pub enum OpError {
     /// A solid's parameters are invalid.
     #[error(transparent)]
     Solid(#[from] SolidError),
+    /// A sculpt op's input is invalid.
+    #[error(transparent)]
+    Sculpt(#[from] crate::sculpt::SculptError),
 }
 
 /// Why the log could not do what was asked. The log and its document are

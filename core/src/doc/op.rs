@@ -26,6 +26,8 @@ pub const OP_NAMES: &[&str] = &[
     "transform_by",
     "duplicate",
     "delete",
+    "sculpt_create",
+    "sculpt_stroke",
 ];
 
 /// One change to a document.
@@ -44,6 +46,10 @@ pub enum Op {
     Duplicate(Duplicate),
     /// Delete an object. Its id is never reused.
     Delete(Delete),
+    /// Create a sculpt object from a base shape or a closed mesh.
+    SculptCreate(crate::sculpt::SculptCreate),
+    /// Apply one warp-brush stroke to a sculpt object.
+    SculptStroke(crate::sculpt::SculptStroke),
 }
 
 /// What applying an op produced.
@@ -131,6 +137,8 @@ impl Op {
             Self::TransformBy(_) => "transform_by",
             Self::Duplicate(_) => "duplicate",
             Self::Delete(_) => "delete",
+            Self::SculptCreate(_) => "sculpt_create",
+            Self::SculptStroke(_) => "sculpt_stroke",
         }
     }
 
@@ -175,6 +183,8 @@ impl Op {
                 doc.remove(op.id)?;
                 Ok(OpOutcome::default())
             }
+            Self::SculptCreate(op) => crate::sculpt::ops::apply_create(doc, op),
+            Self::SculptStroke(op) => crate::sculpt::ops::apply_stroke(doc, op),
         }
     }
 }
