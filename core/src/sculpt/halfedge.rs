@@ -371,7 +371,8 @@ impl HalfEdgeMesh {
     /// are finite. Returns what is wrong.
     pub fn check(&self) -> Result<(), String> {
         let nh = self.he_to.len();
-        if !nh.is_multiple_of(3) || self.he_twin.len() != nh || self.pos.len() != self.vert_he.len() {
+        if !nh.is_multiple_of(3) || self.he_twin.len() != nh || self.pos.len() != self.vert_he.len()
+        {
             return Err("array lengths disagree".into());
         }
         let mut out_count = vec![0u32; self.vert_he.len()];

@@ -138,9 +138,12 @@ pub struct Sculptor {
     stroke_stamp: u32,
     frame_mark: Vec<u32>,
     moved_mark: Vec<u32>,
+    rigid_mark: Vec<u32>,
     frame_stamp: u32,
     cand: Vec<VertId>,
-    moves: Vec<(VertId, DVec3, DVec3)>,
+    moves: Vec<(VertId, DVec3, DVec3, bool)>,
+    face_mark: Vec<u32>,
+    face_stamp: u32,
     region: Vec<VertId>,
     queue: Vec<FaceId>,
 }
@@ -158,6 +161,9 @@ impl Sculptor {
             stroke_stamp: 1,
             frame_mark: vec![0; n],
             moved_mark: vec![0; n],
+            rigid_mark: vec![0; n],
+            face_mark: Vec::new(),
+            face_stamp: 0,
             frame_stamp: 1,
             cand: Vec::new(),
             moves: Vec::new(),
@@ -192,18 +198,52 @@ impl Sculptor {
             .collect()
     }
 
-    fn mark(&mut self, v: VertId) {
+    /// Marks `v` as touched by the stroke and, when its neighbourhood
+    /// changed shape (`reshaped`), as part of this frame's region.
+    fn mark(&mut self, v: VertId, reshaped: bool) {
         let i = v.0 as usize;
         if i >= self.stroke_mark.len() {
             self.stroke_mark.resize(i + 1, 0);
             self.frame_mark.resize(i + 1, 0);
             self.moved_mark.resize(i + 1, 0);
+            self.rigid_mark.resize(i + 1, 0);
         }
         self.stroke_mark[i] = self.stroke_stamp;
-        if self.frame_mark[i] != self.frame_stamp {
+        if reshaped && self.frame_mark[i] != self.frame_stamp {
             self.frame_mark[i] = self.frame_stamp;
             self.region.push(v);
         }
+    }
+
+    /// A fresh stamp for de-duplicating faces.
+    fn next_face_stamp(&mut self) -> u32 {
+        let cap = self.mesh.face_capacity() as usize;
+        if self.face_mark.len() < cap {
+            self.face_mark.resize(cap, 0);
+        }
+        self.face_stamp = self.face_stamp.wrapping_add(1);
+        if self.face_stamp == 0 {
+            self.face_mark.fill(0);
+            self.face_stamp = 1;
+        }
+        self.face_stamp
+    }
+
+    /// Pushes the faces around `v` not yet stamped with `stamp`.
+    fn push_faces(&mut self, v: VertId, stamp: u32, out: &mut Vec<FaceId>) {
+        let cap = self.mesh.face_capacity() as usize;
+        if self.face_mark.len() < cap {
+            self.face_mark.resize(cap, 0);
+        }
+        let mesh = &self.mesh;
+        let marks = &mut self.face_mark;
+        mesh.for_each_out(v, |h| {
+            let f = h.face();
+            if marks[f.0 as usize] != stamp {
+                marks[f.0 as usize] = stamp;
+                out.push(f);
+            }
+        });
     }
 
     #[inline]
@@ -233,6 +273,7 @@ impl Sculptor {
         if self.frame_stamp == 1 {
             self.frame_mark.fill(0);
             self.moved_mark.fill(0);
+            self.rigid_mark.fill(0);
         }
         self.region.clear();
         let eval_pose = if f.warp == Warp::Drag { f.prev } else { f.pose };
@@ -256,14 +297,18 @@ impl Sculptor {
             if w.is_nan() || w <= 0.0 {
                 continue;
             }
+            // A fully weighted drag moves the vertex rigidly with the brush:
+            // its triangles keep their shape unless a neighbour moved
+            // differently, and that neighbour puts them in the region.
+            let rigid = f.warp == Warp::Drag && w == 1.0;
             let x2 = match f.warp {
-                Warp::Drag if w == 1.0 => inc.apply(x),
+                Warp::Drag if rigid => inc.apply(x),
                 Warp::Drag => x + w * (inc.apply(x) - x),
                 Warp::Explode { delta } => x + w * (g * (f.influence * delta)),
                 Warp::Whittle => x + w * (self.centroid_of_neighbours(v) - x),
             };
             if x2 != x && x2.is_finite() {
-                self.moves.push((v, x, x2));
+                self.moves.push((v, x, x2, rigid));
                 lo = lo.min(x).min(x2);
                 hi = hi.max(x).max(x2);
             }
@@ -274,13 +319,32 @@ impl Sculptor {
             ..Default::default()
         };
         let mut moves = std::mem::take(&mut self.moves);
-        for &(v, _, x2) in &moves {
-            self.mark(v);
-            self.moved_mark[v.0 as usize] = self.frame_stamp;
+        // A rigidly moved vertex with a neighbour that did not move with it
+        // (moved otherwise, or not at all) sits on the rim of the rigid
+        // region: its triangles change shape, so it counts as reshaped.
+        for &(v, _, _, rigid) in &moves {
+            if rigid {
+                self.rigid_mark[v.0 as usize] = self.frame_stamp;
+            }
+        }
+        for m in moves.iter_mut() {
+            if m.3 {
+                let mut interior = true;
+                self.mesh.for_each_out(m.0, |h| {
+                    interior &= self.rigid_mark[self.mesh.to(h).0 as usize] == self.frame_stamp;
+                });
+                m.3 = interior;
+            }
+        }
+        for &(v, _, x2, rigid) in &moves {
+            self.mark(v, !rigid);
+            if !rigid {
+                self.moved_mark[v.0 as usize] = self.frame_stamp;
+            }
             self.mesh.set_position(v, x2);
         }
         self.prevent_folds(&mut moves);
-        for &(v, _, _) in &moves {
+        for &(v, _, _, _) in &moves {
             let x = self.mesh.position(v);
             self.grid.update(v, x);
         }
@@ -297,16 +361,20 @@ impl Sculptor {
     /// degenerate is halved for that triangle's moved vertices, up to three
     /// times, then undone for them. Converging warps (collapse onto a small
     /// brush) would otherwise crumple the surface within a few frames.
-    fn prevent_folds(&mut self, moves: &mut [(VertId, DVec3, DVec3)]) {
+    fn prevent_folds(&mut self, moves: &mut [(VertId, DVec3, DVec3, bool)]) {
         let mut faces = Vec::new();
         let mut bad_verts = Vec::new();
-        for round in 0..4 {
+        let mut round = 0;
+        loop {
+            // Only triangles at a non-rigidly moved vertex can fold (two
+            // rigidly moved neighbours keep their dihedral angle).
             faces.clear();
-            for &(v, _, _) in moves.iter() {
-                self.mesh.for_each_out(v, |h| faces.push(h.face()));
+            let stamp = self.next_face_stamp();
+            for &(v, _, _, rigid) in moves.iter() {
+                if !rigid {
+                    self.push_faces(v, stamp, &mut faces);
+                }
             }
-            faces.sort_unstable();
-            faces.dedup();
             bad_verts.clear();
             for &f in &faces {
                 if self.face_folds(f) {
@@ -322,16 +390,25 @@ impl Sculptor {
             }
             bad_verts.sort_unstable();
             bad_verts.dedup();
-            for (v, old, new) in moves.iter_mut() {
-                if bad_verts.binary_search(v).is_ok() {
-                    *new = if round == 3 {
+            // Halve three times, then undo; undoing stops once every
+            // offending vertex is back where it was (each undo round
+            // restores at least one vertex, so this terminates).
+            let mut changed = false;
+            for (v, old, new, rigid) in moves.iter_mut() {
+                if !*rigid && bad_verts.binary_search(v).is_ok() && *new != *old {
+                    *new = if round >= 3 {
                         *old
                     } else {
                         *old + (*new - *old) * 0.5
                     };
                     self.mesh.set_position(*v, *new);
+                    changed = true;
                 }
             }
+            if !changed {
+                return;
+            }
+            round += 1;
         }
     }
 
@@ -357,11 +434,11 @@ impl Sculptor {
         // Split phase: every triangle at a touched vertex.
         let mut queue = std::mem::take(&mut self.queue);
         queue.clear();
-        for &v in &self.region {
-            self.mesh.for_each_out(v, |h| queue.push(h.face()));
+        let stamp = self.next_face_stamp();
+        for i in 0..self.region.len() {
+            let v = self.region[i];
+            self.push_faces(v, stamp, &mut queue);
         }
-        queue.sort_unstable();
-        queue.dedup();
         let mut created = Vec::new();
         let mut i = 0;
         while i < queue.len() {
@@ -398,7 +475,7 @@ impl Sculptor {
             stats.splits += created.len();
             for &(m, _) in &created {
                 self.grid.insert(m, self.mesh.position(m));
-                self.mark(m);
+                self.mark(m, true);
                 self.mesh.for_each_out(m, |h| queue.push(h.face()));
             }
         }
@@ -439,7 +516,7 @@ impl Sculptor {
                         self.grid.remove(gone);
                         self.grid.update(keep, p);
                         if self.in_stroke(keep) {
-                            self.mark(keep);
+                            self.mark(keep, true);
                         }
                         stats.collapses += 1;
                         any = true;
