@@ -95,17 +95,21 @@ def main():
     add(stroke(sphere(0.45), DRAG, [0, -0.35, -0.75], [0, -0.45, -1.05], 12, 0.45))
     # Neck: grab the underside and pull a column down.
     add(stroke(sphere(0.3), DRAG, [0, 0.15, -0.85], [0, 0.2, -1.75], 36, 0.3))
-    # Shoulders: pull the neck base out to both sides and down.
+    # Shoulders: pull the neck base out to both sides, nearly level.
     for side in (-1, 1):
-        add(stroke({"kind": "capsule", "radius": 0.22, "half_length": 0.1},
-                   DRAG, [0.1 * side, 0.2, -1.7], [1.15 * side, 0.2, -2.1], 40, 0.3))
+        add(stroke({"kind": "capsule", "radius": 0.24, "half_length": 0.12},
+                   DRAG, [0.1 * side, 0.2, -1.72], [1.2 * side, 0.2, -1.95], 44, 0.32))
+    # Torso: pull the whole underside down with a wide flat brush so the
+    # shoulder lobes merge into one chest.
+    add(stroke({"kind": "ellipsoid", "radii": [0.95, 0.4, 0.2]}, DRAG,
+               [0, 0.2, -2.0], [0, 0.2, -2.55], 30, 0.35))
     # Chest: pull the front of the neck base forward and down.
     add(stroke(sphere(0.3), DRAG, [0, 0.05, -1.75], [0, -0.25, -2.3], 30, 0.35))
     # Back: pull the back down too so the torso is deep.
     add(stroke(sphere(0.3), DRAG, [0, 0.35, -1.75], [0, 0.55, -2.3], 30, 0.35))
     # Smooth the torso.
-    for z in (-1.9, -2.1):
-        add(stroke(sphere(0.6), WHITTLE, [-0.6, 0.2, z], [0.6, 0.2, z], 14, 0.3))
+    for z in (-1.9, -2.15, -2.4):
+        add(stroke(sphere(0.6), WHITTLE, [-0.8, 0.2, z], [0.8, 0.2, z], 16, 0.3))
     # Eye sockets: push in.
     for side in (-1, 1):
         add(stroke(sphere(0.1), DRAG, [0.33 * side, -0.92, 0.2], [0.33 * side, -0.8, 0.2], 8, 0.14))

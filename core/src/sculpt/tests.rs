@@ -602,3 +602,27 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn bust_script_gives_a_closed_head_and_replays_bit_identically() {
+    let text = include_str!("../../../tests/data/bust.jsonl");
+    let lines = crate::doc::parse_script(text).unwrap();
+    let mut log = OpLog::new();
+    crate::doc::run_script(&mut log, &lines).unwrap();
+    let mesh = &log.document().get(ObjectId(1)).unwrap().mesh;
+    let r = validate(mesh, &ValidationSettings::default());
+    assert!(r.is_closed_manifold(), "{}", r.problems());
+    assert_eq!(r.genus, Some(0));
+    assert_eq!(r.degenerate_triangles, 0);
+    // Taller than wide (head on neck on shoulders), shoulders wider than
+    // the head, the nose in front of the face.
+    let (lo, hi) = mesh.bbox().unwrap();
+    let size = hi - lo;
+    assert!(size.z > 3.0 && size.x > 2.2 && size.x < size.z, "{size}");
+    assert!(lo.y < -1.15, "nose tip at y = {}", lo.y);
+    let replayed = OpLog::replay(log.ops().to_vec(), log.cursor()).unwrap();
+    assert_eq!(
+        replayed.document().content_hash(),
+        log.document().content_hash()
+    );
+}
