@@ -626,3 +626,77 @@ fn bust_script_gives_a_closed_head_and_replays_bit_identically() {
         log.document().content_hash()
     );
 }
+
+#[test]
+fn model_placement_and_brush_scale_are_separate() {
+    // The same stroke expressed in model space (identity placement) and in
+    // world space around a moved, rotated, doubled model gives the same
+    // surface in model space.
+    let t = crate::math::Transform {
+        translate: [0.5, -0.25, 2.0],
+        rotate: DQuat::from_rotation_z(0.7).to_array(),
+        scale: [2.0; 3],
+    };
+    let affine = t.to_affine().unwrap();
+    let base = SculptBase::Sphere {
+        radius: 1.0,
+        edge_length: 0.15,
+    };
+    let mut a = OpLog::new();
+    a.apply(Op::SculptCreate(SculptCreate {
+        base: base.clone(),
+        transform: Default::default(),
+    }))
+    .unwrap();
+    let mut b = OpLog::new();
+    b.apply(Op::SculptCreate(SculptCreate { base, transform: t }))
+        .unwrap();
+    let local = stroke_op(1, Warp::Explode { delta: 0.2 }, 1.0);
+    let Op::SculptStroke(mut world) = local.clone() else {
+        unreachable!()
+    };
+    world.settings.brush_scale = 2.0;
+    world.settings.influence *= 2.0;
+    for s in &mut world.samples {
+        s.position = affine
+            .transform_point3(DVec3::from_array(s.position))
+            .to_array();
+        s.rotation = (DQuat::from_array(t.rotate) * DQuat::from_array(s.rotation)).to_array();
+    }
+    a.apply(local).unwrap();
+    b.apply(Op::SculptStroke(world)).unwrap();
+    let get = |log: &OpLog| match &log.document().get(ObjectId(1)).unwrap().kind {
+        crate::doc::ObjectKind::SculptMesh(m) => m.surface.clone(),
+        #[allow(unreachable_patterns)]
+        _ => unreachable!(),
+    };
+    let (ma, mb) = (get(&a), get(&b));
+    assert_eq!(ma.vertex_count(), mb.vertex_count());
+    let moved = ma
+        .vertices()
+        .filter(|&v| ma.position(v).distance(mb.position(v)) > 1e-9)
+        .count();
+    assert_eq!(moved, 0);
+    // The evaluated world mesh is the model-space surface placed by `t`.
+    let world_mesh = &b.document().get(ObjectId(1)).unwrap().mesh;
+    let vol_a = a.document().get(ObjectId(1)).unwrap().mesh.signed_volume();
+    assert!((world_mesh.signed_volume() - 8.0 * vol_a).abs() < 1e-9 * vol_a);
+    // A non-uniform model scale is refused.
+    let mut log = OpLog::new();
+    let err = log.apply(Op::SculptCreate(SculptCreate {
+        base: SculptBase::Sphere {
+            radius: 1.0,
+            edge_length: 0.2,
+        },
+        transform: crate::math::Transform {
+            scale: [1.0, 2.0, 1.0],
+            ..Default::default()
+        },
+    }));
+    assert!(matches!(
+        err,
+        Err(LogError::Op(OpError::Sculpt(SculptError::NonUniformScale(
+            _
+        ))))
+    ));
+}
