@@ -51,6 +51,14 @@ fn samples() -> Vec<StrokeSample> {
         .collect()
 }
 
+/// Nanoseconds this thread has run on a CPU (Linux schedstat), so the
+/// stroke's time can be told apart from time spent waiting for a core on a
+/// busy machine. `None` where the file does not exist.
+fn cpu_ns() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    s.split_whitespace().next()?.parse().ok()
+}
+
 fn pct(sorted: &[f64], q: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
@@ -60,12 +68,14 @@ fn frame_times(n: u32) {
     let verts = mesh.vertex_count();
     let s = settings(n);
     let t0 = Instant::now();
-    let mut sc = Sculptor::new(mesh, s.brush_size() + s.influence);
+    let mut sc = Sculptor::new(mesh, 0.25 * (s.brush_size() + s.influence));
     let index_ms = t0.elapsed().as_secs_f64() * 1e3;
     sc.begin_stroke();
     let smp = samples();
     let size = s.brush_size();
     let mut times = Vec::with_capacity(FRAMES);
+    let mut per_frame = Vec::with_capacity(FRAMES);
+    let mut cpu = Vec::with_capacity(FRAMES);
     let mut moved = 0;
     let mut splits = 0;
     let mut collapses = 0;
@@ -86,14 +96,29 @@ fn frame_times(n: u32) {
             max_len: s.max_edge_rel * size,
             min_len: s.min_edge_rel * size,
         };
+        let c = cpu_ns();
         let t = Instant::now();
         let st = sc.apply_frame(&input);
         times.push(t.elapsed().as_secs_f64() * 1e3);
+        if let (Some(a), Some(b)) = (c, cpu_ns()) {
+            cpu.push((b - a) as f64 / 1e6);
+        }
+        per_frame.push((st.moved, st.splits, st.collapses));
         moved += st.moved;
         splits += st.splits;
         collapses += st.collapses;
     }
     sc.mesh().check().unwrap();
+    let mut slowest: Vec<(usize, f64)> = times.iter().copied().enumerate().collect();
+    slowest.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let slow: Vec<String> = slowest[..5]
+        .iter()
+        .map(|&(i, t)| {
+            let (m, sp, co) = per_frame[i];
+            format!("#{i} {t:.1} ms ({m} moved, {sp} splits, {co} collapses)")
+        })
+        .collect();
+    println!("  slowest frames: {}", slow.join(", "));
     let mut sorted = times.clone();
     sorted.sort_by(f64::total_cmp);
     println!(
@@ -107,6 +132,15 @@ fn frame_times(n: u32) {
         splits,
         collapses
     );
+    if cpu.len() == FRAMES {
+        // schedstat advances in scheduler ticks, so only the mean is
+        // meaningful per frame.
+        println!(
+            "  mean per frame: wall {:.3} ms, on-CPU {:.3} ms (the rest is waiting for a core)",
+            times.iter().sum::<f64>() / FRAMES as f64,
+            cpu.iter().sum::<f64>() / FRAMES as f64
+        );
+    }
     // The same stroke as one op through the log.
     let mut log = OpLog::new();
     log.apply(Op::SculptCreate(SculptCreate {

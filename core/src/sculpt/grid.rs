@@ -22,12 +22,16 @@ pub struct VertexGrid {
 }
 
 impl VertexGrid {
-    /// A grid with cell size `cell` holding every live vertex of `mesh`.
-    pub fn build(mesh: &HalfEdgeMesh, cell: f64) -> Self {
+    /// A grid with cell size `cell` holding every live vertex of `mesh`,
+    /// with room for vertex ids up to `capacity` without reallocating.
+    pub fn build(mesh: &HalfEdgeMesh, cell: f64, capacity: usize) -> Self {
+        let n = mesh.vertex_capacity() as usize;
+        let mut where_ = Vec::with_capacity(capacity.max(n));
+        where_.resize(n, ([0; 3], INVALID));
         let mut g = Self {
             cell,
             cells: HashMap::new(),
-            where_: vec![([0; 3], INVALID); mesh.vertex_capacity() as usize],
+            where_,
         };
         for v in mesh.vertices() {
             g.insert(v, mesh.position(v));

@@ -315,6 +315,15 @@ impl HalfEdgeMesh {
             .filter(|&f| self.face_alive(f))
     }
 
+    /// Reserves room for `verts` more vertices (and about twice as many
+    /// faces), so growth does not reallocate in the middle of a frame.
+    pub fn reserve(&mut self, verts: usize) {
+        self.pos.reserve(verts);
+        self.vert_he.reserve(verts);
+        self.he_to.reserve(6 * verts);
+        self.he_twin.reserve(6 * verts);
+    }
+
     pub(crate) fn new_vertex(&mut self, p: DVec3) -> VertId {
         if let Some(v) = self.free_verts.pop() {
             self.pos[v as usize] = p.to_array();

@@ -151,18 +151,29 @@ pub struct Sculptor {
 impl Sculptor {
     /// Takes `mesh` and indexes its vertices in cells of size `cell`
     /// (about the brush size plus `h` is a good choice).
-    pub fn new(mesh: HalfEdgeMesh, cell: f64) -> Self {
-        let grid = VertexGrid::build(&mesh, cell);
+    pub fn new(mut mesh: HalfEdgeMesh, cell: f64) -> Self {
+        // Headroom for refinement: the first split of a stroke must not
+        // reallocate (and page in) every array of a large mesh.
         let n = mesh.vertex_capacity() as usize;
+        let extra = (n / 4).max(1024);
+        mesh.reserve(extra);
+        let grid = VertexGrid::build(&mesh, cell, n + extra);
+        let marks = || {
+            let mut v = Vec::with_capacity(n + extra);
+            v.resize(n, 0u32);
+            v
+        };
+        let mut face_mark = Vec::with_capacity(mesh.face_capacity() as usize + 2 * extra);
+        face_mark.resize(mesh.face_capacity() as usize, 0);
         Self {
             mesh,
             grid,
-            stroke_mark: vec![0; n],
+            stroke_mark: marks(),
             stroke_stamp: 1,
-            frame_mark: vec![0; n],
-            moved_mark: vec![0; n],
-            rigid_mark: vec![0; n],
-            face_mark: Vec::new(),
+            frame_mark: marks(),
+            moved_mark: marks(),
+            rigid_mark: marks(),
+            face_mark,
             face_stamp: 0,
             frame_stamp: 1,
             cand: Vec::new(),
@@ -290,8 +301,13 @@ impl Sculptor {
         self.moves.clear();
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        let reach2 = reach * reach;
         for &v in &cand {
             let x = self.mesh.position(v);
+            // Beyond the bound radius plus h the weight is 0.
+            if x.distance_squared(eval_pose.position) > reach2 {
+                continue;
+            }
             let (d, g) = eval_pose.eval(f.shape, x);
             let w = f.falloff.weight(d, f.influence, f.pressure);
             if w.is_nan() || w <= 0.0 {
