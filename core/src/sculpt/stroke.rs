@@ -2,6 +2,11 @@
 //! frame by a [`Sculptor`], which owns the surface, the vertex hash grid and
 //! the per-frame scratch, so a frame costs time proportional to the
 //! vertices near the brush, never a pass over the whole mesh.
+//!
+//! A brush reaches the vertices within its bound radius (scaled) plus `h`
+//! of its origin; beyond that the weight is 0 by definition (for the exact
+//! fields this is implied by `d >= h`; for the ellipsoid bound and grid
+//! fields it makes the region explicit).
 
 use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
