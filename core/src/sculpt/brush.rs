@@ -56,7 +56,10 @@ impl DistanceGrid {
     fn validate(&self) -> Result<(), SculptError> {
         finite("brush.origin", &self.origin)?;
         positive("brush.step", self.step)?;
-        let expected = self.dims.iter().map(|&d| d as usize).product::<usize>();
+        let expected = self
+            .dims
+            .iter()
+            .fold(1usize, |acc, &d| acc.saturating_mul(d as usize));
         if self.dims.iter().any(|&d| d < 2) || self.values.len() != expected {
             return Err(SculptError::BadGrid {
                 dims: self.dims,

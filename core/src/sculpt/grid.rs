@@ -101,8 +101,9 @@ impl VertexGrid {
         out.clear();
         let a = self.key(lo);
         let b = self.key(hi);
-        let span = (0..3).map(|i| (b[i] as i64 - a[i] as i64 + 1).max(0) as u64);
-        let ncell: u64 = span.product();
+        let ncell = (0..3)
+            .map(|i| (b[i] as i64 - a[i] as i64 + 1).max(0) as u64)
+            .fold(1u64, |acc, s| acc.saturating_mul(s));
         if ncell as usize > self.cells.len() {
             // Fewer occupied cells than cells in the box: scan buckets.
             for (k, bucket) in &self.cells {

@@ -700,3 +700,40 @@ fn model_placement_and_brush_scale_are_separate() {
         ))))
     ));
 }
+
+#[test]
+fn absurd_sizes_are_refused_or_handled_without_panics() {
+    let g = BrushShape::Grid(DistanceGrid {
+        origin: [0.0; 3],
+        step: 0.1,
+        dims: [u32::MAX; 3],
+        values: vec![0.0; 8],
+    });
+    assert!(matches!(g.validate(), Err(SculptError::BadGrid { .. })));
+    // A brush far larger than the model reaches every vertex; no overflow.
+    let m = sphere_he(3);
+    let shape = BrushShape::Sphere { radius: 1e150 };
+    let mut s = settings(shape.clone(), 1e150, Warp::Whittle);
+    s.max_edge_rel = 1e-150;
+    s.min_edge_rel = 1e-151;
+    let pose = BrushPose {
+        position: DVec3::ZERO,
+        rotation: DQuat::IDENTITY,
+        scale: 1.0,
+    };
+    let mut sc = Sculptor::new(m, 0.5);
+    run_stroke(&mut sc, &shape, &s, 1.0, &[(pose, 0.5)]);
+    assert_closed(sc.mesh());
+    let mut log = OpLog::new();
+    let huge = Op::SculptCreate(SculptCreate {
+        base: SculptBase::Box {
+            size: [1e9, 1.0, 1.0],
+            edge_length: 1e-3,
+        },
+        transform: Default::default(),
+    });
+    assert!(matches!(
+        log.apply(huge),
+        Err(LogError::Op(OpError::Sculpt(SculptError::TooLarge { .. })))
+    ));
+}
