@@ -15,5 +15,6 @@ pub mod gc;
 pub mod math;
 pub mod mesh;
 pub mod nurbs;
+pub mod sculpt;
 pub mod sketch;
 pub mod solid;

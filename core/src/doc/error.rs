@@ -40,6 +40,9 @@ pub enum OpError {
     /// A generalized cylinder could not be built, edited or meshed.
     #[error(transparent)]
     Gc(#[from] GcError),
+    /// A sculpt op's input is invalid.
+    #[error(transparent)]
+    Sculpt(#[from] crate::sculpt::SculptError),
 }
 
 /// Why the log could not do what was asked. The log and its document are

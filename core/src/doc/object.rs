@@ -28,6 +28,8 @@ pub enum ObjectKind {
     Solid(Solid),
     /// An assembly of generalized cylinders.
     GcAssembly(crate::gc::GcAssembly),
+    /// A surface sculpted with warp brushes.
+    SculptMesh(crate::sculpt::SculptMesh),
 }
 
 impl ObjectKind {
@@ -36,6 +38,7 @@ impl ObjectKind {
         match self {
             Self::Solid(_) => "solid",
             Self::GcAssembly(_) => "gc_assembly",
+            Self::SculptMesh(_) => "sculpt_mesh",
         }
     }
 
@@ -44,6 +47,7 @@ impl ObjectKind {
         match self {
             Self::Solid(s) => s.evaluate(),
             Self::GcAssembly(a) => Ok(a.evaluate()?),
+            Self::SculptMesh(s) => s.evaluate(),
         }
     }
 }

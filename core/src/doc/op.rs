@@ -37,6 +37,8 @@ pub const OP_NAMES: &[&str] = &[
     "gc_insert_section",
     "gc_set_shape",
     "gc_set_resolution",
+    "sculpt_create",
+    "sculpt_stroke",
 ];
 
 /// One change to a document.
@@ -77,6 +79,10 @@ pub enum Op {
     GcSetShape(crate::gc::ops::GcSetShape),
     /// Set a GC's mesh resolution.
     GcSetResolution(crate::gc::ops::GcSetResolution),
+    /// Create a sculpt object from a base shape or a closed mesh.
+    SculptCreate(crate::sculpt::SculptCreate),
+    /// Apply one warp-brush stroke to a sculpt object.
+    SculptStroke(crate::sculpt::SculptStroke),
 }
 
 /// What applying an op produced.
@@ -175,6 +181,8 @@ impl Op {
             Self::GcInsertSection(_) => "gc_insert_section",
             Self::GcSetShape(_) => "gc_set_shape",
             Self::GcSetResolution(_) => "gc_set_resolution",
+            Self::SculptCreate(_) => "sculpt_create",
+            Self::SculptStroke(_) => "sculpt_stroke",
         }
     }
 
@@ -230,6 +238,8 @@ impl Op {
             Self::GcInsertSection(op) => op.apply(doc),
             Self::GcSetShape(op) => op.apply(doc),
             Self::GcSetResolution(op) => op.apply(doc),
+            Self::SculptCreate(op) => crate::sculpt::ops::apply_create(doc, op),
+            Self::SculptStroke(op) => crate::sculpt::ops::apply_stroke(doc, op),
         }
     }
 }

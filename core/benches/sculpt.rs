@@ -1,0 +1,207 @@
+//! Warp-brush frame times: a 200-frame drag stroke on geodesic spheres of
+//! about 150k and 500k vertices, p50 / p99 / max per frame (goal: p99 under
+//! 11.1 ms, one 90 Hz frame, at 500k), plus the cost of the whole stroke as
+//! one `sculpt_stroke` op (clone, index, frames, re-evaluation), then a
+//! Criterion measurement of single frames at 150k.
+//!
+//! Run: `cargo bench -p shapewright --bench sculpt`.
+
+use std::time::Instant;
+
+use criterion::{black_box, Criterion};
+use shapewright::doc::{ObjectId, Op, OpLog};
+use shapewright::math::{DQuat, DVec3};
+use shapewright::sculpt::base::geodesic_sphere;
+use shapewright::sculpt::stroke::{FrameInput, Sculptor};
+use shapewright::sculpt::{
+    BrushPose, BrushShape, Falloff, HalfEdgeMesh, SculptBase, SculptCreate, SculptStroke,
+    StrokeSample, StrokeSettings, Warp,
+};
+
+const FRAMES: usize = 200;
+
+fn settings(n: u32) -> StrokeSettings {
+    // Edges of the n-frequency sphere are about 1.05 / n (up to ~1.2x that);
+    // keep them inside [min, max] so only the stroke adapts the mesh.
+    let brush = BrushShape::Sphere { radius: 0.1 };
+    let nominal = 1.0515 / n as f64;
+    StrokeSettings {
+        brush,
+        brush_scale: 1.0,
+        influence: 0.1,
+        falloff: Falloff::Smooth,
+        warp: Warp::Drag,
+        max_edge_rel: 2.0 * nominal / 0.1,
+        min_edge_rel: 0.4 * nominal / 0.1,
+    }
+}
+
+/// A drag that grabs the surface at +z and pulls it out along a gentle arc.
+fn samples() -> Vec<StrokeSample> {
+    (0..FRAMES)
+        .map(|i| {
+            let t = i as f64 / FRAMES as f64;
+            let p = DVec3::new(0.25 * t, 0.1 * (t * 6.0).sin(), 1.05 + 0.3 * t);
+            StrokeSample {
+                position: p.to_array(),
+                rotation: DQuat::from_rotation_x(0.3 * t).to_array(),
+                pressure: 1.0,
+            }
+        })
+        .collect()
+}
+
+/// Nanoseconds this thread has run on a CPU (Linux schedstat), so the
+/// stroke's time can be told apart from time spent waiting for a core on a
+/// busy machine. `None` where the file does not exist.
+fn cpu_ns() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    s.split_whitespace().next()?.parse().ok()
+}
+
+fn pct(sorted: &[f64], q: f64) -> f64 {
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+fn frame_times(n: u32) {
+    let mesh = HalfEdgeMesh::from_trimesh(&geodesic_sphere(1.0, n), "base").unwrap();
+    let verts = mesh.vertex_count();
+    let s = settings(n);
+    let t0 = Instant::now();
+    let mut sc = Sculptor::new(mesh, 0.25 * (s.brush_size() + s.influence));
+    let index_ms = t0.elapsed().as_secs_f64() * 1e3;
+    sc.begin_stroke();
+    let smp = samples();
+    let size = s.brush_size();
+    let mut times = Vec::with_capacity(FRAMES);
+    let mut per_frame = Vec::with_capacity(FRAMES);
+    let mut cpu = Vec::with_capacity(FRAMES);
+    let mut moved = 0;
+    let mut splits = 0;
+    let mut collapses = 0;
+    for i in 0..FRAMES {
+        let pose = |k: usize| BrushPose {
+            position: DVec3::from_array(smp[k].position),
+            rotation: DQuat::from_array(smp[k].rotation),
+            scale: 1.0,
+        };
+        let input = FrameInput {
+            shape: &s.brush,
+            prev: pose(i.saturating_sub(1)),
+            pose: pose(i),
+            pressure: 1.0,
+            influence: s.influence,
+            falloff: s.falloff,
+            warp: s.warp,
+            max_len: s.max_edge_rel * size,
+            min_len: s.min_edge_rel * size,
+        };
+        let c = cpu_ns();
+        let t = Instant::now();
+        let st = sc.apply_frame(&input);
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+        if let (Some(a), Some(b)) = (c, cpu_ns()) {
+            cpu.push((b - a) as f64 / 1e6);
+        }
+        per_frame.push((st.moved, st.splits, st.collapses));
+        moved += st.moved;
+        splits += st.splits;
+        collapses += st.collapses;
+    }
+    sc.mesh().check().unwrap();
+    let mut slowest: Vec<(usize, f64)> = times.iter().copied().enumerate().collect();
+    slowest.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let slow: Vec<String> = slowest[..5]
+        .iter()
+        .map(|&(i, t)| {
+            let (m, sp, co) = per_frame[i];
+            format!("#{i} {t:.1} ms ({m} moved, {sp} splits, {co} collapses)")
+        })
+        .collect();
+    println!("  slowest frames: {}", slow.join(", "));
+    let mut sorted = times.clone();
+    sorted.sort_by(f64::total_cmp);
+    println!(
+        "sculpt frames n={n} verts={verts} -> {} after: p50 {:.3} ms  p99 {:.3} ms  max {:.3} ms  (index build {:.1} ms; {} vertex moves, {} splits, {} collapses over {FRAMES} frames)",
+        sc.mesh().vertex_count(),
+        pct(&sorted, 0.5),
+        pct(&sorted, 0.99),
+        sorted[sorted.len() - 1],
+        index_ms,
+        moved,
+        splits,
+        collapses
+    );
+    if cpu.len() == FRAMES {
+        // schedstat advances in scheduler ticks, so only the mean is
+        // meaningful per frame.
+        println!(
+            "  mean per frame: wall {:.3} ms, on-CPU {:.3} ms (the rest is waiting for a core)",
+            times.iter().sum::<f64>() / FRAMES as f64,
+            cpu.iter().sum::<f64>() / FRAMES as f64
+        );
+    }
+    // The same stroke as one op through the log.
+    let mut log = OpLog::new();
+    log.apply(Op::SculptCreate(SculptCreate {
+        base: SculptBase::Mesh {
+            positions: geodesic_sphere(1.0, n).positions,
+            triangles: geodesic_sphere(1.0, n).triangles,
+        },
+        transform: Default::default(),
+    }))
+    .unwrap();
+    let t = Instant::now();
+    log.apply(Op::SculptStroke(SculptStroke {
+        id: ObjectId(1),
+        settings: s.clone(),
+        samples: smp.clone(),
+    }))
+    .unwrap();
+    println!(
+        "sculpt_stroke op n={n}: {:.1} ms for the {FRAMES}-frame stroke (clone + index + frames + mesh re-evaluation)",
+        t.elapsed().as_secs_f64() * 1e3
+    );
+}
+
+fn main() {
+    // n = 122: 148,842 vertices; n = 224: 501,762 vertices.
+    frame_times(122);
+    frame_times(224);
+    if std::env::var("SCULPT_FRAMES_ONLY").is_ok() {
+        return;
+    }
+    let n = 122;
+    let s = settings(n);
+    let mut sc = Sculptor::new(
+        HalfEdgeMesh::from_trimesh(&geodesic_sphere(1.0, n), "base").unwrap(),
+        s.brush_size() + s.influence,
+    );
+    let size = s.brush_size();
+    let mut c = Criterion::default().sample_size(20).configure_from_args();
+    let mut k = 0u64;
+    c.bench_function("sculpt_explode_frame_150k", |b| {
+        b.iter(|| {
+            // Alternate explode and collapse so the mesh stays bounded.
+            k += 1;
+            let delta = if k.is_multiple_of(2) { 0.02 } else { -0.02 };
+            let pose = BrushPose {
+                position: DVec3::new(0.0, 0.0, 1.05),
+                rotation: DQuat::IDENTITY,
+                scale: 1.0,
+            };
+            black_box(sc.apply_frame(&FrameInput {
+                shape: &s.brush,
+                prev: pose,
+                pose,
+                pressure: 1.0,
+                influence: s.influence,
+                falloff: s.falloff,
+                warp: Warp::Explode { delta },
+                max_len: s.max_edge_rel * size,
+                min_len: s.min_edge_rel * size,
+            }))
+        })
+    });
+    c.final_summary();
+}
