@@ -13,4 +13,5 @@
 pub mod doc;
 pub mod math;
 pub mod mesh;
+pub mod sdf;
 pub mod solid;
