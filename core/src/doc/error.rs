@@ -36,6 +36,9 @@ pub enum OpError {
     /// A solid's parameters are invalid.
     #[error(transparent)]
     Solid(#[from] SolidError),
+    /// An SDF op failed.
+    #[error(transparent)]
+    Sdf(#[from] crate::sdf::SdfError),
 }
 
 /// Why the log could not do what was asked. The log and its document are

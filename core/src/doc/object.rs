@@ -26,6 +26,8 @@ pub struct Object {
 pub enum ObjectKind {
     /// A parametric solid (box, sphere, ...).
     Solid(Solid),
+    /// A scene SDF built from placed library components (paper 2).
+    SdfVolume(crate::sdf::SdfVolume),
 }
 
 impl ObjectKind {
@@ -33,6 +35,7 @@ impl ObjectKind {
     pub fn name(&self) -> &'static str {
         match self {
             Self::Solid(_) => "solid",
+            Self::SdfVolume(_) => "sdf_volume",
         }
     }
 
@@ -40,6 +43,7 @@ impl ObjectKind {
     pub fn evaluate(&self) -> Result<TriMesh, OpError> {
         match self {
             Self::Solid(s) => s.evaluate(),
+            Self::SdfVolume(v) => Ok(v.evaluate()?),
         }
     }
 }

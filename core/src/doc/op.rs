@@ -26,6 +26,15 @@ pub const OP_NAMES: &[&str] = &[
     "transform_by",
     "duplicate",
     "delete",
+    "sdf_create",
+    "sdf_add_operand",
+    "sdf_set_operand_transform",
+    "sdf_scale_two_hand",
+    "sdf_cancel_operand",
+    "sdf_copy_operand",
+    "sdf_update",
+    "sdf_import_component",
+    "sdf_set_step",
 ];
 
 /// One change to a document.
@@ -44,6 +53,24 @@ pub enum Op {
     Duplicate(Duplicate),
     /// Delete an object. Its id is never reused.
     Delete(Delete),
+    /// `sdf_create`: see [`crate::sdf::ops`].
+    SdfCreate(crate::sdf::ops::SdfCreate),
+    /// `sdf_add_operand`: see [`crate::sdf::ops`].
+    SdfAddOperand(crate::sdf::ops::SdfAddOperand),
+    /// `sdf_set_operand_transform`: see [`crate::sdf::ops`].
+    SdfSetOperandTransform(crate::sdf::ops::SdfSetOperandTransform),
+    /// `sdf_scale_two_hand`: see [`crate::sdf::ops`].
+    SdfScaleTwoHand(crate::sdf::ops::SdfScaleTwoHand),
+    /// `sdf_cancel_operand`: see [`crate::sdf::ops`].
+    SdfCancelOperand(crate::sdf::ops::SdfCancelOperand),
+    /// `sdf_copy_operand`: see [`crate::sdf::ops`].
+    SdfCopyOperand(crate::sdf::ops::SdfCopyOperand),
+    /// `sdf_update`: see [`crate::sdf::ops`].
+    SdfUpdate(crate::sdf::ops::SdfUpdate),
+    /// `sdf_import_component`: see [`crate::sdf::ops`].
+    SdfImportComponent(crate::sdf::ops::SdfImportComponent),
+    /// `sdf_set_step`: see [`crate::sdf::ops`].
+    SdfSetStep(crate::sdf::ops::SdfSetStep),
 }
 
 /// What applying an op produced.
@@ -131,6 +158,15 @@ impl Op {
             Self::TransformBy(_) => "transform_by",
             Self::Duplicate(_) => "duplicate",
             Self::Delete(_) => "delete",
+            Self::SdfCreate(_) => "sdf_create",
+            Self::SdfAddOperand(_) => "sdf_add_operand",
+            Self::SdfSetOperandTransform(_) => "sdf_set_operand_transform",
+            Self::SdfScaleTwoHand(_) => "sdf_scale_two_hand",
+            Self::SdfCancelOperand(_) => "sdf_cancel_operand",
+            Self::SdfCopyOperand(_) => "sdf_copy_operand",
+            Self::SdfUpdate(_) => "sdf_update",
+            Self::SdfImportComponent(_) => "sdf_import_component",
+            Self::SdfSetStep(_) => "sdf_set_step",
         }
     }
 
@@ -175,6 +211,17 @@ impl Op {
                 doc.remove(op.id)?;
                 Ok(OpOutcome::default())
             }
+            Self::SdfCreate(op) => crate::sdf::ops::apply_create(doc, op),
+            Self::SdfAddOperand(op) => crate::sdf::ops::apply_add_operand(doc, op),
+            Self::SdfSetOperandTransform(op) => {
+                crate::sdf::ops::apply_set_operand_transform(doc, op)
+            }
+            Self::SdfScaleTwoHand(op) => crate::sdf::ops::apply_scale_two_hand(doc, op),
+            Self::SdfCancelOperand(op) => crate::sdf::ops::apply_cancel_operand(doc, op),
+            Self::SdfCopyOperand(op) => crate::sdf::ops::apply_copy_operand(doc, op),
+            Self::SdfUpdate(op) => crate::sdf::ops::apply_update(doc, op),
+            Self::SdfImportComponent(op) => crate::sdf::ops::apply_import_component(doc, op),
+            Self::SdfSetStep(op) => crate::sdf::ops::apply_set_step(doc, op),
         }
     }
 }

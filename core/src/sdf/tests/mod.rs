@@ -1,1 +1,3 @@
 mod mc;
+mod mesh_sdf;
+mod volume;
