@@ -67,23 +67,8 @@ pub fn mesh_to_sdf(mesh: &TriMesh, step: f64, padding: f64) -> Result<DenseSdf, 
     // Centre the grid on the box so both sides get the same padding.
     let extra = (n * step - (hi - lo)) * 0.5;
     let origin = lo - extra;
-    // parry works in f32: query relative to the grid centre to keep digits.
     let centre = origin + n * step * 0.5;
-    let verts: Vec<parry3d::math::Vector> = mesh
-        .positions
-        .iter()
-        .map(|p| {
-            let q = DVec3::from_array(*p) - centre;
-            parry3d::math::Vector::new(q.x as f32, q.y as f32, q.z as f32)
-        })
-        .collect();
-    let tri = parry3d::shape::TriMesh::with_flags(
-        verts,
-        mesh.triangles.clone(),
-        parry3d::shape::TriMeshFlags::ORIENTED,
-    )
-    .map_err(|e| SdfError::BadMesh(format!("{e:?}")))?;
-    use parry3d::query::PointQuery;
+    let query = MeshDistance::new(mesh, centre)?;
     let slab = dims[0] * dims[1];
     let mut values = vec![0f32; total];
     values
@@ -92,11 +77,8 @@ pub fn mesh_to_sdf(mesh: &TriMesh, step: f64, padding: f64) -> Result<DenseSdf, 
         .for_each(|(k, out)| {
             for j in 0..dims[1] {
                 for i in 0..dims[0] {
-                    let p = origin + DVec3::new(i as f64, j as f64, k as f64) * step - centre;
-                    let q = parry3d::math::Vector::new(p.x as f32, p.y as f32, p.z as f32);
-                    let proj = tri.project_local_point(q, false);
-                    let d = (proj.point - q).length();
-                    out[i + dims[0] * j] = if proj.is_inside { -d } else { d };
+                    let p = origin + DVec3::new(i as f64, j as f64, k as f64) * step;
+                    out[i + dims[0] * j] = query.signed_distance(p) as f32;
                 }
             }
         });
@@ -106,6 +88,50 @@ pub fn mesh_to_sdf(mesh: &TriMesh, step: f64, padding: f64) -> Result<DenseSdf, 
         step,
         values,
     })
+}
+
+/// Signed distance queries against a closed, oriented mesh (parry3d BVH
+/// closest point, pseudo-normal sign).
+pub struct MeshDistance {
+    tri: parry3d::shape::TriMesh,
+    centre: DVec3,
+}
+
+impl MeshDistance {
+    /// Builds the BVH and pseudo-normals. `centre` is subtracted from every
+    /// point before going to parry's `f32` (keeps digits near the mesh).
+    pub fn new(mesh: &TriMesh, centre: DVec3) -> Result<Self, SdfError> {
+        check_mesh(mesh)?;
+        let verts: Vec<parry3d::math::Vector> = mesh
+            .positions
+            .iter()
+            .map(|p| {
+                let q = DVec3::from_array(*p) - centre;
+                parry3d::math::Vector::new(q.x as f32, q.y as f32, q.z as f32)
+            })
+            .collect();
+        let tri = parry3d::shape::TriMesh::with_flags(
+            verts,
+            mesh.triangles.clone(),
+            parry3d::shape::TriMeshFlags::ORIENTED,
+        )
+        .map_err(|e| SdfError::BadMesh(format!("{e:?}")))?;
+        Ok(Self { tri, centre })
+    }
+
+    /// The signed distance at `p` (negative inside).
+    pub fn signed_distance(&self, p: DVec3) -> f64 {
+        use parry3d::query::PointQuery;
+        let p = p - self.centre;
+        let q = parry3d::math::Vector::new(p.x as f32, p.y as f32, p.z as f32);
+        let proj = self.tri.project_local_point(q, false);
+        let d = (proj.point - q).length() as f64;
+        if proj.is_inside {
+            -d
+        } else {
+            d
+        }
+    }
 }
 
 /// `mesh` centred on its box and scaled so its longest side is

@@ -5,7 +5,7 @@ use crate::math::DVec3;
 use crate::mesh::{validate, TriMesh};
 use crate::sdf::cache::{self, SdfStore};
 use crate::sdf::library::{starter_mesh, STARTER_NAMES};
-use crate::sdf::mesh_sdf::{component_sdf, mesh_to_sdf};
+use crate::sdf::mesh_sdf::{component_sdf, mesh_to_sdf, MeshDistance};
 use crate::sdf::SdfError;
 use crate::solid::{tessellate, SolidShape};
 
@@ -37,25 +37,16 @@ fn cube_sign_is_right_on_and_near_faces_edges_vertices() {
     }
     assert!(on > 100);
     // Points just off faces, edges and vertices, both sides.
-    let m = unit_cube();
-    let tri = |p: DVec3, e: f64| {
-        let mut mm = m.clone();
-        for x in &mut mm.positions {
-            *x = (DVec3::from_array(*x) - p).to_array();
-        }
-        let s = mesh_to_sdf(&mm, 0.001, e).unwrap();
-        s.sample(DVec3::ZERO).unwrap()
-    };
+    let q = MeshDistance::new(&unit_cube(), DVec3::ZERO).unwrap();
     for (p, n) in [
         (DVec3::new(0.5, 0.1, 0.2), DVec3::X),
-        (
-            DVec3::new(0.5, 0.5, 0.1),
-            DVec3::new(1.0, 1.0, 0.0).normalize(),
-        ),
+        (DVec3::new(0.5, 0.5, 0.1), DVec3::new(1.0, 1.0, 0.0).normalize()),
         (DVec3::new(0.5, 0.5, 0.5), DVec3::ONE.normalize()),
+        (DVec3::new(0.5, 0.5, 0.5), DVec3::new(1.0, 0.2, 0.1).normalize()),
+        (DVec3::new(-0.5, 0.5, -0.5), DVec3::new(-1.0, 0.3, -0.2).normalize()),
     ] {
-        let out = tri(p + n * 1e-3, 0.01);
-        let inn = tri(p - n * 1e-3, 0.01);
+        let out = q.signed_distance(p + n * 1e-3);
+        let inn = q.signed_distance(p - n * 1e-3);
         assert!(out > 0.0 && inn < 0.0, "{p}: out {out} in {inn}");
     }
 }
