@@ -40,10 +40,19 @@ fn cube_sign_is_right_on_and_near_faces_edges_vertices() {
     let q = MeshDistance::new(&unit_cube(), DVec3::ZERO).unwrap();
     for (p, n) in [
         (DVec3::new(0.5, 0.1, 0.2), DVec3::X),
-        (DVec3::new(0.5, 0.5, 0.1), DVec3::new(1.0, 1.0, 0.0).normalize()),
+        (
+            DVec3::new(0.5, 0.5, 0.1),
+            DVec3::new(1.0, 1.0, 0.0).normalize(),
+        ),
         (DVec3::new(0.5, 0.5, 0.5), DVec3::ONE.normalize()),
-        (DVec3::new(0.5, 0.5, 0.5), DVec3::new(1.0, 0.2, 0.1).normalize()),
-        (DVec3::new(-0.5, 0.5, -0.5), DVec3::new(-1.0, 0.3, -0.2).normalize()),
+        (
+            DVec3::new(0.5, 0.5, 0.5),
+            DVec3::new(1.0, 0.2, 0.1).normalize(),
+        ),
+        (
+            DVec3::new(-0.5, 0.5, -0.5),
+            DVec3::new(-1.0, 0.3, -0.2).normalize(),
+        ),
     ] {
         let out = q.signed_distance(p + n * 1e-3);
         let inn = q.signed_distance(p - n * 1e-3);
