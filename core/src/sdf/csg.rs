@@ -65,20 +65,33 @@ pub fn component_brick(grid: &SparseGrid, f: &PlacedField, key: BrickKey) -> Bri
     let base = DVec3::new(key[0] as f64, key[1] as f64, key[2] as f64) * BRICK as f64;
     let centre = (base + DVec3::splat((BRICK - 1) as f64 / 2.0)) * h;
     let radius = (BRICK - 1) as f64 / 2.0 * 3f64.sqrt() * h;
-    let lip = f.field.lipschitz();
-    match f.value_if_ball_inside(centre, radius) {
-        Some(v) if v.abs() >= lip * radius + band => {
-            return Brick::Uniform(if v < 0.0 { -grid.band } else { grid.band });
-        }
-        _ => {}
+    if let Some(s) = f.far_sign(centre, radius, band) {
+        return Brick::Uniform(if s < 0.0 { -grid.band } else { grid.band });
     }
+    // Not provably uniform as a whole: try each 4³ octant, then sample.
     let mut d = vec![0f32; BRICK_LEN];
-    for z in 0..BRICK {
-        for y in 0..BRICK {
-            for x in 0..BRICK {
-                let p = (base + DVec3::new(x as f64, y as f64, z as f64)) * h;
-                let v = f.value(p).map_or(band, |v| v.clamp(-band, band));
-                d[local_index(x, y, z)] = v as f32;
+    let half = BRICK / 2;
+    let sub_radius = (half - 1) as f64 / 2.0 * 3f64.sqrt() * h;
+    for oct in 0..8 {
+        let o = [oct & 1, oct >> 1 & 1, oct >> 2 & 1].map(|b| b * half);
+        let oc = (base
+            + DVec3::new(o[0] as f64, o[1] as f64, o[2] as f64)
+            + DVec3::splat((half - 1) as f64 / 2.0))
+            * h;
+        let uniform =
+            f.far_sign(oc, sub_radius, band)
+                .map(|s| if s < 0.0 { -grid.band } else { grid.band });
+        for z in o[2]..o[2] + half {
+            for y in o[1]..o[1] + half {
+                for x in o[0]..o[0] + half {
+                    d[local_index(x, y, z)] = match uniform {
+                        Some(u) => u,
+                        None => {
+                            let p = (base + DVec3::new(x as f64, y as f64, z as f64)) * h;
+                            f.value(p).map_or(band, |v| v.clamp(-band, band)) as f32
+                        }
+                    };
+                }
             }
         }
     }

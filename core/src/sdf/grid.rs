@@ -13,7 +13,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use super::mc::{polygonize, KeyedMesh, MeshSink, VertKey};
+use super::mc::{polygonize, MeshSink, VertKey};
 
 /// Samples per brick edge.
 pub const BRICK: i32 = 8;
@@ -151,7 +151,12 @@ impl SparseGrid {
     /// the 8 bricks `B + {0,1}³` (which its cells read) are not all inside
     /// or all outside. Sorted.
     pub fn extraction_bricks(&self) -> Vec<BrickKey> {
-        let mut cand: Vec<BrickKey> = Vec::new();
+        let classes: std::collections::HashMap<BrickKey, u8, super::mc::BuildKeyHasher> = self
+            .bricks
+            .iter()
+            .map(|(k, b)| (*k, b.sign_class()))
+            .collect();
+        let mut cand: Vec<BrickKey> = Vec::with_capacity(self.bricks.len() * 2);
         for k in self.bricks.keys() {
             for o in super::mc::CORNER_OFFSETS {
                 cand.push([k[0] - o[0], k[1] - o[1], k[2] - o[2]]);
@@ -159,7 +164,17 @@ impl SparseGrid {
         }
         cand.sort_unstable();
         cand.dedup();
-        cand.retain(|k| self.needs_extraction(*k));
+        cand.retain(|key| {
+            let mut seen = [false; 3];
+            for o in super::mc::CORNER_OFFSETS {
+                let c = classes
+                    .get(&[key[0] + o[0], key[1] + o[1], key[2] + o[2]])
+                    .copied()
+                    .unwrap_or(0);
+                seen[c as usize] = true;
+            }
+            seen[2] || (seen[0] && seen[1])
+        });
         cand
     }
 
@@ -195,8 +210,8 @@ impl SparseGrid {
                 }
             }
         }
-        let mut sink = PieceSink::default();
         let base = key.map(|k| k * BRICK);
+        let mut sink = PieceSink::new(base);
         for z in 0..8 {
             for y in 0..8 {
                 for x in 0..8 {
@@ -220,30 +235,52 @@ impl SparseGrid {
                 }
             }
         }
-        Piece {
-            keys: sink.m.keys,
-            positions: sink.m.positions,
-            triangles: sink.m.triangles,
-        }
+        sink.piece
     }
 }
 
-#[derive(Default)]
+/// Builds one brick's piece; edge vertices are found through a table
+/// indexed by the edge's position in the 9³ block instead of a hash map.
 struct PieceSink {
-    m: KeyedMesh,
+    base: [i32; 3],
+    slots: Vec<u32>,
+    piece: Piece,
+}
+
+impl PieceSink {
+    fn new(base: [i32; 3]) -> Self {
+        Self {
+            base,
+            slots: vec![u32::MAX; 9 * 9 * 9 * 3],
+            piece: Piece::default(),
+        }
+    }
 }
 
 impl MeshSink for PieceSink {
     #[inline]
     fn vertex(&mut self, key: VertKey, pos: impl FnOnce() -> [f64; 3]) -> u32 {
-        self.m.vertex(key, pos)
+        let l = [0, 1, 2].map(|a| (key.at[a] - self.base[a]) as usize);
+        let slot = ((l[0] + 9 * (l[1] + 9 * l[2])) * 3) + key.kind as usize;
+        let id = self.slots[slot];
+        if id != u32::MAX {
+            return id;
+        }
+        let n = self.piece.positions.len() as u32;
+        self.slots[slot] = n;
+        self.piece.keys.push(key);
+        self.piece.positions.push(pos());
+        n
     }
     fn fresh(&mut self, key: VertKey, pos: [f64; 3]) -> u32 {
-        self.m.fresh(key, pos)
+        let n = self.piece.positions.len() as u32;
+        self.piece.keys.push(key);
+        self.piece.positions.push(pos);
+        n
     }
     #[inline]
     fn triangle(&mut self, t: [u32; 3]) {
-        self.m.triangle(t)
+        self.piece.triangles.push(t)
     }
 }
 

@@ -278,10 +278,19 @@ pub(crate) fn edge_vertex(lo: [i32; 3], axis: usize, va: f32, vb: f32, step: f64
 
 /// A vertex's identity: a grid edge (`kind` = axis 0..3) or a cell centroid
 /// (`kind` = 3 + loop index), at global sample/cell index `at`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) struct VertKey {
     pub at: [i32; 3],
     pub kind: u8,
+}
+
+impl std::hash::Hash for VertKey {
+    #[inline]
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        // One word: collisions only cost a probe, equality stays exact.
+        let [x, y, z] = self.at.map(|c| c as u32 as u64 & 0x1f_ffff);
+        state.write_u64(x | y << 21 | z << 42 | (self.kind as u64) << 61);
+    }
 }
 
 /// Receives the output of [`polygonize`].
@@ -443,7 +452,8 @@ impl std::hash::Hasher for KeyHasher {
     }
     #[inline]
     fn write_u64(&mut self, i: u64) {
-        self.0 = (self.0.rotate_left(5) ^ i).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+        let x = (self.0.rotate_left(5) ^ i).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+        self.0 = x ^ (x >> 32);
     }
     #[inline]
     fn write_usize(&mut self, i: usize) {

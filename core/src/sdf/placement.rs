@@ -73,6 +73,8 @@ impl LocalField {
 pub struct PlacedField {
     /// The local field.
     pub field: LocalField,
+    /// Local → world.
+    pub forward: DAffine3,
     /// World → local.
     pub inverse: DAffine3,
     /// `min |s_i|`: the non-uniform scale correction.
@@ -113,6 +115,7 @@ impl PlacedField {
         }
         Ok(Self {
             field,
+            forward: m,
             inverse,
             scale_min,
             local_box,
@@ -128,17 +131,34 @@ impl PlacedField {
         self.field.sample(q).map(|v| v * self.scale_min)
     }
 
-    /// The world value at `p` if the ball of world radius `r` around `p`
-    /// lies inside the component's box, so that the Lipschitz bound holds
-    /// over the whole ball; `None` otherwise.
-    pub fn value_if_ball_inside(&self, p: DVec3, r: f64) -> Option<f64> {
+    /// The sign (`+1` or `-1`) shared by every world value within the ball
+    /// of radius `r` around `p`, when each of them is provably beyond
+    /// `band` in magnitude; `None` when that cannot be shown.
+    ///
+    /// The field is evaluated at the point `q` of the component's box
+    /// nearest to `T⁻¹p` (values outside the box are +band anyway); every
+    /// point of the ball that lies in the box is within `r + |p − Tq|` of
+    /// `Tq`, so the Lipschitz bound `lip` proves the rest.
+    pub fn far_sign(&self, p: DVec3, r: f64, band: f64) -> Option<f64> {
+        let lip = self.field.lipschitz();
         let q = self.inverse.transform_point3(p);
-        let rl = r / self.scale_min;
         let (lo, hi) = self.local_box;
-        if (q - lo).min_element() < rl || (hi - q).min_element() < rl {
-            return None;
+        let qc = q.clamp(lo, hi);
+        let v = self.field.sample(qc)? * self.scale_min;
+        let d = if qc == q {
+            0.0
+        } else {
+            (self.forward.transform_point3(qc) - p).length()
+        };
+        if v >= lip * (r + d) + band {
+            return Some(1.0);
         }
-        self.field.sample(q).map(|v| v * self.scale_min)
+        let rl = r / self.scale_min;
+        let ball_inside = qc == q && (q - lo).min_element() >= rl && (hi - q).min_element() >= rl;
+        if ball_inside && v <= -(lip * r + band) {
+            return Some(-1.0);
+        }
+        None
     }
 }
 
