@@ -60,8 +60,8 @@ pub fn mesh_to_sdf(mesh: &TriMesh, step: f64, padding: f64) -> Result<DenseSdf, 
     let total = dims[0].saturating_mul(dims[1]).saturating_mul(dims[2]);
     if total > MAX_SAMPLES {
         return Err(SdfError::OverBudget {
-            needed_mib: (total * 4 >> 20) as u64,
-            budget_mib: (MAX_SAMPLES * 4 >> 20) as u64,
+            needed_mib: ((total * 4) >> 20) as u64,
+            budget_mib: ((MAX_SAMPLES * 4) >> 20) as u64,
         });
     }
     // Centre the grid on the box so both sides get the same padding.

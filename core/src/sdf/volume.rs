@@ -174,7 +174,7 @@ impl SdfVolume {
         let (lo, hi) = f.world_box;
         let bricks = brick_count_in_box(self.step, lo, hi);
         let budget = (MEMORY_BUDGET_BYTES / (BRICK_LEN * 4)) as f64;
-        if !(bricks <= budget) {
+        if bricks.is_nan() || bricks > budget {
             return Err(SdfError::OverBudget {
                 needed_mib: (bricks * (BRICK_LEN * 4) as f64 / (1 << 20) as f64) as u64,
                 budget_mib: (MEMORY_BUDGET_BYTES >> 20) as u64,
@@ -241,7 +241,7 @@ impl SdfVolume {
         pieces.extend(extract_keys(&grid, &todo));
         let mesh = Arc::new(stitch(&pieces));
         let mut next = self.clone();
-        next.fused.extend(next.pending.drain(..));
+        next.fused.append(&mut next.pending);
         next.state = OnceLock::new();
         let _ = next.state.set(Arc::new(VolumeState { grid, pieces, mesh }));
         Ok(next)
