@@ -3,6 +3,8 @@
 //! comparison (NumPy + scikit-image, fast-surface-nets, all steps, full
 //! grids) is scripts/bench/sdf.py.
 
+#![allow(missing_docs)] // criterion_group! generates undocumented functions.
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use shapewright::doc::{parse_script, run_script, ObjectId, ObjectKind, OpLog};
 use shapewright::sdf::SdfVolume;

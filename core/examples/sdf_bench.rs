@@ -309,12 +309,12 @@ fn main() {
             for by in 0..nb {
                 for bx in 0..nb {
                     let mut d = vec![0f32; 512];
-                    for l in 0..512usize {
+                    for (l, dl) in d.iter_mut().enumerate() {
                         let (x, y, z) = (l % 8, l / 8 % 8, l / 64);
                         let gx = bx as usize * 8 + x;
                         let gy = by as usize * 8 + y;
                         let gz = bz as usize * 8 + z;
-                        d[l] = dense[gx + n * (gy + n * gz)].clamp(-band, band);
+                        *dl = dense[gx + n * (gy + n * gz)].clamp(-band, band);
                     }
                     g.set(
                         [bx, by, bz],

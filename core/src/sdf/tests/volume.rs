@@ -84,7 +84,7 @@ fn sphere_box_intersection(r: f64, c: [f64; 3], a: f64) -> f64 {
 
 #[test]
 fn sphere_box_csg_volumes_within_one_percent() {
-    let (r, a, c) = (0.2, 0.2, [0.2, 0.15, 0.1]);
+    let (r, a, c): (f64, f64, [f64; 3]) = (0.2, 0.2, [0.2, 0.15, 0.1]);
     let vs = 4.0 / 3.0 * PI * r * r * r;
     let vb = (2.0 * a).powi(3);
     let vi = sphere_box_intersection(r, c, a);
