@@ -19,22 +19,17 @@ use serde::{Deserialize, Serialize};
 
 use super::csg::CsgOp;
 use super::placement::{two_hand_ratio, ScaleAxis};
-use super::volume::{check_step, Component, Operand, SdfVolume, UserMesh, DEFAULT_STEP};
+use super::volume::{check_step, Component, Operand, SdfVolume, UserMesh};
 use super::SdfError;
 use crate::doc::{Document, ObjectId, ObjectKind, OpError, OpOutcome};
 use crate::math::Transform;
 use crate::mesh::{validate, TriMesh};
 
-fn default_step() -> f64 {
-    DEFAULT_STEP
-}
-
 /// Create an empty SDF volume.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SdfCreate {
-    /// Grid step, 0.006..=0.012.
-    #[serde(default = "default_step")]
+    /// Grid step, 0.006..=0.012 ([`super::volume::DEFAULT_STEP`] is the paper's choice).
     pub step: f64,
 }
 
