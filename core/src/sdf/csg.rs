@@ -68,34 +68,58 @@ pub fn component_brick(grid: &SparseGrid, f: &PlacedField, key: BrickKey) -> Bri
     if let Some(s) = f.far_sign(centre, radius, band) {
         return Brick::Uniform(if s < 0.0 { -grid.band } else { grid.band });
     }
-    // Not provably uniform as a whole: try each 4³ octant, then sample.
+    // Not provably uniform as a whole: try 4³ octants, then 2³ blocks,
+    // then sample.
     let mut d = vec![0f32; BRICK_LEN];
-    let half = BRICK / 2;
-    let sub_radius = (half - 1) as f64 / 2.0 * 3f64.sqrt() * h;
+    fill_block(grid, f, base, [0; 3], BRICK, &mut d);
+    Brick::Dense(Arc::new(d)).normalized(grid.band)
+}
+
+/// Fills the `size`³ block at local offset `o` of the brick at sample
+/// `base`: uniform when the far test proves it, else split in 8 down to
+/// 2³ blocks, else sampled.
+fn fill_block(
+    grid: &SparseGrid,
+    f: &PlacedField,
+    base: DVec3,
+    o: [i32; 3],
+    size: i32,
+    d: &mut [f32],
+) {
+    let h = grid.step;
+    let band = grid.band as f64;
+    let half = size / 2;
     for oct in 0..8 {
-        let o = [oct & 1, oct >> 1 & 1, oct >> 2 & 1].map(|b| b * half);
-        let oc = (base
-            + DVec3::new(o[0] as f64, o[1] as f64, o[2] as f64)
+        let so = [oct & 1, oct >> 1 & 1, oct >> 2 & 1].map(|b| b * half);
+        let so = [o[0] + so[0], o[1] + so[1], o[2] + so[2]];
+        let c = (base
+            + DVec3::new(so[0] as f64, so[1] as f64, so[2] as f64)
             + DVec3::splat((half - 1) as f64 / 2.0))
             * h;
-        let uniform =
-            f.far_sign(oc, sub_radius, band)
-                .map(|s| if s < 0.0 { -grid.band } else { grid.band });
-        for z in o[2]..o[2] + half {
-            for y in o[1]..o[1] + half {
-                for x in o[0]..o[0] + half {
-                    d[local_index(x, y, z)] = match uniform {
-                        Some(u) => u,
-                        None => {
-                            let p = (base + DVec3::new(x as f64, y as f64, z as f64)) * h;
-                            f.value(p).map_or(band, |v| v.clamp(-band, band)) as f32
-                        }
-                    };
+        let r = (half - 1) as f64 / 2.0 * 3f64.sqrt() * h;
+        if let Some(s) = f.far_sign(c, r, band) {
+            let u = if s < 0.0 { -grid.band } else { grid.band };
+            for z in so[2]..so[2] + half {
+                for y in so[1]..so[1] + half {
+                    for x in so[0]..so[0] + half {
+                        d[local_index(x, y, z)] = u;
+                    }
+                }
+            }
+        } else if half > 2 {
+            fill_block(grid, f, base, so, half, d);
+        } else {
+            for z in so[2]..so[2] + half {
+                for y in so[1]..so[1] + half {
+                    for x in so[0]..so[0] + half {
+                        let p = (base + DVec3::new(x as f64, y as f64, z as f64)) * h;
+                        d[local_index(x, y, z)] =
+                            f.value(p).map_or(band, |v| v.clamp(-band, band)) as f32;
+                    }
                 }
             }
         }
     }
-    Brick::Dense(Arc::new(d)).normalized(grid.band)
 }
 
 fn combine(op: CsgOp, a: &Brick, b: &Brick, band: f32) -> Brick {

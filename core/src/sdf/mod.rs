@@ -13,19 +13,18 @@
 //!   pseudo-normal sign), the starter library, the on-disk cache.
 //! - [`ops`]: the `sdf_*` ops.
 //!
-//! ## Measured (scripts/bench/sdf.py, 2 cores, machine shared and heavily
-//! loaded during the run: scikit-image took 8× its FIELD-NOTES time)
+//! ## Measured (scripts/bench/sdf.py, 2 cores, shared machine)
 //!
 //! One update (all fusions + one extraction) at step 0.01, ms: Cube–Sphere
-//! 80 (paper 31), Chair 46 (paper 62), Cup 17 (paper 61). The 11.1 ms goal
-//! was not shown under that load; fusion dominates (resampling every
-//! operand's near-surface samples; the far-brick test is conservative, with
-//! the √3 Lipschitz bound of trilinear grids). Full-grid extraction of a
-//! sphere minus a torus: 3.6–5.9× a single-thread "classify the cells"
-//! floor measured in the same run (goal 2×, not met), 2.3–2.7× faster than
-//! scikit-image, 0.5–0.8× the speed of fast-surface-nets (which is not
-//! manifold-safe). NumPy's fusion in the peer pipeline is given operands
-//! already resampled on the scene grid, ours includes resampling.
+//! 11.5 (paper 31), Chair 8.9 (paper 62), Cup 3.7 (paper 61); at 0.006:
+//! 32.7 / 21.1 / 10.6 (paper 110 / 231 / 229). Fusion samples only blocks
+//! the conservative far test (brick, 4³, 2³ with the √3 Lipschitz bound of
+//! trilinear grids) cannot prove uniform. About equal to NumPy fusion +
+//! scikit-image on the same grids (whose fusion is handed operands already
+//! resampled), 3–5× slower than fast-surface-nets alone (not manifold-safe).
+//! Full-grid extraction of a sphere minus a torus: 3.4–5.7× a single-thread
+//! "classify the cells" floor measured in the same run (goal 2×, not met),
+//! 2.4–2.6× faster than scikit-image.
 
 pub mod analytic;
 pub mod cache;
