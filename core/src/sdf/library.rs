@@ -247,7 +247,17 @@ pub fn cached_component_sdf(mesh: &TriMesh) -> Result<Arc<DenseSdf>, SdfError> {
     Ok(sdf)
 }
 
-/// The SDF of starter component `name`.
+/// The SDF of starter component `name` (memoized by name, so placing a
+/// component does not rebuild and hash its mesh).
 pub fn starter_sdf(name: &str) -> Result<Arc<DenseSdf>, SdfError> {
-    cached_component_sdf(&starter_mesh(name)?)
+    static BY_NAME: OnceLock<Mutex<BTreeMap<String, Arc<DenseSdf>>>> = OnceLock::new();
+    let map = BY_NAME.get_or_init(Default::default);
+    if let Some(s) = map.lock().ok().and_then(|m| m.get(name).cloned()) {
+        return Ok(s);
+    }
+    let s = cached_component_sdf(&starter_mesh(name)?)?;
+    if let Ok(mut m) = map.lock() {
+        m.insert(name.to_owned(), s.clone());
+    }
+    Ok(s)
 }
