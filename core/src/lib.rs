@@ -16,5 +16,6 @@ pub mod math;
 pub mod mesh;
 pub mod nurbs;
 pub mod sculpt;
+pub mod sdf;
 pub mod sketch;
 pub mod solid;

@@ -43,6 +43,9 @@ pub enum OpError {
     /// A sculpt op's input is invalid.
     #[error(transparent)]
     Sculpt(#[from] crate::sculpt::SculptError),
+    /// An SDF op failed.
+    #[error(transparent)]
+    Sdf(#[from] crate::sdf::SdfError),
 }
 
 /// Why the log could not do what was asked. The log and its document are

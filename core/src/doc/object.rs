@@ -30,6 +30,8 @@ pub enum ObjectKind {
     GcAssembly(crate::gc::GcAssembly),
     /// A surface sculpted with warp brushes.
     SculptMesh(crate::sculpt::SculptMesh),
+    /// A scene SDF built from placed library components (paper 2).
+    SdfVolume(crate::sdf::SdfVolume),
 }
 
 impl ObjectKind {
@@ -39,6 +41,7 @@ impl ObjectKind {
             Self::Solid(_) => "solid",
             Self::GcAssembly(_) => "gc_assembly",
             Self::SculptMesh(_) => "sculpt_mesh",
+            Self::SdfVolume(_) => "sdf_volume",
         }
     }
 
@@ -48,6 +51,7 @@ impl ObjectKind {
             Self::Solid(s) => s.evaluate(),
             Self::GcAssembly(a) => Ok(a.evaluate()?),
             Self::SculptMesh(s) => s.evaluate(),
+            Self::SdfVolume(v) => Ok(v.evaluate()?),
         }
     }
 }

@@ -39,6 +39,15 @@ pub const OP_NAMES: &[&str] = &[
     "gc_set_resolution",
     "sculpt_create",
     "sculpt_stroke",
+    "sdf_create",
+    "sdf_add_operand",
+    "sdf_set_operand_transform",
+    "sdf_scale_two_hand",
+    "sdf_cancel_operand",
+    "sdf_copy_operand",
+    "sdf_update",
+    "sdf_import_component",
+    "sdf_set_step",
 ];
 
 /// One change to a document.
@@ -83,6 +92,24 @@ pub enum Op {
     SculptCreate(crate::sculpt::SculptCreate),
     /// Apply one warp-brush stroke to a sculpt object.
     SculptStroke(crate::sculpt::SculptStroke),
+    /// `sdf_create`: see [`crate::sdf::ops`].
+    SdfCreate(crate::sdf::ops::SdfCreate),
+    /// `sdf_add_operand`: see [`crate::sdf::ops`].
+    SdfAddOperand(crate::sdf::ops::SdfAddOperand),
+    /// `sdf_set_operand_transform`: see [`crate::sdf::ops`].
+    SdfSetOperandTransform(crate::sdf::ops::SdfSetOperandTransform),
+    /// `sdf_scale_two_hand`: see [`crate::sdf::ops`].
+    SdfScaleTwoHand(crate::sdf::ops::SdfScaleTwoHand),
+    /// `sdf_cancel_operand`: see [`crate::sdf::ops`].
+    SdfCancelOperand(crate::sdf::ops::SdfCancelOperand),
+    /// `sdf_copy_operand`: see [`crate::sdf::ops`].
+    SdfCopyOperand(crate::sdf::ops::SdfCopyOperand),
+    /// `sdf_update`: see [`crate::sdf::ops`].
+    SdfUpdate(crate::sdf::ops::SdfUpdate),
+    /// `sdf_import_component`: see [`crate::sdf::ops`].
+    SdfImportComponent(crate::sdf::ops::SdfImportComponent),
+    /// `sdf_set_step`: see [`crate::sdf::ops`].
+    SdfSetStep(crate::sdf::ops::SdfSetStep),
 }
 
 /// What applying an op produced.
@@ -183,6 +210,15 @@ impl Op {
             Self::GcSetResolution(_) => "gc_set_resolution",
             Self::SculptCreate(_) => "sculpt_create",
             Self::SculptStroke(_) => "sculpt_stroke",
+            Self::SdfCreate(_) => "sdf_create",
+            Self::SdfAddOperand(_) => "sdf_add_operand",
+            Self::SdfSetOperandTransform(_) => "sdf_set_operand_transform",
+            Self::SdfScaleTwoHand(_) => "sdf_scale_two_hand",
+            Self::SdfCancelOperand(_) => "sdf_cancel_operand",
+            Self::SdfCopyOperand(_) => "sdf_copy_operand",
+            Self::SdfUpdate(_) => "sdf_update",
+            Self::SdfImportComponent(_) => "sdf_import_component",
+            Self::SdfSetStep(_) => "sdf_set_step",
         }
     }
 
@@ -240,6 +276,17 @@ impl Op {
             Self::GcSetResolution(op) => op.apply(doc),
             Self::SculptCreate(op) => crate::sculpt::ops::apply_create(doc, op),
             Self::SculptStroke(op) => crate::sculpt::ops::apply_stroke(doc, op),
+            Self::SdfCreate(op) => crate::sdf::ops::apply_create(doc, op),
+            Self::SdfAddOperand(op) => crate::sdf::ops::apply_add_operand(doc, op),
+            Self::SdfSetOperandTransform(op) => {
+                crate::sdf::ops::apply_set_operand_transform(doc, op)
+            }
+            Self::SdfScaleTwoHand(op) => crate::sdf::ops::apply_scale_two_hand(doc, op),
+            Self::SdfCancelOperand(op) => crate::sdf::ops::apply_cancel_operand(doc, op),
+            Self::SdfCopyOperand(op) => crate::sdf::ops::apply_copy_operand(doc, op),
+            Self::SdfUpdate(op) => crate::sdf::ops::apply_update(doc, op),
+            Self::SdfImportComponent(op) => crate::sdf::ops::apply_import_component(doc, op),
+            Self::SdfSetStep(op) => crate::sdf::ops::apply_set_step(doc, op),
         }
     }
 }

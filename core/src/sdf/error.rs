@@ -1,0 +1,58 @@
+//! [`SdfError`]: what can go wrong in the SDF system.
+
+use crate::math::TransformError;
+use crate::solid::SolidError;
+
+/// Why an SDF op or library call failed. Nothing was changed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SdfError {
+    /// The grid step is outside the supported range.
+    #[error("grid step {0} is outside 0.006..=0.012 (the default is 0.01)")]
+    BadStep(f64),
+    /// The operand index names no pending operand.
+    #[error("volume has {len} pending operands; operand {index} does not exist")]
+    BadOperand {
+        /// The index given.
+        index: usize,
+        /// Number of pending operands.
+        len: usize,
+    },
+    /// No library or imported component has this name.
+    #[error("no component named `{0}` (see sdf::library::STARTER_NAMES, or import one first)")]
+    UnknownComponent(String),
+    /// A user component with this name exists already.
+    #[error("a component named `{0}` exists already; pick another name")]
+    DuplicateComponent(String),
+    /// The transform is NaN, infinite, has a zero rotation or a zero scale.
+    #[error(transparent)]
+    Transform(#[from] TransformError),
+    /// The transform's matrix cannot be inverted.
+    #[error("the placement's matrix is singular; every scale must be well away from zero")]
+    SingularTransform,
+    /// An analytic component's sizes are invalid.
+    #[error(transparent)]
+    Solid(#[from] SolidError),
+    /// A hand position is NaN or infinite (tracking lost).
+    #[error("a hand position is not finite (tracking lost?)")]
+    NonFiniteHands,
+    /// The two hands started too close together to define a ratio.
+    #[error("the hands were {distance} apart when the two-hand scale began; they must be at least 1e-6 apart")]
+    HandsTooClose {
+        /// Their distance.
+        distance: f64,
+    },
+    /// The mesh given to the library is not a closed, oriented 2-manifold.
+    #[error("component mesh is not a closed oriented 2-manifold: {0}")]
+    BadMesh(String),
+    /// The grid would exceed the memory budget.
+    #[error("the grid would need about {needed_mib} MiB, over the {budget_mib} MiB budget; scale the operand down or use a larger step")]
+    OverBudget {
+        /// Estimated need.
+        needed_mib: u64,
+        /// The budget.
+        budget_mib: u64,
+    },
+    /// `sdf_update` with no pending operand.
+    #[error("nothing to update: the volume has no pending operands")]
+    NothingPending,
+}

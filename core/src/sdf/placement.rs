@@ -1,0 +1,192 @@
+//! Placed components: resampling a component's local SDF into the scene
+//! grid at `T⁻¹p` (paper 2 §5.2), and two-hand scaling (§4.3, eq. 1).
+//!
+//! **Non-uniform scale.** With `T = translate · rotate · scale(s)`, the
+//! local value `φ_l(T⁻¹p)` is a distance in local units. Under a uniform
+//! scale `s`, `s · φ_l` is the world distance. Under a non-uniform scale it
+//! is not a distance at all; we use `min|s_i| · φ_l(T⁻¹p)`. Its zero set is
+//! exactly the scaled surface, and since `|∇(φ_l ∘ T⁻¹)| ≤ 1 / min|s_i|`,
+//! the corrected field is 1-Lipschitz: it never overestimates the true
+//! distance. That keeps marching cubes' vertex placement sensible (the
+//! zero crossing is interpolated from values of the right sign and order of
+//! magnitude) and makes the far-brick test of the fusion conservative
+//! (a brick is only skipped when its centre is provably farther from the
+//! surface than the brick's radius plus the band).
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use super::analytic::solid_distance;
+use super::dense::DenseSdf;
+use super::SdfError;
+use crate::math::{DAffine3, DVec3, Transform};
+use crate::solid::SolidShape;
+
+/// Two-hand scale ratios are clamped to this range (paper §4.3).
+pub const TWO_HAND_RATIO: [f64; 2] = [0.4, 4.0];
+
+/// The local field of a component, ready to sample.
+#[derive(Clone, Debug)]
+pub enum LocalField {
+    /// An exact analytic distance.
+    Solid(SolidShape),
+    /// A precomputed grid, trilinearly interpolated.
+    Grid(Arc<DenseSdf>),
+}
+
+impl LocalField {
+    /// The local box outside which the value is +infinity (the band).
+    pub fn local_bounds(&self) -> (DVec3, DVec3) {
+        match self {
+            LocalField::Solid(s) => {
+                let h = DVec3::from_array(s.half_extents());
+                // A margin so the box holds the whole band around the shape.
+                let m = h.max_element() * 0.25;
+                (-h - DVec3::splat(m), h + DVec3::splat(m))
+            }
+            LocalField::Grid(g) => g.bounds(),
+        }
+    }
+
+    /// The Lipschitz bound of the local field (trilinear interpolation of a
+    /// distance sampled on a grid can reach √3 along a diagonal).
+    pub fn lipschitz(&self) -> f64 {
+        match self {
+            LocalField::Solid(_) => 1.0,
+            LocalField::Grid(_) => 3f64.sqrt(),
+        }
+    }
+
+    /// The local value at `p`, or `None` outside the local box.
+    #[inline]
+    pub fn sample(&self, p: DVec3) -> Option<f64> {
+        match self {
+            LocalField::Solid(s) => Some(solid_distance(s, p)),
+            LocalField::Grid(g) => g.sample(p),
+        }
+    }
+}
+
+/// A component under a placement, as the fusion samples it.
+#[derive(Clone, Debug)]
+pub struct PlacedField {
+    /// The local field.
+    pub field: LocalField,
+    /// Local → world.
+    pub forward: DAffine3,
+    /// World → local.
+    pub inverse: DAffine3,
+    /// `min |s_i|`: the non-uniform scale correction.
+    pub scale_min: f64,
+    /// The local box.
+    pub local_box: (DVec3, DVec3),
+    /// The world box of the transformed local box.
+    pub world_box: (DVec3, DVec3),
+}
+
+impl PlacedField {
+    /// Places `field` by `t`, which must be valid (finite, non-singular).
+    pub fn new(field: LocalField, t: &Transform) -> Result<Self, SdfError> {
+        let m = t.to_affine()?;
+        let det = m.matrix3.determinant();
+        if !det.is_finite() || det.abs() < 1e-15 {
+            return Err(SdfError::SingularTransform);
+        }
+        let inverse = m.inverse();
+        let scale_min = t
+            .scale
+            .iter()
+            .map(|s| s.abs())
+            .fold(f64::INFINITY, f64::min);
+        let local_box = field.local_bounds();
+        let (lo, hi) = local_box;
+        let mut wlo = DVec3::splat(f64::INFINITY);
+        let mut whi = DVec3::splat(f64::NEG_INFINITY);
+        for c in 0..8 {
+            let p = DVec3::new(
+                if c & 1 == 0 { lo.x } else { hi.x },
+                if c & 2 == 0 { lo.y } else { hi.y },
+                if c & 4 == 0 { lo.z } else { hi.z },
+            );
+            let w = m.transform_point3(p);
+            wlo = wlo.min(w);
+            whi = whi.max(w);
+        }
+        Ok(Self {
+            field,
+            forward: m,
+            inverse,
+            scale_min,
+            local_box,
+            world_box: (wlo, whi),
+        })
+    }
+
+    /// The corrected world value at world point `p`, or `None` outside the
+    /// component's box (+infinity).
+    #[inline]
+    pub fn value(&self, p: DVec3) -> Option<f64> {
+        let q = self.inverse.transform_point3(p);
+        self.field.sample(q).map(|v| v * self.scale_min)
+    }
+
+    /// The sign (`+1` or `-1`) shared by every world value within the ball
+    /// of radius `r` around `p`, when each of them is provably beyond
+    /// `band` in magnitude; `None` when that cannot be shown.
+    ///
+    /// The field is evaluated at the point `q` of the component's box
+    /// nearest to `T⁻¹p` (values outside the box are +band anyway); every
+    /// point of the ball that lies in the box is within `r + |p − Tq|` of
+    /// `Tq`, so the Lipschitz bound `lip` proves the rest.
+    pub fn far_sign(&self, p: DVec3, r: f64, band: f64) -> Option<f64> {
+        let lip = self.field.lipschitz();
+        let q = self.inverse.transform_point3(p);
+        let (lo, hi) = self.local_box;
+        let qc = q.clamp(lo, hi);
+        let v = self.field.sample(qc)? * self.scale_min;
+        let d = if qc == q {
+            0.0
+        } else {
+            (self.forward.transform_point3(qc) - p).length()
+        };
+        if v >= lip * (r + d) + band {
+            return Some(1.0);
+        }
+        let rl = r / self.scale_min;
+        let ball_inside = qc == q && (q - lo).min_element() >= rl && (hi - q).min_element() >= rl;
+        if ball_inside && v <= -(lip * r + band) {
+            return Some(-1.0);
+        }
+        None
+    }
+}
+
+/// Which axis a two-hand scale acts on (paper §4.3: X, Y, Z or A).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ScaleAxis {
+    /// The component's local X.
+    X,
+    /// The component's local Y.
+    Y,
+    /// The component's local Z.
+    Z,
+    /// All three (isotropic).
+    Uniform,
+}
+
+/// The two-hand scale ratio of eq. 1: new hand distance over old, clamped
+/// to [`TWO_HAND_RATIO`].
+pub fn two_hand_ratio(old: [[f64; 3]; 2], new: [[f64; 3]; 2]) -> Result<f64, SdfError> {
+    let all = old.iter().chain(new.iter()).flatten();
+    if all.clone().any(|x| !x.is_finite()) {
+        return Err(SdfError::NonFiniteHands);
+    }
+    let d0 = DVec3::from_array(old[0]).distance(DVec3::from_array(old[1]));
+    let d1 = DVec3::from_array(new[0]).distance(DVec3::from_array(new[1]));
+    if d0 < 1e-6 {
+        return Err(SdfError::HandsTooClose { distance: d0 });
+    }
+    Ok((d1 / d0).clamp(TWO_HAND_RATIO[0], TWO_HAND_RATIO[1]))
+}

@@ -1,0 +1,4 @@
+mod mc;
+mod mesh_sdf;
+mod scenes;
+mod volume;
