@@ -11,6 +11,7 @@
 #![forbid(unsafe_code)]
 
 pub mod doc;
+pub mod interact;
 pub mod math;
 pub mod mesh;
 pub mod solid;
