@@ -14,9 +14,10 @@
 //!   in model coordinates through the frame, so a sculpt stroke is recorded
 //!   in model space whatever the view.
 
-use crate::math::{DQuat, DVec3, Transform};
+use crate::math::{DQuat, DVec3};
 
 use super::input::Pose;
+use super::similarity::Similarity;
 
 /// The clamp of two-hand scaling ratios (paper 2, Eq. 1).
 pub const SCALE_RANGE: (f64, f64) = (0.4, 4.0);
@@ -53,7 +54,7 @@ impl HandleBar {
     /// The world-space increment that maps the object as it was at the
     /// grab to where the hands put it now: `p -> m1 + s R (p - m0)`.
     /// `None` when the hands now are closer than [`MIN_BAR`].
-    pub fn transform(&self, a: &Pose, b: &Pose) -> Option<Transform> {
+    pub fn transform(&self, a: &Pose, b: &Pose) -> Option<Similarity> {
         let d0 = self.b0.position - self.a0.position;
         let d1 = b.position - a.position;
         if d1.length() < MIN_BAR {
@@ -79,14 +80,12 @@ impl HandleBar {
         let r = (swing * DQuat::from_axis_angle(axis0, roll)).normalize();
         let m0 = (self.a0.position + self.b0.position) * 0.5;
         let m1 = (a.position + b.position) * 0.5;
-        let t = m1 - r * (m0 * s);
-        let out = Transform {
-            translate: t.to_array(),
-            rotate: r.to_array(),
-            scale: [s; 3],
+        let out = Similarity {
+            translate: m1 - r * (m0 * s),
+            rotate: r,
+            scale: s,
         };
-        out.validate().ok()?;
-        Some(out)
+        out.is_valid().then_some(out)
     }
 }
 
@@ -196,8 +195,8 @@ mod tests {
         Pose::new(DVec3::new(x, y, z), DQuat::IDENTITY)
     }
 
-    fn apply(t: &Transform, v: DVec3) -> DVec3 {
-        t.to_affine().unwrap().transform_point3(v)
+    fn apply(t: &Similarity, v: DVec3) -> DVec3 {
+        t.apply(v)
     }
 
     #[test]
@@ -220,7 +219,7 @@ mod tests {
         let t = bar
             .transform(&p(0.0, 1.0, 0.4), &p(0.0, 1.0, -0.4))
             .unwrap();
-        assert_eq!(t.scale, [2.0; 3]);
+        assert_eq!(t.scale, 2.0);
         let a = apply(&t, DVec3::new(-0.2, 1.0, 0.0));
         assert!((a - DVec3::new(0.0, 1.0, 0.4)).length() < 1e-12, "{a}");
         // Roll: both hands turn 30° about the bar axis (X).
@@ -231,19 +230,18 @@ mod tests {
                 &Pose::new(DVec3::new(0.2, 1.0, 0.0), q),
             )
             .unwrap();
-        let r = DQuat::from_array(t.rotate);
-        assert!(r.angle_between(q) < 1e-9);
+        assert!(t.rotate.angle_between(q) < 1e-9);
     }
 
     #[test]
     fn scale_ratio_is_clamped() {
         let bar = HandleBar::new(p(0.0, 1.0, 0.0), p(0.1, 1.0, 0.0)).unwrap();
         let t = bar.transform(&p(0.0, 1.0, 0.0), &p(1.0, 1.0, 0.0)).unwrap();
-        assert_eq!(t.scale, [4.0; 3]);
+        assert_eq!(t.scale, 4.0);
         let t = bar
             .transform(&p(0.0, 1.0, 0.0), &p(0.021, 1.0, 0.0))
             .unwrap();
-        assert_eq!(t.scale, [0.4; 3]);
+        assert_eq!(t.scale, 0.4);
         assert!(HandleBar::new(p(0.0, 1.0, 0.0), p(0.01, 1.0, 0.0)).is_none());
         let s = two_hand_scale(DVec3::ZERO, DVec3::X, DVec3::ZERO, DVec3::X * f64::NAN);
         assert_eq!(s, None);
