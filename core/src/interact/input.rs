@@ -49,9 +49,11 @@ impl Hand {
 /// A rigid pose: position and orientation (a unit quaternion).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Pose {
-    /// Position in metres.
+    /// Position in metres (`"p"` in traces).
+    #[serde(rename = "p")]
     pub position: DVec3,
-    /// Orientation `[x, y, z, w]`.
+    /// Orientation `[x, y, z, w]` (`"q"` in traces).
+    #[serde(rename = "q")]
     pub orientation: DQuat,
 }
 
@@ -239,17 +241,37 @@ pub struct HandSample {
 #[serde(default)]
 pub struct ControllerButtons {
     /// `select` (trigger) value in `[0, 1]`.
+    #[serde(skip_serializing_if = "is_zero")]
     pub select: f64,
     /// `grab` (squeeze/grip) value in `[0, 1]`.
+    #[serde(skip_serializing_if = "is_zero")]
     pub grab: f64,
     /// `primary` button (A / X) pressed.
+    #[serde(skip_serializing_if = "is_false")]
     pub primary: bool,
     /// `secondary` button (B / Y) pressed.
+    #[serde(skip_serializing_if = "is_false")]
     pub secondary: bool,
     /// `menu` button pressed.
+    #[serde(skip_serializing_if = "is_false")]
     pub menu: bool,
     /// `stick` (thumbstick or trackpad) `[x, y]`, each in `[-1, 1]`.
+    #[serde(skip_serializing_if = "is_zero2")]
     pub stick: [f64; 2],
+}
+
+// Exact comparisons: a default value is left out of traces, anything else
+// (including -0.0 and NaN) is written.
+fn is_zero(x: &f64) -> bool {
+    x.to_bits() == 0
+}
+
+fn is_zero2(x: &[f64; 2]) -> bool {
+    is_zero(&x[0]) && is_zero(&x[1])
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 /// One raw controller sample.

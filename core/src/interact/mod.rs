@@ -37,6 +37,8 @@ mod tool;
 #[cfg(test)]
 mod tool_tests;
 mod trace;
+#[cfg(test)]
+mod trace_fixture;
 
 pub use bimanual::{two_hand_scale, HandleBar, ModelFrame, OrientGrab, MIN_BAR, SCALE_RANGE};
 pub use bindings::{ActionItem, ActionMap, ActionType, AxisRegion, Binding, ACTIONS, PROFILES};

@@ -244,12 +244,39 @@ impl Puppet {
                 hand_sample(&hand_pose(&p, h, &w), self.jitter, &mut self.rng)
             })
         });
+        // Rounded to 10 µm and 1e-6 so traces stay short; the trace, not
+        // the script, is what replays bit for bit.
+        let controllers = self.controllers.map(|c| {
+            c.map(|mut c| {
+                c.grip = quantize(c.grip);
+                c.aim = quantize(c.aim);
+                c
+            })
+        });
+        let hands = hands.map(|h| {
+            h.map(|mut h| {
+                for j in h.joints.iter_mut() {
+                    j.pose = quantize(j.pose);
+                }
+                h
+            })
+        });
         self.frames.push(InputFrame {
-            time: self.time,
+            time: (self.time * 1e6).round() / 1e6,
             head: Some(self.head),
             hands,
-            controllers: self.controllers,
+            controllers,
         });
         self.time += 1.0 / self.fps;
     }
+}
+
+fn quantize(p: Pose) -> Pose {
+    let r = |x: f64, s: f64| (x * s).round() / s;
+    let v = p.position;
+    let q = p.orientation;
+    Pose::new(
+        DVec3::new(r(v.x, 1e5), r(v.y, 1e5), r(v.z, 1e5)),
+        DQuat::from_xyzw(r(q.x, 1e6), r(q.y, 1e6), r(q.z, 1e6), r(q.w, 1e6)),
+    )
 }
