@@ -43,7 +43,11 @@ fn bench(c: &mut Criterion) {
         })
     });
     let log = scene(16);
-    let tris: usize = log.document().objects().map(|(_, o)| o.mesh.triangles.len()).sum();
+    let tris: usize = log
+        .document()
+        .objects()
+        .map(|(_, o)| o.mesh.triangles.len())
+        .sum();
     println!("pick scene: 16 spheres, {tris} triangles");
     let ray = Ray {
         origin: DVec3::new(0.9, 0.9, 2.0),
