@@ -12,6 +12,7 @@
 
 pub mod doc;
 pub mod gc;
+pub mod interact;
 pub mod math;
 pub mod mesh;
 pub mod nurbs;

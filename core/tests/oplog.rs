@@ -266,7 +266,9 @@ fn bundled_scripts_build_closed_meshes() {
     let mut ran = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "jsonl") {
+        // `NAME.trace.jsonl` files are input traces (interact), not op scripts.
+        let is_trace = path.to_string_lossy().ends_with(".trace.jsonl");
+        if path.extension().is_some_and(|e| e == "jsonl") && !is_trace {
             let lines = parse_script(&std::fs::read_to_string(&path).unwrap()).unwrap();
             let mut log = OpLog::new();
             run_script(&mut log, &lines).unwrap_or_else(|e| panic!("{}: {e}", path.display()));

@@ -4,6 +4,7 @@
 //! meshes; the OpenXR headset session joins it later.
 
 mod cmd;
+mod replay_cmd;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -28,6 +29,14 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Replay a recorded input trace (.trace.jsonl) and export the model.
+    Replay {
+        /// The trace: a header line, then one input frame per line.
+        trace: PathBuf,
+        /// Output file; the format follows the extension.
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Print the validation report of a mesh file (.stl, .obj).
     Info {
         /// The mesh file.
@@ -40,6 +49,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Apply { script, out } => cmd::apply(&script, &out),
         Command::Info { file } => cmd::info(&file),
+        Command::Replay { trace, out } => replay_cmd::replay(&trace, &out),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

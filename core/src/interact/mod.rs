@@ -1,0 +1,65 @@
+//! Host-agnostic interaction: everything between tracked input and ops
+//! (issue 8; gestures of paper 1 §4, controller interfaces of papers 2–4).
+//!
+//! Both hosts (the Blender add-on and the OpenXR host) feed raw
+//! [`InputFrame`]s into a [`Session`]; it sanitizes them, classifies hand
+//! gestures, runs the active [`Tool`] and returns at most one
+//! [`crate::doc::ScriptCommand`] per frame — an op when a gesture completes,
+//! never one per frame — plus [`Preview`] state to render meanwhile.
+//!
+//! - `input`: per-frame input types and the sanitizing layer.
+//! - `gesture`: the hand gesture classifier (paper 1, §4).
+//! - `handmodel`: a kinematic hand model, the classifier's labelled test set.
+//! - `bimanual`: handle bar, two-hand scaling, one hand orienting the model.
+//! - `bindings`: controller bindings as data (Blender's layout).
+//! - `similarity`, `pick`: hand motions on placements; ray picking.
+//! - `tool`, `object_tool`, `session`: the tool framework and the object
+//!   tool (select, place, grab, move, rotate, scale, delete, copy, undo).
+//! - `trace`, `puppet`: recorded input traces, their replay, and the
+//!   scripted puppet that makes them.
+//!
+//! The geometry systems' tools (generalized cylinders, SDF CSG, curve
+//! styling, sculpting) plug in as further [`Tool`]s.
+
+mod bimanual;
+mod bindings;
+mod gesture;
+#[cfg(test)]
+mod gesture_accuracy;
+mod handmodel;
+mod input;
+mod object_tool;
+mod pick;
+mod puppet;
+mod session;
+mod similarity;
+mod tool;
+#[cfg(test)]
+mod tool_tests;
+mod trace;
+#[cfg(test)]
+mod trace_fixture;
+
+pub use bimanual::{two_hand_scale, HandleBar, ModelFrame, OrientGrab, MIN_BAR, SCALE_RANGE};
+pub use bindings::{ActionItem, ActionMap, ActionType, AxisRegion, Binding, ACTIONS, PROFILES};
+pub use gesture::{
+    score_sequence, Gesture, GestureClassifier, GestureLabel, GestureScore, GestureSettings,
+    GestureState, HandFeatures,
+};
+pub use handmodel::{
+    hand_pose, hand_sample, labelled_sequence, HandParams, LabelledFrame, Rng, SequenceSettings,
+};
+pub use input::{
+    Controller, ControllerButtons, ControllerSample, Frame, Hand, HandJoints, HandSample,
+    InputFrame, Joint, JointSample, Pose, Sanitizer, SanitizerSettings, JOINT_COUNT,
+};
+pub use object_tool::{ObjectTool, ObjectToolSettings};
+pub use pick::{pick, ray_mesh, ray_triangle, Hit, Ray};
+pub use puppet::{Button, Puppet};
+pub use session::Session;
+pub use similarity::Similarity;
+pub use tool::{apply_command, MovingPreview, Preview, PreviewRay, Tool, ToolContext};
+pub use trace::{
+    replay, tool_named, ModelPlacement, Replay, Trace, TraceError, TraceHeader, TRACE_FORMAT,
+    TRACE_VERSION,
+};

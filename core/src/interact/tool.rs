@@ -1,0 +1,108 @@
+//! The tool framework: a [`Tool`] is a state machine that consumes
+//! sanitized frames and produces preview state every frame and, when a
+//! gesture completes, exactly one command (an op, undo or redo) — never one
+//! per frame.
+//!
+//! Tools see the document read-only through a [`ToolContext`]; the
+//! [`super::Session`] applies their commands to the log. Commands are the
+//! doc module's [`ScriptCommand`], so a session's output is an op script.
+
+use std::sync::Arc;
+
+use crate::doc::{Document, LogError, ObjectId, OpLog, ScriptCommand};
+use crate::math::{DVec3, Transform};
+use crate::mesh::TriMesh;
+use crate::solid::SolidShape;
+
+use super::gesture::GestureState;
+use super::input::Frame;
+use super::similarity::Similarity;
+
+/// What a tool sees each frame.
+pub struct ToolContext<'a> {
+    /// The sanitized frame.
+    pub frame: &'a Frame,
+    /// Gesture of the left and right hand.
+    pub gestures: &'a [GestureState; 2],
+    /// The document (read-only).
+    pub doc: &'a Document,
+    /// Model-to-world placement of the document (stage space, metres).
+    pub model: &'a Similarity,
+}
+
+/// A ray to draw (world space).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PreviewRay {
+    /// Origin.
+    pub origin: DVec3,
+    /// Unit direction.
+    pub dir: DVec3,
+    /// Length to draw: to the hit, or the tool's reach.
+    pub length: f64,
+    /// The ray hits an object.
+    pub hit: bool,
+}
+
+/// An object shown somewhere else than the document has it (during a
+/// drag).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MovingPreview {
+    /// The object.
+    pub id: ObjectId,
+    /// Its placement if the gesture ended now.
+    pub transform: Transform,
+    /// The model-space motion from its document placement.
+    pub motion: Similarity,
+}
+
+/// What to render for the tool this frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Preview {
+    /// Rays of the left and right hand.
+    pub rays: [Option<PreviewRay>; 2],
+    /// The object under a ray.
+    pub highlighted: Option<ObjectId>,
+    /// The selected object.
+    pub selected: Option<ObjectId>,
+    /// The object being dragged.
+    pub moving: Option<MovingPreview>,
+    /// The sketch in progress (model space), for sketching tools.
+    pub sketch: Vec<DVec3>,
+    /// The shape the next placement will create.
+    pub placing: Option<SolidShape>,
+}
+
+impl Preview {
+    /// The mesh to draw for the object being dragged (model space), its
+    /// document mesh moved by the drag.
+    pub fn preview_mesh(&self, doc: &Document) -> Option<Arc<TriMesh>> {
+        let m = self.moving.as_ref()?;
+        let obj = doc.get(m.id).ok()?;
+        let mut mesh = (*obj.mesh).clone();
+        mesh.transform(&m.motion.to_affine());
+        Some(Arc::new(mesh))
+    }
+}
+
+/// A tool: a state machine from frames to preview state and commands.
+pub trait Tool {
+    /// The tool's name.
+    fn name(&self) -> &'static str;
+    /// Consumes one sanitized frame. Returns a command when a gesture
+    /// completed this frame (at most one per frame).
+    fn update(&mut self, cx: &ToolContext) -> Option<ScriptCommand>;
+    /// Drops any gesture in progress without a command (the document is
+    /// untouched).
+    fn cancel(&mut self);
+    /// What to render now.
+    fn preview(&self) -> &Preview;
+}
+
+/// Applies a command to the log.
+pub fn apply_command(log: &mut OpLog, cmd: &ScriptCommand) -> Result<(), LogError> {
+    match cmd {
+        ScriptCommand::Op(op) => log.apply(op.clone()).map(|_| ()),
+        ScriptCommand::Undo => log.undo(),
+        ScriptCommand::Redo => log.redo(),
+    }
+}
