@@ -3,9 +3,10 @@
 //!
 //! The file (usda, usdc or usdz) is opened as a composed `openusd` stage, so
 //! references, payloads and instances resolve. For every active mesh:
-//! - polygons are triangulated (triangles and convex quads as fans,
-//!   larger or concave polygons by ear clipping in the polygon's plane, so
-//!   concave faces do not fold over); `holeIndices` faces are skipped;
+//! - polygons are triangulated: quads along 0-2 as Pixar and Blender do
+//!   (a warped quad's volume depends on the diagonal), convex polygons as
+//!   fans, concave ones by ear clipping in the polygon's plane so they do
+//!   not fold over; `holeIndices` faces are skipped;
 //!   `orientation = "leftHanded"` flips the winding;
 //! - the world transform of its xformOp stack and its ancestors' is applied
 //!   ([`crate::xform`]);
@@ -310,8 +311,24 @@ pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
         })
         .collect();
     let cross = |a: DVec2, b: DVec2, c: DVec2| (b - a).perp_dot(c - a);
-    let convex = (0..n).all(|k| cross(flat[k], flat[(k + 1) % n], flat[(k + 2) % n]) >= 0.0);
-    if convex {
+    // Turns this far below zero (relative to the polygon's size) are
+    // reflex; smaller ones are noise of a flat or slightly warped polygon.
+    let size = flat
+        .iter()
+        .map(|p| (*p - flat[0]).length_squared())
+        .fold(0.0, f64::max);
+    let eps = 1e-12 * size;
+    let reflex = |k: usize| cross(flat[(k + n - 1) % n], flat[k], flat[(k + 1) % n]) < -eps;
+    if n == 4 {
+        // Always along 0-2, as Pixar's (HdMeshUtil) and Blender's fixed
+        // triangulation split quads: a warped quad's volume depends on the
+        // diagonal, and imports must measure what the source tools measure.
+        // (A concave quad folds along 0-2, but its signed area and volume
+        // stay right.)
+        fan(poly, out);
+        return;
+    }
+    if !(0..n).any(reflex) {
         fan(poly, out);
         return;
     }
