@@ -1,6 +1,9 @@
 //! Save and load of a 10k-op session: 100 solids, then 9 900 incremental
 //! moves (what a VR session's grabs record), saved as one usda.
 
+// criterion_group! generates an undocumented public function.
+#![allow(missing_docs)]
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use shapewright::doc::{Op, OpLog};
 use shapewright_usd::{load_from_str, save_file, save_to_string, LoadOptions, SaveOptions};

@@ -22,7 +22,7 @@ const ENV: &str = "SW_USD_CRASH_CHILD";
 
 /// The op the writer applies as its `i`-th.
 fn op(i: usize) -> Op {
-    let text = if i % 5 == 0 {
+    let text = if i.is_multiple_of(5) {
         format!(
             r#"{{"op":"add_solid","shape":{{"kind":"sphere","radius":0.1}},"segments":8,"transform":{{"translate":[{},0,0]}}}}"#,
             i as f64 * 0.1
