@@ -5,6 +5,7 @@
 
 mod cmd;
 mod replay_cmd;
+mod usd_cmd;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -21,7 +22,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Replay an op script (.jsonl) and export the result (.stl, .obj, .ply).
+    /// Replay an op script (.jsonl) and export the result (.stl, .obj, .ply
+    /// as the printable union; .usda with the whole op log).
     Apply {
         /// The script: one JSON op per line.
         script: PathBuf,
@@ -37,10 +39,25 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
-    /// Print the validation report of a mesh file (.stl, .obj).
+    /// Print the validation report of a mesh file (.stl, .obj), or the
+    /// objects, op count and reports of a Shapewright USD file.
     Info {
-        /// The mesh file.
+        /// The mesh or USD file.
         file: PathBuf,
+    },
+    /// Export the document of a Shapewright USD file as STL, OBJ and/or PLY.
+    Export {
+        /// The .usda/.usdc/.usdz file.
+        file: PathBuf,
+        /// Write binary STL here.
+        #[arg(long)]
+        stl: Option<PathBuf>,
+        /// Write OBJ here.
+        #[arg(long)]
+        obj: Option<PathBuf>,
+        /// Write PLY here.
+        #[arg(long)]
+        ply: Option<PathBuf>,
     },
 }
 
@@ -48,7 +65,16 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Apply { script, out } => cmd::apply(&script, &out),
+        Command::Info { file } if usd_cmd::is_usd(&file) => {
+            usd_cmd::info(&file).map(|text| print!("{text}"))
+        }
         Command::Info { file } => cmd::info(&file),
+        Command::Export {
+            file,
+            stl,
+            obj,
+            ply,
+        } => usd_cmd::export(&file, stl.as_deref(), obj.as_deref(), ply.as_deref()),
         Command::Replay { trace, out } => replay_cmd::replay(&trace, &out),
     };
     match result {

@@ -3,11 +3,18 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
 use super::{ContentHasher, Object, ObjectId, ObjectKind, OpError};
 use crate::mesh::{union, BooleanError, TriMesh};
 
 /// Objects by stable id, plus the id counter. Cloning is cheap: objects
 /// are shared until one is changed.
+///
+/// Serialized as `{"last_id": N, "objects": [{"id": 1, "kind": {...}}, ...]}`:
+/// kinds only, never meshes. Deserializing re-evaluates every mesh (ops are
+/// deterministic, so the meshes come back bit-identical) and refuses ids that
+/// are zero, repeated, out of order or above `last_id`.
 #[derive(Clone, Debug, Default)]
 pub struct Document {
     objects: BTreeMap<ObjectId, Arc<Object>>,
@@ -132,5 +139,119 @@ impl Document {
             h.mesh(&obj.mesh);
         }
         h.finish()
+    }
+}
+
+#[derive(Serialize)]
+struct DocumentOut<'a> {
+    last_id: u32,
+    objects: Vec<ObjectOut<'a>>,
+}
+
+#[derive(Serialize)]
+struct ObjectOut<'a> {
+    id: ObjectId,
+    kind: &'a ObjectKind,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DocumentIn {
+    last_id: u32,
+    objects: Vec<ObjectIn>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ObjectIn {
+    id: ObjectId,
+    kind: ObjectKind,
+}
+
+impl Serialize for Document {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        DocumentOut {
+            last_id: self.next_id,
+            objects: self
+                .objects
+                .iter()
+                .map(|(id, o)| ObjectOut {
+                    id: *id,
+                    kind: &o.kind,
+                })
+                .collect(),
+        }
+        .serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Document {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let input = DocumentIn::deserialize(d)?;
+        let mut doc = Document {
+            objects: BTreeMap::new(),
+            next_id: input.last_id,
+            work: 0,
+        };
+        let mut prev = 0;
+        for o in input.objects {
+            if o.id.0 <= prev || o.id.0 > input.last_id {
+                return Err(D::Error::custom(format!(
+                    "object id {} is zero, repeated, out of order or above last_id {}",
+                    o.id, input.last_id
+                )));
+            }
+            prev = o.id.0;
+            let obj = doc
+                .build(o.id, o.kind)
+                .map_err(|e| D::Error::custom(format!("object {}: {e}", o.id)))?;
+            doc.objects.insert(o.id, Arc::new(obj));
+        }
+        Ok(doc)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::doc::{Op, OpLog};
+
+    #[test]
+    fn serde_round_trip_is_bit_identical() {
+        let mut log = OpLog::new();
+        for line in [
+            r#"{"op":"add_solid","shape":{"kind":"sphere","radius":0.5},"segments":24}"#,
+            r#"{"op":"add_solid","shape":{"kind":"box","size":[1,2,3]}}"#,
+            r#"{"op":"duplicate","id":1}"#,
+            r#"{"op":"delete","id":2}"#,
+        ] {
+            log.apply(serde_json::from_str::<Op>(line).unwrap())
+                .unwrap();
+        }
+        let doc = log.document();
+        let text = serde_json::to_string(doc).unwrap();
+        let back: Document = serde_json::from_str(&text).unwrap();
+        assert_eq!(back.content_hash(), doc.content_hash());
+        assert_eq!(back.next_id(), ObjectId(4));
+        assert_eq!(back.len(), 2);
+    }
+
+    #[test]
+    fn serde_refuses_bad_ids_and_bad_kinds() {
+        let solid =
+            r#"{"kind":"solid","shape":{"kind":"sphere","radius":1},"segments":16,"transform":{}}"#;
+        for (ids, last) in [((0, 1), 3), ((2, 2), 3), ((2, 1), 3), ((1, 4), 3)] {
+            let text = format!(
+                r#"{{"last_id":{last},"objects":[{{"id":{},"kind":{solid}}},{{"id":{},"kind":{solid}}}]}}"#,
+                ids.0, ids.1
+            );
+            assert!(serde_json::from_str::<Document>(&text).is_err(), "{text}");
+        }
+        let bad = r#"{"last_id":1,"objects":[{"id":1,"kind":{"kind":"solid","shape":{"kind":"sphere","radius":-1},"segments":16,"transform":{}}}]}"#;
+        let err = serde_json::from_str::<Document>(bad)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("object #1"), "{err}");
     }
 }

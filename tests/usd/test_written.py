@@ -1,0 +1,126 @@
+"""Files we write: usdchecker passes, pxr reads the same meshes and log."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from pxr import Sdf, Usd, UsdGeom, UsdValidation
+
+from conftest import run_tool
+
+
+def _usdchecker() -> str | None:
+    here = Path(sys.executable).parent / "usdchecker"
+    if here.exists():
+        return str(here)
+    return shutil.which("usdchecker")
+
+
+def _validation_errors(path: Path) -> list[str]:
+    """Errors of every registered UsdValidation validator: what usdchecker
+    runs in USD 26 (the PyPI usd-core wheel does not ship the binary)."""
+    registry = UsdValidation.ValidationRegistry()
+    context = UsdValidation.ValidationContext(registry.GetOrLoadAllValidators())
+    errors = context.Validate(Usd.Stage.Open(str(path)))
+    return [
+        f"{e.GetName()}: {e.GetMessage()}"
+        for e in errors
+        if e.GetType() == UsdValidation.ValidationErrorType.Error
+    ]
+
+
+def test_usdchecker_reports_no_errors(written: list[Path], tmp_path: Path) -> None:
+    checker = _usdchecker()
+    for f in written:
+        assert _validation_errors(f) == [], f.name
+        if checker:
+            out = subprocess.run(
+                [checker, str(f)],
+                capture_output=True,
+                text=True,
+                check=False,
+                env={**os.environ, "PYTHONWARNINGS": "ignore"},
+            )
+            text = out.stdout + out.stderr
+            assert out.returncode == 0, f"{f.name}: {text}"
+            assert "Error" not in text and "Failed" not in text, f"{f.name}: {text}"
+    # The validators do catch problems: the same file without stage
+    # metadata fails.
+    bare = tmp_path / "bare.usda"
+    layer = Sdf.Layer.FindOrOpen(str(written[0]))
+    layer.Export(str(bare))
+    layer = Sdf.Layer.FindOrOpen(str(bare))
+    root = layer.pseudoRoot
+    for key in ("upAxis", "metersPerUnit"):
+        root.ClearInfo(key)
+    layer.Save()
+    assert _validation_errors(bare), "validators flagged nothing on a bare layer"
+
+
+def test_stage_metadata(written: list[Path]) -> None:
+    for f in written:
+        stage = Usd.Stage.Open(str(f))
+        assert UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.z
+        assert UsdGeom.GetStageMetersPerUnit(stage) == 1.0
+        assert stage.GetDefaultPrim().GetPath() == "/World"
+
+
+def test_pxr_reads_identical_points_and_indices(
+    tool: Path, written: list[Path]
+) -> None:
+    for f in written:
+        ours = run_tool(tool, "dump", str(f))
+        assert ours["consistent"], ours["report"]
+        stage = Usd.Stage.Open(str(f))
+        meshes = [p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh)]
+        assert len(meshes) == len(ours["meshes"])
+        for m in ours["meshes"]:
+            mesh = UsdGeom.Mesh(stage.GetPrimAtPath(m["prim"]))
+            assert mesh, m["prim"]
+            points = [tuple(p) for p in mesh.GetPointsAttr().Get()]
+            assert points == [tuple(p) for p in m["points"]], m["prim"]
+            assert list(mesh.GetFaceVertexIndicesAttr().Get()) == m["indices"]
+            counts = list(mesh.GetFaceVertexCountsAttr().Get())
+            assert counts == [3] * (len(m["indices"]) // 3)
+            assert len(mesh.GetNormalsAttr().Get()) == len(points)
+            assert mesh.GetNormalsInterpolation() == UsdGeom.Tokens.vertex
+            lo, hi = mesh.GetExtentAttr().Get()
+            assert tuple(lo) == tuple(min(c) for c in zip(*points))
+            assert tuple(hi) == tuple(max(c) for c in zip(*points))
+
+
+def test_pxr_reads_the_op_log(tool: Path, written: list[Path]) -> None:
+    for f in written:
+        ours = run_tool(tool, "dump", str(f))
+        stage = Usd.Stage.Open(str(f))
+        log = stage.GetPrimAtPath("/ShapewrightLog")
+        ops = [json.loads(s) for s in log.GetAttribute("shapewright:ops").Get()]
+        assert ops == ours["ops"]
+        types = list(log.GetAttribute("shapewright:opTypes").Get())
+        assert types == [op["op"] for op in ops]
+        assert log.GetAttribute("shapewright:cursor").Get() == ours["cursor"]
+        assert log.GetAttribute("shapewright:opCount").Get() == len(ops)
+        assert log.GetAttribute("shapewright:formatVersion").Get() == 1
+        snapshot = json.loads(log.GetAttribute("shapewright:snapshot").Get())
+        assert [o["id"] for o in snapshot["objects"]] == [
+            m["id"] for m in ours["meshes"]
+        ]
+
+
+def test_pxr_resave_still_loads(
+    tool: Path, written: list[Path], tmp_path: Path
+) -> None:
+    """A file re-exported by Pixar (usda and usdc) still opens with history."""
+    for f in written:
+        ours = run_tool(tool, "dump", str(f))
+        for ext in ("usda", "usdc"):
+            out = tmp_path / f"{f.stem}.{ext}"
+            stage = Usd.Stage.Open(str(f))
+            assert stage.GetRootLayer().Export(str(out))
+            again = run_tool(tool, "dump", str(out))
+            assert again["ops"] == ours["ops"]
+            assert again["cursor"] == ours["cursor"]
+            assert again["consistent"], again["report"]

@@ -1,0 +1,133 @@
+//! Typed errors of saving, loading and importing.
+
+use crate::check::ConsistencyReport;
+
+/// Why a document could not be saved. The target file is untouched.
+#[derive(Debug, thiserror::Error)]
+pub enum SaveError {
+    /// The layer could not be authored (a name or value USD cannot hold).
+    #[error("cannot author the USD layer: {0}")]
+    Author(String),
+    /// An op or the snapshot serialized to text that Pixar's and openusd's
+    /// usda readers would read differently (it contains a backslash).
+    #[error("{what} contains a backslash, which usda readers disagree on; refusing to write it")]
+    Unencodable {
+        /// Which value (`op 12`, `snapshot`).
+        what: String,
+    },
+    /// Writing, syncing or renaming the file failed.
+    #[error("writing {path}: {source}")]
+    Io {
+        /// The file or directory.
+        path: String,
+        /// The OS error.
+        source: std::io::Error,
+    },
+}
+
+/// Why a Shapewright USD file could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be read.
+    #[error("reading {path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// The file is not valid USD (usda, usdc or usdz) according to openusd.
+    #[error("not a readable USD layer: {0}")]
+    Parse(String),
+    /// The layer has no `/ShapewrightLog` prim: it was not written by
+    /// Shapewright. Use the mesh import instead.
+    #[error("no /ShapewrightLog prim: this USD file was not saved by Shapewright (import its meshes instead)")]
+    NotShapewright,
+    /// A version this build cannot read.
+    #[error("{what} version {found} is not supported: this build reads versions {oldest} to {newest}{}",
+        if *found > *newest { "; the file was written by a newer Shapewright, update to open it" }
+        else { "; the file predates the first released format and cannot be migrated" })]
+    UnsupportedVersion {
+        /// `file format` or `op format`.
+        what: &'static str,
+        /// The version in the file.
+        found: i64,
+        /// Oldest version this build reads.
+        oldest: i64,
+        /// Newest version this build reads.
+        newest: i64,
+    },
+    /// A log attribute is missing or has the wrong type.
+    #[error("log attribute `{name}` is {problem}")]
+    BadAttribute {
+        /// The attribute.
+        name: &'static str,
+        /// What is wrong.
+        problem: String,
+    },
+    /// An op of the log does not parse.
+    #[error("op {index} of the log does not parse: {message}")]
+    BadOp {
+        /// 0-based index.
+        index: usize,
+        /// The serde message.
+        message: String,
+    },
+    /// The snapshot of the document does not parse or evaluate.
+    #[error("the document snapshot is invalid: {0}")]
+    BadSnapshot(String),
+    /// Rebuilding the log failed (bad cursor, or a replay failed).
+    #[error(transparent)]
+    Log(#[from] shapewright::doc::LogError),
+    /// The geometry stored in the file disagrees with the log (strict load).
+    #[error("the file's geometry disagrees with its log:\n{0}")]
+    Inconsistent(ConsistencyReport),
+}
+
+/// Why meshes could not be imported from a USD file.
+#[derive(Debug, thiserror::Error)]
+pub enum ImportError {
+    /// The file could not be opened or composed.
+    #[error("opening {path}: {message}")]
+    Open {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// Reading a prim or attribute failed.
+    #[error("{path}: {message}")]
+    Read {
+        /// The prim or attribute path.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// A mesh's topology or points are invalid.
+    #[error("mesh {path}: {message}")]
+    BadMesh {
+        /// The mesh prim.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// An xformOp this importer does not know.
+    #[error("prim {path}: unsupported xformOp `{op}`")]
+    UnsupportedXformOp {
+        /// The prim.
+        path: String,
+        /// The op name.
+        op: String,
+    },
+    /// Stage metadata that cannot be converted.
+    #[error("stage metadata `{key}` = {value} is not supported")]
+    BadStageMetadata {
+        /// `upAxis` or `metersPerUnit`.
+        key: &'static str,
+        /// The value found.
+        value: String,
+    },
+    /// No mesh matched.
+    #[error("no UsdGeom.Mesh found in {0}")]
+    NoMesh(String),
+}

@@ -1,0 +1,125 @@
+//! What each object kind contributes to the stage.
+//!
+//! Every object becomes an `Xform` prim `Object_<id>` (custom attributes
+//! `shapewright:objectId`, `shapewright:kind`) holding a `Mesh` child named
+//! `Mesh` with its evaluated triangles, so any USD tool sees the model.
+//! Kinds with parametric parts add more children next to the mesh through
+//! [`extra_prims`]: generalized cylinders their spine and sections as
+//! `NurbsCurves` and their surface as a `NurbsPatch`, curve networks their
+//! curves, and so on. The match there is exhaustive on purpose: a new
+//! `ObjectKind` variant does not compile until it decides what it adds.
+
+use openusd::gf;
+use openusd::sdf::Value;
+use shapewright::doc::{Object, ObjectId, ObjectKind};
+use shapewright::mesh::TriMesh;
+
+use crate::prims::{AttrOut, PrimOut};
+
+/// Name of the object prim for `id`.
+pub fn object_prim_name(id: ObjectId) -> String {
+    format!("Object_{}", id.0)
+}
+
+/// Name of the mesh child of every object prim.
+pub const MESH_PRIM: &str = "Mesh";
+
+/// The prim of object `id`: an Xform with the mesh and the kind's extras.
+pub fn object_prim(id: ObjectId, obj: &Object) -> PrimOut {
+    let mut p = PrimOut::new(object_prim_name(id), "Xform");
+    p.attrs.push(AttrOut::custom(
+        "shapewright:objectId",
+        "int",
+        Value::Int(id.0 as i32),
+    ));
+    p.attrs.push(AttrOut::custom(
+        "shapewright:kind",
+        "token",
+        Value::Token(obj.kind.name().into()),
+    ));
+    p.children.push(mesh_prim(MESH_PRIM, &obj.mesh));
+    p.children.extend(extra_prims(&obj.kind));
+    p
+}
+
+/// Prims a kind adds next to its mesh (curves, patches). Solids have none:
+/// their parameters are the snapshot's and the log's.
+pub fn extra_prims(kind: &ObjectKind) -> Vec<PrimOut> {
+    match kind {
+        // Their parameters live in the snapshot and the log for now;
+        // NurbsCurves/NurbsPatch prims for GC spines, sections and surfaces
+        // are still to come.
+        ObjectKind::Solid(_)
+        | ObjectKind::GcAssembly(_)
+        | ObjectKind::SdfVolume(_)
+        | ObjectKind::SculptMesh(_) => Vec::new(),
+    }
+}
+
+/// Positions as USD stores them (`point3f`): each coordinate rounded to
+/// the nearest f32.
+pub fn points_f32(mesh: &TriMesh) -> Vec<gf::Vec3f> {
+    mesh.positions
+        .iter()
+        .map(|p| gf::vec3f(p[0] as f32, p[1] as f32, p[2] as f32))
+        .collect()
+}
+
+/// A `UsdGeom.Mesh` prim for `mesh`: points, triangle counts and indices,
+/// per-vertex normals (computed when the mesh has none), extent, and
+/// `subdivisionScheme = "none"` so that viewers show the triangles as they
+/// are instead of subdividing them.
+pub fn mesh_prim(name: &str, mesh: &TriMesh) -> PrimOut {
+    let points = points_f32(mesh);
+    let normals: Vec<gf::Vec3f> = if mesh.normals.len() == mesh.positions.len() {
+        mesh.normals
+            .iter()
+            .map(|n| gf::vec3f(n[0] as f32, n[1] as f32, n[2] as f32))
+            .collect()
+    } else {
+        let mut m = mesh.clone();
+        m.compute_normals();
+        m.normals
+            .iter()
+            .map(|n| gf::vec3f(n[0] as f32, n[1] as f32, n[2] as f32))
+            .collect()
+    };
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for p in &points {
+        for (k, v) in [p.x, p.y, p.z].into_iter().enumerate() {
+            lo[k] = lo[k].min(v);
+            hi[k] = hi[k].max(v);
+        }
+    }
+    if points.is_empty() {
+        lo = [0.0; 3];
+        hi = [0.0; 3];
+    }
+    let indices: Vec<i32> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| t.map(|i| i as i32))
+        .collect();
+    let mut p = PrimOut::new(name, "Mesh");
+    p.attrs = vec![
+        AttrOut::schema(
+            "extent",
+            "float3[]",
+            Value::Vec3fVec(vec![lo.into(), hi.into()]),
+        ),
+        AttrOut::schema(
+            "faceVertexCounts",
+            "int[]",
+            Value::IntVec(vec![3; mesh.triangles.len()]),
+        ),
+        AttrOut::schema("faceVertexIndices", "int[]", Value::IntVec(indices)),
+        AttrOut {
+            interpolation: Some("vertex"),
+            ..AttrOut::schema("normals", "normal3f[]", Value::Vec3fVec(normals))
+        },
+        AttrOut::schema("points", "point3f[]", Value::Vec3fVec(points)),
+        AttrOut::schema_uniform("subdivisionScheme", "token", Value::Token("none".into())),
+    ];
+    p
+}

@@ -1,0 +1,329 @@
+//! Reading a document and its log back from a Shapewright USD layer.
+//!
+//! Reopening restores the ops, the cursor and the document at the cursor
+//! from the snapshot, without replaying the history (see
+//! [`shapewright::doc::OpLog::from_snapshot`]); undo and redo then work as
+//! in the session that saved it. Every load compares the stored meshes with
+//! the evaluated ones ([`crate::check`]); [`LoadOptions::verify_history`]
+//! also replays the whole history and compares it with the snapshot.
+
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+use std::io::Cursor;
+use std::path::Path;
+
+use openusd::sdf::{self, AbstractData, Value};
+use shapewright::doc::{Document, ObjectId, Op, OpLog, OP_FORMAT_VERSION};
+
+use crate::check::{compare, ConsistencyReport, Mismatch, StoredMesh};
+use crate::kinds::MESH_PRIM;
+use crate::{LoadError, FORMAT_VERSION, LOG_PRIM, OLDEST_FORMAT_VERSION, WORLD_PRIM};
+
+/// How to load.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// Replay the whole history and compare it with the snapshot (costs
+    /// what the history costs; `info` does it, opening a file does not).
+    pub verify_history: bool,
+    /// Fail with [`LoadError::Inconsistent`] instead of returning a report
+    /// with mismatches.
+    pub strict: bool,
+}
+
+/// A loaded document with its history and what the load found.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The history, with its cursor and document restored.
+    pub log: OpLog,
+    /// Whether the stored geometry agrees with the log.
+    pub report: ConsistencyReport,
+    /// The file format version found.
+    pub format_version: i64,
+    /// `metersPerUnit` of the stage (1 when not authored).
+    pub meters_per_unit: f64,
+    /// True when the file had no snapshot and the document was rebuilt by
+    /// replaying the history.
+    pub replayed: bool,
+}
+
+/// Parses usda text and loads it.
+pub fn load_from_str(text: &str, options: LoadOptions) -> Result<Loaded, LoadError> {
+    let data = openusd::usda::parse(text).map_err(|e| LoadError::Parse(format!("{e:#}")))?;
+    load_from_data(&data, options)
+}
+
+/// Reads a usda, usdc or usdz file (by content, not by extension) and loads it.
+pub fn load_file(path: &Path, options: LoadOptions) -> Result<Loaded, LoadError> {
+    let bytes = std::fs::read(path).map_err(|source| LoadError::Io {
+        path: path.display().to_string(),
+        source,
+    })?;
+    let data = read_layer(&bytes)?;
+    load_from_data(data.as_ref(), options)
+}
+
+/// Parses the bytes of a usda, usdc or usdz layer (usdz: its first layer).
+pub fn read_layer(bytes: &[u8]) -> Result<Box<dyn AbstractData>, LoadError> {
+    let parse = |e: anyhow::Error| LoadError::Parse(format!("{e:#}"));
+    if bytes.starts_with(b"PXR-USDC") {
+        let data =
+            openusd::usdc::CrateData::open(Cursor::new(bytes.to_vec()), true).map_err(parse)?;
+        Ok(Box::new(data))
+    } else if bytes.starts_with(b"PK\x03\x04") {
+        let mut archive =
+            openusd::usdz::Archive::from_reader(Cursor::new(bytes.to_vec())).map_err(parse)?;
+        archive.read_first_layer().map_err(parse)
+    } else {
+        let text = std::str::from_utf8(bytes)
+            .map_err(|e| LoadError::Parse(format!("usda text is not UTF-8: {e}")))?;
+        Ok(Box::new(openusd::usda::parse(text).map_err(parse)?))
+    }
+}
+
+fn field<'a>(data: &'a dyn AbstractData, path: &sdf::Path, name: &str) -> Option<Cow<'a, Value>> {
+    data.try_field(path, name).ok().flatten()
+}
+
+fn attr_value<'a>(
+    data: &'a dyn AbstractData,
+    prim: &sdf::Path,
+    name: &str,
+) -> Option<Cow<'a, Value>> {
+    let p = prim.append_property(name).ok()?;
+    field(data, &p, "default")
+}
+
+fn as_int(v: &Value) -> Option<i64> {
+    match v {
+        Value::Int(i) => Some(i64::from(*i)),
+        Value::Int64(i) => Some(*i),
+        Value::Uint(i) => Some(i64::from(*i)),
+        Value::Uint64(i) => i64::try_from(*i).ok(),
+        Value::Uchar(i) => Some(i64::from(*i)),
+        _ => None,
+    }
+}
+
+fn log_int(data: &dyn AbstractData, log: &sdf::Path, name: &'static str) -> Result<i64, LoadError> {
+    let v = attr_value(data, log, name).ok_or(LoadError::BadAttribute {
+        name,
+        problem: "missing".to_owned(),
+    })?;
+    as_int(&v).ok_or_else(|| LoadError::BadAttribute {
+        name,
+        problem: format!("not an integer ({})", type_of(&v)),
+    })
+}
+
+fn type_of(v: &Value) -> String {
+    let s = format!("{v:?}");
+    s.split(['(', ' ', '{']).next().unwrap_or("?").to_owned()
+}
+
+fn strings(v: &Value) -> Option<Vec<String>> {
+    match v {
+        Value::StringVec(s) => Some(s.clone()),
+        Value::TokenVec(s) => Some(s.iter().map(|t| t.as_str().to_owned()).collect()),
+        _ => None,
+    }
+}
+
+fn string(v: &Value) -> Option<String> {
+    match v {
+        Value::String(s) => Some(s.clone()),
+        Value::Token(t) => Some(t.as_str().to_owned()),
+        _ => None,
+    }
+}
+
+fn check_version(
+    what: &'static str,
+    found: i64,
+    oldest: i64,
+    newest: i64,
+) -> Result<(), LoadError> {
+    if found < oldest || found > newest {
+        return Err(LoadError::UnsupportedVersion {
+            what,
+            found,
+            oldest,
+            newest,
+        });
+    }
+    Ok(())
+}
+
+/// Loads from a parsed layer.
+pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<Loaded, LoadError> {
+    let root = sdf::Path::abs_root();
+    let log_path = root
+        .append_path(LOG_PRIM)
+        .map_err(|e| LoadError::Parse(e.to_string()))?;
+    if !data.has_spec(&log_path) {
+        return Err(LoadError::NotShapewright);
+    }
+    let format_version = log_int(data, &log_path, "shapewright:formatVersion")?;
+    check_version(
+        "file format",
+        format_version,
+        OLDEST_FORMAT_VERSION,
+        FORMAT_VERSION,
+    )?;
+    let op_version = log_int(data, &log_path, "shapewright:opFormatVersion")?;
+    check_version("op format", op_version, 1, i64::from(OP_FORMAT_VERSION))?;
+
+    let ops_value =
+        attr_value(data, &log_path, "shapewright:ops").ok_or(LoadError::BadAttribute {
+            name: "shapewright:ops",
+            problem: "missing".to_owned(),
+        })?;
+    let texts = strings(&ops_value).ok_or_else(|| LoadError::BadAttribute {
+        name: "shapewright:ops",
+        problem: format!("not a string array ({})", type_of(&ops_value)),
+    })?;
+    let mut ops = Vec::with_capacity(texts.len());
+    for (index, t) in texts.iter().enumerate() {
+        let op: Op = serde_json::from_str(t).map_err(|e| LoadError::BadOp {
+            index,
+            message: e.to_string(),
+        })?;
+        ops.push(op);
+    }
+    if let Some(v) = attr_value(data, &log_path, "shapewright:opTypes") {
+        let types = strings(&v).ok_or_else(|| LoadError::BadAttribute {
+            name: "shapewright:opTypes",
+            problem: format!("not a token array ({})", type_of(&v)),
+        })?;
+        if types.len() != ops.len() {
+            return Err(LoadError::BadAttribute {
+                name: "shapewright:opTypes",
+                problem: format!("{} entries for {} ops", types.len(), ops.len()),
+            });
+        }
+        if let Some(i) = (0..ops.len()).find(|&i| types[i] != ops[i].name()) {
+            return Err(LoadError::BadAttribute {
+                name: "shapewright:opTypes",
+                problem: format!(
+                    "entry {i} says `{}` but op {i} is `{}`",
+                    types[i],
+                    ops[i].name()
+                ),
+            });
+        }
+    }
+    if let Some(v) = attr_value(data, &log_path, "shapewright:opCount") {
+        if as_int(&v) != Some(ops.len() as i64) {
+            return Err(LoadError::BadAttribute {
+                name: "shapewright:opCount",
+                problem: format!("{v:?} but the log holds {} ops (truncated?)", ops.len()),
+            });
+        }
+    }
+    let cursor = log_int(data, &log_path, "shapewright:cursor")?;
+    let cursor = usize::try_from(cursor).map_err(|_| LoadError::BadAttribute {
+        name: "shapewright:cursor",
+        problem: format!("negative ({cursor})"),
+    })?;
+
+    let (log, replayed) = match attr_value(data, &log_path, "shapewright:snapshot") {
+        Some(v) => {
+            let text = string(&v).ok_or_else(|| LoadError::BadAttribute {
+                name: "shapewright:snapshot",
+                problem: format!("not a string ({})", type_of(&v)),
+            })?;
+            let doc: Document =
+                serde_json::from_str(&text).map_err(|e| LoadError::BadSnapshot(e.to_string()))?;
+            (OpLog::from_snapshot(ops, cursor, doc)?, false)
+        }
+        None => (OpLog::replay(ops, cursor)?, true),
+    };
+
+    let (stored, extra) = stored_meshes(data, &root);
+    let mut report = compare(log.document(), &stored, extra);
+    if options.verify_history && !replayed {
+        report.history_checked = true;
+        match OpLog::replay(log.ops().to_vec(), cursor) {
+            Ok(r) if r.document().content_hash() == log.document().content_hash() => {}
+            Ok(_) => report.mismatches.push(Mismatch::History {
+                detail: format!(
+                    "replaying the {cursor} applied ops gives a different document than the snapshot"
+                ),
+            }),
+            Err(e) => report.mismatches.push(Mismatch::History {
+                detail: e.to_string(),
+            }),
+        }
+    }
+    if options.strict && !report.is_consistent() {
+        return Err(LoadError::Inconsistent(report));
+    }
+    let meters_per_unit = field(data, &root, "metersPerUnit")
+        .and_then(|v| match v.as_ref() {
+            Value::Double(d) => Some(*d),
+            Value::Float(f) => Some(f64::from(*f)),
+            other => as_int(other).map(|i| i as f64),
+        })
+        .unwrap_or(1.0);
+    Ok(Loaded {
+        log,
+        report,
+        format_version,
+        meters_per_unit,
+        replayed,
+    })
+}
+
+fn children(data: &dyn AbstractData, path: &sdf::Path) -> Vec<String> {
+    field(data, path, "primChildren")
+        .and_then(|v| strings(&v))
+        .unwrap_or_default()
+}
+
+/// The meshes under `/World` by object id, and object prims without a
+/// usable id.
+fn stored_meshes(
+    data: &dyn AbstractData,
+    root: &sdf::Path,
+) -> (BTreeMap<ObjectId, StoredMesh>, Vec<String>) {
+    let mut out = BTreeMap::new();
+    let mut extra = Vec::new();
+    let Ok(world) = root.append_path(WORLD_PRIM) else {
+        return (out, extra);
+    };
+    for name in children(data, &world) {
+        let Ok(obj) = world.append_path(name.as_str()) else {
+            continue;
+        };
+        let id = attr_value(data, &obj, "shapewright:objectId")
+            .and_then(|v| as_int(&v))
+            .and_then(|i| u32::try_from(i).ok())
+            .map(ObjectId);
+        let Some(id) = id.filter(|id| !out.contains_key(id)) else {
+            extra.push(obj.as_str().to_owned());
+            continue;
+        };
+        let Ok(mesh) = obj.append_path(MESH_PRIM) else {
+            continue;
+        };
+        let ints = |name: &str| match attr_value(data, &mesh, name).as_deref() {
+            Some(Value::IntVec(v)) => v.clone(),
+            _ => Vec::new(),
+        };
+        let points = match attr_value(data, &mesh, "points").as_deref() {
+            Some(Value::Vec3fVec(v)) => v.clone(),
+            _ => Vec::new(),
+        };
+        if !data.has_spec(&mesh) {
+            continue;
+        }
+        out.insert(
+            id,
+            StoredMesh {
+                points,
+                counts: ints("faceVertexCounts"),
+                indices: ints("faceVertexIndices"),
+            },
+        );
+    }
+    (out, extra)
+}
