@@ -4,6 +4,7 @@
 //! meshes; the OpenXR headset session joins it later.
 
 mod cmd;
+mod render_cmd;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -33,6 +34,20 @@ enum Command {
         /// The mesh file.
         file: PathBuf,
     },
+    /// Render a mesh file (.stl, .obj) to a PNG with the host's Vulkan renderer.
+    Render {
+        /// The mesh file.
+        file: PathBuf,
+        /// Output PNG.
+        #[arg(long)]
+        png: PathBuf,
+        /// Image width in pixels.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Image height in pixels.
+        #[arg(long, default_value_t = 480)]
+        height: u32,
+    },
 }
 
 fn main() -> ExitCode {
@@ -40,6 +55,12 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Apply { script, out } => cmd::apply(&script, &out),
         Command::Info { file } => cmd::info(&file),
+        Command::Render {
+            file,
+            png,
+            width,
+            height,
+        } => render_cmd::render(&file, &png, width, height),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
