@@ -7,3 +7,4 @@
 #[allow(unsafe_code)]
 pub mod gfx;
 pub mod render;
+pub mod xr;

@@ -5,6 +5,7 @@
 
 mod cmd;
 mod render_cmd;
+mod run_cmd;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -34,6 +35,8 @@ enum Command {
         /// The mesh file.
         file: PathBuf,
     },
+    /// Run the OpenXR session: `--headless` reads input only (XR_MND_headless).
+    Run(run_cmd::RunArgs),
     /// Render a mesh file (.stl, .obj) to a PNG with the host's Vulkan renderer.
     Render {
         /// The mesh file.
@@ -55,6 +58,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Apply { script, out } => cmd::apply(&script, &out),
         Command::Info { file } => cmd::info(&file),
+        Command::Run(args) => run_cmd::run(&args),
         Command::Render {
             file,
             png,

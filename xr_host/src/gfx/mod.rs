@@ -17,6 +17,7 @@ pub use offscreen::{OffscreenTarget, RgbaImage, OFFSCREEN_FORMAT};
 pub use renderer::{
     Framebuffer, GpuLines, GpuMesh, LineVertex, MeshDraw, Renderer, ViewCamera, DEPTH_FORMAT,
 };
+pub mod xr_bridge;
 pub use resource::{array_view, HostBuffer, LayeredImage};
 
 use ash::vk;
