@@ -47,7 +47,7 @@ struct Run {
 #[derive(serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 enum Line {
-    Frame(InputFrame),
+    Frame(Box<InputFrame>),
     Lifecycle(LifecycleEvent),
 }
 
@@ -111,7 +111,7 @@ fn read_record(p: &Path) -> (Vec<InputFrame>, Vec<LifecycleEvent>) {
     for l in text.lines() {
         match serde_json::from_str::<Line>(l).unwrap_or_else(|e| panic!("bad record line {l}: {e}"))
         {
-            Line::Frame(f) => frames.push(f),
+            Line::Frame(f) => frames.push(*f),
             Line::Lifecycle(e) => events.push(e),
         }
     }
