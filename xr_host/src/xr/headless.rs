@@ -13,16 +13,11 @@ use std::time::{Duration, Instant};
 use openxr as xr;
 
 use super::actions::{Actions, DropCounts, SessionInput};
+use super::events::{end_or_error, Lifecycle, SessionEnd};
 use super::input::{FrameSink, LifecycleEvent};
-use super::lifecycle::{reaction, reads_input, Idle, Phase, Reaction};
+use super::lifecycle::{reads_input, Phase};
 use super::{classify, create_instance, Failure, InstanceCaps, RunConfig, RunReport, XrHostError};
 use crate::gfx::xr_bridge::create_headless_session;
-
-enum SessionEnd {
-    Exit,
-    Lost,
-    InstanceLost,
-}
 
 enum InstanceEnd {
     Exit,
@@ -141,9 +136,7 @@ fn run_session(
             }
         }
     };
-    let mut phase = Some(Phase::Idle(Idle::new(session)));
-    let mut state = xr::SessionState::IDLE;
-    let mut exit_requested = false;
+    let mut life = Lifecycle::new(session);
     let mut buf = xr::EventDataBuffer::new();
     let mut drops = DropCounts::default();
     let session_start = Instant::now();
@@ -154,68 +147,18 @@ fn run_session(
         ($lt:lifetime, $what:expr, $e:expr) => {
             match $e {
                 Ok(v) => v,
-                Err(err) => match classify(err) {
-                    Failure::SessionLost => break $lt SessionEnd::Lost,
-                    Failure::InstanceLost => break $lt SessionEnd::InstanceLost,
-                    Failure::Other => return Err(XrHostError::call($what, err)),
-                },
+                Err(err) => break $lt end_or_error($what, err)?,
             }
         };
     }
     let end = 'tick: loop {
-        // 1. Drain the event queue.
-        loop {
-            let ev = xr_try!('tick, "xrPollEvent", caps.instance.poll_event(&mut buf));
-            let Some(ev) = ev else { break };
-            match ev {
-                xr::Event::SessionStateChanged(e) => {
-                    state = e.state();
-                    report.states.push(format!("{state:?}"));
-                    sink.lifecycle(&LifecycleEvent::State(format!("{state:?}")));
-                    if state == xr::SessionState::FOCUSED {
-                        report.reached_focused = true;
-                    }
-                    match reaction(state) {
-                        Reaction::Begin => match phase.take() {
-                            Some(Phase::Idle(idle)) => match idle.begin() {
-                                Ok(r) => phase = Some(Phase::Running(r)),
-                                Err((idle, err)) => {
-                                    phase = Some(Phase::Idle(idle));
-                                    xr_try!('tick, "xrBeginSession", Err::<(), _>(err));
-                                }
-                            },
-                            other => phase = other,
-                        },
-                        Reaction::End => match phase.take() {
-                            Some(Phase::Running(r)) => {
-                                let (idle, err) = r.end();
-                                phase = Some(Phase::Idle(idle));
-                                if let Some(err) = err {
-                                    xr_try!('tick, "xrEndSession", Err::<(), _>(err));
-                                }
-                            }
-                            other => phase = other,
-                        },
-                        Reaction::Exit => {
-                            report.exit_reason = if exit_requested {
-                                "exit requested by the host".into()
-                            } else {
-                                "exit requested by the runtime".into()
-                            };
-                            break 'tick SessionEnd::Exit;
-                        }
-                        Reaction::SessionLost => break 'tick SessionEnd::Lost,
-                        Reaction::None => {}
-                    }
-                }
-                xr::Event::InstanceLossPending(_) => break 'tick SessionEnd::InstanceLost,
-                xr::Event::EventsLost(e) => report.events_lost += u64::from(e.lost_event_count()),
-                _ => {}
-            }
+        // 1. Drain the event queue, reacting to state changes.
+        if let Some(end) = life.drain(&caps.instance, &mut buf, report, sink)? {
+            break end;
         }
         // 2. Read input while running.
-        if let Some(Phase::Running(running)) = &phase {
-            if reads_input(state) {
+        if let Some(Phase::Running(running)) = &life.phase {
+            if reads_input(life.state) {
                 let t0 = Instant::now();
                 let time = xr_try!('tick, "xrConvertTimespecTimeToTimeKHR", caps.instance.now());
                 let frame = xr_try!(
@@ -232,11 +175,11 @@ fn run_session(
         // STOPPING/EXITING through the event queue.
         let done = cfg.max_frames.is_some_and(|n| report.frames >= n)
             || cfg.max_duration.is_some_and(|d| start.elapsed() >= d);
-        if done && !exit_requested {
-            match &phase {
+        if done && !life.exit_requested {
+            match &life.phase {
                 Some(Phase::Running(r)) => {
                     xr_try!('tick, "xrRequestExitSession", r.session().request_exit());
-                    exit_requested = true;
+                    life.exit_requested = true;
                 }
                 _ => {
                     report.exit_reason = "limit reached before the session ran".into();
@@ -246,14 +189,14 @@ fn run_session(
         }
         if session_start.elapsed() > cfg.stall_timeout
             && !report.reached_focused
-            && state == xr::SessionState::IDLE
+            && life.state == xr::SessionState::IDLE
         {
             return Err(XrHostError::GaveUp(format!(
                 "the session did not become READY within {:?}",
                 cfg.stall_timeout
             )));
         }
-        if exit_requested
+        if life.exit_requested
             && start.elapsed()
                 > cfg
                     .max_duration
@@ -276,6 +219,6 @@ fn run_session(
     report.joints_dropped += drops.joints;
     // Spaces and trackers go before the session (field order of drops).
     drop(input);
-    drop(phase);
+    drop(life);
     Ok(end)
 }

@@ -6,6 +6,7 @@
 
 pub mod actions;
 pub mod bindings;
+pub mod events;
 pub mod headless;
 pub mod input;
 pub mod lifecycle;
