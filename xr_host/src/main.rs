@@ -35,7 +35,7 @@ enum Command {
         /// The mesh file.
         file: PathBuf,
     },
-    /// Run the OpenXR session: `--headless` reads input only (XR_MND_headless).
+    /// Run the OpenXR session (headset with Vulkan; `--headless`: input only, XR_MND_headless).
     Run(run_cmd::RunArgs),
     /// Render a mesh file (.stl, .obj) to a PNG with the host's Vulkan renderer.
     Render {

@@ -1,4 +1,5 @@
-//! `run [--headless]`: the OpenXR session. Until `core::interact` lands the
+//! `run [--headless] [--model FILE]`: the OpenXR session (headset:
+//! Vulkan, stereo, the model and aim rays; headless: input only). Until `core::interact` lands the
 //! frames go to a recording sink (`--record FILE.jsonl`: one JSON line per
 //! input frame or lifecycle event) that other engineers can replace with
 //! the interaction core.
@@ -10,7 +11,7 @@ use std::time::Duration;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use shapewright_xr::xr::{
-    run_headless, FrameSink, InputFrame, LifecycleEvent, RunConfig, RunReport,
+    run_headless, run_headset, FrameSink, InputFrame, LifecycleEvent, RunConfig, RunReport,
 };
 
 /// Arguments of `run`.
@@ -31,6 +32,9 @@ pub struct RunArgs {
     /// Write the run report as JSON.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// A mesh (.stl, .obj) to show in the headset.
+    #[arg(long)]
+    pub model: Option<PathBuf>,
     /// Stop instead of recreating the session after LOSS_PENDING.
     #[arg(long)]
     pub no_recreate: bool,
@@ -72,9 +76,6 @@ impl FrameSink for RecordSink {
 
 /// Runs the session and prints a summary.
 pub fn run(args: &RunArgs) -> Result<()> {
-    if !args.headless {
-        bail!("the headset (Vulkan) session is not part of this build yet; use `run --headless`");
-    }
     let max_duration = match args.seconds {
         Some(s) if !(s.is_finite() && s > 0.0) => {
             bail!("--seconds must be a positive number, got {s}")
@@ -95,7 +96,21 @@ pub fn run(args: &RunArgs) -> Result<()> {
         None => None,
     };
     let mut sink = RecordSink { out, error: None };
-    let report = run_headless(&cfg, &mut sink)?;
+    let report = if args.headless {
+        run_headless(&cfg, &mut sink)?
+    } else {
+        let model = match &args.model {
+            Some(p) => {
+                let mut m = crate::cmd::read_mesh(p)?;
+                if m.normals.len() != m.positions.len() {
+                    m.compute_normals();
+                }
+                Some(m)
+            }
+            None => None,
+        };
+        run_headset(&cfg, model.as_ref(), &mut sink)?
+    };
     if let Some(e) = sink.error.take() {
         bail!("writing the record: {e}");
     }

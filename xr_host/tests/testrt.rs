@@ -407,3 +407,30 @@ fn real_runtime_if_configured() {
         "{err}"
     );
 }
+
+#[test]
+fn headset_mode_reports_a_runtime_without_vulkan() {
+    let dir = std::env::temp_dir().join(format!(
+        "shapewright_xr_testrt_headset_{}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let manifest = dir.join("runtime.json");
+    std::fs::write(
+        &manifest,
+        serde_json::json!({"file_format_version": "1.0.0", "runtime": {"name": "t", "library_path": runtime_lib()}})
+            .to_string(),
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_shapewright-xr"))
+        .args(["run", "--frames", "1"])
+        .env("XR_RUNTIME_JSON", &manifest)
+        .env_remove("SHAPEWRIGHT_TESTRT_SCRIPT")
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(err.contains("lacks XR_KHR_vulkan_enable2"), "{err}");
+    assert!(!err.contains("panicked"));
+}

@@ -8,10 +8,12 @@ pub mod actions;
 pub mod bindings;
 pub mod events;
 pub mod headless;
+pub mod headset;
 pub mod input;
 pub mod lifecycle;
 
 pub use headless::run_headless;
+pub use headset::run_headset;
 pub use input::{CollectSink, FrameSink, HandInput, InputFrame, LifecycleEvent, Pose};
 
 use std::time::Duration;
@@ -38,6 +40,9 @@ pub enum XrHostError {
         /// The runtime's result code.
         result: xr::sys::Result,
     },
+    /// The Vulkan side of the headset session failed.
+    #[error("graphics: {0}")]
+    Graphics(String),
     /// Retries were exhausted or the runtime stalled.
     #[error("giving up: {0}")]
     GaveUp(String),
