@@ -8,7 +8,7 @@ use std::process::Command;
 
 use shapewright_xr::xr::{InputFrame, LifecycleEvent, RunReport};
 use shapewright_xr_testrt::script::{
-    Fault, FaultAt, Keyframe, Script, ScriptHand, ScriptPose, SENTINEL,
+    Fault, FaultAt, FrameStats, Keyframe, Script, ScriptHand, ScriptPose, SENTINEL,
 };
 
 fn runtime_lib() -> PathBuf {
@@ -52,6 +52,16 @@ enum Line {
 }
 
 fn run_host(name: &str, script: &Script, args: &[&str]) -> Run {
+    run_host_mode(name, script, &["--headless"], args).0
+}
+
+/// Runs the host in the given mode; also returns the runtime's frame stats.
+fn run_host_mode(
+    name: &str,
+    script: &Script,
+    mode: &[&str],
+    args: &[&str],
+) -> (Run, Option<FrameStats>) {
     let dir = std::env::temp_dir().join(format!(
         "shapewright_xr_testrt_{name}_{}",
         std::process::id()
@@ -69,11 +79,28 @@ fn run_host(name: &str, script: &Script, args: &[&str]) -> Run {
     )
     .unwrap();
     let script_path = dir.join("script.json");
-    std::fs::write(&script_path, serde_json::to_string(script).unwrap()).unwrap();
+    let stats_path = dir.join("stats.json");
+    let mut script = script.clone();
+    script.stats_path = Some(stats_path.to_string_lossy().into_owned());
+    let model = dir.join("model.stl");
+    let mut cube = shapewright::solid::tessellate(
+        &shapewright::solid::SolidShape::Box {
+            size: [1.0, 1.0, 1.0],
+        },
+        16,
+    )
+    .unwrap();
+    cube.compute_normals();
+    shapewright::mesh::write_stl(&cube, &mut std::fs::File::create(&model).unwrap()).unwrap();
+    std::fs::write(&script_path, serde_json::to_string(&script).unwrap()).unwrap();
     let record = dir.join("record.jsonl");
     let report = dir.join("report.json");
     let out = Command::new(env!("CARGO_BIN_EXE_shapewright-xr"))
-        .args(["run", "--headless", "--record"])
+        .arg("run")
+        .args(mode)
+        .arg("--model")
+        .arg(&model)
+        .arg("--record")
         .arg(&record)
         .arg("--report")
         .arg(&report)
@@ -100,8 +127,11 @@ fn run_host(name: &str, script: &Script, args: &[&str]) -> Run {
         "the host panicked:\n{}",
         run.stderr
     );
+    let stats = std::fs::read_to_string(&stats_path)
+        .ok()
+        .map(|t| serde_json::from_str(&t).unwrap());
     let _ = std::fs::remove_dir_all(&dir);
-    run
+    (run, stats)
 }
 
 fn read_record(p: &Path) -> (Vec<InputFrame>, Vec<LifecycleEvent>) {
@@ -433,4 +463,63 @@ fn headset_mode_reports_a_runtime_without_vulkan() {
     assert_eq!(out.status.code(), Some(1));
     assert!(err.contains("lacks XR_KHR_vulkan_enable2"), "{err}");
     assert!(!err.contains("panicked"));
+}
+
+#[test]
+fn headset_renders_stereo_frames_on_lavapipe_through_the_runtime() {
+    let mut s = base_script();
+    s.vulkan = true;
+    let (r, stats) = run_host_mode("headset", &s, &[], &["--frames", "8"]);
+    assert_eq!(r.code, Some(0), "{}\n{}", r.stdout, r.stderr);
+    let rep = r.report.clone().unwrap();
+    assert!(rep.reached_focused);
+    assert_eq!(rep.frames, 8);
+    let stats = stats.expect("the runtime wrote frame stats");
+    assert!(stats.graphics);
+    // Every input frame came with a frame submission; while VISIBLE or
+    // FOCUSED with a tracked head, each one carried a stereo projection
+    // layer that passed the runtime's validation (swapchain released,
+    // rects inside the image, array index < 2, unit poses).
+    assert!(stats.frames_ended >= 8, "{stats:?}");
+    assert!(stats.projection_layers >= 8, "{stats:?}");
+    assert_clean(&r.frames);
+}
+
+#[test]
+fn headset_skips_rendering_views_without_valid_poses() {
+    let mut s = base_script();
+    s.vulkan = true;
+    let mut lost = s.keyframes[0].clone();
+    lost.at = 3;
+    lost.head = Some(ScriptPose {
+        valid: false,
+        ..pose([0.0, 1.6, 0.0])
+    });
+    s.keyframes.push(lost);
+    let (r, stats) = run_host_mode("headsetlost", &s, &[], &["--frames", "8"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let stats = stats.unwrap();
+    // Frames 0-1 rendered (head tracked); from step 3 on the views are
+    // invalid and the host submits empty frames.
+    assert!(stats.projection_layers <= 3, "{stats:?}");
+    assert!(stats.frames_ended >= 8, "{stats:?}");
+    assert!(r.frames.iter().skip(2).all(|f| f.head.is_none()));
+}
+
+#[test]
+fn headset_recreates_the_session_and_swapchain_after_loss_pending() {
+    let mut s = base_script();
+    s.vulkan = true;
+    s.faults = vec![FaultAt {
+        at: 4,
+        fault: Fault::LossPending,
+    }];
+    let (r, stats) = run_host_mode("headsetloss", &s, &[], &["--frames", "10"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let rep = r.report.clone().unwrap();
+    assert_eq!(rep.sessions_created, 2);
+    assert_eq!(rep.session_losses, 1);
+    assert_eq!(rep.frames, 10);
+    // Stats are of the last session: it rendered frames on a new swapchain.
+    assert!(stats.unwrap().projection_layers >= 5);
 }

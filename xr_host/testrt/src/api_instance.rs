@@ -10,10 +10,13 @@ use crate::script::Script;
 use crate::state::{path_well_formed, ActionInfo, InstanceData, Runtime};
 use crate::{cstr, done, fixed_str, input, output, with_rt, write_fixed, RUNTIME_NAME};
 
-fn offered(script: &Script) -> Vec<&'static str> {
+pub(crate) fn offered(script: &Script) -> Vec<&'static str> {
     let mut v = vec!["XR_MND_headless", "XR_KHR_convert_timespec_time"];
     if script.hand_tracking {
         v.push("XR_EXT_hand_tracking");
+    }
+    if script.vulkan {
+        v.push("XR_KHR_vulkan_enable2");
     }
     v
 }
@@ -147,6 +150,9 @@ pub(crate) unsafe extern "system" fn create_instance(
             spaces: Default::default(),
             trackers: Default::default(),
             events: Default::default(),
+            vulkan: None,
+            requirements_queried: false,
+            swapchains: Default::default(),
         });
         *out = sys::Instance::from_raw(h);
         sys::Result::SUCCESS

@@ -12,7 +12,7 @@ use crate::{done, input, output, with_rt};
 type Pose = ([f32; 3], [f32; 4]);
 
 /// The instance holding this live, not-lost session.
-fn sess(rt: &mut Runtime, h: sys::Session) -> Result<&mut InstanceData, sys::Result> {
+pub(crate) fn sess(rt: &mut Runtime, h: sys::Session) -> Result<&mut InstanceData, sys::Result> {
     let i = rt
         .instance
         .as_mut()
@@ -31,7 +31,7 @@ fn sess(rt: &mut Runtime, h: sys::Session) -> Result<&mut InstanceData, sys::Res
     }
 }
 
-fn session_of(i: &mut InstanceData) -> &mut SessionData {
+pub(crate) fn session_of(i: &mut InstanceData) -> &mut SessionData {
     i.session.as_mut().expect("checked by sess()")
 }
 
@@ -128,7 +128,7 @@ pub(crate) unsafe extern "system" fn poll_event(
     })
 }
 
-fn now() -> sys::Time {
+pub(crate) fn now() -> sys::Time {
     let d = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .unwrap_or_default();
@@ -154,11 +154,21 @@ pub(crate) unsafe extern "system" fn create_session(
             if info.system_id.into_raw() != 1 {
                 return Err(sys::Result::ERROR_SYSTEM_INVALID);
             }
-            // Only headless sessions: a graphics binding in `next` (or no
-            // XR_MND_headless) is a device this runtime cannot use.
-            if !info.next.is_null() || !i.extensions.iter().any(|e| e == "XR_MND_headless") {
-                return Err(sys::Result::ERROR_GRAPHICS_DEVICE_INVALID);
-            }
+            // Headless (no binding, XR_MND_headless) or Vulkan (a
+            // XrGraphicsBindingVulkan2KHR on the device made through
+            // xrCreateVulkanDeviceKHR).
+            let graphics = if info.next.is_null() {
+                if !i.extensions.iter().any(|e| e == "XR_MND_headless") {
+                    return Err(sys::Result::ERROR_GRAPHICS_DEVICE_INVALID);
+                }
+                false
+            } else {
+                // SAFETY: `next` is a valid structure chain per the spec.
+                crate::api_vulkan::check_binding(i, unsafe {
+                    &*(info.next as *const sys::GraphicsBindingVulkanKHR)
+                })?;
+                true
+            };
             if i.session.is_some() {
                 return Err(sys::Result::ERROR_LIMIT_REACHED);
             }
@@ -170,6 +180,8 @@ pub(crate) unsafe extern "system" fn create_session(
                 lost: false,
                 attached: Vec::new(),
                 synced: None,
+                graphics,
+                frame: Default::default(),
             });
             queue(i, sys::SessionState::IDLE);
             queue(i, sys::SessionState::READY);
@@ -181,12 +193,17 @@ pub(crate) unsafe extern "system" fn create_session(
 
 pub(crate) unsafe extern "system" fn destroy_session(session: sys::Session) -> sys::Result {
     with_rt(|rt| {
-        let Some(i) = rt.instance.as_mut() else {
+        let Some(i) = rt.instance.as_ref() else {
             return sys::Result::ERROR_HANDLE_INVALID;
         };
         if i.session.as_ref().map(|s| s.handle) != Some(session.into_raw()) {
             return sys::Result::ERROR_HANDLE_INVALID;
         }
+        if let Some(s) = &i.session {
+            crate::api_vulkan::write_stats(&rt.script, s);
+        }
+        let i = rt.instance.as_mut().expect("checked above");
+        crate::api_vulkan::destroy_swapchains(i, session.into_raw());
         i.session = None;
         i.spaces.retain(|_, s| s.session != session.into_raw());
         i.trackers.retain(|_, t| t.0 != session.into_raw());
@@ -722,7 +739,7 @@ pub(crate) unsafe extern "system" fn destroy_space(space: sys::Space) -> sys::Re
 }
 
 /// A space's pose in LOCAL: None if untracked, Some((pose, nan)) otherwise.
-fn world_pose(
+pub(crate) fn world_pose(
     i: &InstanceData,
     profile: &str,
     frame: &Keyframe,
@@ -750,7 +767,7 @@ fn world_pose(
     Some((pose::compose(base, sp.offset), nan))
 }
 
-fn untracked() -> sys::Posef {
+pub(crate) fn untracked() -> sys::Posef {
     sys::Posef {
         orientation: sys::Quaternionf {
             x: 0.0,
@@ -766,7 +783,7 @@ fn untracked() -> sys::Posef {
     }
 }
 
-fn tracked(p: Pose, nan: bool) -> sys::Posef {
+pub(crate) fn tracked(p: Pose, nan: bool) -> sys::Posef {
     let x = if nan { f32::NAN } else { p.0[0] };
     sys::Posef {
         orientation: sys::Quaternionf {
@@ -783,7 +800,7 @@ fn tracked(p: Pose, nan: bool) -> sys::Posef {
     }
 }
 
-fn all_valid() -> sys::SpaceLocationFlags {
+pub(crate) fn all_valid() -> sys::SpaceLocationFlags {
     sys::SpaceLocationFlags::POSITION_VALID
         | sys::SpaceLocationFlags::ORIENTATION_VALID
         | sys::SpaceLocationFlags::POSITION_TRACKED

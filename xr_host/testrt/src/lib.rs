@@ -6,7 +6,9 @@
 //! answers XR_ERROR_FUNCTION_UNSUPPORTED for the rest).
 //!
 //! It offers XR_MND_headless, XR_KHR_convert_timespec_time and (if the
-//! script says so) XR_EXT_hand_tracking. Poses, buttons and joints come
+//! script says so) XR_EXT_hand_tracking and XR_KHR_vulkan_enable2 (it then
+//! creates the app's Vulkan instance and device, makes swapchain images on
+//! that device, and validates submitted stereo projection layers). Poses, buttons and joints come
 //! from the script ([`script::Script`], path in
 //! `SHAPEWRIGHT_TESTRT_SCRIPT`), which can also inject tracking loss, NaN
 //! poses, LOSS_PENDING and instance loss.
@@ -15,6 +17,7 @@
 
 mod api_instance;
 mod api_session;
+mod api_vulkan;
 pub mod script;
 mod state;
 
@@ -148,8 +151,12 @@ macro_rules! table {
 fn lookup(name: &str, exts: &[String]) -> Option<sys::pfn::VoidFunction> {
     use api_instance as i;
     use api_session as s;
+    use api_vulkan as v;
     let ext = |e: &str| exts.iter().any(|x| x == e);
-    if name.ends_with("KHR") && !ext("XR_KHR_convert_timespec_time") {
+    if name.contains("Timespec") && !ext("XR_KHR_convert_timespec_time") {
+        return None;
+    }
+    if name.contains("Vulkan") && !ext("XR_KHR_vulkan_enable2") {
         return None;
     }
     if name.ends_with("EXT") && !ext("XR_EXT_hand_tracking") {
@@ -204,30 +211,34 @@ fn lookup(name: &str, exts: &[String]) -> Option<sys::pfn::VoidFunction> {
         "xrCreateHandTrackerEXT" => s::create_hand_tracker,
         "xrDestroyHandTrackerEXT" => s::destroy_hand_tracker,
         "xrLocateHandJointsEXT" => s::locate_hand_joints,
+        "xrGetVulkanGraphicsRequirements2KHR" => v::get_vulkan_graphics_requirements2,
+        "xrCreateVulkanInstanceKHR" => v::create_vulkan_instance,
+        "xrGetVulkanGraphicsDevice2KHR" => v::get_vulkan_graphics_device2,
+        "xrCreateVulkanDeviceKHR" => v::create_vulkan_device,
+        "xrEnumerateViewConfigurations" => v::enumerate_view_configurations,
+        "xrEnumerateViewConfigurationViews" => v::enumerate_view_configuration_views,
+        "xrEnumerateEnvironmentBlendModes" => v::enumerate_environment_blend_modes,
+        "xrEnumerateSwapchainFormats" => v::enumerate_swapchain_formats,
+        "xrCreateSwapchain" => v::create_swapchain,
+        "xrDestroySwapchain" => v::destroy_swapchain,
+        "xrEnumerateSwapchainImages" => v::enumerate_swapchain_images,
+        "xrAcquireSwapchainImage" => v::acquire_swapchain_image,
+        "xrWaitSwapchainImage" => v::wait_swapchain_image,
+        "xrReleaseSwapchainImage" => v::release_swapchain_image,
+        "xrWaitFrame" => v::wait_frame,
+        "xrBeginFrame" => v::begin_frame,
+        "xrEndFrame" => v::end_frame,
+        "xrLocateViews" => v::locate_views,
     )
 }
 
-/// Core 1.0 functions the host never calls (graphics, frames, haptics,
-/// bound-source queries). The `openxr` crate resolves every core function
+/// Core 1.0 functions the host never calls (haptics, bounds, view
+/// configuration properties, bound-source queries). The `openxr` crate resolves every core function
 /// when it creates an instance, so they must resolve; calling one answers
 /// XR_ERROR_FUNCTION_UNSUPPORTED.
 const NOT_CALLED_BY_HOST: &[&str] = &[
     "xrStructureTypeToString",
-    "xrEnumerateSwapchainFormats",
-    "xrCreateSwapchain",
-    "xrDestroySwapchain",
-    "xrEnumerateSwapchainImages",
-    "xrAcquireSwapchainImage",
-    "xrWaitSwapchainImage",
-    "xrReleaseSwapchainImage",
-    "xrEnumerateViewConfigurations",
-    "xrEnumerateEnvironmentBlendModes",
     "xrGetViewConfigurationProperties",
-    "xrEnumerateViewConfigurationViews",
-    "xrBeginFrame",
-    "xrLocateViews",
-    "xrEndFrame",
-    "xrWaitFrame",
     "xrApplyHapticFeedback",
     "xrStopHapticFeedback",
     "xrGetReferenceSpaceBoundsRect",

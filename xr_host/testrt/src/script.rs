@@ -106,6 +106,13 @@ pub struct Script {
     /// Offer XR_EXT_hand_tracking.
     #[serde(default = "yes")]
     pub hand_tracking: bool,
+    /// Offer XR_KHR_vulkan_enable2 (graphics sessions on the app's
+    /// Vulkan device: swapchains, frames, views).
+    #[serde(default)]
+    pub vulkan: bool,
+    /// Write frame statistics (JSON) here when a session is destroyed.
+    #[serde(default)]
+    pub stats_path: Option<String>,
     /// The interaction profile the "connected" controllers have.
     #[serde(default = "touch")]
     pub profile: String,
@@ -128,6 +135,8 @@ impl Default for Script {
     fn default() -> Self {
         Self {
             hand_tracking: true,
+            vulkan: false,
+            stats_path: None,
             profile: touch(),
             keyframes: Vec::new(),
             faults: Vec::new(),
@@ -202,4 +211,15 @@ pub mod pose {
         let t = rotate(qi, a.0);
         ([-t[0], -t[1], -t[2]], qi)
     }
+}
+
+/// What the runtime writes to `stats_path` when a session is destroyed.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FrameStats {
+    /// xrEndFrame calls that succeeded.
+    pub frames_ended: u64,
+    /// Valid projection layers submitted.
+    pub projection_layers: u64,
+    /// Whether the session was a Vulkan one.
+    pub graphics: bool,
 }

@@ -35,6 +35,37 @@ pub enum QueuedEvent {
     InstanceLoss,
 }
 
+/// The application's Vulkan objects, as created through
+/// XR_KHR_vulkan_enable2 (function tables only: the runtime never destroys
+/// the app's instance or device).
+pub struct VulkanState {
+    pub instance: Option<ash::Instance>,
+    pub physical_device: ash::vk::PhysicalDevice,
+    pub device: Option<ash::Device>,
+}
+
+/// A swapchain's images on the application's device.
+pub struct SwapchainData {
+    pub session: u64,
+    pub images: Vec<(ash::vk::Image, ash::vk::DeviceMemory)>,
+    pub array_size: u32,
+    pub width: u32,
+    pub height: u32,
+    pub next: usize,
+    /// Acquired, not yet released: (index, waited).
+    pub acquired: std::collections::VecDeque<(usize, bool)>,
+    pub released_once: bool,
+}
+
+/// Frame-loop bookkeeping for graphics sessions.
+#[derive(Default)]
+pub struct FrameData {
+    pub waited: bool,
+    pub begun: bool,
+    pub ended: u64,
+    pub projection_layers: u64,
+}
+
 pub struct SessionData {
     pub handle: u64,
     /// The last state delivered to the application through xrPollEvent.
@@ -46,6 +77,9 @@ pub struct SessionData {
     pub attached: Vec<u64>,
     /// Input as of the last xrSyncActions (None: not focused / never synced).
     pub synced: Option<Keyframe>,
+    /// A Vulkan session (else headless).
+    pub graphics: bool,
+    pub frame: FrameData,
 }
 
 pub struct InstanceData {
@@ -61,6 +95,9 @@ pub struct InstanceData {
     pub spaces: HashMap<u64, SpaceInfo>,
     pub trackers: HashMap<u64, (u64, sys::HandEXT)>,
     pub events: VecDeque<QueuedEvent>,
+    pub vulkan: Option<VulkanState>,
+    pub requirements_queried: bool,
+    pub swapchains: HashMap<u64, SwapchainData>,
 }
 
 pub struct Runtime {
@@ -79,6 +116,8 @@ impl Runtime {
         Self {
             script: Script {
                 hand_tracking: true,
+                vulkan: false,
+                stats_path: None,
                 profile: String::new(),
                 keyframes: Vec::new(),
                 faults: Vec::new(),
