@@ -223,3 +223,51 @@ pub struct FrameStats {
     /// Whether the session was a Vulkan one.
     pub graphics: bool,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keyframes_hold_until_the_next_one() {
+        let s = Script {
+            keyframes: vec![
+                Keyframe {
+                    at: 0,
+                    head: Some(ScriptPose {
+                        p: [0.0; 3],
+                        q: identity(),
+                        valid: true,
+                        nan: false,
+                    }),
+                    ..Default::default()
+                },
+                Keyframe {
+                    at: 5,
+                    ..Default::default()
+                },
+            ],
+            ..Default::default()
+        };
+        assert!(s.at(0).head.is_some() && s.at(4).head.is_some());
+        assert!(s.at(5).head.is_none() && s.at(99).head.is_none());
+        let parsed: Script =
+            serde_json::from_str(r#"{"keyframes":[{"at":1,"right":{"grip":{"p":[1,2,3]}}}]}"#)
+                .unwrap();
+        let g = parsed.keyframes[0].right.grip.unwrap();
+        assert!(g.valid && !g.nan && g.q == identity() && parsed.hand_tracking && !parsed.vulkan);
+    }
+
+    #[test]
+    fn pose_compose_and_inverse_round_trip() {
+        let h = std::f32::consts::FRAC_1_SQRT_2;
+        let a = ([1.0, 2.0, 3.0], [0.0, h, 0.0, h]); // 90° about Y
+        let b = ([0.5, 0.0, -1.0], [h, 0.0, 0.0, h]);
+        let (p, q) = pose::compose(pose::inverse(a), pose::compose(a, b));
+        assert!(p.iter().zip(b.0).all(|(x, y)| (x - y).abs() < 1e-5));
+        assert!(q.iter().zip(b.1).all(|(x, y)| (x - y).abs() < 1e-5));
+        // 90° about Y takes +X to -Z.
+        let r = pose::rotate(a.1, [1.0, 0.0, 0.0]);
+        assert!((r[2] + 1.0).abs() < 1e-6 && r[0].abs() < 1e-6);
+    }
+}

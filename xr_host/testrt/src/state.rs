@@ -170,3 +170,32 @@ pub fn path_well_formed(s: &str) -> bool {
                     .all(|ch| ch.is_ascii_lowercase() || ch.is_ascii_digit() || "-_.".contains(ch))
         })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn path_grammar_follows_the_spec() {
+        for ok in [
+            "/user/hand/left",
+            "/interaction_profiles/khr/simple_controller",
+            "/a-b_c.d",
+        ] {
+            assert!(path_well_formed(ok), "{ok}");
+        }
+        for bad in [
+            "",
+            "/",
+            "user/hand",
+            "/user/",
+            "/user//hand",
+            "/User",
+            "/a/./b",
+            "/a/../b",
+            "/a b",
+        ] {
+            assert!(!path_well_formed(bad), "{bad}");
+        }
+    }
+}
