@@ -82,6 +82,10 @@ fn run_host_mode(
     let stats_path = dir.join("stats.json");
     let mut script = script.clone();
     script.stats_path = Some(stats_path.to_string_lossy().into_owned());
+    if let Some(c) = &script.capture_path {
+        script.capture_path = Some(dir.join(c).to_string_lossy().into_owned());
+    }
+    let capture_path = script.capture_path.clone();
     let model = dir.join("model.stl");
     let mut cube = shapewright::solid::tessellate(
         &shapewright::solid::SolidShape::Box {
@@ -130,6 +134,12 @@ fn run_host_mode(
     let stats = std::fs::read_to_string(&stats_path)
         .ok()
         .map(|t| serde_json::from_str(&t).unwrap());
+    if let Some(c) = capture_path {
+        let _ = std::fs::copy(
+            &c,
+            std::env::temp_dir().join(format!("shapewright_xr_{name}_capture.bin")),
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
     (run, stats)
 }
@@ -522,4 +532,41 @@ fn headset_recreates_the_session_and_swapchain_after_loss_pending() {
     assert_eq!(rep.frames, 10);
     // Stats are of the last session: it rendered frames on a new swapchain.
     assert!(stats.unwrap().projection_layers >= 5);
+}
+
+#[test]
+fn headset_pixels_show_the_model_where_the_eye_sees_it() {
+    let mut s = base_script();
+    s.vulkan = true;
+    s.keyframes[0].head = Some(pose([0.0, 0.0, 0.0]));
+    s.capture_path = Some("capture.bin".into());
+    let (r, _) = run_host_mode("headsetpixels", &s, &[], &["--frames", "4"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let bytes =
+        std::fs::read(std::env::temp_dir().join("shapewright_xr_headsetpixels_capture.bin"))
+            .expect("the runtime captured the left eye");
+    let w = u32::from_le_bytes(bytes[0..4].try_into().unwrap());
+    let h = u32::from_le_bytes(bytes[4..8].try_into().unwrap());
+    assert_eq!((w, h), (256, 256));
+    let px = |x: u32, y: u32| {
+        let i = 8 + ((y * w + x) * 4) as usize;
+        [bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]
+    };
+    let bg = px(0, h - 1);
+    for (x, y) in [(w - 1, h - 1), (w / 2, h / 2), (0, h / 2)] {
+        assert_eq!(px(x, y), bg, "({x},{y}) should be background");
+    }
+    // The model (bounding radius 25 cm) sits 0.7 m ahead, 0.3 m below the
+    // eye: with ±45° views its center projects 0.3/0.7 of the half height
+    // below the image center, shifted by the half-IPD for the left eye.
+    let (cx, cy) = (128.0 + 128.0 * 0.032 / 0.7, 128.0 + 128.0 * 0.3 / 0.7);
+    let mut hits = 0;
+    for dy in -6..=6 {
+        for dx in -6..=6 {
+            if px((cx as i32 + dx) as u32, (cy as i32 + dy) as u32) != bg {
+                hits += 1;
+            }
+        }
+    }
+    assert!(hits > 100, "only {hits} model pixels near ({cx},{cy})");
 }

@@ -107,6 +107,8 @@ pub(crate) unsafe extern "system" fn create_vulkan_instance(
                         instance: Some(vi),
                         physical_device: vk::PhysicalDevice::null(),
                         device: None,
+                        queue_family: 0,
+                        captured: false,
                     });
                 }
                 Err(e) => *res = e.as_raw(),
@@ -203,7 +205,7 @@ pub(crate) unsafe extern "system" fn create_vulkan_device(
 
 /// Validates a session's Vulkan binding against what was created.
 pub(crate) fn check_binding(
-    i: &InstanceData,
+    i: &mut InstanceData,
     b: &sys::GraphicsBindingVulkanKHR,
 ) -> Result<(), sys::Result> {
     if b.ty != sys::GraphicsBindingVulkanKHR::TYPE {
@@ -226,6 +228,9 @@ pub(crate) fn check_binding(
             .as_ref()
             .is_some_and(|d| d.handle().as_raw() == b.device as u64);
     if ok {
+        if let Some(v) = i.vulkan.as_mut() {
+            v.queue_family = b.queue_family_index;
+        }
         Ok(())
     } else {
         Err(sys::Result::ERROR_GRAPHICS_DEVICE_INVALID)
@@ -499,6 +504,8 @@ pub(crate) unsafe extern "system" fn create_swapchain(
                             next: 0,
                             acquired: Default::default(),
                             released_once: false,
+                            last_released: 0,
+                            format,
                         };
                         free_images(i, sc);
                         return Err(sys::Result::ERROR_OUT_OF_MEMORY);
@@ -516,6 +523,8 @@ pub(crate) unsafe extern "system" fn create_swapchain(
                     next: 0,
                     acquired: Default::default(),
                     released_once: false,
+                    last_released: 0,
+                    format,
                 },
             );
             *out = sys::Swapchain::from_raw(h);
@@ -735,6 +744,7 @@ pub(crate) unsafe extern "system" fn end_frame(
         layers.push((p.space.into_raw(), views));
     }
     with_rt(|rt| {
+        let capture_path = rt.script.capture_path.clone();
         done(sess(rt, session).and_then(|i| {
             if info.ty != sys::FrameEndInfo::TYPE {
                 return Err(sys::Result::ERROR_VALIDATION_FAILURE);
@@ -779,6 +789,9 @@ pub(crate) unsafe extern "system" fn end_frame(
                         return Err(sys::Result::ERROR_POSE_INVALID);
                     }
                 }
+            }
+            if let (Some(path), Some((_, views))) = (capture_path.as_ref(), layers.first()) {
+                capture(i, &views[0], path);
             }
             let n = layers.len() as u64;
             let s = session_of(i);
@@ -866,4 +879,161 @@ pub(crate) unsafe extern "system" fn locate_views(
             Ok(unsafe { two_call(&out, capacity, count, views) })
         }))
     })
+}
+
+/// Copies the layer a projection view shows (its swapchain's last released
+/// image, its array index) into a file: 8-byte header (width, height as
+/// little-endian u32) then RGBA8 rows. Once per process; failures are
+/// reported on stderr and leave no file.
+fn capture(i: &mut InstanceData, view: &sys::CompositionLayerProjectionView, path: &str) {
+    let Some(v) = i.vulkan.as_ref() else { return };
+    if v.captured {
+        return;
+    }
+    let (Some(vi), Some(d)) = (v.instance.as_ref(), v.device.as_ref()) else {
+        return;
+    };
+    let Some(sc) = i.swapchains.get(&view.sub_image.swapchain.into_raw()) else {
+        return;
+    };
+    let Some(&(image, _)) = sc.images.get(sc.last_released) else {
+        return;
+    };
+    let (w, h, layer) = (sc.width, sc.height, view.sub_image.image_array_index);
+    let bgra = sc.format == vk::Format::B8G8R8A8_SRGB;
+    let size = u64::from(w) * u64::from(h) * 4;
+    // SAFETY: every handle is live on the app's device; the app released
+    // the image (its rendering was waited for), the runtime owns the copy's
+    // resources and waits for the queue before freeing them.
+    let r = unsafe {
+        (|| -> Result<Vec<u8>, vk::Result> {
+            let queue = d.get_device_queue(v.queue_family, 0);
+            let pool = d.create_command_pool(
+                &vk::CommandPoolCreateInfo::default().queue_family_index(v.queue_family),
+                None,
+            )?;
+            let buf = d.create_buffer(
+                &vk::BufferCreateInfo::default()
+                    .size(size)
+                    .usage(vk::BufferUsageFlags::TRANSFER_DST),
+                None,
+            )?;
+            let req = d.get_buffer_memory_requirements(buf);
+            let props = vi.get_physical_device_memory_properties(v.physical_device);
+            let want =
+                vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT;
+            let t = (0..props.memory_type_count)
+                .find(|&t| {
+                    req.memory_type_bits & (1 << t) != 0
+                        && props.memory_types[t as usize].property_flags.contains(want)
+                })
+                .ok_or(vk::Result::ERROR_FEATURE_NOT_PRESENT)?;
+            let mem = d.allocate_memory(
+                &vk::MemoryAllocateInfo::default()
+                    .allocation_size(req.size)
+                    .memory_type_index(t),
+                None,
+            )?;
+            d.bind_buffer_memory(buf, mem, 0)?;
+            let cmd = d.allocate_command_buffers(
+                &vk::CommandBufferAllocateInfo::default()
+                    .command_pool(pool)
+                    .level(vk::CommandBufferLevel::PRIMARY)
+                    .command_buffer_count(1),
+            )?[0];
+            d.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default())?;
+            let range = vk::ImageSubresourceRange {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                base_mip_level: 0,
+                level_count: 1,
+                base_array_layer: 0,
+                layer_count: sc.array_size,
+            };
+            let to_src = vk::ImageMemoryBarrier::default()
+                .image(image)
+                .old_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+                .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+                .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
+                .subresource_range(range);
+            d.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &[to_src],
+            );
+            let region = vk::BufferImageCopy {
+                image_subresource: vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: layer,
+                    layer_count: 1,
+                },
+                image_extent: vk::Extent3D {
+                    width: w,
+                    height: h,
+                    depth: 1,
+                },
+                ..Default::default()
+            };
+            d.cmd_copy_image_to_buffer(
+                cmd,
+                image,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                buf,
+                &[region],
+            );
+            let back = vk::ImageMemoryBarrier::default()
+                .image(image)
+                .old_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+                .new_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .src_access_mask(vk::AccessFlags::TRANSFER_READ)
+                .subresource_range(range);
+            d.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::BOTTOM_OF_PIPE,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &[back],
+            );
+            d.end_command_buffer(cmd)?;
+            let cmds = [cmd];
+            d.queue_submit(
+                queue,
+                &[vk::SubmitInfo::default().command_buffers(&cmds)],
+                vk::Fence::null(),
+            )?;
+            d.queue_wait_idle(queue)?;
+            let p = d.map_memory(mem, 0, size, vk::MemoryMapFlags::empty())?;
+            let bytes = std::slice::from_raw_parts(p as *const u8, size as usize).to_vec();
+            d.unmap_memory(mem);
+            d.destroy_command_pool(pool, None);
+            d.destroy_buffer(buf, None);
+            d.free_memory(mem, None);
+            Ok(bytes)
+        })()
+    };
+    match r {
+        Ok(mut bytes) => {
+            if bgra {
+                bytes.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
+            }
+            let mut out = Vec::with_capacity(bytes.len() + 8);
+            out.extend_from_slice(&w.to_le_bytes());
+            out.extend_from_slice(&h.to_le_bytes());
+            out.extend_from_slice(&bytes);
+            if let Err(e) = std::fs::write(path, out) {
+                eprintln!("shapewright-xr-testrt: writing {path}: {e}");
+            }
+        }
+        Err(e) => eprintln!("shapewright-xr-testrt: capture failed: {e}"),
+    }
+    if let Some(v) = i.vulkan.as_mut() {
+        v.captured = true;
+    }
 }

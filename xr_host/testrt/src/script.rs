@@ -110,6 +110,10 @@ pub struct Script {
     /// Vulkan device: swapchains, frames, views).
     #[serde(default)]
     pub vulkan: bool,
+    /// Write the first submitted projection layer's left-eye pixels here
+    /// (u32 width, u32 height, little-endian, then RGBA8 rows).
+    #[serde(default)]
+    pub capture_path: Option<String>,
     /// Write frame statistics (JSON) here when a session is destroyed.
     #[serde(default)]
     pub stats_path: Option<String>,
@@ -137,6 +141,7 @@ impl Default for Script {
             hand_tracking: true,
             vulkan: false,
             stats_path: None,
+            capture_path: None,
             profile: touch(),
             keyframes: Vec::new(),
             faults: Vec::new(),

@@ -42,6 +42,10 @@ pub struct VulkanState {
     pub instance: Option<ash::Instance>,
     pub physical_device: ash::vk::PhysicalDevice,
     pub device: Option<ash::Device>,
+    /// Queue family from the session's graphics binding.
+    pub queue_family: u32,
+    /// Whether a frame was already captured (once per process).
+    pub captured: bool,
 }
 
 /// A swapchain's images on the application's device.
@@ -55,6 +59,9 @@ pub struct SwapchainData {
     /// Acquired, not yet released: (index, waited).
     pub acquired: std::collections::VecDeque<(usize, bool)>,
     pub released_once: bool,
+    /// The image index released last (what a layer shows).
+    pub last_released: usize,
+    pub format: ash::vk::Format,
 }
 
 /// Frame-loop bookkeeping for graphics sessions.
@@ -118,6 +125,7 @@ impl Runtime {
                 hand_tracking: true,
                 vulkan: false,
                 stats_path: None,
+                capture_path: None,
                 profile: String::new(),
                 keyframes: Vec::new(),
                 faults: Vec::new(),
