@@ -4,7 +4,9 @@
 //! meshes; the OpenXR headset session joins it later.
 
 mod cmd;
+mod render_cmd;
 mod replay_cmd;
+mod run_cmd;
 mod usd_cmd;
 
 use std::path::PathBuf;
@@ -59,6 +61,22 @@ enum Command {
         #[arg(long)]
         ply: Option<PathBuf>,
     },
+    /// Run the OpenXR session (headset with Vulkan; `--headless`: input only, XR_MND_headless).
+    Run(run_cmd::RunArgs),
+    /// Render a mesh file (.stl, .obj) to a PNG with the host's Vulkan renderer.
+    Render {
+        /// The mesh file.
+        file: PathBuf,
+        /// Output PNG.
+        #[arg(long)]
+        png: PathBuf,
+        /// Image width in pixels.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Image height in pixels.
+        #[arg(long, default_value_t = 480)]
+        height: u32,
+    },
 }
 
 fn main() -> ExitCode {
@@ -76,6 +94,13 @@ fn main() -> ExitCode {
             ply,
         } => usd_cmd::export(&file, stl.as_deref(), obj.as_deref(), ply.as_deref()),
         Command::Replay { trace, out } => replay_cmd::replay(&trace, &out),
+        Command::Run(args) => run_cmd::run(&args),
+        Command::Render {
+            file,
+            png,
+            width,
+            height,
+        } => render_cmd::render(&file, &png, width, height),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

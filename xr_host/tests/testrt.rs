@@ -1,0 +1,572 @@
+//! The host driven through the project's scripted OpenXR runtime
+//! (`xr_host/testrt`), loaded by the real (static) loader via a runtime
+//! manifest in `XR_RUNTIME_JSON`. Each test runs the `shapewright-xr`
+//! binary as a child process, so the environment is per test.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use shapewright_xr::xr::{InputFrame, LifecycleEvent, RunReport};
+use shapewright_xr_testrt::script::{
+    Fault, FaultAt, FrameStats, Keyframe, Script, ScriptHand, ScriptPose, SENTINEL,
+};
+
+fn runtime_lib() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    let deps = exe.parent().unwrap();
+    for dir in [deps, deps.parent().unwrap()] {
+        let p = dir.join("libshapewright_xr_testrt.so");
+        if p.exists() {
+            return p;
+        }
+    }
+    panic!(
+        "libshapewright_xr_testrt.so not built next to {}",
+        deps.display()
+    );
+}
+
+fn pose(p: [f32; 3]) -> ScriptPose {
+    ScriptPose {
+        p,
+        q: [0.0, 0.0, 0.0, 1.0],
+        valid: true,
+        nan: false,
+    }
+}
+
+struct Run {
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+    frames: Vec<InputFrame>,
+    events: Vec<LifecycleEvent>,
+    report: Option<RunReport>,
+}
+
+#[derive(serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum Line {
+    Frame(Box<InputFrame>),
+    Lifecycle(LifecycleEvent),
+}
+
+fn run_host(name: &str, script: &Script, args: &[&str]) -> Run {
+    run_host_mode(name, script, &["--headless"], args).0
+}
+
+/// Runs the host in the given mode; also returns the runtime's frame stats.
+fn run_host_mode(
+    name: &str,
+    script: &Script,
+    mode: &[&str],
+    args: &[&str],
+) -> (Run, Option<FrameStats>) {
+    let dir = std::env::temp_dir().join(format!(
+        "shapewright_xr_testrt_{name}_{}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let manifest = dir.join("runtime.json");
+    let lib = runtime_lib();
+    std::fs::write(
+        &manifest,
+        serde_json::json!({
+            "file_format_version": "1.0.0",
+            "runtime": {"name": "shapewright-xr-testrt", "library_path": lib}
+        })
+        .to_string(),
+    )
+    .unwrap();
+    let script_path = dir.join("script.json");
+    let stats_path = dir.join("stats.json");
+    let mut script = script.clone();
+    script.stats_path = Some(stats_path.to_string_lossy().into_owned());
+    if let Some(c) = &script.capture_path {
+        script.capture_path = Some(dir.join(c).to_string_lossy().into_owned());
+    }
+    let capture_path = script.capture_path.clone();
+    let model = dir.join("model.stl");
+    let mut cube = shapewright::solid::tessellate(
+        &shapewright::solid::SolidShape::Box {
+            size: [1.0, 1.0, 1.0],
+        },
+        16,
+    )
+    .unwrap();
+    cube.compute_normals();
+    shapewright::mesh::write_stl(&cube, &mut std::fs::File::create(&model).unwrap()).unwrap();
+    std::fs::write(&script_path, serde_json::to_string(&script).unwrap()).unwrap();
+    let record = dir.join("record.jsonl");
+    let report = dir.join("report.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_shapewright-xr"))
+        .arg("run")
+        .args(mode)
+        .arg("--model")
+        .arg(&model)
+        .arg("--record")
+        .arg(&record)
+        .arg("--report")
+        .arg(&report)
+        .args(args)
+        .env("XR_RUNTIME_JSON", &manifest)
+        .env("SHAPEWRIGHT_TESTRT_SCRIPT", &script_path)
+        .env_remove("XR_LOADER_DEBUG")
+        .output()
+        .unwrap();
+    let (frames, events) = read_record(&record);
+    let report = std::fs::read_to_string(&report)
+        .ok()
+        .map(|t| serde_json::from_str(&t).unwrap());
+    let run = Run {
+        code: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        frames,
+        events,
+        report,
+    };
+    assert!(
+        !run.stderr.contains("panicked"),
+        "the host panicked:\n{}",
+        run.stderr
+    );
+    let stats = std::fs::read_to_string(&stats_path)
+        .ok()
+        .map(|t| serde_json::from_str(&t).unwrap());
+    if let Some(c) = capture_path {
+        let _ = std::fs::copy(
+            &c,
+            std::env::temp_dir().join(format!("shapewright_xr_{name}_capture.bin")),
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    (run, stats)
+}
+
+fn read_record(p: &Path) -> (Vec<InputFrame>, Vec<LifecycleEvent>) {
+    let text = std::fs::read_to_string(p).unwrap_or_default();
+    let mut frames = Vec::new();
+    let mut events = Vec::new();
+    for l in text.lines() {
+        match serde_json::from_str::<Line>(l).unwrap_or_else(|e| panic!("bad record line {l}: {e}"))
+        {
+            Line::Frame(f) => frames.push(*f),
+            Line::Lifecycle(e) => events.push(e),
+        }
+    }
+    (frames, events)
+}
+
+fn states(r: &Run) -> Vec<String> {
+    r.events
+        .iter()
+        .filter_map(|e| match e {
+            LifecycleEvent::State(s) => Some(s.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
+/// No scripted sentinel (a pose read without VALID bits) and no NaN in
+/// any delivered pose.
+fn assert_clean(frames: &[InputFrame]) {
+    let mut poses = Vec::new();
+    for f in frames {
+        poses.extend(f.head);
+        for h in &f.hands {
+            poses.extend(h.grip);
+            poses.extend(h.aim);
+            poses.extend(h.joints.iter().flatten().copied());
+        }
+    }
+    for p in poses {
+        assert!(
+            p.position.iter().all(|c| c.is_finite() && *c != SENTINEL),
+            "{p:?}"
+        );
+        let n: f32 = p.orientation.iter().map(|c| c * c).sum();
+        assert!((n - 1.0).abs() < 1e-4, "{p:?}");
+    }
+}
+
+fn base_script() -> Script {
+    Script {
+        keyframes: vec![Keyframe {
+            at: 0,
+            head: Some(pose([0.0, 1.6, 0.0])),
+            left: ScriptHand {
+                grip: Some(pose([-0.2, 1.2, -0.3])),
+                aim: Some(pose([-0.2, 1.2, -0.35])),
+                ..Default::default()
+            },
+            right: ScriptHand {
+                grip: Some(pose([0.2, 1.2, -0.3])),
+                aim: Some(pose([0.2, 1.2, -0.35])),
+                select: 0.7,
+                squeeze: 0.25,
+                primary: true,
+                joints: Some(pose([0.2, 1.1, -0.3])),
+                ..Default::default()
+            },
+        }],
+        ..Default::default()
+    }
+}
+
+#[test]
+fn session_reaches_focused_and_scripted_input_reaches_the_sink() {
+    let r = run_host("focused", &base_script(), &["--frames", "12"]);
+    assert_eq!(r.code, Some(0), "{}\n{}", r.stdout, r.stderr);
+    let rep = r.report.as_ref().unwrap();
+    assert!(rep.reached_focused);
+    assert_eq!(
+        states(&r),
+        [
+            "IDLE",
+            "READY",
+            "SYNCHRONIZED",
+            "VISIBLE",
+            "FOCUSED",
+            "VISIBLE",
+            "SYNCHRONIZED",
+            "STOPPING",
+            "IDLE",
+            "EXITING"
+        ]
+    );
+    assert_eq!(rep.exit_reason, "exit requested by the host");
+    assert_eq!(r.frames.len(), 12);
+    assert_eq!(rep.frames, 12);
+    assert_eq!(rep.poses_dropped, 0);
+    for (k, f) in r.frames.iter().enumerate() {
+        assert_eq!(f.index, k as u64);
+        assert_eq!(f.head.unwrap().position, [0.0, 1.6, 0.0]);
+        let [left, right] = &f.hands;
+        assert_eq!(left.grip.unwrap().position, [-0.2, 1.2, -0.3]);
+        assert_eq!(right.aim.unwrap().position, [0.2, 1.2, -0.35]);
+        assert_eq!(right.select, 0.7);
+        assert_eq!(right.squeeze, 0.25);
+        assert!(right.primary && !right.menu);
+        assert_eq!(left.select, 0.0);
+        // 26 joints laid out 1 cm apart along +X from the wrist.
+        assert_eq!(right.joints.len(), 26);
+        let j25 = right.joints[25].unwrap().position;
+        assert!((j25[0] - 0.45).abs() < 1e-5 && j25[1] == 1.1);
+        assert!(left.joints.is_empty(), "left hand tracker inactive");
+    }
+    // Time comes from xrConvertTimespecTimeToTimeKHR: positive, increasing.
+    assert!(r
+        .frames
+        .windows(2)
+        .all(|w| w[1].time_ns > w[0].time_ns && w[0].time_ns > 0));
+    // All five controller profiles were accepted (hand interaction is not offered).
+    assert_eq!(rep.profiles.len(), 5, "{:?}", rep.profiles);
+    assert_clean(&r.frames);
+}
+
+#[test]
+fn invalid_poses_never_reach_the_sink() {
+    let mut s = base_script();
+    let mut lost = s.keyframes[0].clone();
+    lost.at = 4; // applies from frame index 3 (frame k is synced at step k+1)
+    lost.head = Some(ScriptPose {
+        valid: false,
+        ..pose([0.0, 1.6, 0.0])
+    });
+    lost.right.grip = Some(ScriptPose {
+        nan: true,
+        ..pose([0.2, 1.2, -0.3])
+    });
+    lost.left.aim = Some(ScriptPose {
+        q: [0.0, 0.0, 0.0, 0.0],
+        ..pose([0.0; 3])
+    });
+    lost.right.invalid_joints = vec![0, 5, 25];
+    let mut back = s.keyframes[0].clone();
+    back.at = 8;
+    s.keyframes.extend([lost, back]);
+    let r = run_host("invalid", &s, &["--frames", "10"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    assert_eq!(r.frames.len(), 10);
+    for f in &r.frames {
+        let bad = (3..7).contains(&f.index);
+        assert_eq!(f.head.is_none(), bad, "head at {}", f.index);
+        assert_eq!(f.hands[1].grip.is_none(), bad, "grip at {}", f.index);
+        assert_eq!(f.hands[0].aim.is_none(), bad, "aim at {}", f.index);
+        let missing: Vec<usize> = (0..26)
+            .filter(|&j| f.hands[1].joints[j].is_none())
+            .collect();
+        assert_eq!(missing, if bad { vec![0, 5, 25] } else { vec![] });
+    }
+    let rep = r.report.clone().unwrap();
+    // 4 frames x (head + NaN grip + zero-quaternion aim); the runtime
+    // reports the zero quaternion as valid, the host still rejects it.
+    assert_eq!(rep.poses_dropped, 12);
+    assert_eq!(rep.joints_dropped, 12);
+    assert_clean(&r.frames);
+}
+
+#[test]
+fn loss_pending_recreates_the_session() {
+    let mut s = base_script();
+    s.faults = vec![FaultAt {
+        at: 6,
+        fault: Fault::LossPending,
+    }];
+    let r = run_host("losspending", &s, &["--frames", "15"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let rep = r.report.clone().unwrap();
+    assert_eq!(rep.session_losses, 1);
+    assert_eq!(rep.sessions_created, 2);
+    assert_eq!(rep.instances_created, 1);
+    assert_eq!(states(&r).iter().filter(|s| *s == "FOCUSED").count(), 2);
+    assert!(states(&r).contains(&"LOSS_PENDING".to_string()));
+    assert!(r.events.contains(&LifecycleEvent::SessionLost));
+    assert_eq!(
+        r.events
+            .iter()
+            .filter(|e| **e == LifecycleEvent::SessionCreated)
+            .count(),
+        2
+    );
+    // Frames keep counting across the new session; none are duplicated.
+    assert_eq!(r.frames.len(), 15);
+    assert!(r
+        .frames
+        .iter()
+        .enumerate()
+        .all(|(k, f)| f.index == k as u64));
+    assert_eq!(rep.exit_reason, "exit requested by the host");
+    assert_clean(&r.frames);
+}
+
+#[test]
+fn loss_pending_without_recreation_shuts_down_cleanly() {
+    let mut s = base_script();
+    s.faults = vec![FaultAt {
+        at: 3,
+        fault: Fault::LossPending,
+    }];
+    let r = run_host("lossexit", &s, &["--frames", "50", "--no-recreate"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let rep = r.report.clone().unwrap();
+    assert_eq!(rep.sessions_created, 1);
+    assert_eq!(rep.session_losses, 1);
+    assert_eq!(rep.exit_reason, "session lost");
+    assert!(rep.frames >= 2 && rep.frames <= 4, "{}", rep.frames);
+}
+
+#[test]
+fn instance_loss_is_retried() {
+    let mut s = base_script();
+    s.faults = vec![FaultAt {
+        at: 5,
+        fault: Fault::InstanceLoss,
+    }];
+    s.refuse_creates = 2;
+    let r = run_host("instanceloss", &s, &["--frames", "12"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let rep = r.report.clone().unwrap();
+    assert_eq!(rep.instance_losses, 1);
+    assert_eq!(
+        rep.instance_retries, 2,
+        "two refused xrCreateInstance calls"
+    );
+    assert_eq!(rep.instances_created, 2);
+    assert_eq!(rep.sessions_created, 2);
+    assert!(r.events.contains(&LifecycleEvent::InstanceLost));
+    assert_eq!(r.frames.len(), 12);
+    assert!(r
+        .frames
+        .iter()
+        .enumerate()
+        .all(|(k, f)| f.index == k as u64));
+    assert_clean(&r.frames);
+}
+
+#[test]
+fn runtime_initiated_exit_ends_the_run() {
+    let mut s = base_script();
+    s.faults = vec![FaultAt {
+        at: 4,
+        fault: Fault::RuntimeExit,
+    }];
+    let r = run_host("runtimeexit", &s, &["--frames", "1000"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let rep = r.report.clone().unwrap();
+    assert_eq!(rep.exit_reason, "exit requested by the runtime");
+    assert!(rep.frames <= 6, "{}", rep.frames);
+    assert_eq!(states(&r).last().map(String::as_str), Some("EXITING"));
+}
+
+#[test]
+fn without_hand_tracking_controllers_still_work() {
+    let mut s = base_script();
+    s.hand_tracking = false;
+    let r = run_host("nohands", &s, &["--frames", "5"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    assert_eq!(r.frames.len(), 5);
+    assert!(r
+        .frames
+        .iter()
+        .all(|f| f.hands[1].joints.is_empty() && f.hands[1].grip.is_some()));
+}
+
+#[test]
+fn missing_runtime_is_a_clean_error() {
+    let out = Command::new(env!("CARGO_BIN_EXE_shapewright-xr"))
+        .args(["run", "--headless", "--frames", "1"])
+        .env("XR_RUNTIME_JSON", "/nonexistent/runtime.json")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no OpenXR runtime available"), "{err}");
+    assert!(!err.contains("panicked"));
+}
+
+/// Against a real runtime when `XR_RUNTIME_JSON` is set in the test's
+/// environment; skipped otherwise. Headless needs XR_MND_headless; a
+/// runtime without it must give the typed "lacks" error, not a crash.
+#[test]
+fn real_runtime_if_configured() {
+    let Ok(manifest) = std::env::var("XR_RUNTIME_JSON") else {
+        eprintln!("skipped: XR_RUNTIME_JSON is not set");
+        return;
+    };
+    let out = Command::new(env!("CARGO_BIN_EXE_shapewright-xr"))
+        .args(["run", "--headless", "--seconds", "2"])
+        .env("XR_RUNTIME_JSON", &manifest)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        out.status.success() || err.contains("lacks XR_MND_headless"),
+        "{err}"
+    );
+}
+
+#[test]
+fn headset_mode_reports_a_runtime_without_vulkan() {
+    let dir = std::env::temp_dir().join(format!(
+        "shapewright_xr_testrt_headset_{}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let manifest = dir.join("runtime.json");
+    std::fs::write(
+        &manifest,
+        serde_json::json!({"file_format_version": "1.0.0", "runtime": {"name": "t", "library_path": runtime_lib()}})
+            .to_string(),
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_shapewright-xr"))
+        .args(["run", "--frames", "1"])
+        .env("XR_RUNTIME_JSON", &manifest)
+        .env_remove("SHAPEWRIGHT_TESTRT_SCRIPT")
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(err.contains("lacks XR_KHR_vulkan_enable2"), "{err}");
+    assert!(!err.contains("panicked"));
+}
+
+#[test]
+fn headset_renders_stereo_frames_on_lavapipe_through_the_runtime() {
+    let mut s = base_script();
+    s.vulkan = true;
+    let (r, stats) = run_host_mode("headset", &s, &[], &["--frames", "8"]);
+    assert_eq!(r.code, Some(0), "{}\n{}", r.stdout, r.stderr);
+    let rep = r.report.clone().unwrap();
+    assert!(rep.reached_focused);
+    assert_eq!(rep.frames, 8);
+    let stats = stats.expect("the runtime wrote frame stats");
+    assert!(stats.graphics);
+    // Every input frame came with a frame submission; while VISIBLE or
+    // FOCUSED with a tracked head, each one carried a stereo projection
+    // layer that passed the runtime's validation (swapchain released,
+    // rects inside the image, array index < 2, unit poses).
+    assert!(stats.frames_ended >= 8, "{stats:?}");
+    assert!(stats.projection_layers >= 8, "{stats:?}");
+    assert_clean(&r.frames);
+}
+
+#[test]
+fn headset_skips_rendering_views_without_valid_poses() {
+    let mut s = base_script();
+    s.vulkan = true;
+    let mut lost = s.keyframes[0].clone();
+    lost.at = 3;
+    lost.head = Some(ScriptPose {
+        valid: false,
+        ..pose([0.0, 1.6, 0.0])
+    });
+    s.keyframes.push(lost);
+    let (r, stats) = run_host_mode("headsetlost", &s, &[], &["--frames", "8"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let stats = stats.unwrap();
+    // Frames 0-1 rendered (head tracked); from step 3 on the views are
+    // invalid and the host submits empty frames.
+    assert!(stats.projection_layers <= 3, "{stats:?}");
+    assert!(stats.frames_ended >= 8, "{stats:?}");
+    assert!(r.frames.iter().skip(2).all(|f| f.head.is_none()));
+}
+
+#[test]
+fn headset_recreates_the_session_and_swapchain_after_loss_pending() {
+    let mut s = base_script();
+    s.vulkan = true;
+    s.faults = vec![FaultAt {
+        at: 4,
+        fault: Fault::LossPending,
+    }];
+    let (r, stats) = run_host_mode("headsetloss", &s, &[], &["--frames", "10"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let rep = r.report.clone().unwrap();
+    assert_eq!(rep.sessions_created, 2);
+    assert_eq!(rep.session_losses, 1);
+    assert_eq!(rep.frames, 10);
+    // Stats are of the last session: it rendered frames on a new swapchain.
+    assert!(stats.unwrap().projection_layers >= 5);
+}
+
+#[test]
+fn headset_pixels_show_the_model_where_the_eye_sees_it() {
+    let mut s = base_script();
+    s.vulkan = true;
+    s.keyframes[0].head = Some(pose([0.0, 0.0, 0.0]));
+    s.capture_path = Some("capture.bin".into());
+    let (r, _) = run_host_mode("headsetpixels", &s, &[], &["--frames", "4"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let bytes =
+        std::fs::read(std::env::temp_dir().join("shapewright_xr_headsetpixels_capture.bin"))
+            .expect("the runtime captured the left eye");
+    let w = u32::from_le_bytes(bytes[0..4].try_into().unwrap());
+    let h = u32::from_le_bytes(bytes[4..8].try_into().unwrap());
+    assert_eq!((w, h), (256, 256));
+    let px = |x: u32, y: u32| {
+        let i = 8 + ((y * w + x) * 4) as usize;
+        [bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]
+    };
+    let bg = px(0, h - 1);
+    for (x, y) in [(w - 1, h - 1), (w / 2, h / 2), (0, h / 2)] {
+        assert_eq!(px(x, y), bg, "({x},{y}) should be background");
+    }
+    // The model (bounding radius 25 cm) sits 0.7 m ahead, 0.3 m below the
+    // eye: with ±45° views its center projects 0.3/0.7 of the half height
+    // below the image center, shifted by the half-IPD for the left eye.
+    let (cx, cy) = (128.0 + 128.0 * 0.032 / 0.7, 128.0 + 128.0 * 0.3 / 0.7);
+    let mut hits = 0;
+    for dy in -6..=6 {
+        for dx in -6..=6 {
+            if px((cx as i32 + dx) as u32, (cy as i32 + dy) as u32) != bg {
+                hits += 1;
+            }
+        }
+    }
+    assert!(hits > 100, "only {hits} model pixels near ({cx},{cy})");
+}
