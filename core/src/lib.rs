@@ -15,3 +15,4 @@ pub mod math;
 pub mod mesh;
 pub mod nurbs;
 pub mod solid;
+pub mod styling;

@@ -36,6 +36,9 @@ pub enum OpError {
     /// A solid's parameters are invalid.
     #[error(transparent)]
     Solid(#[from] SolidError),
+    /// A styling op failed (curves, networks, surface tools).
+    #[error(transparent)]
+    Styling(#[from] crate::styling::StylingError),
 }
 
 /// Why the log could not do what was asked. The log and its document are

@@ -26,6 +26,8 @@ pub struct Object {
 pub enum ObjectKind {
     /// A parametric solid (box, sphere, ...).
     Solid(Solid),
+    /// A styled curve network with its patches.
+    CurveNetwork(crate::styling::CurveNetwork),
 }
 
 impl ObjectKind {
@@ -33,6 +35,7 @@ impl ObjectKind {
     pub fn name(&self) -> &'static str {
         match self {
             Self::Solid(_) => "solid",
+            Self::CurveNetwork(_) => "curve_network",
         }
     }
 
@@ -40,6 +43,7 @@ impl ObjectKind {
     pub fn evaluate(&self) -> Result<TriMesh, OpError> {
         match self {
             Self::Solid(s) => s.evaluate(),
+            Self::CurveNetwork(n) => Ok(n.mesh()),
         }
     }
 }
