@@ -66,7 +66,7 @@ def main():
     # Curve 0 runs along x at y = -H, z = 0 (bottom front). Curve 3: x at y = H, z = 2H (top back).
     # Pull the middle of the top-back edge up and back.
     mid = [0.0, H + BOW, 2 * H + BOW]
-    pull = [[mid[0], mid[1] + 0.004 * k, mid[2] + 0.006 * k] for k in range(7)]
+    pull = [[mid[0], mid[1] + 0.003 * k, mid[2] + 0.003 * k] for k in range(7)]
     lines.append(json.dumps({"op": "curve_pull", "id": 1, "curve": 3,
                              "params": {"wpp": 200.0, "wp0": 1.0, "wp1": 0.001}, "path": pull}))
     # Smooth a noisy edge (curve 1) along its length, flat-iron style.
@@ -83,10 +83,10 @@ def main():
                              "limits": {"max_step": 0.004, "max_growth": 4.0},
                              "path": [m] * 12}))
     lines.append(json.dumps({"op": "curve_fill_auto", "id": 1}))
-    lines.append("# Patch 5 is the top (z = 2H): pull its centre up into a dome.")
-    lines.append(json.dumps({"op": "surface_pull", "id": 1, "patch": 5,
+    lines.append("# Patch 2 is the top (z = 2H): pull its centre up into a dome.")
+    lines.append(json.dumps({"op": "surface_pull", "id": 1, "patch": 2,
                              "weights": {"wb": 1.0, "ws": 0.0}, "wpp": 2000.0, "u0": 0.5, "v0": 0.5,
-                             "path": [[0.0, 0.0, 2 * H + 0.02 + 0.006 * k] for k in range(5)]}))
+                             "path": [[0.0, 0.0, 2 * H + 0.03 + 0.005 * k] for k in range(5)]}))
     lines.append(json.dumps({"op": "surface_smooth", "id": 1, "patch": 0,
                              "weights": {"wb": 1.0, "ws": 0.0}, "f": 0.8, "wq_max": 1.0,
                              "path": [[0.0, -H - 0.03, H]] * 6}))
