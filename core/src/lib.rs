@@ -20,3 +20,4 @@ pub mod sculpt;
 pub mod sdf;
 pub mod sketch;
 pub mod solid;
+pub mod styling;

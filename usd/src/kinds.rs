@@ -52,7 +52,8 @@ pub fn extra_prims(kind: &ObjectKind) -> Vec<PrimOut> {
         ObjectKind::Solid(_)
         | ObjectKind::GcAssembly(_)
         | ObjectKind::SdfVolume(_)
-        | ObjectKind::SculptMesh(_) => Vec::new(),
+        | ObjectKind::SculptMesh(_)
+        | ObjectKind::CurveNetwork(_) => Vec::new(),
     }
 }
 

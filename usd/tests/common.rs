@@ -16,7 +16,10 @@ pub fn scripts() -> Vec<(PathBuf, String)> {
         };
         let mut files: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "jsonl"))
+            .filter(|p| {
+                p.extension().is_some_and(|x| x == "jsonl")
+                    && !p.to_string_lossy().ends_with(".trace.jsonl")
+            })
             .collect();
         files.sort();
         for f in files {

@@ -46,6 +46,9 @@ pub enum OpError {
     /// An SDF op failed.
     #[error(transparent)]
     Sdf(#[from] crate::sdf::SdfError),
+    /// A styling op failed (curves, networks, surface tools).
+    #[error(transparent)]
+    Styling(#[from] crate::styling::StylingError),
 }
 
 /// Why the log could not do what was asked. The log and its document are

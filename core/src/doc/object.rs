@@ -32,6 +32,8 @@ pub enum ObjectKind {
     SculptMesh(crate::sculpt::SculptMesh),
     /// A scene SDF built from placed library components (paper 2).
     SdfVolume(crate::sdf::SdfVolume),
+    /// A styled curve network with its patches.
+    CurveNetwork(crate::styling::CurveNetwork),
 }
 
 impl ObjectKind {
@@ -42,6 +44,7 @@ impl ObjectKind {
             Self::GcAssembly(_) => "gc_assembly",
             Self::SculptMesh(_) => "sculpt_mesh",
             Self::SdfVolume(_) => "sdf_volume",
+            Self::CurveNetwork(_) => "curve_network",
         }
     }
 
@@ -52,6 +55,7 @@ impl ObjectKind {
             Self::GcAssembly(a) => Ok(a.evaluate()?),
             Self::SculptMesh(s) => s.evaluate(),
             Self::SdfVolume(v) => Ok(v.evaluate()?),
+            Self::CurveNetwork(n) => Ok(n.mesh()),
         }
     }
 }

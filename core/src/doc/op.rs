@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 use super::{Document, ObjectId, ObjectKind, OpError, Solid};
 use crate::math::{DQuat, DVec3, Transform};
 use crate::solid::{SolidShape, DEFAULT_SEGMENTS};
+use crate::styling;
 
 /// The version of the op encoding this build writes and reads.
 pub const OP_FORMAT_VERSION: u32 = 1;
@@ -48,6 +49,17 @@ pub const OP_NAMES: &[&str] = &[
     "sdf_update",
     "sdf_import_component",
     "sdf_set_step",
+    "curve_network_create",
+    "curve_draw",
+    "curve_smooth",
+    "curve_sharpen",
+    "curve_pull",
+    "curve_delete",
+    "curve_fill_loop",
+    "curve_fill_auto",
+    "surface_smooth",
+    "surface_sharpen",
+    "surface_pull",
 ];
 
 /// One change to a document.
@@ -110,6 +122,28 @@ pub enum Op {
     SdfImportComponent(crate::sdf::ops::SdfImportComponent),
     /// `sdf_set_step`: see [`crate::sdf::ops`].
     SdfSetStep(crate::sdf::ops::SdfSetStep),
+    /// Create an empty curve network (styling).
+    CurveNetworkCreate(styling::ops::CurveNetworkCreate),
+    /// Draw a curve into a network from tracked samples.
+    CurveDraw(styling::ops::CurveDraw),
+    /// Curve smoother held along a pointer path.
+    CurveSmooth(styling::ops::CurveSmooth),
+    /// Curve sharpener held along a pointer path.
+    CurveSharpen(styling::ops::CurveSharpen),
+    /// Curve puller held along a pointer path.
+    CurvePull(styling::ops::CurvePull),
+    /// Delete a network curve.
+    CurveDelete(styling::ops::CurveDelete),
+    /// Fill an explicitly picked loop with a patch.
+    CurveFillLoop(styling::ops::CurveFillLoop),
+    /// Fill every automatically found loop.
+    CurveFillAuto(styling::ops::CurveFillAuto),
+    /// Surface smoother on a patch.
+    SurfaceSmooth(styling::ops::SurfaceEquilibrium),
+    /// Surface sharpener on a patch.
+    SurfaceSharpen(styling::ops::SurfaceEquilibrium),
+    /// Surface puller on a patch.
+    SurfacePull(styling::ops::SurfacePull),
 }
 
 /// What applying an op produced.
@@ -219,6 +253,17 @@ impl Op {
             Self::SdfUpdate(_) => "sdf_update",
             Self::SdfImportComponent(_) => "sdf_import_component",
             Self::SdfSetStep(_) => "sdf_set_step",
+            Self::CurveNetworkCreate(_) => "curve_network_create",
+            Self::CurveDraw(_) => "curve_draw",
+            Self::CurveSmooth(_) => "curve_smooth",
+            Self::CurveSharpen(_) => "curve_sharpen",
+            Self::CurvePull(_) => "curve_pull",
+            Self::CurveDelete(_) => "curve_delete",
+            Self::CurveFillLoop(_) => "curve_fill_loop",
+            Self::CurveFillAuto(_) => "curve_fill_auto",
+            Self::SurfaceSmooth(_) => "surface_smooth",
+            Self::SurfaceSharpen(_) => "surface_sharpen",
+            Self::SurfacePull(_) => "surface_pull",
         }
     }
 
@@ -287,6 +332,17 @@ impl Op {
             Self::SdfUpdate(op) => crate::sdf::ops::apply_update(doc, op),
             Self::SdfImportComponent(op) => crate::sdf::ops::apply_import_component(doc, op),
             Self::SdfSetStep(op) => crate::sdf::ops::apply_set_step(doc, op),
+            Self::CurveNetworkCreate(op) => styling::ops::apply_create(doc, op),
+            Self::CurveDraw(op) => styling::ops::apply_draw(doc, op),
+            Self::CurveSmooth(op) => styling::ops::apply_smooth(doc, op),
+            Self::CurveSharpen(op) => styling::ops::apply_sharpen(doc, op),
+            Self::CurvePull(op) => styling::ops::apply_pull(doc, op),
+            Self::CurveDelete(op) => styling::ops::apply_delete(doc, op),
+            Self::CurveFillLoop(op) => styling::ops::apply_fill_loop(doc, op),
+            Self::CurveFillAuto(op) => styling::ops::apply_fill_auto(doc, op),
+            Self::SurfacePull(op) => styling::ops::apply_surface_pull(doc, op),
+            Self::SurfaceSmooth(op) => styling::ops::apply_equilibrium(doc, op, false),
+            Self::SurfaceSharpen(op) => styling::ops::apply_equilibrium(doc, op, true),
         }
     }
 }

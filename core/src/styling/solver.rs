@@ -1,0 +1,301 @@
+//! Sparse symmetric solves with fixed unknowns and a reused factorization.
+//!
+//! The constraint `D c = e` of the paper (eq. 7) fixes control points, so
+//! it is applied by elimination, which makes it hold exactly: a fixed
+//! unknown's row and column are zeroed and its diagonal set to 1, its value
+//! moved to the right-hand side. The matrix keeps the full sparsity pattern
+//! whatever is fixed, so the symbolic factorization (ordering, elimination
+//! tree) is computed once per pattern and only the numeric LDLᵀ is redone
+//! when weights change; when only the right-hand side changes (puller
+//! targets, equilibrium terms, refreshed references) the factors are reused
+//! as they are. faer's sparse LDLᵀ runs sequentially (`Par::Seq`), so the
+//! result does not depend on the thread count. One step of iterative
+//! refinement follows each solve (FIELD-NOTES: LDLᵀ plus refinement).
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LdltRef, SymbolicCholesky, SymmetricOrdering,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
+
+use super::StylingError;
+
+/// A symmetric sparse matrix in lower-triangle CSC form with a fixed
+/// pattern, assembled by adding entries.
+#[derive(Clone, Debug)]
+pub struct SymPattern {
+    n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+}
+
+impl SymPattern {
+    /// The pattern holding the given `(row, col)` pairs (either triangle;
+    /// stored as the lower one) plus the whole diagonal.
+    pub fn new(n: usize, pairs: impl IntoIterator<Item = (usize, usize)>) -> Self {
+        let mut cols: Vec<Vec<usize>> = (0..n).map(|j| vec![j]).collect();
+        for (r, c) in pairs {
+            let (r, c) = if r >= c { (r, c) } else { (c, r) };
+            cols[c].push(r);
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for mut col in cols {
+            col.sort_unstable();
+            col.dedup();
+            row_idx.extend(col);
+            col_ptr.push(row_idx.len());
+        }
+        Self {
+            n,
+            col_ptr,
+            row_idx,
+        }
+    }
+
+    /// Number of rows (and columns).
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Number of stored entries (lower triangle with diagonal).
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Column pointers of the lower triangle.
+    pub fn col_ptr(&self) -> &[usize] {
+        &self.col_ptr
+    }
+
+    /// Row indices of the lower triangle.
+    pub fn row_idx(&self) -> &[usize] {
+        &self.row_idx
+    }
+
+    /// Index into the value array of entry `(r, c)`, if stored.
+    pub fn slot(&self, r: usize, c: usize) -> Option<usize> {
+        let (r, c) = if r >= c { (r, c) } else { (c, r) };
+        let rows = &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]];
+        rows.binary_search(&r).ok().map(|k| self.col_ptr[c] + k)
+    }
+
+    /// `y = A x` for the symmetric matrix with `values` on this pattern,
+    /// for `k` right-hand sides stored column-major.
+    pub fn mul(&self, values: &[f64], x: &[f64], k: usize) -> Vec<f64> {
+        let n = self.n;
+        let mut y = vec![0.0; n * k];
+        for c in 0..n {
+            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                let r = self.row_idx[p];
+                let v = values[p];
+                for s in 0..k {
+                    y[s * n + r] += v * x[s * n + c];
+                    if r != c {
+                        y[s * n + c] += v * x[s * n + r];
+                    }
+                }
+            }
+        }
+        y
+    }
+}
+
+/// A factorization of `A` restricted to its free unknowns, reusable while
+/// the values of `A` and the fixed set do not change.
+pub struct FixedSolver {
+    pattern: SymPattern,
+    symbolic: SymbolicCholesky<usize>,
+    /// The full matrix values (before elimination).
+    values: Vec<f64>,
+    /// The eliminated matrix values (fixed rows/columns cleared).
+    reduced: Vec<f64>,
+    fixed: Vec<bool>,
+    l_values: Vec<f64>,
+    /// How many numeric factorizations were done (for tests and benches).
+    pub refactor_count: usize,
+}
+
+impl std::fmt::Debug for FixedSolver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FixedSolver")
+            .field("n", &self.pattern.n)
+            .field("nnz", &self.pattern.nnz())
+            .field("refactor_count", &self.refactor_count)
+            .finish()
+    }
+}
+
+impl FixedSolver {
+    /// Symbolic analysis of `pattern` (AMD ordering). Done once per pattern.
+    pub fn new(pattern: SymPattern) -> Result<Self, StylingError> {
+        let n = pattern.n;
+        let sym =
+            SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx);
+        let symbolic = factorize_symbolic_cholesky(
+            sym,
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            Default::default(),
+        )
+        .map_err(|_| StylingError::Solver("symbolic factorization failed".into()))?;
+        let l_len = symbolic.len_val();
+        let nnz = pattern.nnz();
+        Ok(Self {
+            pattern,
+            symbolic,
+            values: vec![0.0; nnz],
+            reduced: vec![0.0; nnz],
+            fixed: vec![false; n],
+            l_values: vec![0.0; l_len],
+            refactor_count: 0,
+        })
+    }
+
+    /// The pattern.
+    pub fn pattern(&self) -> &SymPattern {
+        &self.pattern
+    }
+
+    /// The full (uneliminated) matrix values last factored.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// The eliminated matrix last factored (fixed rows and columns cleared,
+    /// unit diagonal there), on the pattern.
+    pub fn reduced(&self) -> &[f64] {
+        &self.reduced
+    }
+
+    /// Whether the factorization already holds these values and fixed set.
+    pub fn is_current(&self, values: &[f64], fixed: &[bool]) -> bool {
+        self.refactor_count > 0 && self.values == values && self.fixed == fixed
+    }
+
+    /// Numeric LDLᵀ of `values` with the unknowns in `fixed` eliminated.
+    /// Skipped when nothing changed since the last call.
+    pub fn factor(&mut self, values: &[f64], fixed: &[bool]) -> Result<(), StylingError> {
+        if values.len() != self.pattern.nnz() || fixed.len() != self.pattern.n {
+            return Err(StylingError::Solver("matrix size mismatch".into()));
+        }
+        if self.is_current(values, fixed) {
+            return Ok(());
+        }
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(StylingError::Solver("non-finite energy matrix".into()));
+        }
+        self.values.copy_from_slice(values);
+        self.fixed.copy_from_slice(fixed);
+        let p = &self.pattern;
+        for c in 0..p.n {
+            for k in p.col_ptr[c]..p.col_ptr[c + 1] {
+                let r = p.row_idx[k];
+                self.reduced[k] = if fixed[r] || fixed[c] {
+                    if r == c {
+                        1.0
+                    } else {
+                        0.0
+                    }
+                } else {
+                    values[k]
+                };
+            }
+        }
+        let n = p.n;
+        let a = SparseColMatRef::new(
+            SymbolicSparseColMatRef::new_checked(n, n, &p.col_ptr, None, &p.row_idx),
+            &self.reduced,
+        );
+        let par = Par::Seq;
+        let mut mem = MemBuffer::new(
+            self.symbolic
+                .factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
+        );
+        self.symbolic
+            .factorize_numeric_ldlt::<f64>(
+                &mut self.l_values,
+                a,
+                Side::Lower,
+                LdltRegularization::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|_| StylingError::Solver("singular energy matrix (zero pivot)".into()))?;
+        self.refactor_count += 1;
+        Ok(())
+    }
+
+    fn solve_raw(&self, rhs: &mut [f64], k: usize) {
+        let n = self.pattern.n;
+        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, Par::Seq));
+        let ldlt = LdltRef::<usize, f64>::new(&self.symbolic, &self.l_values);
+        ldlt.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(rhs, n, k),
+            Par::Seq,
+            MemStack::new(&mut mem),
+        );
+    }
+
+    /// Solves `A x = rhs` with `x[i] = fixed_values[i]` for fixed `i`
+    /// (exactly), for `k` right-hand sides stored column-major (`n * k`).
+    /// `rhs` entries of fixed unknowns are ignored.
+    pub fn solve(
+        &self,
+        rhs: &[f64],
+        fixed_values: &[f64],
+        k: usize,
+    ) -> Result<Vec<f64>, StylingError> {
+        let n = self.pattern.n;
+        if rhs.len() != n * k || fixed_values.len() != n * k || self.refactor_count == 0 {
+            return Err(StylingError::Solver("right-hand side size mismatch".into()));
+        }
+        // Move the fixed values to the right-hand side: b_f - A_fc e.
+        let mut e = vec![0.0; n * k];
+        for s in 0..k {
+            for i in 0..n {
+                if self.fixed[i] {
+                    e[s * n + i] = fixed_values[s * n + i];
+                }
+            }
+        }
+        let ae = self.pattern.mul(&self.values, &e, k);
+        let mut b = vec![0.0; n * k];
+        for s in 0..k {
+            for i in 0..n {
+                b[s * n + i] = if self.fixed[i] {
+                    e[s * n + i]
+                } else {
+                    rhs[s * n + i] - ae[s * n + i]
+                };
+            }
+        }
+        let mut x = b.clone();
+        self.solve_raw(&mut x, k);
+        // One step of iterative refinement on the reduced system.
+        let ax = self.pattern.mul(&self.reduced, &x, k);
+        let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
+        self.solve_raw(&mut r, k);
+        for (xi, ri) in x.iter_mut().zip(&r) {
+            *xi += ri;
+        }
+        for s in 0..k {
+            for i in 0..n {
+                if self.fixed[i] {
+                    x[s * n + i] = e[s * n + i];
+                }
+            }
+        }
+        if x.iter().any(|v| !v.is_finite()) {
+            return Err(StylingError::Solver(
+                "solve produced non-finite values".into(),
+            ));
+        }
+        Ok(x)
+    }
+}
