@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use super::{ContentHasher, Object, ObjectId, ObjectKind, OpError};
-use crate::mesh::TriMesh;
+use crate::mesh::{union, BooleanError, TriMesh};
 
 /// Objects by stable id, plus the id counter. Cloning is cheap: objects
 /// are shared until one is changed.
@@ -12,6 +12,7 @@ use crate::mesh::TriMesh;
 pub struct Document {
     objects: BTreeMap<ObjectId, Arc<Object>>,
     next_id: u32,
+    work: u64,
 }
 
 impl Document {
@@ -51,7 +52,7 @@ impl Document {
     /// Evaluates `kind` and inserts it under a newly allocated id.
     pub fn insert(&mut self, kind: ObjectKind) -> Result<ObjectId, OpError> {
         let id = self.next_id();
-        let obj = Self::build(id, kind)?;
+        let obj = self.build(id, kind)?;
         self.next_id = id.0;
         self.objects.insert(id, Arc::new(obj));
         Ok(id)
@@ -60,7 +61,7 @@ impl Document {
     /// Replaces the object `id` with `kind`, re-evaluating its mesh.
     pub fn replace(&mut self, id: ObjectId, kind: ObjectKind) -> Result<(), OpError> {
         self.get(id)?;
-        let obj = Self::build(id, kind)?;
+        let obj = self.build(id, kind)?;
         self.objects.insert(id, Arc::new(obj));
         Ok(())
     }
@@ -73,8 +74,22 @@ impl Document {
             .ok_or(OpError::BadId(id))
     }
 
-    fn build(id: ObjectId, kind: ObjectKind) -> Result<Object, OpError> {
+    /// Work done on this document so far: triangles meshed by evaluations.
+    /// Not content (not hashed, not saved); the log uses it to place
+    /// checkpoints deterministically.
+    pub fn work(&self) -> u64 {
+        self.work
+    }
+
+    /// Records `amount` units of work beyond meshing (for kinds whose ops
+    /// do heavy work that their mesh size does not show).
+    pub fn add_work(&mut self, amount: u64) {
+        self.work += amount;
+    }
+
+    fn build(&mut self, id: ObjectId, kind: ObjectKind) -> Result<Object, OpError> {
         let mut mesh = kind.evaluate()?;
+        self.work += mesh.triangles.len() as u64 + 1;
         mesh.set_source(id.0);
         Ok(Object {
             kind,
@@ -90,6 +105,14 @@ impl Document {
             out.append(&obj.mesh);
         }
         out
+    }
+
+    /// The printable model: the boolean union of every object's closed
+    /// mesh, one closed oriented 2-manifold. Triangles keep the id of the
+    /// object they came from.
+    pub fn printable_mesh(&self) -> Result<TriMesh, BooleanError> {
+        let meshes: Vec<&TriMesh> = self.objects.values().map(|o| o.mesh.as_ref()).collect();
+        union(&meshes)
     }
 
     /// A hash of the document's content: ids, the id counter, every

@@ -1,8 +1,6 @@
 //! [`OpLog`]: history of ops with a cursor, undo, redo, replay and
 //! checkpoints. See the module doc of [`crate::doc`] for the choices.
 
-use std::time::{Duration, Instant};
-
 use super::{Document, LogError, Op, OpOutcome};
 
 /// When the log takes a checkpoint (a snapshot of the document). Only
@@ -11,16 +9,18 @@ use super::{Document, LogError, Op, OpOutcome};
 pub struct CheckpointPolicy {
     /// Take a checkpoint at least every this many ops.
     pub every_ops: usize,
-    /// Take a checkpoint once the ops since the last one took this long to
-    /// apply, so undo never replays more than about this much work.
-    pub every_cost: Duration,
+    /// Take a checkpoint once the ops since the last one did this much
+    /// work (triangles meshed, see [`Document::work`]), so undo never
+    /// replays more than about this much. Work, not wall time, keeps the
+    /// checkpoint positions deterministic.
+    pub every_work: u64,
 }
 
 impl Default for CheckpointPolicy {
     fn default() -> Self {
         Self {
             every_ops: 32,
-            every_cost: Duration::from_millis(8),
+            every_work: 400_000,
         }
     }
 }
@@ -40,8 +40,12 @@ pub struct OpLog {
     cursor: usize,
     doc: Document,
     checkpoints: Vec<Checkpoint>,
+    /// States passed through by the last backward replay, so a run of
+    /// undos replays once per checkpoint interval, not once per undo.
+    /// Cleared when history changes.
+    window: Vec<Checkpoint>,
     ops_since: usize,
-    cost_since: Duration,
+    work_since: u64,
     policy: CheckpointPolicy,
 }
 
@@ -67,8 +71,9 @@ impl OpLog {
                 at: 0,
                 doc: Document::new(),
             }],
+            window: Vec::new(),
             ops_since: 0,
-            cost_since: Duration::ZERO,
+            work_since: 0,
             policy,
         }
     }
@@ -157,11 +162,11 @@ impl OpLog {
     /// `op` is recorded; on error nothing changes.
     pub fn apply(&mut self, op: Op) -> Result<OpOutcome, LogError> {
         let mut next = self.doc.clone();
-        let start = Instant::now();
         let outcome = op.apply(&mut next)?;
-        let cost = start.elapsed();
+        let cost = next.work() - self.doc.work();
         self.ops.truncate(self.cursor);
         self.checkpoints.retain(|c| c.at <= self.cursor);
+        self.window.clear();
         self.ops.push(op);
         self.cursor += 1;
         self.doc = next;
@@ -197,6 +202,14 @@ impl OpLog {
         if target == self.cursor {
             return Ok(());
         }
+        if let Some(c) = self.window.iter().find(|c| c.at == target) {
+            let (ops_since, work_since) = self.distance_from_checkpoint(target);
+            self.doc = c.doc.clone();
+            self.cursor = target;
+            self.ops_since = ops_since;
+            self.work_since = work_since;
+            return Ok(());
+        }
         // Start from the latest state at or before the target that we hold:
         // the current document when moving forward, else a checkpoint.
         let cp = self
@@ -204,68 +217,87 @@ impl OpLog {
             .iter()
             .rposition(|c| c.at <= target)
             .expect("checkpoint 0 always exists");
-        let (mut at, mut doc) = if target > self.cursor && self.cursor >= self.checkpoints[cp].at {
-            (self.cursor, self.doc.clone())
-        } else {
-            (self.checkpoints[cp].at, self.checkpoints[cp].doc.clone())
-        };
+        let (mut at, mut doc, mut ops_since, mut work_since) =
+            if target > self.cursor && self.cursor >= self.checkpoints[cp].at {
+                (
+                    self.cursor,
+                    self.doc.clone(),
+                    self.ops_since,
+                    self.work_since,
+                )
+            } else {
+                let c = &self.checkpoints[cp];
+                (c.at, c.doc.clone(), 0, 0)
+            };
+        let backward = target < self.cursor;
         let mut new_checkpoints = Vec::new();
-        let mut ops_since = at - self.checkpoints[cp].at.min(at);
-        let mut cost_since = Duration::ZERO;
+        let mut window = Vec::new();
         while at < target {
-            let start = Instant::now();
+            let before = doc.work();
             self.ops[at]
                 .apply(&mut doc)
                 .map_err(|error| LogError::Replay { index: at, error })?;
             at += 1;
             ops_since += 1;
-            cost_since += start.elapsed();
-            if at < target && self.wants_checkpoint(ops_since, cost_since) {
+            work_since += doc.work() - before;
+            if self.wants_checkpoint(ops_since, work_since) {
                 new_checkpoints.push(Checkpoint {
                     at,
                     doc: doc.clone(),
                 });
                 ops_since = 0;
-                cost_since = Duration::ZERO;
+                work_since = 0;
             }
+            if backward {
+                window.push(Checkpoint {
+                    at,
+                    doc: doc.clone(),
+                });
+            }
+        }
+        if backward {
+            window.push(Checkpoint {
+                at: self.cursor,
+                doc: self.doc.clone(),
+            });
+            self.window = window;
         }
         for c in new_checkpoints {
             self.insert_checkpoint(c);
         }
         self.cursor = target;
         self.doc = doc;
-        let last = self
-            .checkpoints
-            .iter()
-            .rfind(|c| c.at <= target)
-            .map_or(0, |c| c.at);
-        self.ops_since = target - last;
-        self.cost_since = cost_since;
-        if self.wants_checkpoint(self.ops_since, self.cost_since) {
-            self.insert_checkpoint(Checkpoint {
-                at: target,
-                doc: self.doc.clone(),
-            });
-            self.ops_since = 0;
-            self.cost_since = Duration::ZERO;
-        }
+        self.ops_since = ops_since;
+        self.work_since = work_since;
         Ok(())
     }
 
-    fn wants_checkpoint(&self, ops: usize, cost: Duration) -> bool {
-        ops >= self.policy.every_ops || cost >= self.policy.every_cost
+    /// Ops and work between the last checkpoint at or before `at` and `at`
+    /// (work is not known for states restored from the window; 0 then,
+    /// which only delays the next checkpoint by the op count).
+    fn distance_from_checkpoint(&self, at: usize) -> (usize, u64) {
+        let last = self
+            .checkpoints
+            .iter()
+            .rfind(|c| c.at <= at)
+            .map_or(0, |c| c.at);
+        (at - last, 0)
     }
 
-    fn note_progress(&mut self, cost: Duration) {
+    fn wants_checkpoint(&self, ops: usize, work: u64) -> bool {
+        ops >= self.policy.every_ops || work >= self.policy.every_work
+    }
+
+    fn note_progress(&mut self, work: u64) {
         self.ops_since += 1;
-        self.cost_since += cost;
-        if self.wants_checkpoint(self.ops_since, self.cost_since) {
+        self.work_since += work;
+        if self.wants_checkpoint(self.ops_since, self.work_since) {
             self.insert_checkpoint(Checkpoint {
                 at: self.cursor,
                 doc: self.doc.clone(),
             });
             self.ops_since = 0;
-            self.cost_since = Duration::ZERO;
+            self.work_since = 0;
         }
     }
 

@@ -14,7 +14,7 @@
 //!   cannot leave a half-applied change, whatever module it comes from.
 //! - **Checkpoints** are whole-document snapshots (again `Arc`-shared), taken
 //!   every [`CheckpointPolicy::every_ops`] ops or once the ops since the last
-//!   one took [`CheckpointPolicy::every_cost`] to apply. Undo restores the
+//!   one did [`CheckpointPolicy::every_work`] work. Undo restores the
 //!   nearest checkpoint at or before the target and replays at most that
 //!   many ops, so its cost does not grow with the session.
 

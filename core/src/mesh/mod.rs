@@ -1,14 +1,19 @@
 //! Triangle meshes: the flat buffer every border uses, validation of the
-//! closed 2-manifold invariants, and OBJ / STL / PLY files.
+//! closed 2-manifold invariants, booleans (the printable union), and
+//! OBJ / STL / PLY files.
 
+mod boolean;
 mod error;
+mod format;
 mod obj;
 mod ply;
 mod stl;
 mod trimesh;
 mod validate;
 
+pub use boolean::{union, BooleanError};
 pub use error::MeshIoError;
+pub use format::MeshFormat;
 pub use obj::{read_obj, write_obj};
 pub use ply::write_ply;
 pub use stl::{read_stl, write_stl};

@@ -160,7 +160,11 @@ pub fn validate(mesh: &TriMesh, settings: &ValidationSettings) -> ValidationRepo
         }
         let [a, b, c] = t.map(|i| DVec3::from_array(mesh.positions[i as usize]) - origin);
         let twice_area = (b - a).cross(c - a).length();
-        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !(0.5 * twice_area > area_tol) {
+        if t[0] == t[1]
+            || t[1] == t[2]
+            || t[0] == t[2]
+            || (0.5 * twice_area).partial_cmp(&area_tol) != Some(std::cmp::Ordering::Greater)
+        {
             r.degenerate_triangles += 1;
         }
         area += 0.5 * twice_area;

@@ -1,0 +1,206 @@
+//! The document and its history: `Session` wraps the core `OpLog`.
+
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+use shapewright::doc::{parse_script, run_script, ContentHasher, ObjectId, Op, OpLog, OP_NAMES};
+use shapewright::mesh::{validate, MeshFormat};
+
+use crate::error::{log_err, op_err, script_err, ParseError};
+use crate::mesh::{buffers, report_dict};
+
+/// A document with its undoable op log.
+#[pyclass(module = "shapewright._native")]
+#[repr(transparent)]
+pub struct Session(OpLog);
+
+#[pymethods]
+impl Session {
+    /// An empty document.
+    #[new]
+    fn new() -> Self {
+        Self(OpLog::new())
+    }
+
+    /// Rebuilds a session from recorded ops (JSON lines) and a cursor.
+    #[staticmethod]
+    fn from_ops(py: Python<'_>, ops_jsonl: &str, cursor: usize) -> PyResult<Self> {
+        let ops = parse_ops(ops_jsonl)?;
+        py.detach(|| OpLog::replay(ops, cursor))
+            .map(Self)
+            .map_err(log_err)
+    }
+
+    /// Applies one op given as JSON; returns the id it created, if any.
+    fn apply(&mut self, py: Python<'_>, op_json: &str) -> PyResult<Option<u32>> {
+        let op: Op = serde_json::from_str(op_json)
+            .map_err(|e| ParseError::new_err(format!("op {op_json}: {e}")))?;
+        let out = py.detach(|| self.0.apply(op)).map_err(log_err)?;
+        Ok(out.created.map(|id| id.0))
+    }
+
+    /// Runs a script (JSON lines, with undo/redo lines) on the session.
+    fn run_script(&mut self, py: Python<'_>, text: &str) -> PyResult<()> {
+        let lines = parse_script(text).map_err(script_err)?;
+        py.detach(|| run_script(&mut self.0, &lines))
+            .map_err(script_err)
+    }
+
+    /// Steps back one op.
+    fn undo(&mut self, py: Python<'_>) -> PyResult<()> {
+        py.detach(|| self.0.undo()).map_err(log_err)
+    }
+
+    /// Re-applies the next op.
+    fn redo(&mut self, py: Python<'_>) -> PyResult<()> {
+        py.detach(|| self.0.redo()).map_err(log_err)
+    }
+
+    /// Moves the cursor to `cursor` (0..=len).
+    fn seek(&mut self, py: Python<'_>, cursor: usize) -> PyResult<()> {
+        py.detach(|| self.0.seek(cursor)).map_err(log_err)
+    }
+
+    /// How many ops are applied.
+    #[getter]
+    fn cursor(&self) -> usize {
+        self.0.cursor()
+    }
+
+    /// Number of recorded ops (including the redo tail).
+    fn __len__(&self) -> usize {
+        self.0.len()
+    }
+
+    /// True when there is an op to undo.
+    #[getter]
+    fn can_undo(&self) -> bool {
+        self.0.can_undo()
+    }
+
+    /// True when there is an op to redo.
+    #[getter]
+    fn can_redo(&self) -> bool {
+        self.0.can_redo()
+    }
+
+    /// Every recorded op as JSON lines (all parameters explicit).
+    fn ops_jsonl(&self) -> PyResult<String> {
+        let mut out = String::new();
+        for op in self.0.ops() {
+            out += &serde_json::to_string(op).map_err(|e| ParseError::new_err(e.to_string()))?;
+            out.push('\n');
+        }
+        Ok(out)
+    }
+
+    /// Ids of the document's objects, in order.
+    fn object_ids(&self) -> Vec<u32> {
+        self.0.document().objects().map(|(id, _)| id.0).collect()
+    }
+
+    /// An object's kind and parameters as JSON.
+    fn object_json(&self, id: u32) -> PyResult<String> {
+        let obj = self.0.document().get(ObjectId(id)).map_err(op_err)?;
+        serde_json::to_string(&obj.kind).map_err(|e| ParseError::new_err(e.to_string()))
+    }
+
+    /// A hash of one object's parameters and mesh bits: changes exactly
+    /// when the object does (hosts re-sync only what changed).
+    fn object_hash(&self, id: u32) -> PyResult<u64> {
+        let obj = self.0.document().get(ObjectId(id)).map_err(op_err)?;
+        let mut h = ContentHasher::new();
+        h.bytes(
+            serde_json::to_string(&obj.kind)
+                .unwrap_or_default()
+                .as_bytes(),
+        );
+        h.mesh(&obj.mesh);
+        Ok(h.finish())
+    }
+
+    /// An object's mesh (or, with `id=None`, all objects appended) as
+    /// `(positions, triangles, sources)` little-endian byte buffers.
+    #[pyo3(signature = (id=None))]
+    fn mesh_buffers<'py>(
+        &self,
+        py: Python<'py>,
+        id: Option<u32>,
+    ) -> PyResult<(
+        Bound<'py, PyBytes>,
+        Bound<'py, PyBytes>,
+        Bound<'py, PyBytes>,
+    )> {
+        match id {
+            Some(id) => {
+                let obj = self.0.document().get(ObjectId(id)).map_err(op_err)?;
+                Ok(buffers(py, &obj.mesh))
+            }
+            None => {
+                let doc = self.0.document();
+                let mesh = py.detach(|| doc.combined_mesh());
+                Ok(buffers(py, &mesh))
+            }
+        }
+    }
+
+    /// The validation report of an object's mesh (or of all objects).
+    #[pyo3(signature = (id=None))]
+    fn validate<'py>(&self, py: Python<'py>, id: Option<u32>) -> PyResult<Bound<'py, PyDict>> {
+        let report = match id {
+            Some(id) => {
+                let obj = self.0.document().get(ObjectId(id)).map_err(op_err)?;
+                py.detach(|| validate(&obj.mesh, &Default::default()))
+            }
+            None => {
+                let doc = self.0.document();
+                py.detach(|| validate(&doc.combined_mesh(), &Default::default()))
+            }
+        };
+        report_dict(py, &report)
+    }
+
+    /// Writes the printable union of all objects to `path` (.stl, .obj or
+    /// .ply).
+    fn export_mesh(&self, py: Python<'_>, path: std::path::PathBuf) -> PyResult<()> {
+        let format = MeshFormat::from_path(&path).ok_or_else(|| {
+            ParseError::new_err(format!(
+                "{}: unknown extension (use .stl, .obj or .ply)",
+                path.display()
+            ))
+        })?;
+        let doc = self.0.document();
+        let mesh = py
+            .detach(|| doc.printable_mesh())
+            .map_err(|e| crate::error::OpRejected::new_err(e.to_string()))?;
+        py.detach(|| {
+            let mut w = std::io::BufWriter::new(std::fs::File::create(&path)?);
+            format.write(&mesh, &mut w)?;
+            std::io::Write::flush(&mut w)
+        })
+        .map_err(|e| {
+            pyo3::exceptions::PyOSError::new_err(format!("writing {}: {e}", path.display()))
+        })
+    }
+
+    /// A hash of the document's content (ids, parameters, mesh bits).
+    fn content_hash(&self) -> u64 {
+        self.0.document().content_hash()
+    }
+}
+
+fn parse_ops(text: &str) -> PyResult<Vec<Op>> {
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+        .map(|(i, l)| {
+            serde_json::from_str(l)
+                .map_err(|e| ParseError::new_err(format!("op line {}: {e}", i + 1)))
+        })
+        .collect()
+}
+
+/// The names of every op kind.
+#[pyfunction]
+pub(crate) fn op_names() -> Vec<&'static str> {
+    OP_NAMES.to_vec()
+}

@@ -1,0 +1,23 @@
+//! Python bindings of the Shapewright core (`shapewright._native`), used by
+//! the Blender add-on. Thin by design: each file mirrors one core module,
+//! core types are wrapped in `#[repr(transparent)]` newtypes, errors convert
+//! in `error.rs`, heavy work runs with the GIL released, and no geometry is
+//! computed here.
+
+mod doc;
+mod error;
+mod mesh;
+
+use pyo3::prelude::*;
+
+/// The native module.
+#[pymodule]
+#[pyo3(name = "_native")]
+fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<doc::Session>()?;
+    m.add_function(wrap_pyfunction!(mesh::validate_buffers, m)?)?;
+    m.add_function(wrap_pyfunction!(doc::op_names, m)?)?;
+    m.add("OP_FORMAT_VERSION", shapewright::doc::OP_FORMAT_VERSION)?;
+    error::register(m)?;
+    Ok(())
+}

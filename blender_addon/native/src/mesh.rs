@@ -1,0 +1,86 @@
+//! Meshes across the border: flat little-endian buffers that numpy views
+//! without copying (`np.frombuffer`), and validation.
+
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+use shapewright::mesh::{validate, TriMesh, ValidationReport};
+
+/// A mesh as `(positions: f64 x 3n, triangles: u32 x 3m, sources: u32 x m)`
+/// byte buffers; one memcpy each.
+pub(crate) fn buffers<'py>(
+    py: Python<'py>,
+    m: &TriMesh,
+) -> (
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+) {
+    let pos: Vec<u8> = m
+        .positions
+        .iter()
+        .flatten()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let tri: Vec<u8> = m
+        .triangles
+        .iter()
+        .flatten()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let src: Vec<u8> = m.tri_source.iter().flat_map(|x| x.to_le_bytes()).collect();
+    (
+        PyBytes::new(py, &pos),
+        PyBytes::new(py, &tri),
+        PyBytes::new(py, &src),
+    )
+}
+
+/// A validation report as a dict.
+pub(crate) fn report_dict<'py>(
+    py: Python<'py>,
+    r: &ValidationReport,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("closed_manifold", r.is_closed_manifold())?;
+    d.set_item("problems", r.problems())?;
+    d.set_item("vertices", r.vertex_count)?;
+    d.set_item("triangles", r.triangle_count)?;
+    d.set_item("components", r.components)?;
+    d.set_item("euler_characteristic", r.euler_characteristic)?;
+    d.set_item("genus", r.genus)?;
+    d.set_item("volume", r.signed_volume)?;
+    d.set_item("area", r.area)?;
+    d.set_item("bbox", r.bbox)?;
+    Ok(d)
+}
+
+/// Validates a mesh given as flat buffers (positions f64 x 3n, triangles
+/// u32 x 3m), e.g. a Blender mesh read with `foreach_get`.
+#[pyfunction]
+pub(crate) fn validate_buffers<'py>(
+    py: Python<'py>,
+    positions: &[u8],
+    triangles: &[u8],
+) -> PyResult<Bound<'py, PyDict>> {
+    if !positions.len().is_multiple_of(24) || !triangles.len().is_multiple_of(12) {
+        return Err(crate::error::ParseError::new_err(format!(
+            "positions must be 3 x f64 per vertex ({} bytes given) and triangles 3 x u32 per triangle ({} bytes given)",
+            positions.len(),
+            triangles.len()
+        )));
+    }
+    let f = |c: &[u8]| f64::from_le_bytes(c.try_into().unwrap_or([0; 8]));
+    let u = |c: &[u8]| u32::from_le_bytes(c.try_into().unwrap_or([0; 4]));
+    let mesh = TriMesh::new(
+        positions
+            .chunks_exact(24)
+            .map(|p| [f(&p[0..8]), f(&p[8..16]), f(&p[16..24])])
+            .collect(),
+        triangles
+            .chunks_exact(12)
+            .map(|t| [u(&t[0..4]), u(&t[4..8]), u(&t[8..12])])
+            .collect(),
+    );
+    let report = py.detach(|| validate(&mesh, &Default::default()));
+    report_dict(py, &report)
+}

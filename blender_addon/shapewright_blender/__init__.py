@@ -1,0 +1,36 @@
+"""Shapewright for Blender: the Shapewright modeling core inside Blender.
+
+Every edit is an op in the core's log. The log and its cursor live in the
+scene (so they are saved in the .blend and restored by Blender's own undo),
+and Blender's Ctrl-Z / Ctrl-Shift-Z move the log's cursor through the
+`undo_post` / `redo_post` handlers in `history.py`.
+"""
+
+from __future__ import annotations
+
+if "bpy" in locals():
+    import importlib
+
+    for _m in (props, history, sync, operators, panels):  # noqa: F821
+        importlib.reload(_m)
+else:
+    from . import history, operators, panels, props, sync
+
+import bpy  # noqa: E402
+
+_modules = (props, operators, panels)
+
+
+def register() -> None:
+    for m in _modules:
+        m.register()
+    history.register()
+
+
+def unregister() -> None:
+    history.unregister()
+    for m in reversed(_modules):
+        m.unregister()
+
+
+__all__ = ["register", "unregister", "sync", "bpy"]

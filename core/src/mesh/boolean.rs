@@ -1,0 +1,211 @@
+//! Booleans of closed meshes through `manifold-rust` (a pure-Rust port of
+//! the Manifold library, verified here to match C++ Manifold 3.5.4 byte
+//! for byte). Used for the printable union of a document's objects.
+//!
+//! Manifold passes a failed operand through silently (a boolean with a
+//! broken operand returns NoError and the other operand), so every import's
+//! `status()` is checked, and indices are validated before import because
+//! `MeshGL::merge` panics on out-of-range indices. Single-threaded (the
+//! crate's `parallel` feature is off), which keeps results deterministic.
+
+use manifold_rust::manifold::Manifold;
+use manifold_rust::types::{Error as ManifoldStatus, MeshGLP, OpType};
+
+use super::TriMesh;
+
+/// Why a boolean could not be computed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum BooleanError {
+    /// An operand has an index past its vertex count or a non-finite
+    /// coordinate; nothing was computed.
+    #[error("operand {index} is malformed: {reason}")]
+    Malformed {
+        /// 0-based operand index.
+        index: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// Manifold refused an operand (it is not a closed 2-manifold). Without
+    /// this check the union would silently leave the operand out.
+    #[error("operand {index} is not a closed 2-manifold (Manifold status {status}); repair or remesh it first")]
+    NotManifold {
+        /// 0-based operand index.
+        index: usize,
+        /// Manifold's status.
+        status: String,
+    },
+    /// The boolean itself failed.
+    #[error("the boolean failed with Manifold status {0}")]
+    Failed(String),
+}
+
+/// The union of closed meshes, as one closed mesh. Each output triangle's
+/// source is the `tri_source` of the operand triangle it came from (or the
+/// operand index when the operand has no sources).
+pub fn union(meshes: &[&TriMesh]) -> Result<TriMesh, BooleanError> {
+    let mut manifolds = Vec::with_capacity(meshes.len());
+    for (index, m) in meshes.iter().enumerate() {
+        if m.triangles.is_empty() {
+            continue;
+        }
+        let source = m.tri_source.first().copied().unwrap_or(index as u32);
+        manifolds.push(import(index, m, source)?);
+    }
+    if manifolds.is_empty() {
+        return Ok(TriMesh::default());
+    }
+    let result = if manifolds.len() == 1 {
+        manifolds.pop().unwrap_or_default()
+    } else {
+        Manifold::batch_boolean(&manifolds, OpType::Add)
+    };
+    if result.status() != ManifoldStatus::NoError {
+        return Err(BooleanError::Failed(format!("{:?}", result.status())));
+    }
+    Ok(export(&result))
+}
+
+/// Imports `m`, tagging its triangles with `source` as their original id
+/// (our ids, not Manifold's global counter, so output is deterministic).
+fn import(index: usize, m: &TriMesh, source: u32) -> Result<Manifold, BooleanError> {
+    let n = m.positions.len();
+    if let Some(t) = m
+        .triangles
+        .iter()
+        .find(|t| t.iter().any(|&i| i as usize >= n))
+    {
+        return Err(BooleanError::Malformed {
+            index,
+            reason: format!("triangle {t:?} refers past the {n} vertices"),
+        });
+    }
+    if m.positions.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(BooleanError::Malformed {
+            index,
+            reason: "a vertex coordinate is not finite".into(),
+        });
+    }
+    let gl = MeshGLP::<f64, u64> {
+        num_prop: 3,
+        vert_properties: m.positions.iter().flatten().copied().collect(),
+        tri_verts: m.triangles.iter().flatten().map(|&i| i as u64).collect(),
+        run_index: vec![0, 3 * m.triangles.len() as u64],
+        run_original_id: vec![source],
+        ..Default::default()
+    };
+    let mf = Manifold::from_mesh_gl64(&gl);
+    if mf.status() != ManifoldStatus::NoError {
+        return Err(BooleanError::NotManifold {
+            index,
+            status: format!("{:?}", mf.status()),
+        });
+    }
+    Ok(mf)
+}
+
+fn export(mf: &Manifold) -> TriMesh {
+    let gl = mf.get_mesh_gl64(-1);
+    let np = gl.num_prop as usize;
+    let positions = gl
+        .vert_properties
+        .chunks_exact(np)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
+    let triangles: Vec<[u32; 3]> = gl
+        .tri_verts
+        .chunks_exact(3)
+        .map(|t| [t[0] as u32, t[1] as u32, t[2] as u32])
+        .collect();
+    let mut tri_source = vec![0u32; triangles.len()];
+    for r in 0..gl.run_original_id.len() {
+        let (start, end) = (
+            gl.run_index[r] as usize / 3,
+            gl.run_index[r + 1] as usize / 3,
+        );
+        let src = gl.run_original_id[r];
+        for s in &mut tri_source[start.min(triangles.len())..end.min(triangles.len())] {
+            *s = src;
+        }
+    }
+    let mut out = TriMesh {
+        positions,
+        normals: Vec::new(),
+        triangles,
+        tri_source,
+    };
+    out.compute_normals();
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::validate;
+    use crate::solid::{tessellate, SolidShape};
+    use glam::{DAffine3, DVec3};
+
+    fn sphere_at(x: f64, r: f64, id: u32) -> TriMesh {
+        let mut m = tessellate(&SolidShape::Sphere { radius: r }, 96).unwrap();
+        m.transform(&DAffine3::from_translation(DVec3::new(x, 0.0, 0.0)));
+        m.set_source(id);
+        m
+    }
+
+    #[test]
+    fn union_of_two_spheres_matches_the_lens_formula() {
+        let (r, d) = (1.0, 1.0);
+        let a = sphere_at(0.0, r, 7);
+        let b = sphere_at(d, r, 9);
+        let u = union(&[&a, &b]).unwrap();
+        let rep = validate(&u, &Default::default());
+        assert!(rep.is_closed_manifold(), "{}", rep.problems());
+        assert_eq!(rep.genus, Some(0));
+        assert_eq!(rep.components, 1);
+        // Union = 2 spheres - lens; lens = pi (4r + d)(2r - d)^2 / 12.
+        let sphere = a.signed_volume();
+        let lens = std::f64::consts::PI * (4.0 * r + d) * (2.0 * r - d).powi(2) / 12.0;
+        let want = 2.0 * sphere - lens * (sphere / (4.0 / 3.0 * std::f64::consts::PI));
+        assert!(
+            (rep.signed_volume - want).abs() / want < 2e-3,
+            "{} vs {want}",
+            rep.signed_volume
+        );
+        assert!(u.tri_source.iter().all(|&s| s == 7 || s == 9));
+        assert!(u.tri_source.contains(&7) && u.tri_source.contains(&9));
+    }
+
+    #[test]
+    fn disjoint_union_keeps_both_and_is_deterministic() {
+        let a = sphere_at(0.0, 0.5, 1);
+        let b = sphere_at(3.0, 0.5, 2);
+        let u1 = union(&[&a, &b]).unwrap();
+        let u2 = union(&[&a, &b]).unwrap();
+        assert_eq!(u1, u2);
+        let rep = validate(&u1, &Default::default());
+        assert_eq!(rep.components, 2);
+        assert!((rep.signed_volume - a.signed_volume() - b.signed_volume()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_broken_operand_is_an_error_not_silently_dropped() {
+        let a = sphere_at(0.0, 0.5, 1);
+        let mut open = sphere_at(0.2, 0.5, 2);
+        open.triangles.pop();
+        assert!(matches!(
+            union(&[&a, &open]),
+            Err(BooleanError::NotManifold { index: 1, .. })
+        ));
+        let mut bad = sphere_at(0.2, 0.5, 2);
+        bad.triangles[0][1] = 1_000_000;
+        assert!(matches!(
+            union(&[&a, &bad]),
+            Err(BooleanError::Malformed { index: 1, .. })
+        ));
+        let mut nan = sphere_at(0.2, 0.5, 2);
+        nan.positions[3][0] = f64::NAN;
+        assert!(matches!(
+            union(&[&nan]),
+            Err(BooleanError::Malformed { index: 0, .. })
+        ));
+    }
+}

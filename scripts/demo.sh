@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs everything and runs the demo: builds the bundled example scene
+# from its op script, writes a printable STL, checks it and renders a PNG.
+#   bash scripts/demo.sh [SCRIPT.jsonl]
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+source "$root/scripts/setup.sh"
+cd "$root"
+
+script="${1:-tests/data/primitives.jsonl}"
+name="$(basename "$script" .jsonl)"
+mkdir -p out
+cargo build --release -q -p shapewright-xr
+bin=target/release/shapewright-xr
+"$bin" apply "$script" --out "out/$name.stl"
+"$bin" info "out/$name.stl"
+.venv/bin/python scripts/render.py "out/$name.stl" "out/$name.png" > out/render.log 2>&1 \
+  || { cat out/render.log >&2; exit 1; }
+echo
+echo "demo: wrote out/$name.stl (printable mesh) and out/$name.png (Workbench render)"

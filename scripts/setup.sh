@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs what Shapewright needs on a fresh machine (Debian 12, Rust and
+# Python 3.11 present): system packages, a Python venv in .venv with the
+# packages in requirements.txt, and the release build of the host.
+# Idempotent: a second run only checks. Sourced by demo.sh and test.sh.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+
+need_cmd() { command -v "$1" >/dev/null 2>&1 || { echo "setup: '$1' is missing; $2" >&2; exit 1; }; }
+need_cmd cargo "install Rust (rustup) first"
+need_cmd python3 "install Python 3.11 first"
+
+# System packages (only those not present yet).
+apt_pkgs=()
+for p in ${SHAPEWRIGHT_APT_PACKAGES:-}; do
+  dpkg -s "$p" >/dev/null 2>&1 || apt_pkgs+=("$p")
+done
+if [ "${#apt_pkgs[@]}" -gt 0 ]; then
+  sudo_cmd=""; [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${apt_pkgs[@]}"
+fi
+
+# Python venv.
+if [ ! -x .venv/bin/python ]; then
+  python3 -m venv .venv
+fi
+stamp=".venv/.requirements.sha"
+want="$(sha256sum requirements.txt | cut -d' ' -f1)"
+if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ]; then
+  .venv/bin/pip install -q --upgrade pip
+  .venv/bin/pip install -q -r requirements.txt
+  echo "$want" > "$stamp"
+fi

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Runs every test: formatting and lints, the Rust workspace tests (unit,
+# integration, property tests), and the Python tests (pytest with Blender
+# as a module). Installs what it needs first.
+#   bash scripts/test.sh
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+source "$root/scripts/setup.sh"
+cd "$root"
+
+echo "== cargo fmt"
+cargo fmt --all -- --check
+echo "== cargo clippy"
+cargo clippy --workspace --all-targets -q -- -D warnings
+echo "== cargo test"
+cargo test --workspace -q
+echo "== ruff"
+.venv/bin/ruff check scripts tests
+echo "== pytest"
+cargo build --release -q -p shapewright-xr
+.venv/bin/python -m pytest -q tests/python tests/blender

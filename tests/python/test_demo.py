@@ -1,0 +1,53 @@
+"""The demo path end to end: script -> host -> STL -> Blender render."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+from pngcheck import foreground_fraction, read_png
+
+
+def run(cmd: list, cwd: Path) -> subprocess.CompletedProcess:
+    return subprocess.run([str(c) for c in cmd], cwd=cwd, capture_output=True, text=True)
+
+
+def test_apply_info_render(root: Path, host_bin: Path, tmp_path: Path) -> None:
+    stl = tmp_path / "primitives.stl"
+    r = run([host_bin, "apply", root / "tests/data/primitives.jsonl", "--out", stl], root)
+    assert r.returncode == 0, r.stderr
+    r = run([host_bin, "info", stl], root)
+    assert r.returncode == 0, r.stderr
+    assert "printable:            yes" in r.stdout
+    assert "components:           8" in r.stdout
+
+    png = tmp_path / "primitives.png"
+    r = run([sys.executable, root / "scripts/render.py", stl, png, "--size", "320x240"], root)
+    assert r.returncode == 0, r.stdout + r.stderr
+    img = read_png(png)
+    assert img.shape[:2] == (240, 320)
+    frac = foreground_fraction(img)
+    assert 0.05 < frac < 0.9, f"the model covers {frac:.1%} of the image"
+
+
+def test_bad_script_names_the_line(root: Path, host_bin: Path, tmp_path: Path) -> None:
+    script = tmp_path / "bad.jsonl"
+    script.write_text(
+        '{"op":"add_solid","shape":{"kind":"sphere","radius":1}}\n'
+        '{"op":"add_solid","shape":{"kind":"sphere","radius":-1}}\n'
+    )
+    r = run([host_bin, "apply", script, "--out", tmp_path / "x.stl"], root)
+    assert r.returncode != 0
+    assert "script line 2" in r.stderr and "radius" in r.stderr
+    assert not (tmp_path / "x.stl").exists()
+
+
+def test_info_rejects_truncated_stl(root: Path, host_bin: Path, tmp_path: Path) -> None:
+    stl = tmp_path / "p.stl"
+    assert run([host_bin, "apply", root / "tests/data/primitives.jsonl", "--out", stl], root).returncode == 0
+    data = stl.read_bytes()
+    stl.write_bytes(data[: len(data) - 10])
+    r = run([host_bin, "info", stl], root)
+    assert r.returncode != 0
+    assert "truncated" in r.stderr
