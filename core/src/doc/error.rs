@@ -40,6 +40,9 @@ pub enum OpError {
     /// A generalized cylinder could not be built, edited or meshed.
     #[error(transparent)]
     Gc(#[from] GcError),
+    /// An assembly op failed, or the union of an assembly's parts.
+    #[error(transparent)]
+    Assembly(#[from] crate::assembly::AssemblyError),
 }
 
 /// Why the log could not do what was asked. The log and its document are

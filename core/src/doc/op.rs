@@ -37,6 +37,10 @@ pub const OP_NAMES: &[&str] = &[
     "gc_insert_section",
     "gc_set_shape",
     "gc_set_resolution",
+    "gc_add_child",
+    "gc_copy",
+    "gc_transform_part",
+    "gc_edit_part",
 ];
 
 /// One change to a document.
@@ -77,6 +81,14 @@ pub enum Op {
     GcSetShape(crate::gc::ops::GcSetShape),
     /// Set a GC's mesh resolution.
     GcSetResolution(crate::gc::ops::GcSetResolution),
+    /// Add a child GC starting on a part's surface.
+    GcAddChild(crate::assembly::ops::GcAddChild),
+    /// Copy a part with its descendants (optionally mirrored).
+    GcCopy(crate::assembly::ops::GcCopy),
+    /// Move a part rigidly; twins mirror it, children follow.
+    GcTransformPart(crate::assembly::ops::GcTransformPart),
+    /// Edit a part with structure-aware propagation.
+    GcEditPart(crate::assembly::ops::GcEditPart),
 }
 
 /// What applying an op produced.
@@ -175,6 +187,10 @@ impl Op {
             Self::GcInsertSection(_) => "gc_insert_section",
             Self::GcSetShape(_) => "gc_set_shape",
             Self::GcSetResolution(_) => "gc_set_resolution",
+            Self::GcAddChild(_) => "gc_add_child",
+            Self::GcCopy(_) => "gc_copy",
+            Self::GcTransformPart(_) => "gc_transform_part",
+            Self::GcEditPart(_) => "gc_edit_part",
         }
     }
 
@@ -230,6 +246,10 @@ impl Op {
             Self::GcInsertSection(op) => op.apply(doc),
             Self::GcSetShape(op) => op.apply(doc),
             Self::GcSetResolution(op) => op.apply(doc),
+            Self::GcAddChild(op) => op.apply(doc),
+            Self::GcCopy(op) => op.apply(doc),
+            Self::GcTransformPart(op) => op.apply(doc),
+            Self::GcEditPart(op) => op.apply(doc),
         }
     }
 }
