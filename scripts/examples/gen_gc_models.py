@@ -97,7 +97,27 @@ def arc_handle(p0, p1, bulge, side, k=9):
     return out
 
 
+def dense(sections, k=12):
+    """The GC surface is skinned through the key sections only, so a bent
+    part needs sections all along it: `k + 1` sections, sizes interpolated
+    linearly between the given ones (scale factor over the first)."""
+    out = []
+    for i in range(k + 1):
+        v = i / k
+        j = max(a for a in range(len(sections)) if sections[a]["v"] <= v + 1e-12)
+        j = min(j, len(sections) - 2)
+        a, b = sections[j], sections[j + 1]
+        w = (v - a["v"]) / (b["v"] - a["v"])
+        prof = dict(a["profile"])
+        for key in prof:
+            if key != "template":
+                prof[key] = a["profile"][key] * (1 - w) + b["profile"][key] * w
+        out.append({"profile": prof, "v": v})
+    return out
+
+
 def handle_child(vs, rs, h, v0, v1, bulge, sections, inset=0.005):
+    sections = dense(sections)
     at0, n0, t0 = side_frame(vs, rs, h, v0, -1)
     at1, _, _ = side_frame(vs, rs, h, v1, -1)
     pts = arc_handle((at0[0] + inset, at0[1]), (at1[0] + inset, at1[1]), bulge, -1)
@@ -124,7 +144,7 @@ def teapot():
                   container(0.004))
     spout = child(0, [0.1, 0, 0.45 * h],
                   [[-0.006, 0.0], [0.035, 0.012], [0.07, 0.045], [0.095, 0.095], [0.118, 0.125]],
-                  [circ(0.024, 0.0), circ(0.016, 0.35), circ(0.011, 0.8), circ(0.0105, 1.0)],
+                  dense([circ(0.024, 0.0), circ(0.016, 0.35), circ(0.011, 0.8), circ(0.0105, 1.0)]),
                   shape={"type": "shell", "thickness": 0.0025})
     handle = handle_child(vs, rs, h, 0.75, 0.2, 0.06,
                           [{"profile": {"template": "ellipse", "rx": 0.011, "ry": 0.007}, "v": 0.0},

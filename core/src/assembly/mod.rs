@@ -34,6 +34,8 @@
 //! spine plane, mirrored sections) each time an edit propagates, so it
 //! needs no bookkeeping and survives undo/redo.
 
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 mod anchor;
 mod error;
 mod propagate;

@@ -73,8 +73,8 @@ pub fn reattach_descendants(
             .get(c)
             .ok_or(GcError::BadPart { index: c, count })?
             .gc;
-        if !old_surf.contains_key(&p) {
-            old_surf.insert(p, old_parent.surface()?);
+        if let std::collections::btree_map::Entry::Vacant(e) = old_surf.entry(p) {
+            e.insert(old_parent.surface()?);
         }
         // The parent may itself have just been re-placed: always rebuild.
         new_surf.insert(p, new.parts[p].gc.surface()?);
