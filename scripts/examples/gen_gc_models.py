@@ -160,7 +160,8 @@ def vase():
     star = [[(0.05 if i % 2 == 0 else 0.044) * c, (0.05 if i % 2 == 0 else 0.044) * s]
             for i, (c, s) in enumerate(
                 [(__import__("math").cos(k * 3.14159265358979 / 6), __import__("math").sin(k * 3.14159265358979 / 6)) for k in range(12)])]
-    prof = {"template": "points", "points": star}
+    prof = {"template": "ellipse", "rx": 0.05, "ry": 0.036}
+    del star
     return [
         create([[0, 0, 0], [0, 0, 0.25]], [0, 1, 0],
                [{"profile": prof, "v": 0.0, "scale": 1.0}, {"profile": prof, "v": 0.3, "scale": 1.5},
