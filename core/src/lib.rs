@@ -10,6 +10,7 @@
 //! layers on top.
 #![forbid(unsafe_code)]
 
+pub mod assembly;
 pub mod doc;
 pub mod gc;
 pub mod interact;

@@ -49,6 +49,9 @@ pub enum OpError {
     /// A styling op failed (curves, networks, surface tools).
     #[error(transparent)]
     Styling(#[from] crate::styling::StylingError),
+    /// An assembly op failed, or the union of an assembly's parts.
+    #[error(transparent)]
+    Assembly(#[from] crate::assembly::AssemblyError),
 }
 
 /// Why the log could not do what was asked. The log and its document are

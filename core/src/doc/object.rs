@@ -26,7 +26,8 @@ pub struct Object {
 pub enum ObjectKind {
     /// A parametric solid (box, sphere, ...).
     Solid(Solid),
-    /// An assembly of generalized cylinders.
+    /// An assembly of generalized cylinders; evaluates to the manifold
+    /// union of its parts.
     GcAssembly(crate::gc::GcAssembly),
     /// A surface sculpted with warp brushes.
     SculptMesh(crate::sculpt::SculptMesh),
@@ -52,7 +53,7 @@ impl ObjectKind {
     pub fn evaluate(&self) -> Result<TriMesh, OpError> {
         match self {
             Self::Solid(s) => s.evaluate(),
-            Self::GcAssembly(a) => Ok(a.evaluate()?),
+            Self::GcAssembly(a) => Ok(crate::assembly::union_mesh(a)?),
             Self::SculptMesh(s) => s.evaluate(),
             Self::SdfVolume(v) => Ok(v.evaluate()?),
             Self::CurveNetwork(n) => Ok(n.mesh()),

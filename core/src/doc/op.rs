@@ -60,6 +60,10 @@ pub const OP_NAMES: &[&str] = &[
     "surface_smooth",
     "surface_sharpen",
     "surface_pull",
+    "gc_add_child",
+    "gc_copy",
+    "gc_transform_part",
+    "gc_edit_part",
 ];
 
 /// One change to a document.
@@ -144,6 +148,14 @@ pub enum Op {
     SurfaceSharpen(styling::ops::SurfaceEquilibrium),
     /// Surface puller on a patch.
     SurfacePull(styling::ops::SurfacePull),
+    /// Add a child GC starting on a part's surface.
+    GcAddChild(crate::assembly::ops::GcAddChild),
+    /// Copy a part with its descendants (optionally mirrored).
+    GcCopy(crate::assembly::ops::GcCopy),
+    /// Move a part rigidly; twins mirror it, children follow.
+    GcTransformPart(crate::assembly::ops::GcTransformPart),
+    /// Edit a part with structure-aware propagation.
+    GcEditPart(crate::assembly::ops::GcEditPart),
 }
 
 /// What applying an op produced.
@@ -264,6 +276,10 @@ impl Op {
             Self::SurfaceSmooth(_) => "surface_smooth",
             Self::SurfaceSharpen(_) => "surface_sharpen",
             Self::SurfacePull(_) => "surface_pull",
+            Self::GcAddChild(_) => "gc_add_child",
+            Self::GcCopy(_) => "gc_copy",
+            Self::GcTransformPart(_) => "gc_transform_part",
+            Self::GcEditPart(_) => "gc_edit_part",
         }
     }
 
@@ -343,6 +359,10 @@ impl Op {
             Self::SurfacePull(op) => styling::ops::apply_surface_pull(doc, op),
             Self::SurfaceSmooth(op) => styling::ops::apply_equilibrium(doc, op, false),
             Self::SurfaceSharpen(op) => styling::ops::apply_equilibrium(doc, op, true),
+            Self::GcAddChild(op) => op.apply(doc),
+            Self::GcCopy(op) => op.apply(doc),
+            Self::GcTransformPart(op) => op.apply(doc),
+            Self::GcEditPart(op) => op.apply(doc),
         }
     }
 }

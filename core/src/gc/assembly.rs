@@ -17,6 +17,10 @@ pub struct GcPart {
     /// Index of the parent part (smaller than this part's index), or
     /// `None` for a root.
     pub parent: Option<usize>,
+    /// Where a child sits on its parent's surface (see
+    /// [`crate::assembly`]); `None` for roots.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attach: Option<crate::assembly::Attachment>,
 }
 
 /// An assembly of generalized cylinders.
@@ -30,7 +34,11 @@ impl GcAssembly {
     /// A one-part assembly.
     pub fn single(gc: Gc) -> Self {
         Self {
-            parts: vec![GcPart { gc, parent: None }],
+            parts: vec![GcPart {
+                gc,
+                parent: None,
+                attach: None,
+            }],
         }
     }
 

@@ -1,0 +1,56 @@
+//! Assemblies of generalized cylinders (paper: "Interactive modeling of
+//! man-made shapes by assembling generalized cylinders", §3.3; SPEC.md §1).
+//!
+//! The assembly graph lives in [`crate::gc::GcAssembly`]: nodes are GC
+//! parts, an edge goes from a child to its parent, and each child stores
+//! its [`Attachment`]: the surface parameters `(u, v)` on the parent's
+//! side surface where its spine starts (and, for a handle, where it ends).
+//! This module adds on top of it:
+//!
+//! - creating a child on its parent's surface at a picked point, sketched
+//!   in the plane spanned by the parent's surface normal `n` and spine
+//!   tangent `t` (spine plane normal `n x t`), its end free (a spout) or
+//!   landing on the parent (a handle) ([`ops::GcAddChild`]);
+//! - copying a part with its descendants, rigidly or mirrored about the
+//!   parent's spine plane ([`ops::GcCopy`]);
+//! - rigid transforms of a part whose descendants stay attached
+//!   ([`ops::GcTransformPart`]);
+//! - automatic detection of connectivity, coplanarity, concentricity and
+//!   symmetry ([`detect_relations`]);
+//! - structure-aware propagation ([`ops::GcEditPart`]): an edit reaches
+//!   the part's symmetry group (mirrored), then descendants breadth-first
+//!   are re-placed on their parents' new surfaces, so attachments and
+//!   symmetries keep holding;
+//! - the evaluated mesh of an assembly: the manifold union of its parts
+//!   ([`union_mesh`], through `manifold-rust`), one closed 2-manifold.
+//!
+//! Choices: attachments are stored as surface parameters rather than
+//! re-detected, because a re-placement must know where a child sat on the
+//! *old* surface; a child follows its parent rigidly through the frame
+//! `(n, t, n x t)` at its anchor (re-evaluated on the new surface), and a
+//! handle's spine is then rotated and scaled about its start so its end
+//! lands on its own anchor's new position. Symmetry is detected from the
+//! geometry (same parent, spine control points mirrored about the parent's
+//! spine plane, mirrored sections) each time an edit propagates, so it
+//! needs no bookkeeping and survives undo/redo.
+
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod anchor;
+mod error;
+mod propagate;
+mod relations;
+mod rigid;
+mod union;
+
+pub mod ops;
+
+pub use anchor::{anchor_frame, project_to_surface, Anchor, Attachment, Projection};
+pub use error::AssemblyError;
+pub use propagate::{descendants_bfs, reattach_descendants};
+pub use relations::{children_of, detect_relations, symmetry_twins, Relations};
+pub use rigid::{mirror_gc, mirror_plane, reflect, transform_gc};
+pub use union::union_mesh;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,481 @@
+//! The assembly ops (`gc_add_child`, `gc_copy`, `gc_transform_part`,
+//! `gc_edit_part`): payloads with every parameter explicit, and how each
+//! applies. Every op works on a copy of the assembly and stores it only
+//! when the whole change (propagation and union included) succeeded.
+
+use glam::{DAffine3, DQuat, DVec3};
+use serde::{Deserialize, Serialize};
+
+use super::{
+    anchor_frame, descendants_bfs, mirror_gc, mirror_plane, project_to_surface,
+    reattach_descendants, reflect, symmetry_twins, transform_gc, Anchor, AssemblyError, Attachment,
+};
+use crate::doc::{Document, ObjectId, ObjectKind, OpError, OpOutcome};
+use crate::gc::ops::{GcCreate, SectionSpec};
+use crate::gc::{Gc, GcAssembly, GcError, GcPart, Resolution, ShapeType};
+
+fn default_tolerance() -> f64 {
+    1e-4
+}
+
+fn default_shape() -> ShapeType {
+    ShapeType::Solid
+}
+
+fn identity_rotation() -> [f64; 4] {
+    [0.0, 0.0, 0.0, 1.0]
+}
+
+fn assembly_of(doc: &Document, id: ObjectId, op: &'static str) -> Result<GcAssembly, OpError> {
+    match &doc.get(id)?.kind {
+        ObjectKind::GcAssembly(a) => Ok(a.clone()),
+        #[allow(unreachable_patterns)]
+        other => Err(OpError::WrongKind {
+            id,
+            op,
+            expected: "gc_assembly",
+            found: other.name(),
+        }),
+    }
+}
+
+fn check_part(asm: &GcAssembly, part: usize) -> Result<(), AssemblyError> {
+    if part < asm.parts.len() {
+        Ok(())
+    } else {
+        Err(GcError::BadPart {
+            index: part,
+            count: asm.parts.len(),
+        }
+        .into())
+    }
+}
+
+fn positive(what: &'static str, x: f64) -> Result<(), AssemblyError> {
+    if x.is_nan() || x.is_infinite() {
+        Err(AssemblyError::NonFinite(what))
+    } else if x > 0.0 {
+        Ok(())
+    } else {
+        Err(AssemblyError::BadSize { what, value: x })
+    }
+}
+
+fn rigid(translate: DVec3, rotate: [f64; 4]) -> Result<DAffine3, AssemblyError> {
+    if !translate.is_finite() {
+        return Err(AssemblyError::NonFinite("translate"));
+    }
+    if rotate.iter().any(|x| !x.is_finite()) {
+        return Err(AssemblyError::NonFinite("rotate"));
+    }
+    let q = DQuat::from_array(rotate);
+    let len = q.length();
+    if !(len > 1e-12) {
+        return Err(AssemblyError::ZeroRotation);
+    }
+    Ok(DAffine3::from_rotation_translation(q / len, translate))
+}
+
+/// Where a child's spine ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ChildEnd {
+    /// The end is free (a spout, a leg).
+    Free,
+    /// The end lands on the parent too (a handle).
+    Parent,
+}
+
+/// Create a child GC starting on part `parent`'s side surface at the
+/// picked point `at`. Its spine is sketched in the plane through `at`
+/// spanned by the surface normal `n` and the parent's spine tangent `t`
+/// (made perpendicular to `n`): spine point `[a, b]` is `at + a n + b t`,
+/// and the spine plane normal is `n x t`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GcAddChild {
+    /// The GC assembly object.
+    pub id: ObjectId,
+    /// The parent part.
+    pub parent: usize,
+    /// The picked point, on the parent's side surface.
+    pub at: DVec3,
+    /// How far `at` may be from the surface.
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    /// Spine points in the sketch plane's `(n, t)` coordinates about
+    /// `at` (at least 2; the first may lie inside the parent).
+    pub spine: Vec<[f64; 2]>,
+    /// Whether the spine's end is free or lands on the parent.
+    pub end: ChildEnd,
+    /// For `end = parent`: how far the last spine point may be from the
+    /// parent's surface (its projection there becomes the end anchor).
+    #[serde(default = "default_tolerance")]
+    pub end_tolerance: f64,
+    /// Key sections, `v` in `[0, 1]` along the spine.
+    pub sections: Vec<SectionSpec>,
+    /// Shape type.
+    #[serde(default = "default_shape")]
+    pub shape: ShapeType,
+    /// Mesh resolution.
+    #[serde(default)]
+    pub resolution: Resolution,
+}
+
+impl GcAddChild {
+    /// The child part this op adds to `asm`.
+    pub fn build(&self, asm: &GcAssembly) -> Result<GcPart, AssemblyError> {
+        check_part(asm, self.parent)?;
+        if !self.at.is_finite() {
+            return Err(AssemblyError::NonFinite("picked point"));
+        }
+        positive("tolerance", self.tolerance)?;
+        positive("end tolerance", self.end_tolerance)?;
+        if self.spine.len() < 2 {
+            return Err(AssemblyError::TooFewSpinePoints(self.spine.len()));
+        }
+        if self.spine.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(AssemblyError::NonFinite("spine"));
+        }
+        let parent = &asm.parts[self.parent].gc;
+        let surf = parent.surface()?;
+        let proj = project_to_surface(&surf, self.at);
+        if !(proj.distance <= self.tolerance) {
+            return Err(AssemblyError::OffSurface {
+                distance: proj.distance,
+                tolerance: self.tolerance,
+            });
+        }
+        let frame = anchor_frame(parent, &surf, proj.anchor)?;
+        let points: Vec<DVec3> = self
+            .spine
+            .iter()
+            .map(|p| frame.transform_point3(DVec3::new(p[0], p[1], 0.0)))
+            .collect();
+        let gc = GcCreate {
+            spine: points.clone(),
+            plane_normal: frame.matrix3.z_axis,
+            sections: self.sections.clone(),
+            shape: self.shape,
+            resolution: self.resolution,
+        }
+        .build()?;
+        let end = match self.end {
+            ChildEnd::Free => None,
+            ChildEnd::Parent => {
+                let last = gc.spine.curve.point(gc.spine.curve.domain().1);
+                let pe = project_to_surface(&surf, last);
+                if !(pe.distance <= self.end_tolerance) {
+                    return Err(AssemblyError::EndOffSurface {
+                        distance: pe.distance,
+                        tolerance: self.end_tolerance,
+                    });
+                }
+                Some(pe.anchor)
+            }
+        };
+        Ok(GcPart {
+            gc,
+            parent: Some(self.parent),
+            attach: Some(Attachment {
+                start: proj.anchor,
+                end,
+            }),
+        })
+    }
+
+    /// Applies the op.
+    pub fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
+        let mut asm = assembly_of(doc, self.id, "gc_add_child")?;
+        let part = self.build(&asm)?;
+        asm.parts.push(part);
+        doc.replace(self.id, ObjectKind::GcAssembly(asm))?;
+        Ok(OpOutcome::default())
+    }
+}
+
+/// Copy part `part` with its descendants (an instance): mirrored about
+/// its parent's spine plane when `mirror` (a root about its own), then
+/// rotated by `rotate` and moved by `translate`. The copy keeps the
+/// parent; its anchor is re-found by projecting the moved anchor point on
+/// the parent's surface, which must be within `tolerance`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GcCopy {
+    /// The GC assembly object.
+    pub id: ObjectId,
+    /// The part to copy.
+    pub part: usize,
+    /// Mirror about the parent's spine plane first.
+    #[serde(default)]
+    pub mirror: bool,
+    /// Translation applied after the mirror and rotation.
+    #[serde(default)]
+    pub translate: DVec3,
+    /// Rotation quaternion `[x, y, z, w]` (normalized here).
+    #[serde(default = "identity_rotation")]
+    pub rotate: [f64; 4],
+    /// How far a moved anchor may be from its parent's surface.
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+}
+
+fn reanchor(
+    old_parent: &Gc,
+    new_parent: &Gc,
+    anchor: Anchor,
+    map: &dyn Fn(DVec3) -> DVec3,
+    tolerance: f64,
+) -> Result<Anchor, AssemblyError> {
+    let p = map(old_parent.surface()?.point(anchor.u, anchor.v));
+    let proj = project_to_surface(&new_parent.surface()?, p);
+    if !(proj.distance <= tolerance) {
+        return Err(AssemblyError::OffSurface {
+            distance: proj.distance,
+            tolerance,
+        });
+    }
+    Ok(proj.anchor)
+}
+
+fn reanchor_attachment(
+    att: Attachment,
+    old_parent: &Gc,
+    new_parent: &Gc,
+    map: &dyn Fn(DVec3) -> DVec3,
+    tolerance: f64,
+) -> Result<Attachment, AssemblyError> {
+    Ok(Attachment {
+        start: reanchor(old_parent, new_parent, att.start, map, tolerance)?,
+        end: match att.end {
+            Some(e) => Some(reanchor(old_parent, new_parent, e, map, tolerance)?),
+            None => None,
+        },
+    })
+}
+
+impl GcCopy {
+    /// Applies the op to `asm`.
+    pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
+        check_part(asm, self.part)?;
+        positive("tolerance", self.tolerance)?;
+        let r = rigid(self.translate, self.rotate)?;
+        let parent = asm.parts[self.part].parent;
+        let (o, n) = mirror_plane(&asm.parts[parent.unwrap_or(self.part)].gc);
+        let mirror = self.mirror;
+        let map = move |p: DVec3| {
+            let q = if mirror { reflect(p, o, n) } else { p };
+            r.transform_point3(q)
+        };
+        let mut subtree = vec![self.part];
+        subtree.extend(descendants_bfs(asm, &[self.part]));
+        let base = asm.parts.len();
+        let new_index = |i: usize| subtree.iter().position(|&s| s == i).map(|k| base + k);
+        for &i in &subtree {
+            let src = asm.parts[i].clone();
+            let g = if mirror {
+                mirror_gc(&src.gc, o, n)
+            } else {
+                src.gc.clone()
+            };
+            let gc = transform_gc(&g, &r);
+            gc.validate()?;
+            let new_parent = src.parent.map(|p| new_index(p).unwrap_or(p));
+            let attach = match (src.parent, new_parent, src.attach) {
+                (Some(p), Some(np), Some(att)) => {
+                    let (old_pg, new_pg) = (&asm.parts[p].gc, &asm.parts[np].gc);
+                    Some(reanchor_attachment(
+                        att,
+                        old_pg,
+                        new_pg,
+                        &map,
+                        self.tolerance,
+                    )?)
+                }
+                _ => None,
+            };
+            asm.parts.push(GcPart {
+                gc,
+                parent: new_parent,
+                attach,
+            });
+        }
+        Ok(())
+    }
+
+    /// Applies the op.
+    pub fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
+        let mut asm = assembly_of(doc, self.id, "gc_copy")?;
+        self.apply_to(&mut asm)?;
+        doc.replace(self.id, ObjectKind::GcAssembly(asm))?;
+        Ok(OpOutcome::default())
+    }
+}
+
+/// Move part `part` rigidly (rotation `rotate`, then `translate`); its
+/// symmetry twins get the mirrored motion and every descendant follows.
+/// A part with a parent must stay on it: its moved anchor point is
+/// projected on the parent's surface and must be within `tolerance`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GcTransformPart {
+    /// The GC assembly object.
+    pub id: ObjectId,
+    /// The part to move.
+    pub part: usize,
+    /// Translation.
+    #[serde(default)]
+    pub translate: DVec3,
+    /// Rotation quaternion `[x, y, z, w]` (normalized here).
+    #[serde(default = "identity_rotation")]
+    pub rotate: [f64; 4],
+    /// How far a moved anchor may be from its parent's surface.
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+}
+
+impl GcTransformPart {
+    /// Applies the op to `asm`.
+    pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
+        check_part(asm, self.part)?;
+        positive("tolerance", self.tolerance)?;
+        let r = rigid(self.translate, self.rotate)?;
+        let old = asm.clone();
+        let twins = symmetry_twins(&old, self.part);
+        let mut moved = vec![(self.part, r)];
+        if let Some(p) = old.parts[self.part].parent {
+            let (o, n) = mirror_plane(&old.parts[p].gc);
+            let m = DAffine3::from_translation(o)
+                * DAffine3::from_mat3(glam::DMat3::IDENTITY - 2.0 * outer(n))
+                * DAffine3::from_translation(-o);
+            let mr = m * r * m;
+            moved.extend(twins.iter().map(|&t| (t, mr)));
+        }
+        for &(i, m) in &moved {
+            let src = &old.parts[i];
+            asm.parts[i].gc = transform_gc(&src.gc, &m);
+            if let (Some(p), Some(att)) = (src.parent, src.attach) {
+                let pg = &old.parts[p].gc;
+                let map = |q: DVec3| m.transform_point3(q);
+                asm.parts[i].attach = Some(reanchor_attachment(att, pg, pg, &map, self.tolerance)?);
+            }
+        }
+        let roots: Vec<usize> = moved.iter().map(|(i, _)| *i).collect();
+        reattach_descendants(&old, asm, &roots)
+    }
+
+    /// Applies the op.
+    pub fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
+        let mut asm = assembly_of(doc, self.id, "gc_transform_part")?;
+        self.apply_to(&mut asm)?;
+        doc.replace(self.id, ObjectKind::GcAssembly(asm))?;
+        Ok(OpOutcome::default())
+    }
+}
+
+fn outer(n: DVec3) -> glam::DMat3 {
+    glam::DMat3::from_cols(n * n.x, n * n.y, n * n.z)
+}
+
+/// A §3.2 edit of one part, as [`GcEditPart`] propagates it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "edit", rename_all = "snake_case", deny_unknown_fields)]
+pub enum PartEdit {
+    /// Move key point `section` to `to` (in the spine plane).
+    Bend {
+        /// Section index.
+        section: usize,
+        /// New key point.
+        to: DVec3,
+    },
+    /// Scale section `section` by `factor`.
+    Resize {
+        /// Section index.
+        section: usize,
+        /// Factor (> 0).
+        factor: f64,
+    },
+    /// Move section `section` to spine parameter `v`.
+    Shift {
+        /// Section index.
+        section: usize,
+        /// New parameter.
+        v: f64,
+    },
+    /// Twist interior section `section` by `angle` radians.
+    Twist {
+        /// Section index.
+        section: usize,
+        /// Angle.
+        angle: f64,
+    },
+}
+
+impl PartEdit {
+    fn apply(&self, gc: &mut Gc) -> Result<(), GcError> {
+        match *self {
+            Self::Bend { section, to } => gc.bend(section, to),
+            Self::Resize { section, factor } => gc.resize(section, factor),
+            Self::Shift { section, v } => gc.shift(section, v),
+            Self::Twist { section, angle } => gc.twist(section, angle),
+        }
+    }
+
+    /// The same edit seen in a mirror about the plane `(o, n)`.
+    fn mirrored(&self, o: DVec3, n: DVec3) -> Self {
+        match *self {
+            Self::Bend { section, to } => Self::Bend {
+                section,
+                to: reflect(to, o, n),
+            },
+            Self::Twist { section, angle } => Self::Twist {
+                section,
+                angle: -angle,
+            },
+            ref other => other.clone(),
+        }
+    }
+}
+
+/// Structure-aware edit: `edit` is applied to part `part`, mirrored to
+/// its symmetry twins (same parent, mirrored about the parent's spine
+/// plane), and then every descendant of the edited parts is re-placed on
+/// its parent's new surface, breadth-first.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GcEditPart {
+    /// The GC assembly object.
+    pub id: ObjectId,
+    /// The part edited.
+    pub part: usize,
+    /// The edit.
+    pub edit: PartEdit,
+}
+
+impl GcEditPart {
+    /// Applies the op to `asm`.
+    pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
+        check_part(asm, self.part)?;
+        let old = asm.clone();
+        let twins = symmetry_twins(&old, self.part);
+        self.edit.apply(&mut asm.parts[self.part].gc)?;
+        if let Some(p) = old.parts[self.part].parent {
+            let (o, n) = mirror_plane(&old.parts[p].gc);
+            let m = self.edit.mirrored(o, n);
+            for &t in &twins {
+                m.apply(&mut asm.parts[t].gc)?;
+            }
+        }
+        let mut roots = vec![self.part];
+        roots.extend(twins);
+        reattach_descendants(&old, asm, &roots)
+    }
+
+    /// Applies the op.
+    pub fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
+        let mut asm = assembly_of(doc, self.id, "gc_edit_part")?;
+        self.apply_to(&mut asm)?;
+        doc.replace(self.id, ObjectKind::GcAssembly(asm))?;
+        Ok(OpOutcome::default())
+    }
+}

@@ -1,0 +1,284 @@
+//! GC assemblies (§3.3) through the op log: every example script's
+//! printable union is a closed 2-manifold with the expected genus;
+//! symmetric twins move identically; children stay attached when their
+//! parent is edited; a child off its parent's surface is a typed error
+//! that leaves the document unchanged; replay is bit-identical.
+
+use glam::DVec3;
+use shapewright::assembly::ops::{ChildEnd, GcAddChild, GcEditPart, GcTransformPart, PartEdit};
+use shapewright::assembly::{
+    anchor_frame, detect_relations, mirror_plane, reflect, symmetry_twins, AssemblyError,
+};
+use shapewright::doc::{
+    parse_script, run_script, LogError, ObjectId, ObjectKind, Op, OpError, OpLog,
+};
+use shapewright::gc::ops::SectionSpec;
+use shapewright::gc::{GcAssembly, Profile, Resolution, ShapeType};
+use shapewright::mesh::validate;
+use shapewright::nurbs::euclidean;
+
+fn run(name: &str) -> OpLog {
+    let path = format!("{}/../tests/data/{name}.jsonl", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).expect("example script");
+    let lines = parse_script(&text).expect("parses");
+    let mut log = OpLog::new();
+    run_script(&mut log, &lines).expect("runs");
+    log
+}
+
+fn assembly(log: &OpLog) -> GcAssembly {
+    match &log.document().get(ObjectId(1)).expect("object 1").kind {
+        ObjectKind::GcAssembly(a) => a.clone(),
+        #[allow(unreachable_patterns)]
+        _ => panic!("not an assembly"),
+    }
+}
+
+#[test]
+fn examples_are_closed_manifolds_with_expected_genus() {
+    // (name, genus, parts of the assembly, components: the teapot's lid
+    // is a separate object resting in the opening)
+    for (name, genus, parts, components) in [
+        ("mug", 1, 2, 1),
+        ("teapot", 1, 3, 2),
+        ("vase", 0, 1, 1),
+        ("funnel", 1, 1, 1),
+        ("hammer", 0, 2, 1),
+        ("table", 0, 5, 1),
+        ("chair", 2, 9, 1),
+        ("rack", 1, 8, 1),
+    ] {
+        let log = run(name);
+        assert_eq!(assembly(&log).parts.len(), parts, "{name}: parts");
+        let mesh = log.document().printable_mesh().expect("union");
+        let r = validate(&mesh, &Default::default());
+        assert!(r.is_closed(), "{name}: {}", r.problems());
+        assert_eq!(r.non_manifold_vertices, 0, "{name}");
+        assert!(r.signed_volume > 0.0, "{name}");
+        assert_eq!(r.components, components, "{name}: components");
+        assert_eq!(r.genus, Some(genus), "{name}: genus");
+    }
+}
+
+#[test]
+fn teapot_relations_are_detected() {
+    let asm = assembly(&run("teapot"));
+    let rel = detect_relations(&asm);
+    assert!(rel.connected.contains(&(1, 0)), "{rel:?}");
+    assert!(rel.connected.contains(&(2, 0)), "{rel:?}");
+    // spout and handle are sketched in the same plane through the axis
+    assert!(rel.coplanar.contains(&(1, 2)), "{rel:?}");
+    let table = assembly(&run("table"));
+    let rel = detect_relations(&table);
+    // four legs: front/back twins about the top's spine plane
+    assert!(rel.symmetric.contains(&(1, 2)), "{rel:?}");
+    assert!(rel.symmetric.contains(&(3, 4)), "{rel:?}");
+    // legs at the same x are not concentric, the legs are straight and parallel
+    assert!(rel.concentric.is_empty(), "{rel:?}");
+}
+
+fn controls(asm: &GcAssembly, i: usize) -> Vec<DVec3> {
+    asm.parts[i]
+        .gc
+        .spine
+        .curve
+        .control
+        .iter()
+        .map(|h| euclidean(*h))
+        .collect()
+}
+
+fn assert_mirror_twins(asm: &GcAssembly, a: usize, b: usize) {
+    let (o, n) = mirror_plane(&asm.parts[0].gc);
+    let (ca, cb) = (controls(asm, a), controls(asm, b));
+    assert_eq!(ca.len(), cb.len());
+    for (p, q) in ca.iter().zip(&cb) {
+        let d = reflect(*p, o, n).distance(*q);
+        assert!(d <= 1e-12, "twin control point off by {d}");
+    }
+}
+
+#[test]
+fn editing_a_chair_leg_moves_its_twin_identically() {
+    let mut log = run("chair");
+    let asm = assembly(&log);
+    assert_eq!(symmetry_twins(&asm, 1), vec![2]);
+    let foot = asm.parts[1].gc.key_points()[1];
+    log.apply(Op::GcEditPart(GcEditPart {
+        id: ObjectId(1),
+        part: 1,
+        edit: PartEdit::Bend {
+            section: 1,
+            to: foot + DVec3::new(0.04, 0.0, 0.0),
+        },
+    }))
+    .expect("bend");
+    let after = assembly(&log);
+    assert!((after.parts[1].gc.key_points()[1] - foot).length() > 0.039);
+    assert_mirror_twins(&after, 1, 2);
+    // the other legs did not move
+    assert_eq!(after.parts[3], asm.parts[3]);
+    log.apply(Op::GcEditPart(GcEditPart {
+        id: ObjectId(1),
+        part: 2,
+        edit: PartEdit::Resize {
+            section: 0,
+            factor: 1.2,
+        },
+    }))
+    .expect("resize");
+    let after = assembly(&log);
+    assert_eq!(after.parts[1].gc.sections[0].scale, 1.2);
+    assert_mirror_twins(&after, 1, 2);
+    // sliding a leg along the seat moves its twin the mirrored way
+    log.apply(Op::GcTransformPart(GcTransformPart {
+        id: ObjectId(1),
+        part: 1,
+        translate: DVec3::new(-0.02, -0.01, 0.0),
+        rotate: [0.0, 0.0, 0.0, 1.0],
+        tolerance: 1e-6,
+    }))
+    .expect("transform");
+    let after = assembly(&log);
+    assert_mirror_twins(&after, 1, 2);
+    let r = validate(
+        &log.document().printable_mesh().expect("union"),
+        &Default::default(),
+    );
+    assert!(r.is_closed());
+    // replay from the ops is bit-identical
+    let replayed = OpLog::replay(log.ops().to_vec(), log.cursor()).expect("replay");
+    assert_eq!(
+        replayed.document().content_hash(),
+        log.document().content_hash()
+    );
+}
+
+/// The child's spine start (and a handle's end) in its anchor's frame.
+fn local_ends(asm: &GcAssembly, c: usize) -> (DVec3, Option<DVec3>) {
+    let p = asm.parts[c].parent.expect("child");
+    let att = asm.parts[c].attach.expect("anchored");
+    let parent = &asm.parts[p].gc;
+    let surf = parent.surface().expect("surface");
+    let spine = &asm.parts[c].gc.spine.curve;
+    let (a, b) = spine.domain();
+    let f0 = anchor_frame(parent, &surf, att.start).expect("frame");
+    let start = f0.inverse().transform_point3(spine.point(a));
+    let end = att.end.map(|e| {
+        anchor_frame(parent, &surf, e)
+            .expect("frame")
+            .inverse()
+            .transform_point3(spine.point(b))
+    });
+    (start, end)
+}
+
+#[test]
+fn editing_the_body_keeps_children_attached() {
+    let mut log = run("teapot");
+    let before = assembly(&log);
+    let ends: Vec<_> = (1..3).map(|c| local_ends(&before, c)).collect();
+    for edit in [
+        PartEdit::Resize {
+            section: 2,
+            factor: 1.15,
+        },
+        PartEdit::Bend {
+            section: 4,
+            to: DVec3::new(0.03, 0.0, 0.17),
+        },
+    ] {
+        log.apply(Op::GcEditPart(GcEditPart {
+            id: ObjectId(1),
+            part: 0,
+            edit,
+        }))
+        .expect("edit");
+    }
+    let after = assembly(&log);
+    assert_ne!(after.parts[1].gc, before.parts[1].gc, "the spout moved");
+    for c in 1..3 {
+        let (s0, e0) = ends[c - 1];
+        let (s1, e1) = local_ends(&after, c);
+        assert!(
+            (s1 - s0).length() <= 1e-9,
+            "part {c} start drifted {}",
+            (s1 - s0).length()
+        );
+        if let (Some(e0), Some(e1)) = (e0, e1) {
+            assert!(
+                (e1 - e0).length() <= 1e-9,
+                "part {c} end drifted {}",
+                (e1 - e0).length()
+            );
+        }
+    }
+    let r = validate(
+        &log.document().printable_mesh().expect("union"),
+        &Default::default(),
+    );
+    assert!(r.is_closed(), "{}", r.problems());
+}
+
+fn child_at(at: DVec3) -> Op {
+    Op::GcAddChild(GcAddChild {
+        id: ObjectId(1),
+        parent: 0,
+        at,
+        tolerance: 1e-4,
+        spine: vec![[-0.005, 0.0], [0.05, 0.0]],
+        end: ChildEnd::Free,
+        end_tolerance: 1e-4,
+        sections: vec![
+            SectionSpec {
+                profile: Profile::Circle { radius: 0.01 },
+                v: 0.0,
+                scale: 1.0,
+                twist: 0.0,
+            },
+            SectionSpec {
+                profile: Profile::Circle { radius: 0.01 },
+                v: 1.0,
+                scale: 1.0,
+                twist: 0.0,
+            },
+        ],
+        shape: ShapeType::Solid,
+        resolution: Resolution::PREVIEW,
+    })
+}
+
+#[test]
+fn child_off_the_parent_surface_is_a_typed_error() {
+    let mut log = run("mug");
+    let hash = log.document().content_hash();
+    let err = log
+        .apply(child_at(DVec3::new(0.06, 0.0, 0.05)))
+        .expect_err("off surface");
+    match err {
+        LogError::Op(OpError::Assembly(AssemblyError::OffSurface { distance, .. })) => {
+            assert!((distance - 0.0185).abs() < 2e-3, "distance {distance}")
+        }
+        other => panic!("unexpected {other:?}"),
+    }
+    assert_eq!(log.document().content_hash(), hash);
+    let err = log.apply(child_at(DVec3::new(f64::NAN, 0.0, 0.05)));
+    assert!(matches!(
+        err,
+        Err(LogError::Op(OpError::Assembly(AssemblyError::NonFinite(_))))
+    ));
+    let err = log.apply(Op::GcEditPart(GcEditPart {
+        id: ObjectId(1),
+        part: 7,
+        edit: PartEdit::Resize {
+            section: 0,
+            factor: 1.0,
+        },
+    }));
+    assert!(err.is_err());
+    assert_eq!(log.document().content_hash(), hash);
+    // on the surface (the radius at v = 0.5 is within 1e-4 of 0.0415) it works
+    log.apply(child_at(DVec3::new(0.0, 0.0415, 0.05)))
+        .expect("child on the surface");
+    assert_eq!(assembly(&log).parts.len(), 3);
+}
