@@ -13,7 +13,9 @@ need_cmd python3 "install Python 3.11 first"
 
 # System packages (only those not present yet).
 apt_pkgs=()
-for p in ${SHAPEWRIGHT_APT_PACKAGES:-}; do
+# cmake and g++ build the OpenXR loader bundled by the openxr crate;
+# libvulkan1 and mesa-vulkan-drivers give Vulkan on the CPU (lavapipe).
+for p in ${SHAPEWRIGHT_APT_PACKAGES:-cmake g++ libvulkan1 mesa-vulkan-drivers}; do
   dpkg -s "$p" >/dev/null 2>&1 || apt_pkgs+=("$p")
 done
 if [ "${#apt_pkgs[@]}" -gt 0 ]; then

@@ -18,4 +18,5 @@ echo "== ruff"
 .venv/bin/ruff check scripts tests
 echo "== pytest"
 cargo build --release -q -p shapewright-xr
-.venv/bin/python -m pytest -q tests/python tests/blender
+cargo build -q -p shapewright-usd --example usd_tool
+USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q tests/python tests/usd tests/blender

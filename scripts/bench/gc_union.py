@@ -25,20 +25,30 @@ ROOT = Path(__file__).resolve().parents[2]
 def read_stl(path: Path):
     data = path.read_bytes()
     n = int.from_bytes(data[80:84], "little")
-    rec = np.frombuffer(data[84 : 84 + 50 * n], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
+    rec = np.frombuffer(
+        data[84 : 84 + 50 * n], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    )
     verts, inv = np.unique(rec["v"].reshape(-1, 3), axis=0, return_inverse=True)
     return verts.astype(np.float32), inv.reshape(-1, 3).astype(np.uint32)
 
 
 def main() -> None:
     runs = int(sys.argv[1]) if len(sys.argv) > 1 else 5
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "shapewright", "--example", "gc_union_parts"], cwd=ROOT, check=True)
+    subprocess.run(
+        ["cargo", "build", "--release", "-q", "-p", "shapewright", "--example", "gc_union_parts"],
+        cwd=ROOT,
+        check=True,
+    )
     target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
     exe = target / "release" / "examples" / "gc_union_parts"
     for name in ("teapot", "chair"):
         with tempfile.TemporaryDirectory() as d:
-            out = subprocess.run([str(exe), str(ROOT / "tests" / "data" / f"{name}.jsonl"), d, str(runs)],
-                                 check=True, capture_output=True, text=True).stdout
+            out = subprocess.run(
+                [str(exe), str(ROOT / "tests" / "data" / f"{name}.jsonl"), d, str(runs)],
+                check=True,
+                capture_output=True,
+                text=True,
+            ).stdout
             ours = json.loads(out)
             parts = []
             for p in sorted(Path(d).glob("part*.stl")):
@@ -53,10 +63,12 @@ def main() -> None:
                 u.num_tri()  # force evaluation
                 times.append(time.perf_counter() - t0)
             theirs = statistics.median(times)
-            print(f"{name}: {ours['parts']} parts, {ours['input_triangles']} input triangles -> "
-                  f"ours {ours['output_triangles']} tris {ours['median_s'] * 1e3:.1f} ms (closed {ours['closed']}, genus {ours['genus']}), "
-                  f"manifold3d {u.num_tri()} tris {theirs * 1e3:.1f} ms (genus {u.genus()}), "
-                  f"ratio ours/manifold3d = {ours['median_s'] / theirs:.2f}")
+            print(
+                f"{name}: {ours['parts']} parts, {ours['input_triangles']} input triangles -> "
+                f"ours {ours['output_triangles']} tris {ours['median_s'] * 1e3:.1f} ms (closed {ours['closed']}, genus {ours['genus']}), "
+                f"manifold3d {u.num_tri()} tris {theirs * 1e3:.1f} ms (genus {u.genus()}), "
+                f"ratio ours/manifold3d = {ours['median_s'] / theirs:.2f}"
+            )
 
 
 if __name__ == "__main__":

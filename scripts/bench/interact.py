@@ -22,7 +22,9 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 def read_stl(path):
     data = pathlib.Path(path).read_bytes()
     (n,) = struct.unpack_from("<I", data, 80)
-    rec = np.frombuffer(data, dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]), count=n, offset=84)
+    rec = np.frombuffer(
+        data, dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]), count=n, offset=84
+    )
     return rec["v"].astype(np.float64)
 
 
@@ -47,7 +49,11 @@ def pick_numpy(tris, origins, d):
 
 def main():
     target = os.environ.get("CARGO_TARGET_DIR", str(ROOT / "target"))
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "shapewright", "--example", "interact_pick"], cwd=ROOT, check=True)
+    subprocess.run(
+        ["cargo", "build", "--release", "-q", "-p", "shapewright", "--example", "interact_pick"],
+        cwd=ROOT,
+        check=True,
+    )
     exe = pathlib.Path(target) / "release" / "examples" / "interact_pick"
     with tempfile.TemporaryDirectory() as tmp:
         stl, hits = f"{tmp}/scene.stl", f"{tmp}/hits.txt"
@@ -56,13 +62,19 @@ def main():
         rust_t = np.loadtxt(hits)
         tris = read_stl(stl)
         g = np.arange(32 * 32)
-        origins = np.stack([-0.2 + 1.3 * (g % 32) / 31.0, -0.2 + 1.3 * (g // 32) / 31.0, np.full(g.shape, 2.0)], axis=1)
+        origins = np.stack(
+            [-0.2 + 1.3 * (g % 32) / 31.0, -0.2 + 1.3 * (g // 32) / 31.0, np.full(g.shape, 2.0)], axis=1
+        )
         d = np.array([0.0, 0.0, -1.0])
         start = time.perf_counter()
         np_t = pick_numpy(tris, origins, d)
         np_ns = (time.perf_counter() - start) * 1e9 / len(origins)
-    agree = np.all((rust_t < 0) == (np_t < 0)) and np.allclose(rust_t[rust_t >= 0], np_t[np_t >= 0], atol=1e-5)
-    print(f"scene: {len(tris)} triangles, {len(origins)} rays, {int((rust_t >= 0).sum())} hits, hits agree: {agree}")
+    agree = np.all((rust_t < 0) == (np_t < 0)) and np.allclose(
+        rust_t[rust_t >= 0], np_t[np_t >= 0], atol=1e-5
+    )
+    print(
+        f"scene: {len(tris)} triangles, {len(origins)} rays, {int((rust_t >= 0).sum())} hits, hits agree: {agree}"
+    )
     print(f"shapewright pick: {rust_ns / 1e3:.1f} us/ray")
     print(f"numpy vectorized: {np_ns / 1e3:.1f} us/ray")
     print(f"ratio numpy/shapewright: {np_ns / rust_ns:.1f}x")

@@ -11,6 +11,7 @@ classify-the-cells floor.
 
 Needs: numpy, scikit-image (pip). Usage: python scripts/bench/sdf.py [--reps N]
 """
+
 import argparse
 import glob
 import json
@@ -61,14 +62,23 @@ def main():
         cmd = [args.bin]
     else:
         cmd = ["cargo", "run", "-q", "--release", "-p", "shapewright", "--example", "sdf_bench", "--"]
-    out = subprocess.run(cmd + ["--dump", d, "--reps", str(max(args.reps, 5))],
-                         cwd=ROOT, check=True, capture_output=True, text=True).stdout
+    out = subprocess.run(
+        cmd + ["--dump", d, "--reps", str(max(args.reps, 5))],
+        cwd=ROOT,
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
     rows = [json.loads(l) for l in out.splitlines() if l.startswith("{")]
 
-    print("Table 1 workloads: one update (all fusions + one extraction), ms; "
-          f"ours on {rows[0]['threads']} threads")
-    hdr = (f"{'workload':12} {'step':>6} | {'paper fuse/extr/total':>22} | {'ours fuse/extr/total':>22} "
-           f"| {'numpy+skimage f/e/total':>24} | {'fsn':>7} | {'x paper':>7} {'x skimage':>9} {'x fsn':>6}")
+    print(
+        "Table 1 workloads: one update (all fusions + one extraction), ms; "
+        f"ours on {rows[0]['threads']} threads"
+    )
+    hdr = (
+        f"{'workload':12} {'step':>6} | {'paper fuse/extr/total':>22} | {'ours fuse/extr/total':>22} "
+        f"| {'numpy+skimage f/e/total':>24} | {'fsn':>7} | {'x paper':>7} {'x skimage':>9} {'x fsn':>6}"
+    )
     print(hdr)
     print("-" * len(hdr))
     for r in (r for r in rows if r["kind"] == "table1"):
@@ -93,25 +103,31 @@ def main():
         te, mc = best(lambda: marching_cubes(fused, 0.0), args.reps)
         pf, pe, pt = PAPER[r["workload"]][r["step"]]
         ours_total = r["update_ms"]
-        print(f"{r['workload']:12} {r['step']:>6} | {pf:>6} {pe:>7} {pt:>7} | "
-              f"{r['fusion_ms']:>6.2f} {r['extraction_ms']:>7.2f} {ours_total:>7.2f} | "
-              f"{tf:>7.2f} {te:>7.2f} {tf + te:>8.2f} | {r['fsn_ms']:>7.2f} | "
-              f"{pt / ours_total:>7.1f} {(tf + te) / ours_total:>9.1f} {r['fsn_ms'] / ours_total:>6.2f}")
+        print(
+            f"{r['workload']:12} {r['step']:>6} | {pf:>6} {pe:>7} {pt:>7} | "
+            f"{r['fusion_ms']:>6.2f} {r['extraction_ms']:>7.2f} {ours_total:>7.2f} | "
+            f"{tf:>7.2f} {te:>7.2f} {tf + te:>8.2f} | {r['fsn_ms']:>7.2f} | "
+            f"{pt / ours_total:>7.1f} {(tf + te) / ours_total:>9.1f} {r['fsn_ms'] / ours_total:>6.2f}"
+        )
     print("(x columns: peer time / our total update time; >1 means we are faster.)")
     print("fast-surface-nets is extraction only, on our fused grid made dense.\n")
 
     print("Full-grid extraction, sphere minus torus")
-    hdr = (f"{'N':>5} | {'ours ms':>8} {'1 thr':>8} {'Mtri/s':>7} | {'classify':>8} {'ours/floor':>10} | "
-           f"{'skimage':>8} {'Mtri/s':>7} | {'fsn':>7} {'Mtri/s':>7}")
+    hdr = (
+        f"{'N':>5} | {'ours ms':>8} {'1 thr':>8} {'Mtri/s':>7} | {'classify':>8} {'ours/floor':>10} | "
+        f"{'skimage':>8} {'Mtri/s':>7} | {'fsn':>7} {'Mtri/s':>7}"
+    )
     print(hdr)
     print("-" * len(hdr))
     for r in (r for r in rows if r["kind"] == "full"):
         a, _ = load(d, r["tag"])
         ts, (v, f, _, _) = best(lambda: marching_cubes(a, 0.0), max(3, args.reps // 2))
-        print(f"{r['n']:>5} | {r['ours_ms']:>8.2f} {r['ours_1thread_ms']:>8.2f} "
-              f"{r['triangles'] / r['ours_ms'] / 1e3:>7.1f} | {r['classify_ms']:>8.2f} "
-              f"{r['ours_ms'] / r['classify_ms']:>10.2f} | {ts:>8.2f} {len(f) / ts / 1e3:>7.1f} | "
-              f"{r['fsn_ms']:>7.2f} {r['fsn_triangles'] / r['fsn_ms'] / 1e3:>7.1f}")
+        print(
+            f"{r['n']:>5} | {r['ours_ms']:>8.2f} {r['ours_1thread_ms']:>8.2f} "
+            f"{r['triangles'] / r['ours_ms'] / 1e3:>7.1f} | {r['classify_ms']:>8.2f} "
+            f"{r['ours_ms'] / r['classify_ms']:>10.2f} | {ts:>8.2f} {len(f) / ts / 1e3:>7.1f} | "
+            f"{r['fsn_ms']:>7.2f} {r['fsn_triangles'] / r['fsn_ms'] / 1e3:>7.1f}"
+        )
     print("classify = single-thread sign classification of every cell of the dense grid.")
 
 

@@ -14,6 +14,7 @@ prints the ratios (> 1: Shapewright is faster).
 
 Needs: numpy, scipy (pip). Usage: python scripts/bench/styling.py
 """
+
 import json
 import os
 import statistics
@@ -44,7 +45,9 @@ def main():
     cmd = ["cargo", "run", "--release", "-q", "-p", "shapewright", "--example", "styling_systems", "--", out]
     res = subprocess.run(cmd, cwd=ROOT, env=env, check=True, capture_output=True, text=True)
     rows = [json.loads(l) for l in res.stdout.splitlines() if l.startswith("{")]
-    print(f"{'system':<14}{'unknowns':>9}{'rhs':>4} | {'factor ms (ours / SuperLU / ratio)':>36} | {'per-frame solve ms (ours / SuperLU / ratio)':>44} | max |x diff|")
+    print(
+        f"{'system':<14}{'unknowns':>9}{'rhs':>4} | {'factor ms (ours / SuperLU / ratio)':>36} | {'per-frame solve ms (ours / SuperLU / ratio)':>44} | max |x diff|"
+    )
     for r in rows:
         name = r["name"]
         a = scipy.io.mmread(os.path.join(out, f"{name}.mtx")).tocsc()
@@ -58,11 +61,14 @@ def main():
         diff = float(np.max(np.abs(x - x_ours)))
         f_ours, s_ours = r["factor_ms"], r["solve_ms"]
         print(
-            f"{name:<14}{r['n']:>9}{r['rhs']:>4} | {f_ours:>10.3f} / {t_factor*1e3:>9.3f} / {t_factor*1e3/f_ours:>6.2f}x"
-            f"     | {s_ours:>10.3f} / {t_solve*1e3:>9.3f} / {t_solve*1e3/s_ours:>6.2f}x           | {diff:.1e}"
+            f"{name:<14}{r['n']:>9}{r['rhs']:>4} | {f_ours:>10.3f} / {t_factor * 1e3:>9.3f} / {t_factor * 1e3 / f_ours:>6.2f}x"
+            f"     | {s_ours:>10.3f} / {t_solve * 1e3:>9.3f} / {t_solve * 1e3 / s_ours:>6.2f}x           | {diff:.1e}"
         )
-    print(f"(symbolic analysis, done once per tool activation: "
-          + ", ".join(f"{r['name']} {r['symbolic_ms']:.2f} ms" for r in rows) + ")")
+    print(
+        "(symbolic analysis, done once per tool activation: "
+        + ", ".join(f"{r['name']} {r['symbolic_ms']:.2f} ms" for r in rows)
+        + ")"
+    )
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@ Picked points lie on key sections (where the skinned surface passes
 exactly through the section circle/rectangle), so they are on the
 parent's surface by construction. Run: python3 scripts/examples/gen_gc_models.py
 """
+
 import json
 from pathlib import Path
 
@@ -30,8 +31,16 @@ def create(spine, normal, sections, shape=None):
 
 
 def child(parent, at, spine, sections, end="free", shape=None, end_tol=1e-4):
-    op = {"op": "gc_add_child", "id": 1, "parent": parent, "at": at, "spine": spine,
-          "end": end, "end_tolerance": end_tol, "sections": sections}
+    op = {
+        "op": "gc_add_child",
+        "id": 1,
+        "parent": parent,
+        "at": at,
+        "spine": spine,
+        "end": end,
+        "end_tolerance": end_tol,
+        "sections": sections,
+    }
     if shape:
         op["shape"] = shape
     return op
@@ -46,12 +55,19 @@ def natural_spline(vs, rs):
     n = len(vs) - 1
     h = [vs[i + 1] - vs[i] for i in range(n)]
     # second derivatives m, m0 = mn = 0
-    a = [0.0] * (n + 1); b = [1.0] * (n + 1); c = [0.0] * (n + 1); d = [0.0] * (n + 1)
+    a = [0.0] * (n + 1)
+    b = [1.0] * (n + 1)
+    c = [0.0] * (n + 1)
+    d = [0.0] * (n + 1)
     for i in range(1, n):
-        a[i] = h[i - 1]; b[i] = 2 * (h[i - 1] + h[i]); c[i] = h[i]
+        a[i] = h[i - 1]
+        b[i] = 2 * (h[i - 1] + h[i])
+        c[i] = h[i]
         d[i] = 6 * ((rs[i + 1] - rs[i]) / h[i] - (rs[i] - rs[i - 1]) / h[i - 1])
     for i in range(1, n + 1):
-        w = a[i] / b[i - 1]; b[i] -= w * c[i - 1]; d[i] -= w * d[i - 1]
+        w = a[i] / b[i - 1]
+        b[i] -= w * c[i - 1]
+        d[i] -= w * d[i - 1]
     m = [0.0] * (n + 1)
     m[n] = d[n] / b[n]
     for i in range(n - 1, -1, -1):
@@ -60,9 +76,18 @@ def natural_spline(vs, rs):
     def ev(v):
         i = max(0, min(n - 1, next((k for k in range(n) if v <= vs[k + 1]), n - 1)))
         t0, t1 = vs[i + 1] - v, v - vs[i]
-        r = (m[i] * t0 ** 3 + m[i + 1] * t1 ** 3) / (6 * h[i]) + (rs[i] / h[i] - m[i] * h[i] / 6) * t0 + (rs[i + 1] / h[i] - m[i + 1] * h[i] / 6) * t1
-        dr = (-m[i] * t0 ** 2 + m[i + 1] * t1 ** 2) / (2 * h[i]) - (rs[i] / h[i] - m[i] * h[i] / 6) + (rs[i + 1] / h[i] - m[i + 1] * h[i] / 6)
+        r = (
+            (m[i] * t0**3 + m[i + 1] * t1**3) / (6 * h[i])
+            + (rs[i] / h[i] - m[i] * h[i] / 6) * t0
+            + (rs[i + 1] / h[i] - m[i + 1] * h[i] / 6) * t1
+        )
+        dr = (
+            (-m[i] * t0**2 + m[i + 1] * t1**2) / (2 * h[i])
+            - (rs[i] / h[i] - m[i] * h[i] / 6)
+            + (rs[i + 1] / h[i] - m[i + 1] * h[i] / 6)
+        )
         return r, dr
+
     return ev
 
 
@@ -74,6 +99,7 @@ def side_frame(vs, rs, height, v, side):
     dz = height
     # surface tangent along v in (x, z): (side * dr, dz); outward normal
     import math
+
     L = math.hypot(dr, dz)
     n = (side * dz / L, -dr / L)
     t = (side * dr / L, dz / L)
@@ -81,13 +107,16 @@ def side_frame(vs, rs, height, v, side):
 
 
 def to_nt(at, n, t, pts):
-    return [[(x - at[0]) * n[0] + (z - at[1]) * n[1], (x - at[0]) * t[0] + (z - at[1]) * t[1]] for x, z in pts]
+    return [
+        [(x - at[0]) * n[0] + (z - at[1]) * n[1], (x - at[0]) * t[0] + (z - at[1]) * t[1]] for x, z in pts
+    ]
 
 
 def arc_handle(p0, p1, bulge, side, k=9):
     """World (x, z) points of a smooth C-shaped handle from p0 to p1 bulging
     `bulge` outwards (side = +-1 in x)."""
     import math
+
     out = []
     for i in range(k):
         s = i / (k - 1)
@@ -121,52 +150,97 @@ def handle_child(vs, rs, h, v0, v1, bulge, sections, inset=0.005):
     at0, n0, t0 = side_frame(vs, rs, h, v0, -1)
     at1, _, _ = side_frame(vs, rs, h, v1, -1)
     pts = arc_handle((at0[0] + inset, at0[1]), (at1[0] + inset, at1[1]), bulge, -1)
-    return child(0, [at0[0], 0, at0[1]], to_nt(at0, n0, t0, pts), sections,
-                 end="parent", end_tol=inset + 0.002)
+    return child(
+        0, [at0[0], 0, at0[1]], to_nt(at0, n0, t0, pts), sections, end="parent", end_tol=inset + 0.002
+    )
 
 
 def mug():
     h = 0.10
     vs, rs = [0.0, 0.2, 0.8, 1.0], [0.040, 0.041, 0.042, 0.043]
     return [
-        create([[0, 0, 0], [0, 0, h]], [0, 1, 0], [circ(r, v) for v, r in zip(vs, rs)],
-               container(0.004)),
-        handle_child(vs, rs, h, 0.8, 0.2, 0.035,
-                     [{"profile": {"template": "ellipse", "rx": 0.008, "ry": 0.005}, "v": 0.0},
-                      {"profile": {"template": "ellipse", "rx": 0.008, "ry": 0.005}, "v": 1.0}]),
+        create([[0, 0, 0], [0, 0, h]], [0, 1, 0], [circ(r, v) for v, r in zip(vs, rs)], container(0.004)),
+        handle_child(
+            vs,
+            rs,
+            h,
+            0.8,
+            0.2,
+            0.035,
+            [
+                {"profile": {"template": "ellipse", "rx": 0.008, "ry": 0.005}, "v": 0.0},
+                {"profile": {"template": "ellipse", "rx": 0.008, "ry": 0.005}, "v": 1.0},
+            ],
+        ),
     ]
 
 
 def teapot():
     h = 0.16
     vs, rs = [0.0, 0.15, 0.45, 0.75, 1.0], [0.065, 0.088, 0.100, 0.088, 0.056]
-    body = create([[0, 0, 0], [0, 0, h]], [0, 1, 0], [circ(r, v) for v, r in zip(vs, rs)],
-                  container(0.004))
-    spout = child(0, [0.1, 0, 0.45 * h],
-                  [[-0.006, 0.0], [0.035, 0.012], [0.07, 0.045], [0.095, 0.095], [0.118, 0.125]],
-                  dense([circ(0.024, 0.0), circ(0.016, 0.35), circ(0.011, 0.8), circ(0.0105, 1.0)]),
-                  shape={"type": "shell", "thickness": 0.0025})
-    handle = handle_child(vs, rs, h, 0.75, 0.2, 0.06,
-                          [{"profile": {"template": "ellipse", "rx": 0.011, "ry": 0.007}, "v": 0.0},
-                           {"profile": {"template": "ellipse", "rx": 0.009, "ry": 0.006}, "v": 0.5},
-                           {"profile": {"template": "ellipse", "rx": 0.011, "ry": 0.007}, "v": 1.0}])
-    lid = create([[0, 0, 0.154], [0, 0, 0.2]], [0, 1, 0],
-                 [circ(0.061, 0.0), circ(0.06, 0.15), circ(0.035, 0.55), circ(0.008, 0.72),
-                  circ(0.014, 0.86), circ(0.012, 1.0)])
+    body = create([[0, 0, 0], [0, 0, h]], [0, 1, 0], [circ(r, v) for v, r in zip(vs, rs)], container(0.004))
+    spout = child(
+        0,
+        [0.1, 0, 0.45 * h],
+        [[-0.006, 0.0], [0.035, 0.012], [0.07, 0.045], [0.095, 0.095], [0.118, 0.125]],
+        dense([circ(0.024, 0.0), circ(0.016, 0.35), circ(0.011, 0.8), circ(0.0105, 1.0)]),
+        shape={"type": "shell", "thickness": 0.0025},
+    )
+    handle = handle_child(
+        vs,
+        rs,
+        h,
+        0.75,
+        0.2,
+        0.06,
+        [
+            {"profile": {"template": "ellipse", "rx": 0.011, "ry": 0.007}, "v": 0.0},
+            {"profile": {"template": "ellipse", "rx": 0.009, "ry": 0.006}, "v": 0.5},
+            {"profile": {"template": "ellipse", "rx": 0.011, "ry": 0.007}, "v": 1.0},
+        ],
+    )
+    lid = create(
+        [[0, 0, 0.154], [0, 0, 0.2]],
+        [0, 1, 0],
+        [
+            circ(0.061, 0.0),
+            circ(0.06, 0.15),
+            circ(0.035, 0.55),
+            circ(0.008, 0.72),
+            circ(0.014, 0.86),
+            circ(0.012, 1.0),
+        ],
+    )
     return [body, spout, handle, lid]
 
 
 def vase():
-    star = [[(0.05 if i % 2 == 0 else 0.044) * c, (0.05 if i % 2 == 0 else 0.044) * s]
-            for i, (c, s) in enumerate(
-                [(__import__("math").cos(k * 3.14159265358979 / 6), __import__("math").sin(k * 3.14159265358979 / 6)) for k in range(12)])]
+    star = [
+        [(0.05 if i % 2 == 0 else 0.044) * c, (0.05 if i % 2 == 0 else 0.044) * s]
+        for i, (c, s) in enumerate(
+            [
+                (
+                    __import__("math").cos(k * 3.14159265358979 / 6),
+                    __import__("math").sin(k * 3.14159265358979 / 6),
+                )
+                for k in range(12)
+            ]
+        )
+    ]
     prof = {"template": "ellipse", "rx": 0.05, "ry": 0.036}
     del star
     return [
-        create([[0, 0, 0], [0, 0, 0.25]], [0, 1, 0],
-               [{"profile": prof, "v": 0.0, "scale": 1.0}, {"profile": prof, "v": 0.3, "scale": 1.5},
-                {"profile": prof, "v": 0.65, "scale": 0.8}, {"profile": prof, "v": 1.0, "scale": 1.2}],
-               container(0.003)),
+        create(
+            [[0, 0, 0], [0, 0, 0.25]],
+            [0, 1, 0],
+            [
+                {"profile": prof, "v": 0.0, "scale": 1.0},
+                {"profile": prof, "v": 0.3, "scale": 1.5},
+                {"profile": prof, "v": 0.65, "scale": 0.8},
+                {"profile": prof, "v": 1.0, "scale": 1.2},
+            ],
+            container(0.003),
+        ),
         {"op": "gc_bend", "id": 1, "part": 0, "section": 2, "to": [0.03, 0, 0.1625]},
         {"op": "gc_bend", "id": 1, "part": 0, "section": 3, "to": [0.02, 0, 0.25]},
         {"op": "gc_twist", "id": 1, "part": 0, "section": 2, "angle": 0.8},
@@ -174,25 +248,38 @@ def vase():
 
 
 def funnel():
-    return [create([[0, 0, 0], [0, 0, 0.2]], [0, 1, 0],
-                   [circ(0.012, 0.0), circ(0.012, 0.4), circ(0.02, 0.5), circ(0.09, 1.0)],
-                   {"type": "shell", "thickness": 0.003})]
+    return [
+        create(
+            [[0, 0, 0], [0, 0, 0.2]],
+            [0, 1, 0],
+            [circ(0.012, 0.0), circ(0.012, 0.4), circ(0.02, 0.5), circ(0.09, 1.0)],
+            {"type": "shell", "thickness": 0.003},
+        )
+    ]
 
 
 def hammer():
-    head = create([[-0.07, 0, 0.3], [0.07, 0, 0.3]], [0, 1, 0],
-                  [circ(0.02, 0.0), circ(0.018, 0.1), rect(0.03, 0.03, 0.5), circ(0.015, 0.9), circ(0.012, 1.0)])
+    head = create(
+        [[-0.07, 0, 0.3], [0.07, 0, 0.3]],
+        [0, 1, 0],
+        [circ(0.02, 0.0), circ(0.018, 0.1), rect(0.03, 0.03, 0.5), circ(0.015, 0.9), circ(0.012, 1.0)],
+    )
     # handle on the underside of the head's middle section (rectangle, local y = z)
-    grip = child(0, [0.0, 0.0, 0.3 - 0.015], [[-0.005, 0], [0.12, 0], [0.27, 0]],
-                 [{"profile": {"template": "ellipse", "rx": 0.011, "ry": 0.008}, "v": 0.0},
-                  {"profile": {"template": "ellipse", "rx": 0.009, "ry": 0.007}, "v": 0.4},
-                  {"profile": {"template": "ellipse", "rx": 0.013, "ry": 0.01}, "v": 1.0}])
+    grip = child(
+        0,
+        [0.0, 0.0, 0.3 - 0.015],
+        [[-0.005, 0], [0.12, 0], [0.27, 0]],
+        [
+            {"profile": {"template": "ellipse", "rx": 0.011, "ry": 0.008}, "v": 0.0},
+            {"profile": {"template": "ellipse", "rx": 0.009, "ry": 0.007}, "v": 0.4},
+            {"profile": {"template": "ellipse", "rx": 0.013, "ry": 0.01}, "v": 1.0},
+        ],
+    )
     return [head, grip]
 
 
 def slab(x0, x1, z, depth, thick):
-    return create([[x0, 0, z], [x1, 0, z]], [0, 1, 0],
-                  [rect(depth, thick, 0.0), rect(depth, thick, 1.0)])
+    return create([[x0, 0, z], [x1, 0, z]], [0, 1, 0], [rect(depth, thick, 0.0), rect(depth, thick, 1.0)])
 
 
 def leg_ops(z_under, x, y, length, r0, r1):
@@ -213,15 +300,30 @@ def chair():
     z = 0.45
     ops = [slab(-0.22, 0.22, z, 0.44, 0.03)] + leg_ops(z - 0.015, 0.19, 0.19, z - 0.015, 0.018, 0.014)
     # back posts from the seat's top surface at the back (x = -0.19), twins
-    ops.append(child(0, [-0.19, 0.19, z + 0.015], [[-0.004, 0], [0.45, 0]],
-                     [circ(0.015, 0.0), circ(0.015, 1.0)], end="free"))
+    ops.append(
+        child(
+            0,
+            [-0.19, 0.19, z + 0.015],
+            [[-0.004, 0], [0.45, 0]],
+            [circ(0.015, 0.0), circ(0.015, 1.0)],
+            end="free",
+        )
+    )
     ops.append({"op": "gc_copy", "id": 1, "part": 5, "mirror": True})
     # back rails: children of the first post (its side facing -y), reaching
     # into the second post
     for height in (0.22, 0.40):
-        ops.append(child(5, [-0.19, 0.19 - 0.015, z + 0.011 + height], [[-0.004, 0], [0.358, 0]],
-                         [{"profile": {"template": "ellipse", "rx": 0.03, "ry": 0.009}, "v": 0.0},
-                          {"profile": {"template": "ellipse", "rx": 0.03, "ry": 0.009}, "v": 1.0}]))
+        ops.append(
+            child(
+                5,
+                [-0.19, 0.19 - 0.015, z + 0.011 + height],
+                [[-0.004, 0], [0.358, 0]],
+                [
+                    {"profile": {"template": "ellipse", "rx": 0.03, "ry": 0.009}, "v": 0.0},
+                    {"profile": {"template": "ellipse", "rx": 0.03, "ry": 0.009}, "v": 1.0},
+                ],
+            )
+        )
     return ops
 
 
@@ -234,14 +336,30 @@ def rack():
     # feet: from the base's front face (y = 0.03) out along +y, mirrored to the back
     for x in (0.42, -0.42):
         ops.append(child(0, [x, 0.03, z], [[-0.004, 0], [0.22, 0]], [circ(0.014, 0.0), circ(0.01, 1.0)]))
-        ops.append({"op": "gc_copy", "id": 1, "part": len([o for o in ops if o["op"] in ("gc_add_child", "gc_copy")]), "mirror": True})
+        ops.append(
+            {
+                "op": "gc_copy",
+                "id": 1,
+                "part": len([o for o in ops if o["op"] in ("gc_add_child", "gc_copy")]),
+                "mirror": True,
+            }
+        )
     # top bar: child of the first pole near its top, reaching through the second
-    ops.append(child(1, [0.42 - 0.015, 0, 1.45], [[-0.004, 0], [0.825, 0]],
-                     [circ(0.012, 0.0), circ(0.012, 1.0)]))
+    ops.append(
+        child(1, [0.42 - 0.015, 0, 1.45], [[-0.004, 0], [0.825, 0]], [circ(0.012, 0.0), circ(0.012, 1.0)])
+    )
     return ops
 
 
 if __name__ == "__main__":
-    for name, f in [("mug", mug), ("teapot", teapot), ("vase", vase), ("funnel", funnel),
-                    ("hammer", hammer), ("table", table), ("chair", chair), ("rack", rack)]:
+    for name, f in [
+        ("mug", mug),
+        ("teapot", teapot),
+        ("vase", vase),
+        ("funnel", funnel),
+        ("hammer", hammer),
+        ("table", table),
+        ("chair", chair),
+        ("rack", rack),
+    ]:
         write(name, f())

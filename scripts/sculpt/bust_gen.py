@@ -35,8 +35,9 @@ def quat_axis_angle(axis, angle):
     return [axis[0] * s, axis[1] * s, axis[2] * s, math.cos(angle / 2)]
 
 
-def stroke(brush, warp, a, b, frames, h, rot_axis=(1, 0, 0), rot=0.0,
-           rot0=None, falloff="smooth", pressure=1.0):
+def stroke(
+    brush, warp, a, b, frames, h, rot_axis=(1, 0, 0), rot=0.0, rot0=None, falloff="smooth", pressure=1.0
+):
     size = bound_radius(brush)
     samples = []
     for i in range(frames):
@@ -86,8 +87,7 @@ def explode(d):
 
 
 def main():
-    ops = [{"op": "sculpt_create",
-            "base": {"kind": "sphere", "radius": 1.0, "edge_length": 0.06}}]
+    ops = [{"op": "sculpt_create", "base": {"kind": "sphere", "radius": 1.0, "edge_length": 0.06}}]
     add = ops.append
     # Cranium: pull the top up and back into an egg.
     add(stroke(sphere(0.7), DRAG, [0, 0.1, 0.6], [0, 0.25, 0.95], 16, 0.7))
@@ -97,12 +97,23 @@ def main():
     add(stroke(sphere(0.3), DRAG, [0, 0.15, -0.85], [0, 0.2, -1.75], 36, 0.3))
     # Shoulders: pull the neck base out to both sides, nearly level.
     for side in (-1, 1):
-        add(stroke({"kind": "capsule", "radius": 0.24, "half_length": 0.12},
-                   DRAG, [0.1 * side, 0.2, -1.72], [1.2 * side, 0.2, -1.95], 44, 0.32))
+        add(
+            stroke(
+                {"kind": "capsule", "radius": 0.24, "half_length": 0.12},
+                DRAG,
+                [0.1 * side, 0.2, -1.72],
+                [1.2 * side, 0.2, -1.95],
+                44,
+                0.32,
+            )
+        )
     # Torso: pull the whole underside down with a wide flat brush so the
     # shoulder lobes merge into one chest.
-    add(stroke({"kind": "ellipsoid", "radii": [0.95, 0.4, 0.2]}, DRAG,
-               [0, 0.2, -2.0], [0, 0.2, -2.55], 30, 0.35))
+    add(
+        stroke(
+            {"kind": "ellipsoid", "radii": [0.95, 0.4, 0.2]}, DRAG, [0, 0.2, -2.0], [0, 0.2, -2.55], 30, 0.35
+        )
+    )
     # Chest: pull the front of the neck base forward and down.
     add(stroke(sphere(0.3), DRAG, [0, 0.05, -1.75], [0, -0.25, -2.3], 30, 0.35))
     # Back: pull the back down too so the torso is deep.
@@ -114,17 +125,42 @@ def main():
     for side in (-1, 1):
         add(stroke(sphere(0.1), DRAG, [0.33 * side, -0.92, 0.2], [0.33 * side, -0.8, 0.2], 8, 0.14))
     # Brow: pull a ridge forward a little.
-    add(stroke({"kind": "capsule", "radius": 0.08, "half_length": 0.3}, DRAG,
-               [0, -0.98, 0.38], [0, -1.05, 0.38], 6, 0.12, rot0=quat_axis_angle((0, 1, 0), math.pi / 2)))
+    add(
+        stroke(
+            {"kind": "capsule", "radius": 0.08, "half_length": 0.3},
+            DRAG,
+            [0, -0.98, 0.38],
+            [0, -1.05, 0.38],
+            6,
+            0.12,
+            rot0=quat_axis_angle((0, 1, 0), math.pi / 2),
+        )
+    )
     # Nose: pull out forward and down.
     add(stroke(sphere(0.1), DRAG, [0, -0.97, 0.05], [0, -1.22, -0.05], 14, 0.16))
     # Lips: a small bump.
-    add(stroke({"kind": "ellipsoid", "radii": [0.16, 0.06, 0.05]}, DRAG,
-               [0, -0.9, -0.35], [0, -0.96, -0.35], 6, 0.08))
+    add(
+        stroke(
+            {"kind": "ellipsoid", "radii": [0.16, 0.06, 0.05]},
+            DRAG,
+            [0, -0.9, -0.35],
+            [0, -0.96, -0.35],
+            6,
+            0.08,
+        )
+    )
     # Ears: small flaps on both sides.
     for side in (-1, 1):
-        add(stroke({"kind": "ellipsoid", "radii": [0.06, 0.1, 0.18]}, DRAG,
-                   [0.97 * side, 0.1, 0.1], [1.12 * side, 0.15, 0.1], 8, 0.1))
+        add(
+            stroke(
+                {"kind": "ellipsoid", "radii": [0.06, 0.1, 0.18]},
+                DRAG,
+                [0.97 * side, 0.1, 0.1],
+                [1.12 * side, 0.15, 0.1],
+                8,
+                0.1,
+            )
+        )
     # Final smoothing of the face.
     add(stroke(sphere(0.5), WHITTLE, [0, -0.9, 0.0], [0, -0.9, 0.0], 2, 0.2, pressure=0.5))
     for op in ops:

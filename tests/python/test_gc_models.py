@@ -26,7 +26,9 @@ def read_stl(path: Path) -> tuple[np.ndarray, np.ndarray]:
     """Binary STL -> welded (vertices, triangles)."""
     data = path.read_bytes()
     n = int.from_bytes(data[80:84], "little")
-    rec = np.frombuffer(data[84 : 84 + 50 * n], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
+    rec = np.frombuffer(
+        data[84 : 84 + 50 * n], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    )
     corners = rec["v"].reshape(-1, 3)
     verts, inv = np.unique(corners, axis=0, return_inverse=True)
     return verts.astype(np.float32), inv.reshape(-1, 3).astype(np.uint32)
@@ -35,7 +37,9 @@ def read_stl(path: Path) -> tuple[np.ndarray, np.ndarray]:
 @pytest.mark.parametrize("name", sorted(MODELS))
 def test_manifold3d_accepts_example(name: str, root: Path, gc_bin: Path, tmp_path: Path) -> None:
     out = tmp_path / f"{name}.stl"
-    subprocess.run([str(gc_bin), "apply", str(root / "tests" / "data" / f"{name}.jsonl"), "--out", str(out)], check=True)
+    subprocess.run(
+        [str(gc_bin), "apply", str(root / "tests" / "data" / f"{name}.jsonl"), "--out", str(out)], check=True
+    )
     verts, tris = read_stl(out)
     m = manifold3d.Manifold(manifold3d.Mesh(vert_properties=verts, tri_verts=tris))
     assert m.status() == manifold3d.Error.NoError, m.status()

@@ -54,9 +54,7 @@ def expected() -> dict:
         # Non-planar quads (Suzanne) have a volume that depends on the
         # diagonal: split them as the importer does (0-2), and n-gons by
         # ear clipping (planar here, so any split gives the same volume).
-        bmesh.ops.triangulate(
-            bm, faces=bm.faces[:], quad_method="FIXED", ngon_method="EAR_CLIP"
-        )
+        bmesh.ops.triangulate(bm, faces=bm.faces[:], quad_method="FIXED", ngon_method="EAR_CLIP")
         out[obj.name] = {"triangles": tris, "volume": bm.calc_volume(signed=True)}
         bm.free()
     return out

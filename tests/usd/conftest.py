@@ -33,9 +33,7 @@ def tool() -> Path:
 
 
 def run_tool(tool: Path, *args: str) -> dict:
-    out = subprocess.run(
-        [str(tool), *args], capture_output=True, text=True, check=False
-    )
+    out = subprocess.run([str(tool), *args], capture_output=True, text=True, check=False)
     assert out.returncode == 0, out.stderr
     return json.loads(out.stdout)
 
@@ -43,7 +41,7 @@ def run_tool(tool: Path, *args: str) -> dict:
 def scripts() -> list[Path]:
     found = []
     for d in (ROOT / "usd" / "tests" / "data", ROOT / "tests" / "data"):
-        found.extend(sorted(d.glob("*.jsonl")))
+        found.extend(p for p in sorted(d.glob("*.jsonl")) if not p.name.endswith(".trace.jsonl"))
     return found
 
 

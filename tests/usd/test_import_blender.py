@@ -1,27 +1,25 @@
 """Meshes written by Blender's own USD exporter import correctly.
 
-Needs a Python with `bpy` 5.0.1 (set BLENDER_PYTHON; default
-/work/main/.venv/bin/python); skipped when there is none.
+Needs a Python with `bpy` 5.0.1 (set BLENDER_PYTHON; default: the
+Python running the tests, which is the project venv with bpy); skipped when there is none.
 """
 
 import json
 import os
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
-
 from conftest import run_tool
 
-BLENDER_PYTHON = Path(os.environ.get("BLENDER_PYTHON", "/work/main/.venv/bin/python"))
+BLENDER_PYTHON = Path(os.environ.get("BLENDER_PYTHON", sys.executable))
 
 
 def _has_bpy() -> bool:
     if not BLENDER_PYTHON.exists():
         return False
-    probe = subprocess.run(
-        [str(BLENDER_PYTHON), "-c", "import bpy"], capture_output=True, check=False
-    )
+    probe = subprocess.run([str(BLENDER_PYTHON), "-c", "import bpy"], capture_output=True, check=False)
     return probe.returncode == 0
 
 
@@ -44,9 +42,7 @@ def exported(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.mark.parametrize("mode", ["TRS", "TOS", "MAT"])
 @pytest.mark.parametrize("ext", ["usda", "usdc"])
-def test_blender_export_imports(
-    tool: Path, exported: Path, mode: str, ext: str
-) -> None:
+def test_blender_export_imports(tool: Path, exported: Path, mode: str, ext: str) -> None:
     want = json.loads((exported / "expected.json").read_text())
     got = run_tool(tool, "import", str(exported / f"scene_{mode}.{ext}"))
     by_object = {}

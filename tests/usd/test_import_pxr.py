@@ -11,9 +11,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from pxr import Gf, Sdf, Usd, UsdGeom, Vt
-
 from conftest import run_tool
+from pxr import Gf, Sdf, Usd, UsdGeom, Vt
 
 # A closed L-shaped prism: two concave hexagon caps and six quad sides.
 L_PROFILE = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
@@ -44,9 +43,7 @@ def cube() -> tuple[list, list, list]:
     return points, [4] * 6, [i for q in quads for i in q]
 
 
-def add_mesh(
-    stage: Usd.Stage, path: str, shape: tuple[list, list, list]
-) -> UsdGeom.Mesh:
+def add_mesh(stage: Usd.Stage, path: str, shape: tuple[list, list, list]) -> UsdGeom.Mesh:
     points, counts, indices = shape
     mesh = UsdGeom.Mesh.Define(stage, path)
     mesh.CreatePointsAttr(Vt.Vec3fArray([Gf.Vec3f(*p) for p in points]))
@@ -129,9 +126,7 @@ CASES = [("Z", 1.0, 1.0), ("Y", 0.01, 1.0), ("Y", 1.0, 0.001), ("Z", 0.3048, 1.0
 
 @pytest.mark.parametrize("up,mpu,target", CASES)
 @pytest.mark.parametrize("ext", ["usda", "usdc"])
-def test_pxr_meshes_import(
-    tool: Path, tmp_path: Path, up: str, mpu: float, target: float, ext: str
-) -> None:
+def test_pxr_meshes_import(tool: Path, tmp_path: Path, up: str, mpu: float, target: float, ext: str) -> None:
     path = tmp_path / f"scene.{ext}"
     author(path, up, mpu)
     want = expected(path, target)
@@ -157,9 +152,7 @@ def test_bad_mesh_is_a_clear_error(tool: Path, tmp_path: Path) -> None:
     mesh = add_mesh(stage, "/Bad", cube())
     mesh.GetFaceVertexIndicesAttr().Set(Vt.IntArray([0, 1, 2, 99] + [0] * 20))
     stage.GetRootLayer().Save()
-    out = subprocess.run(
-        [str(tool), "import", str(path)], capture_output=True, text=True, check=False
-    )
+    out = subprocess.run([str(tool), "import", str(path)], capture_output=True, text=True, check=False)
     assert out.returncode != 0
     assert "/Bad" in out.stderr and "out of range" in out.stderr
     layer = Sdf.Layer.FindOrOpen(str(path))
