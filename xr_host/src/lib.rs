@@ -7,4 +7,5 @@
 #[allow(unsafe_code)]
 pub mod gfx;
 pub mod render;
+pub mod sdf_store;
 pub mod xr;

@@ -81,6 +81,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    shapewright_xr::sdf_store::DirStore::install_default();
     let result = match cli.command {
         Command::Apply { script, out } => cmd::apply(&script, &out),
         Command::Info { file } if usd_cmd::is_usd(&file) => {

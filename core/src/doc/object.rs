@@ -53,7 +53,12 @@ impl ObjectKind {
     pub fn evaluate(&self) -> Result<TriMesh, OpError> {
         match self {
             Self::Solid(s) => s.evaluate(),
-            Self::GcAssembly(a) => Ok(crate::assembly::union_mesh(a)?),
+            // A part that cannot be meshed is a GC error, whichever path
+            // found it; only union failures are assembly errors.
+            Self::GcAssembly(a) => crate::assembly::union_mesh(a).map_err(|e| match e {
+                crate::assembly::AssemblyError::Gc(g) => OpError::Gc(g),
+                other => OpError::Assembly(other),
+            }),
             Self::SculptMesh(s) => s.evaluate(),
             Self::SdfVolume(v) => Ok(v.evaluate()?),
             Self::CurveNetwork(n) => Ok(n.mesh()),

@@ -1,0 +1,74 @@
+//! The on-disk cache of precomputed component SDFs: a directory of blobs
+//! behind core's `SdfStore` (core does no file I/O). Blobs carry their own
+//! version, key and checksum (`core::sdf::cache`), so a missing, truncated
+//! or corrupt file just reads as a miss and is regenerated and rewritten.
+//! Writes go to a temporary file renamed over the target, so a crash never
+//! leaves a half-written blob under a valid name.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use shapewright::sdf::cache::{install_store, SdfStore};
+
+/// A directory of SDF blobs.
+#[derive(Clone, Debug)]
+pub struct DirStore {
+    dir: PathBuf,
+}
+
+impl DirStore {
+    /// A store in `dir` (created on first write).
+    pub fn new(dir: impl Into<PathBuf>) -> Self {
+        Self { dir: dir.into() }
+    }
+
+    /// The default directory: `$SHAPEWRIGHT_CACHE_DIR`, else
+    /// `$XDG_CACHE_HOME/shapewright/sdf`, else `~/.cache/shapewright/sdf`.
+    pub fn default_dir() -> Option<PathBuf> {
+        if let Some(d) = std::env::var_os("SHAPEWRIGHT_CACHE_DIR") {
+            return Some(PathBuf::from(d));
+        }
+        let base = std::env::var_os("XDG_CACHE_HOME")
+            .map(PathBuf::from)
+            .or_else(|| std::env::var_os("HOME").map(|h| Path::new(&h).join(".cache")))?;
+        Some(base.join("shapewright").join("sdf"))
+    }
+
+    /// Installs a store at the default directory as the process-wide cache.
+    pub fn install_default() {
+        if let Some(dir) = Self::default_dir() {
+            install_store(Some(Arc::new(Self::new(dir))));
+        }
+    }
+
+    /// The directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    fn path(&self, key: &str) -> Option<PathBuf> {
+        // Keys are file names made by core; refuse anything else.
+        let ok = !key.is_empty()
+            && key
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c));
+        (ok && !key.starts_with('.')).then(|| self.dir.join(key))
+    }
+}
+
+impl SdfStore for DirStore {
+    fn load(&self, key: &str) -> Option<Vec<u8>> {
+        std::fs::read(self.path(key)?).ok()
+    }
+
+    fn store(&self, key: &str, bytes: &[u8]) {
+        let Some(path) = self.path(key) else { return };
+        let tmp = self.dir.join(format!(".{key}.{}.tmp", std::process::id()));
+        let ok = std::fs::create_dir_all(&self.dir).is_ok()
+            && std::fs::write(&tmp, bytes).is_ok()
+            && std::fs::rename(&tmp, &path).is_ok();
+        if !ok {
+            let _ = std::fs::remove_file(&tmp);
+        }
+    }
+}
