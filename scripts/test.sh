@@ -15,8 +15,8 @@ cargo clippy --workspace --all-targets -q -- -D warnings
 echo "== cargo test"
 cargo test --workspace -q
 echo "== ruff"
-.venv/bin/ruff check scripts tests
+.venv/bin/ruff check scripts tests blender_addon
 echo "== pytest"
 cargo build --release -q -p shapewright-xr
-cargo build -q -p shapewright-usd --example usd_tool
+# `cargo test` above built the usd_tool example the USD tests drive.
 USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q tests/python tests/usd tests/blender
