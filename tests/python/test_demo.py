@@ -51,3 +51,17 @@ def test_info_rejects_truncated_stl(root: Path, host_bin: Path, tmp_path: Path) 
     r = run([host_bin, "info", stl], root)
     assert r.returncode != 0
     assert "truncated" in r.stderr
+
+
+def test_apply_to_usda_keeps_the_op_log(root: Path, host_bin: Path, tmp_path: Path) -> None:
+    usda = tmp_path / "teapot.usda"
+    r = run([host_bin, "apply", root / "tests/data/teapot.jsonl", "--out", usda], root)
+    assert r.returncode == 0, r.stderr
+    r = run([host_bin, "info", usda], root)
+    assert r.returncode == 0, r.stderr
+    assert "ops: 4 (cursor 4" in r.stdout
+    assert "replaying the history gives the snapshot" in r.stdout
+    stl = tmp_path / "again.stl"
+    assert run([host_bin, "export", usda, "--stl", stl], root).returncode == 0
+    r = run([host_bin, "info", stl], root)
+    assert "printable:            yes" in r.stdout

@@ -16,6 +16,17 @@ pub fn apply(script: &Path, out: &Path) -> Result<()> {
     let mut log = OpLog::new();
     run_script(&mut log, &lines).with_context(|| format!("in {}", script.display()))?;
     let doc = log.document();
+    if crate::usd_cmd::is_usd(out) {
+        shapewright_usd::save_file(out, &log, &shapewright_usd::SaveOptions::default())
+            .with_context(|| format!("saving {}", out.display()))?;
+        let (ops, objects) = (log.cursor(), doc.len());
+        println!(
+            "{}: {ops} ops, {objects} objects -> {}",
+            script.display(),
+            out.display()
+        );
+        return Ok(());
+    }
     let mesh = doc
         .printable_mesh()
         .context("building the printable union")?;
