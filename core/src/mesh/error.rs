@@ -48,3 +48,29 @@ pub enum MeshIoError {
     #[error("the file holds no triangles")]
     Empty,
 }
+
+/// Parses the three coordinates of a text vertex line (OBJ `v`, ASCII STL
+/// `vertex`), rejecting missing, unparsable and non-finite values.
+pub(crate) fn parse_point<'a>(
+    parts: &mut impl Iterator<Item = &'a str>,
+    line: usize,
+) -> Result<[f64; 3], MeshIoError> {
+    let mut p = [0.0f64; 3];
+    for (k, slot) in p.iter_mut().enumerate() {
+        let tok = parts.next().ok_or_else(|| MeshIoError::Syntax {
+            line,
+            message: format!("vertex needs 3 coordinates, found {k}"),
+        })?;
+        *slot = tok.parse().map_err(|_| MeshIoError::Syntax {
+            line,
+            message: format!("`{tok}` is not a number"),
+        })?;
+        if !slot.is_finite() {
+            return Err(MeshIoError::NonFiniteLine {
+                line,
+                value: tok.into(),
+            });
+        }
+    }
+    Ok(p)
+}

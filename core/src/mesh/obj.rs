@@ -3,6 +3,7 @@
 
 use std::io::Write;
 
+use super::error::parse_point;
 use super::{MeshIoError, TriMesh};
 
 /// Writes `mesh` as OBJ (positions, normals when present, faces).
@@ -46,24 +47,7 @@ pub fn read_obj(bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
         let mut parts = content.split_whitespace();
         match parts.next() {
             Some("v") => {
-                let mut p = [0.0; 3];
-                for (k, slot) in p.iter_mut().enumerate() {
-                    let tok = parts.next().ok_or_else(|| MeshIoError::Syntax {
-                        line,
-                        message: format!("vertex needs 3 coordinates, found {k}"),
-                    })?;
-                    *slot = tok.parse::<f64>().map_err(|_| MeshIoError::Syntax {
-                        line,
-                        message: format!("`{tok}` is not a number"),
-                    })?;
-                    if !slot.is_finite() {
-                        return Err(MeshIoError::NonFiniteLine {
-                            line,
-                            value: tok.into(),
-                        });
-                    }
-                }
-                mesh.positions.push(p);
+                mesh.positions.push(parse_point(&mut parts, line)?);
             }
             Some("f") => {
                 corners.clear();

@@ -3,6 +3,7 @@
 
 use std::io::Write;
 
+use super::error::parse_point;
 use super::{MeshIoError, TriMesh};
 
 /// Writes `mesh` as binary STL (little-endian f32, facet normals computed
@@ -100,24 +101,7 @@ fn read_ascii(bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
         let mut parts = raw.split_whitespace();
         match parts.next() {
             Some("vertex") => {
-                let mut p = [0.0f64; 3];
-                for (k, slot) in p.iter_mut().enumerate() {
-                    let tok = parts.next().ok_or_else(|| MeshIoError::Syntax {
-                        line,
-                        message: format!("vertex needs 3 coordinates, found {k}"),
-                    })?;
-                    *slot = tok.parse().map_err(|_| MeshIoError::Syntax {
-                        line,
-                        message: format!("`{tok}` is not a number"),
-                    })?;
-                    if !slot.is_finite() {
-                        return Err(MeshIoError::NonFiniteLine {
-                            line,
-                            value: tok.into(),
-                        });
-                    }
-                }
-                mesh.positions.push(p);
+                mesh.positions.push(parse_point(&mut parts, line)?);
                 pending += 1;
             }
             Some("endloop") => {
