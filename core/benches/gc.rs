@@ -4,43 +4,12 @@
 #![allow(missing_docs)] // criterion_main! generates an undocumented `main`
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use glam::DVec3;
-use shapewright::gc::{fit_spine, mesh_gc, Gc, KeySection, Profile, Resolution, ShapeType};
+#[path = "fixtures/vase.rs"]
+mod vase;
 
-fn vase_k8(shape: ShapeType) -> Gc {
-    let spine = fit_spine(
-        &[
-            DVec3::ZERO,
-            DVec3::new(0.05, 0.0, 0.4),
-            DVec3::new(-0.05, 0.0, 0.8),
-            DVec3::new(0.0, 0.0, 1.2),
-        ],
-        DVec3::Y,
-    )
-    .unwrap();
-    let profiles = [
-        Profile::Circle { radius: 0.25 },
-        Profile::Circle { radius: 0.35 },
-        Profile::Polygon {
-            sides: 6,
-            radius: 0.42,
-        },
-        Profile::Ellipse { rx: 0.4, ry: 0.33 },
-        Profile::Circle { radius: 0.3 },
-        Profile::Circle { radius: 0.2 },
-        Profile::Rectangle {
-            width: 0.3,
-            height: 0.26,
-        },
-        Profile::Circle { radius: 0.22 },
-    ];
-    let sections = profiles
-        .into_iter()
-        .enumerate()
-        .map(|(i, p)| KeySection::new(p, i as f64 / 7.0))
-        .collect();
-    Gc::new(spine, sections, shape, Resolution::PREVIEW).unwrap()
-}
+use glam::DVec3;
+use shapewright::gc::{mesh_gc, ShapeType};
+use vase::vase_k8;
 
 fn bench(c: &mut Criterion) {
     for (name, shape) in [

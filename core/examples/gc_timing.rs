@@ -3,43 +3,15 @@
 
 use std::time::Instant;
 
-use glam::DVec3;
-use shapewright::gc::{fit_spine, mesh_gc, Gc, KeySection, Profile, Resolution, ShapeType};
+#[path = "../benches/fixtures/vase.rs"]
+mod vase;
+
+use shapewright::gc::{mesh_gc, ShapeType};
 use shapewright::mesh::validate;
+use vase::vase_k8;
 
 fn main() {
-    let spine = fit_spine(
-        &[
-            DVec3::ZERO,
-            DVec3::new(0.05, 0.0, 0.4),
-            DVec3::new(-0.05, 0.0, 0.8),
-            DVec3::new(0.0, 0.0, 1.2),
-        ],
-        DVec3::Y,
-    )
-    .expect("spine");
-    let profiles = [
-        Profile::Circle { radius: 0.25 },
-        Profile::Circle { radius: 0.35 },
-        Profile::Polygon {
-            sides: 6,
-            radius: 0.42,
-        },
-        Profile::Ellipse { rx: 0.4, ry: 0.33 },
-        Profile::Circle { radius: 0.3 },
-        Profile::Circle { radius: 0.2 },
-        Profile::Rectangle {
-            width: 0.3,
-            height: 0.26,
-        },
-        Profile::Circle { radius: 0.22 },
-    ];
-    let sections = profiles
-        .into_iter()
-        .enumerate()
-        .map(|(i, p)| KeySection::new(p, i as f64 / 7.0))
-        .collect();
-    let gc = Gc::new(spine, sections, ShapeType::Solid, Resolution::PREVIEW).expect("gc");
+    let gc = vase_k8(ShapeType::Solid);
     let n = 200;
     let t = Instant::now();
     for _ in 0..n {

@@ -81,12 +81,7 @@ impl OpLog {
     /// Replays `ops` from an empty document and leaves the cursor at
     /// `cursor` (the ops after it stay available to redo).
     pub fn replay(ops: Vec<Op>, cursor: usize) -> Result<Self, LogError> {
-        if cursor > ops.len() {
-            return Err(LogError::BadCursor {
-                cursor,
-                len: ops.len(),
-            });
-        }
+        check_cursor(cursor, ops.len())?;
         let mut log = Self::new();
         log.ops = ops;
         log.seek(cursor)?;
@@ -99,12 +94,7 @@ impl OpLog {
     /// then replays from the start once and leaves checkpoints behind, so
     /// later undos are bounded again.
     pub fn from_snapshot(ops: Vec<Op>, cursor: usize, doc: Document) -> Result<Self, LogError> {
-        if cursor > ops.len() {
-            return Err(LogError::BadCursor {
-                cursor,
-                len: ops.len(),
-            });
-        }
+        check_cursor(cursor, ops.len())?;
         let mut log = Self::new();
         log.ops = ops;
         log.cursor = cursor;
@@ -193,12 +183,7 @@ impl OpLog {
     /// Moves the cursor to `target` (0..=len), undoing or redoing as many
     /// ops as needed. On error nothing changes.
     pub fn seek(&mut self, target: usize) -> Result<(), LogError> {
-        if target > self.ops.len() {
-            return Err(LogError::BadCursor {
-                cursor: target,
-                len: self.ops.len(),
-            });
-        }
+        check_cursor(target, self.ops.len())?;
         if target == self.cursor {
             return Ok(());
         }
@@ -307,4 +292,12 @@ impl OpLog {
             Err(pos) => self.checkpoints.insert(pos, c),
         }
     }
+}
+
+/// A cursor may sit anywhere from before the first op to after the last.
+fn check_cursor(cursor: usize, len: usize) -> Result<(), LogError> {
+    if cursor > len {
+        return Err(LogError::BadCursor { cursor, len });
+    }
+    Ok(())
 }

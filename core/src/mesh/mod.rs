@@ -8,6 +8,8 @@ mod format;
 mod obj;
 mod ply;
 mod stl;
+#[cfg(test)]
+mod test_meshes;
 mod trimesh;
 mod validate;
 

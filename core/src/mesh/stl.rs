@@ -130,18 +130,7 @@ fn read_ascii(bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn tetra() -> TriMesh {
-        TriMesh::new(
-            vec![
-                [0.0, 0.0, 0.0],
-                [1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, 0.0, 1.0],
-            ],
-            vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]],
-        )
-    }
+    use crate::mesh::test_meshes::tetra;
 
     #[test]
     fn binary_round_trip_welds() {
