@@ -50,8 +50,16 @@ fn flip_y_curve(c: &NurbsCurve) -> NurbsCurve {
 pub fn flip_profile(p: &Profile) -> Profile {
     match p {
         Profile::Circle { .. } | Profile::Ellipse { .. } | Profile::Rectangle { .. } => p.clone(),
+        // Reversed to stay counter-clockwise, but from the same first
+        // point: the loft matches sections by their start points, so a
+        // rotated start would twist the surface between key sections.
         Profile::Points { points } => Profile::Points {
-            points: points.iter().rev().map(|q| [q[0], -q[1]]).collect(),
+            points: points
+                .iter()
+                .take(1)
+                .chain(points.iter().skip(1).rev())
+                .map(|q| [q[0], -q[1]])
+                .collect(),
         },
         Profile::Polygon { .. } => match p.curve() {
             Ok(c) => Profile::Curve {

@@ -245,15 +245,26 @@ impl Builder {
                 let b = base + j * m + (i + 1) % m;
                 let c = base + (j + 1) * m + (i + 1) % m;
                 let d = base + (j + 1) * m + i;
-                if flip {
-                    self.tris.push([a, c, b]);
-                    self.tris.push([a, d, c]);
+                // Split along the shorter diagonal: better-shaped
+                // triangles, and the choice does not depend on the ring's
+                // direction, so a mirrored GC meshes to the mirror image
+                // (a fixed diagonal flips under reflection and changes
+                // the volume at the resolution scale).
+                let quad = if self.diag2(a, c) <= self.diag2(b, d) {
+                    [[a, b, c], [a, c, d]]
                 } else {
-                    self.tris.push([a, b, c]);
-                    self.tris.push([a, c, d]);
+                    [[a, b, d], [b, c, d]]
+                };
+                for [p, q, r] in quad {
+                    self.tris.push(if flip { [p, r, q] } else { [p, q, r] });
                 }
             }
         }
+    }
+    /// Squared distance between vertices `i` and `j`.
+    fn diag2(&self, i: u32, j: u32) -> f64 {
+        let (p, q) = (self.pos[i as usize], self.pos[j as usize]);
+        (0..3).map(|k| (p[k] - q[k]) * (p[k] - q[k])).sum()
     }
     /// Fan over a ring; `plus_t` faces along the spine direction.
     fn cap(&mut self, ring_base: u32, ring: &[DVec3], plus_t: bool) {
