@@ -20,8 +20,9 @@ use serde_json::{json, Value};
 use shapewright::doc::{parse_script, run_script, ObjectKind, Op, OpLog};
 use shapewright::math::Transform;
 use shapewright::mesh::TriMesh;
+use shapewright::nurbs::uniform_samples as params;
 use shapewright_usd::import::combined;
-use shapewright_usd::parametric::{params, parts, Part};
+use shapewright_usd::parametric::{parts, Part};
 use shapewright_usd::{
     import_file, import_into, load_file, save_file, ImportOptions, ImportTarget, LoadOptions,
     SaveOptions,

@@ -228,44 +228,28 @@ pub fn curves_prim(name: &str, curves: &[NurbsCurve], indices: Option<&[i32]>) -
 pub fn patch_prim(name: &str, s: &NurbsSurface) -> PrimOut {
     let mut p = PrimOut::new(name, "NurbsPatch");
     let ((u0, u1), (v0, v1)) = s.domain();
-    p.attrs.push(AttrOut::schema_uniform(
-        "uForm",
-        "token",
-        Value::Token("open".into()),
-    ));
-    p.attrs.push(AttrOut::schema(
-        "uKnots",
-        "double[]",
-        Value::DoubleVec(s.knots_u.clone()),
-    ));
-    p.attrs
-        .push(AttrOut::schema("uOrder", "int", int(s.degree_u + 1)));
-    p.attrs.push(AttrOut::schema(
-        "uRange",
-        "double2",
-        Value::Vec2d(gf::vec2d(u0, u1)),
-    ));
-    p.attrs
-        .push(AttrOut::schema("uVertexCount", "int", int(s.n_u)));
-    p.attrs.push(AttrOut::schema_uniform(
-        "vForm",
-        "token",
-        Value::Token("open".into()),
-    ));
-    p.attrs.push(AttrOut::schema(
-        "vKnots",
-        "double[]",
-        Value::DoubleVec(s.knots_v.clone()),
-    ));
-    p.attrs
-        .push(AttrOut::schema("vOrder", "int", int(s.degree_v + 1)));
-    p.attrs.push(AttrOut::schema(
-        "vRange",
-        "double2",
-        Value::Vec2d(gf::vec2d(v0, v1)),
-    ));
-    p.attrs
-        .push(AttrOut::schema("vVertexCount", "int", int(s.n_v)));
+    let dirs = [
+        ("u", &s.knots_u, s.degree_u, (u0, u1), s.n_u),
+        ("v", &s.knots_v, s.degree_v, (v0, v1), s.n_v),
+    ];
+    for (d, knots, degree, (a, b), count) in dirs {
+        let open = Value::Token("open".into());
+        p.attrs.extend([
+            AttrOut::schema_uniform(&format!("{d}Form"), "token", open),
+            AttrOut::schema(
+                &format!("{d}Knots"),
+                "double[]",
+                Value::DoubleVec(knots.clone()),
+            ),
+            AttrOut::schema(&format!("{d}Order"), "int", int(degree + 1)),
+            AttrOut::schema(
+                &format!("{d}Range"),
+                "double2",
+                Value::Vec2d(gf::vec2d(a, b)),
+            ),
+            AttrOut::schema(&format!("{d}VertexCount"), "int", int(count)),
+        ]);
+    }
     let order = (0..s.n_v).flat_map(|j| (0..s.n_u).map(move |i| i * s.n_v + j));
     push_points(&mut p.attrs, order.map(|k| &s.control[k]));
     p
@@ -333,17 +317,4 @@ pub fn mismatches(data: &dyn AbstractData, doc: &Document) -> Vec<Mismatch> {
         }
     }
     out
-}
-
-/// Parameters `n + 1` evenly over `[a, b]`.
-pub fn params(a: f64, b: f64, n: usize) -> Vec<f64> {
-    (0..=n)
-        .map(|i| {
-            if i == n {
-                b
-            } else {
-                a + (b - a) * i as f64 / n as f64
-            }
-        })
-        .collect()
 }
