@@ -62,3 +62,17 @@ def test_blender_export_imports(tool: Path, exported: Path, mode: str, ext: str)
             m["volume"],
             w["volume"],
         )
+
+
+@pytest.mark.parametrize("what", ["component", "base"])
+def test_blender_usdc_through_the_op(tool: Path, exported: Path, tmp_path: Path, what: str) -> None:
+    """Blender's closed torus (usdc) as a component and as a sculpt base:
+    same triangles and volume as Blender's bmesh, and the document reloads."""
+    want = json.loads((exported / "expected.json").read_text())["Torus"]
+    doc = tmp_path / "doc.usda"
+    got = run_tool(tool, "import-into", str(exported / "scene_TRS.usdc"), str(doc), what, "/root/Torus")
+    assert got["triangles"] == want["triangles"]
+    assert abs(got["volume"] - want["volume"]) <= 1e-6 * abs(want["volume"])
+    again = run_tool(tool, "dump", str(doc))
+    assert again["consistent"], again["report"]
+    assert again["ops"][-1]["op"] == got["op"]

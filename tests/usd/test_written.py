@@ -1,5 +1,6 @@
 """Files we write: usdchecker passes, pxr reads the same meshes and log."""
 
+import importlib.util
 import json
 import os
 import shutil
@@ -29,6 +30,52 @@ def _validation_errors(path: Path) -> list[str]:
         for e in errors
         if e.GetType() == UsdValidation.ValidationErrorType.Error
     ]
+
+
+def _compliance_checker():
+    """`UsdUtils.ComplianceChecker`, the engine of the classic usdchecker.
+
+    usd-core 26.11 from PyPI ships neither the `usdchecker` binary nor
+    `pxr/UsdUtils/complianceChecker.py` (USD 26 replaced it by UsdValidation).
+    Blender 5.0's bundled USD still has the pure-Python module; it is loaded
+    here on top of usd-core's `pxr`, whose APIs it uses.
+    """
+    spec = importlib.util.find_spec("bpy")
+    assert spec is not None and spec.origin, "bpy (for complianceChecker.py) is not installed"
+    found = sorted(
+        Path(spec.origin).parent.glob(
+            "*/python/lib/python3*/site-packages/pxr/UsdUtils/complianceChecker.py"
+        )
+    )
+    assert found, "complianceChecker.py not found in bpy"
+    mod_spec = importlib.util.spec_from_file_location("sw_compliance_checker", found[-1])
+    assert mod_spec is not None and mod_spec.loader is not None
+    module = importlib.util.module_from_spec(mod_spec)
+    mod_spec.loader.exec_module(module)
+    return module.ComplianceChecker
+
+
+def test_compliance_checker_passes(written: list[Path], tmp_path: Path) -> None:
+    checker_class = _compliance_checker()
+    for f in written:
+        checker = checker_class(
+            arkit=False,
+            skipARKitRootLayerCheck=False,
+            rootPackageOnly=False,
+            skipVariants=False,
+            verbose=False,
+        )
+        checker.CheckCompliance(str(f))
+        assert checker.GetErrors() == [], f"{f.name}: {checker.GetErrors()}"
+        assert checker.GetFailedChecks() == [], f"{f.name}: {checker.GetFailedChecks()}"
+    # It does find problems: no upAxis, no metersPerUnit, a dangling defaultPrim.
+    bad = tmp_path / "bad.usda"
+    bad.write_text('#usda 1.0\n(\n    defaultPrim = "Nope"\n)\ndef Xform "World" {}\n')
+    checker = checker_class(
+        arkit=False, skipARKitRootLayerCheck=False, rootPackageOnly=False, skipVariants=False
+    )
+    checker.CheckCompliance(str(bad))
+    assert len(checker.GetFailedChecks()) == 3, checker.GetFailedChecks()
 
 
 def test_usdchecker_reports_no_errors(written: list[Path], tmp_path: Path) -> None:

@@ -6,15 +6,27 @@
 //! usd_tool save SCRIPT.jsonl OUT.usda     run a script, save document + log
 //! usd_tool dump FILE.usda                 our loader's view: ops, cursor, meshes
 //! usd_tool import FILE [MPU]              import every mesh (Z-up, MPU meters/unit)
+//! usd_tool import-into FILE DOC.usda component|base [PREFIX]
+//!                                         import as an op into DOC (created when
+//!                                         missing), save; the op's object mesh
+//! usd_tool nurbs FILE.usda                our NURBS evaluated at a few parameters
+//!                                         (per NurbsCurves/NurbsPatch prim)
 //! ```
 
 use std::path::Path;
 use std::process::ExitCode;
 
 use serde_json::{json, Value};
-use shapewright::doc::{parse_script, run_script, OpLog};
+use shapewright::doc::{parse_script, run_script, ObjectKind, Op, OpLog};
+use shapewright::math::Transform;
+use shapewright::mesh::TriMesh;
+use shapewright::nurbs::uniform_samples as params;
 use shapewright_usd::import::combined;
-use shapewright_usd::{import_file, load_file, save_file, ImportOptions, LoadOptions, SaveOptions};
+use shapewright_usd::parametric::{parts, Part};
+use shapewright_usd::{
+    import_file, import_into, load_file, save_file, ImportOptions, ImportTarget, LoadOptions,
+    SaveOptions,
+};
 
 fn run(args: &[String]) -> Result<Value, String> {
     match args {
@@ -87,8 +99,115 @@ fn run(args: &[String]) -> Result<Value, String> {
                 json!({"triangles": all.triangle_count(), "volume": all.signed_volume(), "meshes": list}),
             )
         }
-        _ => Err("usage: usd_tool save SCRIPT OUT.usda | dump FILE | import FILE [MPU]".to_owned()),
+        [cmd, file, doc, what, prefix @ ..] if cmd == "import-into" && prefix.len() <= 1 => {
+            import_into_doc(Path::new(file), Path::new(doc), what, prefix.first())
+        }
+        [cmd, file] if cmd == "nurbs" => nurbs_samples(Path::new(file)),
+        _ => Err(
+            "usage: usd_tool save SCRIPT OUT.usda | dump FILE | import FILE [MPU] | nurbs FILE"
+                .to_owned(),
+        ),
     }
+}
+
+/// `import-into`: the shapewright-xr `import` command's path, printing the
+/// imported mesh as the document now stores it.
+fn import_into_doc(
+    file: &Path,
+    doc: &Path,
+    what: &str,
+    prefix: Option<&String>,
+) -> Result<Value, String> {
+    let mut log = if doc.exists() {
+        load_file(doc, LoadOptions::default())
+            .map_err(|e| e.to_string())?
+            .log
+    } else {
+        OpLog::new()
+    };
+    let name = "imported".to_owned();
+    let target = match what {
+        "component" => ImportTarget::Component {
+            volume: None,
+            name: name.clone(),
+        },
+        "base" => ImportTarget::SculptBase {
+            transform: Transform::default(),
+        },
+        other => return Err(format!("import as `{other}`: use component or base")),
+    };
+    let options = ImportOptions {
+        meters_per_unit: 1.0,
+        prefix: prefix.cloned(),
+    };
+    let outcome = import_into(&mut log, file, &options, target).map_err(|e| e.to_string())?;
+    save_file(doc, &log, &SaveOptions::default()).map_err(|e| e.to_string())?;
+    let last = log.ops().last().ok_or("no op")?;
+    // The mesh as the document holds it: the volume's component, or the
+    // sculpt object's evaluated surface.
+    let component = log.document().objects().find_map(|(_, o)| match &o.kind {
+        ObjectKind::SdfVolume(v) => v.user_components.get(&name),
+        _ => None,
+    });
+    let mesh = match (last, component) {
+        (Op::SdfImportComponent(_), Some(u)) => {
+            TriMesh::new(u.positions.clone(), u.triangles.clone())
+        }
+        _ => {
+            let id = outcome.created.ok_or("no object created")?;
+            let obj = log.document().get(id).map_err(|e| e.to_string())?;
+            (*obj.mesh).clone()
+        }
+    };
+    Ok(
+        json!({"op": last.name(), "ops": log.len(), "objects": log.document().len(),
+              "triangles": mesh.triangle_count(), "volume": mesh.signed_volume()}),
+    )
+}
+
+/// Every parametric part of the loaded document, evaluated by core's NURBS
+/// code (f64) at 9 parameters per curve and a 7×7 grid per patch.
+fn nurbs_samples(file: &Path) -> Result<Value, String> {
+    let loaded = load_file(file, LoadOptions::default()).map_err(|e| e.to_string())?;
+    let mut prims = Vec::new();
+    for (id, obj) in loaded.log.document().objects() {
+        for part in parts(&obj.kind)? {
+            let prim = format!("/World/Object_{}/{}", id.0, part.name());
+            prims.push(match &part {
+                Part::Curves { curves, .. } => {
+                    let samples: Vec<Vec<[f64; 4]>> = curves
+                        .iter()
+                        .map(|c| {
+                            let (a, b) = c.domain();
+                            params(a, b, 8)
+                                .into_iter()
+                                .map(|t| {
+                                    let p = c.point(t);
+                                    [t, p.x, p.y, p.z]
+                                })
+                                .collect()
+                        })
+                        .collect();
+                    json!({"prim": prim, "type": "NurbsCurves", "curves": samples})
+                }
+                Part::Patch { surface, .. } => {
+                    let ((u0, u1), (v0, v1)) = surface.domain();
+                    let mut samples = Vec::new();
+                    for u in params(u0, u1, 6) {
+                        for v in params(v0, v1, 6) {
+                            let p = surface.point(u, v);
+                            samples.push([u, v, p.x, p.y, p.z]);
+                        }
+                    }
+                    json!({"prim": prim, "type": "NurbsPatch", "samples": samples})
+                }
+            });
+        }
+    }
+    Ok(
+        json!({"prims": prims, "consistent": loaded.report.is_consistent(),
+              "report": loaded.report.to_string()}),
+    )
 }
 
 fn main() -> ExitCode {

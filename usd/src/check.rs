@@ -48,6 +48,16 @@ pub enum Mismatch {
         /// The tolerance used.
         tolerance: f64,
     },
+    /// A `NurbsCurves`/`NurbsPatch` prim next to the mesh disagrees with the
+    /// object's parametric data ([`crate::parametric`]).
+    Parametric {
+        /// The object.
+        id: ObjectId,
+        /// The prim's name under the object prim.
+        prim: String,
+        /// What differs.
+        detail: String,
+    },
     /// Replaying the history does not give the snapshot.
     History {
         /// What differs.
@@ -69,6 +79,9 @@ impl fmt::Display for Mismatch {
                 f,
                 "object {id}: points differ by up to {max_deviation:e} (tolerance {tolerance:e})"
             ),
+            Self::Parametric { id, prim, detail } => {
+                write!(f, "object {id}: parametric prim {prim}: {detail}")
+            }
             Self::History { detail } => write!(f, "history: {detail}"),
         }
     }
@@ -186,24 +199,7 @@ pub fn compare(
             });
             continue;
         }
-        let expect = points_f32(m);
-        let scale = expect
-            .iter()
-            .flat_map(|p| [p.x.abs(), p.y.abs(), p.z.abs()])
-            .fold(f32::MIN_POSITIVE, f32::max);
-        let tolerance = f64::from(POINT_ULPS * scale * f32::EPSILON);
-        let mut max_dev = 0.0f64;
-        for (a, b) in expect.iter().zip(&s.points) {
-            for (x, y) in [(a.x, b.x), (a.y, b.y), (a.z, b.z)] {
-                let d = (f64::from(x) - f64::from(y)).abs();
-                // NaN in the file is a deviation, not a pass.
-                max_dev = if d.is_nan() {
-                    f64::INFINITY
-                } else {
-                    max_dev.max(d)
-                };
-            }
-        }
+        let (max_dev, tolerance) = max_point_deviation(&points_f32(m), &s.points);
         if max_dev > tolerance {
             r.mismatches.push(Mismatch::Points {
                 id,
@@ -213,4 +209,27 @@ pub fn compare(
         }
     }
     r
+}
+
+/// The largest coordinate deviation between `expect` and `stored` (paired
+/// in order) and the tolerance for it: [`POINT_ULPS`] f32 ulps of the
+/// largest expected coordinate. NaN in `stored` is an infinite deviation.
+pub fn max_point_deviation(expect: &[gf::Vec3f], stored: &[gf::Vec3f]) -> (f64, f64) {
+    let scale = expect
+        .iter()
+        .flat_map(|p| [p.x.abs(), p.y.abs(), p.z.abs()])
+        .fold(f32::MIN_POSITIVE, f32::max);
+    let tolerance = f64::from(POINT_ULPS * scale * f32::EPSILON);
+    let mut max_dev = 0.0f64;
+    for (a, b) in expect.iter().zip(stored) {
+        for (x, y) in [(a.x, b.x), (a.y, b.y), (a.z, b.z)] {
+            let d = (f64::from(x) - f64::from(y)).abs();
+            max_dev = if d.is_nan() {
+                f64::INFINITY
+            } else {
+                max_dev.max(d)
+            };
+        }
+    }
+    (max_dev, tolerance)
 }

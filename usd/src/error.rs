@@ -130,4 +130,13 @@ pub enum ImportError {
     /// No mesh matched.
     #[error("no UsdGeom.Mesh found in {0}")]
     NoMesh(String),
+    /// The document refused the import op (e.g. a component that is not a
+    /// closed 2-manifold, an unknown volume, a duplicate name).
+    #[error("applying {op}: {message}")]
+    Apply {
+        /// The op name.
+        op: &'static str,
+        /// Why it failed.
+        message: String,
+    },
 }

@@ -6,7 +6,7 @@
 //! Kinds with parametric parts add more children next to the mesh through
 //! [`extra_prims`]: generalized cylinders their spine and sections as
 //! `NurbsCurves` and their surface as a `NurbsPatch`, curve networks their
-//! curves, and so on. The match there is exhaustive on purpose: a new
+//! curves and patches ([`crate::parametric`]). The match there is exhaustive on purpose: a new
 //! `ObjectKind` variant does not compile until it decides what it adds.
 
 use openusd::gf;
@@ -15,6 +15,7 @@ use shapewright::doc::{Object, ObjectId, ObjectKind};
 use shapewright::mesh::TriMesh;
 
 use crate::prims::{AttrOut, PrimOut};
+use crate::SaveError;
 
 /// Name of the object prim for `id`.
 pub fn object_prim_name(id: ObjectId) -> String {
@@ -25,7 +26,7 @@ pub fn object_prim_name(id: ObjectId) -> String {
 pub const MESH_PRIM: &str = "Mesh";
 
 /// The prim of object `id`: an Xform with the mesh and the kind's extras.
-pub fn object_prim(id: ObjectId, obj: &Object) -> PrimOut {
+pub fn object_prim(id: ObjectId, obj: &Object) -> Result<PrimOut, SaveError> {
     let mut p = PrimOut::new(object_prim_name(id), "Xform");
     p.attrs.push(AttrOut::custom(
         "shapewright:objectId",
@@ -38,23 +39,20 @@ pub fn object_prim(id: ObjectId, obj: &Object) -> PrimOut {
         Value::Token(obj.kind.name().into()),
     ));
     p.children.push(mesh_prim(MESH_PRIM, &obj.mesh));
-    p.children.extend(extra_prims(&obj.kind));
-    p
+    p.children.extend(
+        extra_prims(&obj.kind).map_err(|e| SaveError::Author(format!("object {id}: {e}")))?,
+    );
+    Ok(p)
 }
 
-/// Prims a kind adds next to its mesh (curves, patches). Solids have none:
-/// their parameters are the snapshot's and the log's.
-pub fn extra_prims(kind: &ObjectKind) -> Vec<PrimOut> {
-    match kind {
-        // Their parameters live in the snapshot and the log for now;
-        // NurbsCurves/NurbsPatch prims for GC spines, sections and surfaces
-        // are still to come.
-        ObjectKind::Solid(_)
-        | ObjectKind::GcAssembly(_)
-        | ObjectKind::SdfVolume(_)
-        | ObjectKind::SculptMesh(_)
-        | ObjectKind::CurveNetwork(_) => Vec::new(),
-    }
+/// Prims a kind adds next to its mesh: the `NurbsCurves` and `NurbsPatch`
+/// prims of [`crate::parametric::parts`]. Solids, SDF volumes and sculpt
+/// meshes have none: their parameters are the snapshot's and the log's.
+pub fn extra_prims(kind: &ObjectKind) -> Result<Vec<PrimOut>, String> {
+    Ok(crate::parametric::parts(kind)?
+        .iter()
+        .map(crate::parametric::Part::prim)
+        .collect())
 }
 
 /// Positions as USD stores them (`point3f`): each coordinate rounded to
@@ -85,18 +83,6 @@ pub fn mesh_prim(name: &str, mesh: &TriMesh) -> PrimOut {
             .map(|n| gf::vec3f(n[0] as f32, n[1] as f32, n[2] as f32))
             .collect()
     };
-    let mut lo = [f32::INFINITY; 3];
-    let mut hi = [f32::NEG_INFINITY; 3];
-    for p in &points {
-        for (k, v) in [p.x, p.y, p.z].into_iter().enumerate() {
-            lo[k] = lo[k].min(v);
-            hi[k] = hi[k].max(v);
-        }
-    }
-    if points.is_empty() {
-        lo = [0.0; 3];
-        hi = [0.0; 3];
-    }
     let indices: Vec<i32> = mesh
         .triangles
         .iter()
@@ -104,11 +90,7 @@ pub fn mesh_prim(name: &str, mesh: &TriMesh) -> PrimOut {
         .collect();
     let mut p = PrimOut::new(name, "Mesh");
     p.attrs = vec![
-        AttrOut::schema(
-            "extent",
-            "float3[]",
-            Value::Vec3fVec(vec![lo.into(), hi.into()]),
-        ),
+        AttrOut::schema("extent", "float3[]", crate::parametric::extent(&points)),
         AttrOut::schema(
             "faceVertexCounts",
             "int[]",

@@ -9,7 +9,7 @@
 //! def Xform "World" {
 //!     def Xform "Object_1" {            # shapewright:objectId, shapewright:kind
 //!         def Mesh "Mesh" { ... }       # points, faceVertexCounts/Indices, normals, extent
-//!         # + NurbsCurves / NurbsPatch prims of parametric kinds (kinds.rs)
+//!         # + NurbsCurves / NurbsPatch prims of parametric kinds (parametric.rs)
 //!     }
 //! }
 //! def Scope "ShapewrightLog" {
@@ -52,10 +52,13 @@
 
 pub mod atomic;
 pub mod check;
+pub mod coons;
 mod error;
 pub mod import;
+pub mod import_op;
 pub mod kinds;
 mod load;
+pub mod parametric;
 pub mod prims;
 mod save;
 pub mod xform;
@@ -64,6 +67,7 @@ pub use atomic::{save_file, AutosaveSettings, Autosaver};
 pub use check::{ConsistencyReport, Mismatch};
 pub use error::{ImportError, LoadError, SaveError};
 pub use import::{import_file, ImportOptions, ImportedMesh};
+pub use import_op::{import_brush, import_into, ImportTarget};
 pub use load::{load_file, load_from_data, load_from_str, read_layer, LoadOptions, Loaded};
 pub use save::{save_to_string, SaveOptions};
 

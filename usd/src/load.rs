@@ -84,7 +84,7 @@ fn field<'a>(data: &'a dyn AbstractData, path: &sdf::Path, name: &str) -> Option
     data.try_field(path, name).ok().flatten()
 }
 
-fn attr_value<'a>(
+pub(crate) fn attr_value<'a>(
     data: &'a dyn AbstractData,
     prim: &sdf::Path,
     name: &str,
@@ -240,6 +240,9 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
 
     let (stored, extra) = stored_meshes(data, &root);
     let mut report = compare(log.document(), &stored, extra);
+    report
+        .mismatches
+        .extend(crate::parametric::mismatches(data, log.document()));
     if options.verify_history && !replayed {
         report.history_checked = true;
         match OpLog::replay(log.ops().to_vec(), cursor) {

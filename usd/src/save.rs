@@ -35,7 +35,7 @@ pub fn save_to_string(log: &OpLog, options: &SaveOptions) -> Result<String, Save
     let doc = log.document();
     let mut world = PrimOut::new(WORLD_PRIM, "Xform");
     for (id, obj) in doc.objects() {
-        world.children.push(object_prim(id, obj));
+        world.children.push(object_prim(id, obj)?);
     }
     let roots = [world, log_prim(log)?];
     let meta = StageMeta {

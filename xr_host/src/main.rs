@@ -4,6 +4,7 @@
 //! meshes; the OpenXR headset session joins it later.
 
 mod cmd;
+mod import_cmd;
 mod render_cmd;
 mod replay_cmd;
 mod run_cmd;
@@ -61,6 +62,9 @@ enum Command {
         #[arg(long)]
         ply: Option<PathBuf>,
     },
+    /// Import the meshes of a USD file (Blender, pxr) into a document as an
+    /// SDF library component or a sculpt base mesh, or as a grid brush.
+    Import(import_cmd::ImportArgs),
     /// Run the OpenXR session (headset with Vulkan; `--headless`: input only, XR_MND_headless).
     Run(run_cmd::RunArgs),
     /// Render a mesh file (.stl, .obj) to a PNG with the host's Vulkan renderer.
@@ -95,6 +99,7 @@ fn main() -> ExitCode {
             ply,
         } => usd_cmd::export(&file, stl.as_deref(), obj.as_deref(), ply.as_deref()),
         Command::Replay { trace, out } => replay_cmd::replay(&trace, &out),
+        Command::Import(args) => import_cmd::import(&args),
         Command::Run(args) => run_cmd::run(&args),
         Command::Render {
             file,

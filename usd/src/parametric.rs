@@ -1,0 +1,320 @@
+//! Parametric data next to each object's mesh: `NurbsCurves` and
+//! `NurbsPatch` prims (issue 7, ARCHITECTURE.md "USD mapping").
+//!
+//! - A generalized-cylinder assembly (paper 1 §3.1) gives, per part `i`:
+//!   `Part<i>_Spine` (one curve), `Part<i>_Sections` (the key sections
+//!   placed on the spine, one curve each) and `Part<i>_Surface`, the exact
+//!   skin through them (`Gc::surface`). For shells and containers this is
+//!   the outer side surface; the inner offset and the caps exist only as
+//!   mesh.
+//! - A curve network (paper 3 §5) gives `Curves` (its live curves, with
+//!   `shapewright:curveIndices` naming each one's index in the network)
+//!   and `Patch<k>` per patch, converted exactly to a bicubic NURBS surface
+//!   ([`crate::coons`]).
+//!
+//! Authoring follows the UsdGeom schemas: `order = degree + 1`, `knots`
+//! concatenated per curve (`count + order` each), `ranges` the curves'
+//! domains, `points` Euclidean (not pre-weighted) as `point3f`, and
+//! `pointWeights` only for rational data (any weight not 1). Patch points
+//! are ordered with `u` varying fastest (RenderMan's `RiNuPatch` layout,
+//! which the schema follows): `points[j * uVertexCount + i]` is `P_{i,j}`.
+//! `extent` bounds the control points (the convex hull property, exact for
+//! positive weights). Everything is in the stage space (Z-up, meters) of
+//! the document.
+//!
+//! Loading cross-checks these prims against the document, like the meshes
+//! ([`crate::check`]): a prim missing, of another type, or with an
+//! attribute that differs (points beyond [`crate::check::POINT_ULPS`],
+//! anything else exactly) is a [`crate::Mismatch::Parametric`]. The log stays
+//! the truth; the prims are never read back into the document.
+
+use openusd::gf;
+use openusd::sdf::{self, AbstractData, Value};
+use shapewright::doc::{Document, ObjectKind};
+use shapewright::math::DVec3;
+use shapewright::nurbs::{euclidean, NurbsCurve, NurbsSurface};
+
+use crate::check::{max_point_deviation, Mismatch};
+use crate::kinds::object_prim_name;
+use crate::load::attr_value;
+use crate::prims::{AttrOut, PrimOut};
+
+/// One parametric part of an object.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Part {
+    /// A `NurbsCurves` prim.
+    Curves {
+        /// Prim name.
+        name: String,
+        /// The curves.
+        curves: Vec<NurbsCurve>,
+        /// `shapewright:curveIndices` (network curve indices), if any.
+        indices: Option<Vec<i32>>,
+    },
+    /// A `NurbsPatch` prim.
+    Patch {
+        /// Prim name.
+        name: String,
+        /// The surface.
+        surface: NurbsSurface,
+    },
+}
+
+/// The parametric parts of `kind` (none for solids, SDF volumes and
+/// sculpt meshes, whose data are the log's and the snapshot's only).
+pub fn parts(kind: &ObjectKind) -> Result<Vec<Part>, String> {
+    let mut out = Vec::new();
+    match kind {
+        ObjectKind::Solid(_) | ObjectKind::SdfVolume(_) | ObjectKind::SculptMesh(_) => {}
+        ObjectKind::GcAssembly(a) => {
+            for (i, part) in a.parts.iter().enumerate() {
+                let gc = &part.gc;
+                let fail = |e: shapewright::gc::GcError| format!("part {i}: {e}");
+                let (sections, _) = gc.placed_sections().map_err(fail)?;
+                out.push(Part::Curves {
+                    name: format!("Part{i}_Spine"),
+                    curves: vec![gc.spine.curve.clone()],
+                    indices: None,
+                });
+                out.push(Part::Curves {
+                    name: format!("Part{i}_Sections"),
+                    curves: sections,
+                    indices: None,
+                });
+                out.push(Part::Patch {
+                    name: format!("Part{i}_Surface"),
+                    surface: gc.surface().map_err(fail)?,
+                });
+            }
+        }
+        ObjectKind::CurveNetwork(net) => {
+            let mut curves = Vec::new();
+            let mut indices = Vec::new();
+            for (i, c) in net.curves.iter().enumerate() {
+                if let Some(c) = c {
+                    curves.push(c.to_nurbs().map_err(|e| format!("curve {i}: {e}"))?);
+                    indices.push(i32::try_from(i).map_err(|_| format!("curve index {i}"))?);
+                }
+            }
+            if !curves.is_empty() {
+                out.push(Part::Curves {
+                    name: "Curves".to_owned(),
+                    curves,
+                    indices: Some(indices),
+                });
+            }
+            for k in 0..net.patches.len() {
+                out.push(Part::Patch {
+                    name: format!("Patch{k}"),
+                    surface: crate::coons::patch_surface(net, k)
+                        .map_err(|e| format!("patch {k}: {e}"))?,
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+impl Part {
+    /// The prim name.
+    pub fn name(&self) -> &str {
+        match self {
+            Self::Curves { name, .. } | Self::Patch { name, .. } => name,
+        }
+    }
+
+    /// The prim authoring this part.
+    pub fn prim(&self) -> PrimOut {
+        match self {
+            Self::Curves {
+                name,
+                curves,
+                indices,
+            } => curves_prim(name, curves, indices.as_deref()),
+            Self::Patch { name, surface } => patch_prim(name, surface),
+        }
+    }
+}
+
+fn f32_point(p: DVec3) -> gf::Vec3f {
+    gf::vec3f(p.x as f32, p.y as f32, p.z as f32)
+}
+
+/// `extent` of `points` (zeros when empty).
+pub fn extent(points: &[gf::Vec3f]) -> Value {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for p in points {
+        for (k, v) in [p.x, p.y, p.z].into_iter().enumerate() {
+            lo[k] = lo[k].min(v);
+            hi[k] = hi[k].max(v);
+        }
+    }
+    if points.is_empty() {
+        lo = [0.0; 3];
+        hi = [0.0; 3];
+    }
+    Value::Vec3fVec(vec![lo.into(), hi.into()])
+}
+
+/// Appends `points` (and `pointWeights` when any weight is not 1) and
+/// `extent` for homogeneous control points.
+fn push_points<'a>(attrs: &mut Vec<AttrOut>, control: impl Iterator<Item = &'a glam::DVec4>) {
+    let (points, weights): (Vec<gf::Vec3f>, Vec<f64>) =
+        control.map(|h| (f32_point(euclidean(*h)), h.w)).unzip();
+    attrs.push(AttrOut::schema("extent", "float3[]", extent(&points)));
+    if weights.iter().any(|&w| w != 1.0) {
+        attrs.push(AttrOut::schema(
+            "pointWeights",
+            "double[]",
+            Value::DoubleVec(weights),
+        ));
+    }
+    attrs.push(AttrOut::schema(
+        "points",
+        "point3f[]",
+        Value::Vec3fVec(points),
+    ));
+}
+
+fn int(n: usize) -> Value {
+    Value::Int(i32::try_from(n).unwrap_or(i32::MAX))
+}
+
+/// A `NurbsCurves` prim holding `curves`.
+pub fn curves_prim(name: &str, curves: &[NurbsCurve], indices: Option<&[i32]>) -> PrimOut {
+    let mut p = PrimOut::new(name, "NurbsCurves");
+    let count = |n: usize| i32::try_from(n).unwrap_or(i32::MAX);
+    p.attrs.push(AttrOut::schema(
+        "curveVertexCounts",
+        "int[]",
+        Value::IntVec(curves.iter().map(|c| count(c.control.len())).collect()),
+    ));
+    p.attrs.push(AttrOut::schema(
+        "knots",
+        "double[]",
+        Value::DoubleVec(curves.iter().flat_map(|c| c.knots.clone()).collect()),
+    ));
+    p.attrs.push(AttrOut::schema(
+        "order",
+        "int[]",
+        Value::IntVec(curves.iter().map(|c| count(c.degree + 1)).collect()),
+    ));
+    p.attrs.push(AttrOut::schema(
+        "ranges",
+        "double2[]",
+        Value::Vec2dVec(
+            curves
+                .iter()
+                .map(|c| {
+                    let (a, b) = c.domain();
+                    gf::vec2d(a, b)
+                })
+                .collect(),
+        ),
+    ));
+    push_points(&mut p.attrs, curves.iter().flat_map(|c| c.control.iter()));
+    if let Some(ix) = indices {
+        p.attrs.push(AttrOut::custom(
+            "shapewright:curveIndices",
+            "int[]",
+            Value::IntVec(ix.to_vec()),
+        ));
+    }
+    p
+}
+
+/// A `NurbsPatch` prim holding `s` (`u` varying fastest in `points`).
+pub fn patch_prim(name: &str, s: &NurbsSurface) -> PrimOut {
+    let mut p = PrimOut::new(name, "NurbsPatch");
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let dirs = [
+        ("u", &s.knots_u, s.degree_u, (u0, u1), s.n_u),
+        ("v", &s.knots_v, s.degree_v, (v0, v1), s.n_v),
+    ];
+    for (d, knots, degree, (a, b), count) in dirs {
+        let open = Value::Token("open".into());
+        p.attrs.extend([
+            AttrOut::schema_uniform(&format!("{d}Form"), "token", open),
+            AttrOut::schema(
+                &format!("{d}Knots"),
+                "double[]",
+                Value::DoubleVec(knots.clone()),
+            ),
+            AttrOut::schema(&format!("{d}Order"), "int", int(degree + 1)),
+            AttrOut::schema(
+                &format!("{d}Range"),
+                "double2",
+                Value::Vec2d(gf::vec2d(a, b)),
+            ),
+            AttrOut::schema(&format!("{d}VertexCount"), "int", int(count)),
+        ]);
+    }
+    let order = (0..s.n_v).flat_map(|j| (0..s.n_u).map(move |i| i * s.n_v + j));
+    push_points(&mut p.attrs, order.map(|k| &s.control[k]));
+    p
+}
+
+/// Compares the parametric prims stored under each object's prim with the
+/// ones the document gives.
+pub fn mismatches(data: &dyn AbstractData, doc: &Document) -> Vec<Mismatch> {
+    let mut out = Vec::new();
+    let Ok(world) = sdf::Path::abs_root().append_path(crate::WORLD_PRIM) else {
+        return out;
+    };
+    for (id, obj) in doc.objects() {
+        let Ok(obj_path) = world.append_path(object_prim_name(id).as_str()) else {
+            continue;
+        };
+        if !data.has_spec(&obj_path) {
+            continue; // already a MissingMesh
+        }
+        let mut report = |prim: &str, detail: String| {
+            out.push(Mismatch::Parametric {
+                id,
+                prim: prim.to_owned(),
+                detail,
+            })
+        };
+        let expected = match parts(&obj.kind) {
+            Ok(p) => p,
+            Err(e) => {
+                report("-", format!("the document's parametric data fail: {e}"));
+                continue;
+            }
+        };
+        for part in expected {
+            let want = part.prim();
+            let Ok(path) = obj_path.append_path(want.name.as_str()) else {
+                continue;
+            };
+            if !data.has_spec(&path) {
+                report(&want.name, "missing".to_owned());
+                continue;
+            }
+            let type_name = data.try_field(&path, "typeName").ok().flatten();
+            if !matches!(type_name.as_deref(), Some(Value::Token(t)) if t.as_str() == want.type_name)
+            {
+                report(&want.name, format!("is not a {}", want.type_name));
+                continue;
+            }
+            for a in &want.attrs {
+                let got = attr_value(data, &path, &a.name);
+                let same = match (&a.value, got.as_deref()) {
+                    (Value::Vec3fVec(w), Some(Value::Vec3fVec(g))) if a.name == "points" => {
+                        w.len() == g.len() && {
+                            let (dev, tol) = max_point_deviation(w, g);
+                            dev <= tol
+                        }
+                    }
+                    (w, Some(g)) => w == g,
+                    (_, None) => false,
+                };
+                if !same {
+                    report(&want.name, format!("attribute `{}` differs", a.name));
+                }
+            }
+        }
+    }
+    out
+}
