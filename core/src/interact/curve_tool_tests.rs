@@ -4,7 +4,7 @@
 //! `SHAPEWRIGHT_WRITE_TRACES=1 cargo test -p shapewright --lib interact::curve_tool_tests`;
 //! every run checks the file still matches the script, then replays it.
 
-use crate::doc::{parse_script, run_script, ObjectKind, Op, OpLog, ScriptCommand};
+use crate::doc::{ObjectKind, Op, OpLog, ScriptCommand};
 use crate::math::{DQuat, DVec3};
 use crate::mesh;
 use crate::styling::select::CurveTool as TableTool;
@@ -159,20 +159,28 @@ fn net_of(log: &OpLog) -> &CurveNetwork {
     }
 }
 
+/// The checked-in trace, (re)written first when `SHAPEWRIGHT_WRITE_TRACES`
+/// is set; it must be what the puppet script records.
+fn checked_in_trace() -> Trace {
+    let script = curve_network_session().to_jsonl();
+    let file = match std::env::var_os("SHAPEWRIGHT_WRITE_TRACES") {
+        Some(_) => {
+            std::fs::write(path(), &script).unwrap();
+            script.clone()
+        }
+        None => std::fs::read_to_string(path()).unwrap(),
+    };
+    assert!(
+        file == script,
+        "stale trace: regenerate it (see the module docs)"
+    );
+    println!("curve_network.trace.jsonl: {} bytes", file.len());
+    Trace::from_jsonl(&file).unwrap()
+}
+
 #[test]
 fn curve_network_trace_replays_to_a_closed_styled_model() {
-    let made = curve_network_session();
-    if std::env::var_os("SHAPEWRIGHT_WRITE_TRACES").is_some() {
-        std::fs::write(path(), made.to_jsonl()).unwrap();
-    }
-    let text = std::fs::read_to_string(path()).unwrap();
-    let trace = Trace::from_jsonl(&text).unwrap();
-    assert_eq!(trace, Trace::from_jsonl(&made.to_jsonl()).unwrap());
-    println!(
-        "curve_network.trace.jsonl: {} frames, {} bytes",
-        trace.frames.len(),
-        text.len()
-    );
+    let trace = checked_in_trace();
     let r = replay(&trace).unwrap();
     assert!(r.rejected.is_empty(), "{:?}", r.rejected);
     let mut want = vec!["curve_network_create"];
@@ -232,18 +240,18 @@ fn curve_network_trace_replays_to_a_closed_styled_model() {
         let again = replay(&trace).unwrap();
         assert_eq!(again.log.document().content_hash(), doc.content_hash());
     }
-    let script: String = r
-        .commands
-        .iter()
-        .map(|c| match c {
-            ScriptCommand::Op(op) => serde_json::to_string(op).unwrap(),
-            ScriptCommand::Undo => "{\"op\":\"undo\"}".into(),
-            ScriptCommand::Redo => "{\"op\":\"redo\"}".into(),
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
+    // Each op through JSON and back, onto a fresh log.
     let mut log = OpLog::new();
-    run_script(&mut log, &parse_script(&script).unwrap()).unwrap();
+    for c in &r.commands {
+        let c = match c {
+            ScriptCommand::Op(op) => {
+                let json = serde_json::to_string(op).unwrap();
+                ScriptCommand::Op(serde_json::from_str(&json).unwrap())
+            }
+            other => other.clone(),
+        };
+        apply_command(&mut log, &c).unwrap();
+    }
     assert_eq!(log.document().content_hash(), doc.content_hash());
 }
 
@@ -336,27 +344,15 @@ fn pointer_pose_chooses_the_table1_tool_in_the_preview() {
 #[test]
 fn held_tools_emit_one_op_with_their_path() {
     let mut p = with_line();
-    hold(
-        &mut p,
-        v(-0.03, 0.0, 0.13),
-        v(0.03, 0.0, 0.13),
-        v(1.0, 0.0, 0.0),
-        0.3,
-    );
-    hold(
-        &mut p,
-        v(0.0, 0.0, 0.13),
-        v(0.0, 0.0, 0.13),
-        v(0.0, 0.0, -1.0),
-        0.3,
-    );
-    hold(
-        &mut p,
-        v(0.0, 0.0, 0.11),
-        v(0.0, 0.0, 0.14),
-        v(0.0, 0.0, -1.0),
-        0.3,
-    );
+    // Smoother (3 cm off, along), sharpener (3 cm off, across), puller
+    // (1 cm off, across, lifted 3 cm).
+    for (from, to, dir) in [
+        (v(-0.03, 0.0, 0.13), v(0.03, 0.0, 0.13), v(1.0, 0.0, 0.0)),
+        (v(0.0, 0.0, 0.13), v(0.0, 0.0, 0.13), v(0.0, 0.0, -1.0)),
+        (v(0.0, 0.0, 0.11), v(0.0, 0.0, 0.14), v(0.0, 0.0, -1.0)),
+    ] {
+        hold(&mut p, from, to, dir, 0.3);
+    }
     let mut seen_path = 0;
     let (cmds, log) = run(&p, |s| {
         let cp = s.preview().curve.as_ref().unwrap();

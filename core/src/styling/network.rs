@@ -173,6 +173,20 @@ pub fn constrain(
     Ok(c)
 }
 
+/// Triangles of an `m × m`-cell grid of `(m + 1)²` row-major vertices,
+/// counter-clockwise in `(i, j)`.
+pub(crate) fn grid_triangles(m: usize) -> Vec<[u32; 3]> {
+    let idx = |i: usize, j: usize| (j * (m + 1) + i) as u32;
+    let mut tris = Vec::with_capacity(2 * m * m);
+    for j in 0..m {
+        for i in 0..m {
+            tris.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
+            tris.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+        }
+    }
+    tris
+}
+
 /// Closest approaches under `tol` between a new curve and `other`.
 pub fn closest_approaches(
     new: &SplineCurve,
@@ -746,15 +760,7 @@ impl CurveNetwork {
                 pos.push(p.to_array());
             }
         }
-        let idx = |i: usize, j: usize| (j * (m + 1) + i) as u32;
-        let mut tris = Vec::with_capacity(2 * m * m);
-        for j in 0..m {
-            for i in 0..m {
-                tris.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
-                tris.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
-            }
-        }
-        TriMesh::new(pos, tris)
+        TriMesh::new(pos, grid_triangles(m))
     }
 
     /// The mesh of every patch, welded; degenerate triangles (collapsed

@@ -20,7 +20,7 @@
 use crate::math::DVec3;
 use crate::mesh::TriMesh;
 
-use super::network::{CurveNetwork, Piece};
+use super::network::{grid_triangles, CurveNetwork, Piece};
 use super::StylingError;
 
 /// The largest loop (in pieces) that can be filled.
@@ -102,22 +102,14 @@ impl CurveNetwork {
                     pos.push(p.to_array());
                 }
             }
-            let idx = |i: usize, j: usize| (j * (h + 1) + i) as u32;
-            let mut tris = Vec::with_capacity(2 * h * h);
-            for j in 0..h {
-                for i in 0..h {
-                    tris.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
-                    tris.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
-                }
-            }
-            out.append(&TriMesh::new(pos, tris));
+            out.append(&TriMesh::new(pos, grid_triangles(h)));
         }
         out
     }
 
     /// Checks that an n-sided loop can be meshed (even resolution).
     pub(crate) fn check_ngon(&self, sides: usize) -> Result<(), StylingError> {
-        if sides > 4 && self.resolution % 2 != 0 {
+        if sides > 4 && !self.resolution.is_multiple_of(2) {
             return Err(StylingError::OddResolution(self.resolution));
         }
         Ok(())

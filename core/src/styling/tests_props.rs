@@ -8,7 +8,7 @@ use proptest::prelude::*;
 use super::curve::{fit_curve, FitMode, SplineCurve};
 use super::network::{CurveNetwork, Piece};
 use super::tests_net::edge_samples;
-use super::tools::{CurveSession, PullParams, SharpenLimits, SmoothParams};
+use super::tools::{CurveSession, SharpenLimits, SmoothParams};
 use super::StylingError;
 use crate::math::DVec3;
 use crate::mesh::validate;
@@ -125,10 +125,7 @@ fn ngon_bad_input_is_typed() {
     let net = prism(9, 0.1, 0.12, 8);
     assert!(net.find_loops().iter().all(|l| l.len() <= 8));
     let nine: Vec<Piece> = (0..9)
-        .map(|k| {
-            let p = net.pieces().into_iter().find(|p| p.curve == k).unwrap();
-            p
-        })
+        .map(|k| net.pieces().into_iter().find(|p| p.curve == k).unwrap())
         .collect();
     assert_eq!(net.check_loop(&nine), Err(StylingError::LoopSize(9)));
     // Surface tools refuse n-gons.
@@ -189,14 +186,12 @@ fn apply(net: &mut CurveNetwork, curve: usize, e: &Edit) -> Result<(), StylingEr
     let c = net.curve(curve)?.clone();
     let (a, b) = c.domain();
     let mut session = CurveSession::new(c.clone())?;
+    // The curve tool's weights.
+    let tool = crate::interact::CurveToolSettings::default();
     match e {
         Edit::Pull { s, by } => {
             let t0 = a + (b - a) * s;
-            let p = PullParams {
-                wpp: 200.0,
-                wp0: 1.0,
-                wp1: 1e-3,
-            };
+            let p = tool.pull;
             session.pull(&p, t0, &[c.point(t0) + DVec3::from_array(*by)])?;
         }
         Edit::Smooth { s } => {
@@ -205,18 +200,7 @@ fn apply(net: &mut CurveNetwork, curve: usize, e: &Edit) -> Result<(), StylingEr
         }
         Edit::Sharpen { s, frames } => {
             let q = c.point(a + (b - a) * s);
-            let p = SmoothParams {
-                wb: 2e-6,
-                ws: 0.0,
-                wp0: 1.0,
-                wp1: 0.0,
-                wp2: 3e-6,
-                alpha: 30.0,
-            };
-            let lim = SharpenLimits {
-                max_step: 0.004,
-                max_growth: 4.0,
-            };
+            let (p, lim) = (tool.sharpen, tool.sharpen_limits);
             session.sharpen(&p, &lim, &vec![q; *frames]);
         }
     }
