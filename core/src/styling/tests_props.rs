@@ -101,6 +101,10 @@ fn pentagonal_prism_fills_and_meshes_closed() {
     let r = validate(&m, &Default::default());
     assert!(r.is_closed_manifold(), "{}", r.problems());
     assert_eq!(r.genus, Some(0));
+    if let Ok(file) = std::env::var("SHAPEWRIGHT_NGON_STL_OUT") {
+        let mut f = std::fs::File::create(file).unwrap();
+        crate::mesh::write_stl(&m, &mut f).unwrap();
+    }
     // Volume: the straight prism is 5/2 r² sin 72° h; the bows add a little.
     let straight = 2.5 * 0.01 * (72f64.to_radians()).sin() * 0.12;
     let v = m.signed_volume();
