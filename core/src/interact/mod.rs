@@ -23,6 +23,9 @@
 
 mod bimanual;
 mod bindings;
+mod curve_tool;
+#[cfg(test)]
+mod curve_tool_tests;
 mod gesture;
 #[cfg(test)]
 mod gesture_accuracy;
@@ -42,6 +45,9 @@ mod trace_fixture;
 
 pub use bimanual::{two_hand_scale, HandleBar, ModelFrame, OrientGrab, MIN_BAR, SCALE_RANGE};
 pub use bindings::{ActionItem, ActionMap, ActionType, AxisRegion, Binding, ACTIONS, PROFILES};
+pub use curve_tool::{
+    CurveMode, CurveNetworkTool, CurvePreview, CurveTarget, CurveToolSettings, DrawPlane,
+};
 pub use gesture::{
     score_sequence, Gesture, GestureClassifier, GestureLabel, GestureScore, GestureSettings,
     GestureState, HandFeatures,

@@ -70,6 +70,8 @@ pub struct Preview {
     pub sketch: Vec<DVec3>,
     /// The shape the next placement will create.
     pub placing: Option<SolidShape>,
+    /// The curve tool's state: selected tool, pointed curve point, planes.
+    pub curve: Option<super::curve_tool::CurvePreview>,
 }
 
 impl Preview {

@@ -32,9 +32,15 @@ pub enum StylingError {
     /// The picked curve pieces do not form a closed loop.
     #[error("the picked pieces do not form a closed loop: {0}")]
     LoopNotClosed(String),
-    /// Only loops of 3 or 4 pieces can be filled.
-    #[error("a loop of {0} pieces cannot be filled (3 or 4 supported)")]
+    /// Only loops of 3 to 8 pieces can be filled.
+    #[error("a loop of {0} pieces cannot be filled (3 to 8 supported)")]
     LoopSize(usize),
+    /// n-sided patches (n > 4) need an even mesh resolution.
+    #[error("loops of more than 4 pieces need an even network resolution (it is {0})")]
+    OddResolution(u32),
+    /// The surface tools work on 3- and 4-sided patches only.
+    #[error("patch {0} has more than 4 sides; surface tools need a 3- or 4-sided patch")]
+    NotQuad(usize),
     /// The loop is already filled.
     #[error("this loop is already filled by patch {0}")]
     AlreadyFilled(usize),

@@ -11,6 +11,7 @@
 //! - [`surface`]: surface smoother, sharpener, puller on uniform bicubic
 //!   B-splines with a fixed boundary (§4).
 //! - [`network`]: curve networks, junctions, loops and patches (§5).
+//! - [`ngon`]: n-sided patches (5..=8 sides) split into quads around a centre.
 //! - [`select`]: tool selection from the pointer pose (§6, Table 1).
 //! - [`ops`]: the `curve_*` / `surface_*` ops and the `CurveNetwork` kind.
 //!
@@ -27,6 +28,7 @@ pub mod curve;
 pub mod energy;
 mod error;
 pub mod network;
+pub mod ngon;
 pub mod ops;
 pub mod select;
 pub mod solver;
@@ -41,3 +43,5 @@ pub use network::{CurveNetwork, Node, Patch, Piece};
 mod tests;
 #[cfg(test)]
 mod tests_net;
+#[cfg(test)]
+mod tests_props;

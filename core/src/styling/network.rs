@@ -16,11 +16,15 @@
 //!   by the same least-change solve, with its other nodes held, so shared
 //!   points stay equal to rounding (tests check 1e-9).
 //! - Loops: pieces are the spans between consecutive nodes of a curve;
-//!   automatic loops are the chordless cycles of 3 or 4 pieces (a
+//!   automatic loops are the chordless cycles of 3 to 8 pieces (a
 //!   topological criterion; the paper's geometric search is not specified
-//!   further); explicit loops are checked to close.
+//!   further); explicit loops are checked to close. Filling them all goes
+//!   by size (3- and 4-sided first, then 5, 6, ...) and skips a loop with
+//!   a piece that already borders two patches, so on a closed net only the
+//!   faces are filled (a cube's chordless hexagons are not).
 //! - Patches: a bilinearly blended Coons patch of the 4 sides (a 3-sided
-//!   loop is a Coons patch with one side collapsed to a point), plus a
+//!   loop is a Coons patch with one side collapsed to a point; loops of 5
+//!   to 8 sides are split into quads around a centre, see [`super::ngon`]), plus a
 //!   bicubic B-spline displacement with a zero boundary, edited by the
 //!   surface tools. Patches are G0 to their curves by construction. Meshing
 //!   samples each piece at canonical parameters and each node at one
@@ -33,6 +37,7 @@ use crate::math::DVec3;
 use crate::mesh::TriMesh;
 
 use super::curve::SplineCurve;
+use super::ngon::MAX_SIDES;
 use super::surface::{eval_grid, BaseDerivs};
 use super::StylingError;
 
@@ -74,9 +79,10 @@ impl Piece {
 /// A surface filling a loop.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Patch {
-    /// The loop, 3 or 4 pieces head to tail.
+    /// The loop, 3 to 8 pieces head to tail.
     pub pieces: Vec<Piece>,
-    /// Displacement control points (`n × n`, boundary zero).
+    /// Displacement control points (`n × n`, boundary zero; empty for
+    /// loops of more than 4 pieces).
     pub disp: Vec<[f64; 3]>,
 }
 
@@ -165,6 +171,20 @@ pub fn constrain(
         return Err(StylingError::DegenerateJunctions(index));
     }
     Ok(c)
+}
+
+/// Triangles of an `m × m`-cell grid of `(m + 1)²` row-major vertices,
+/// counter-clockwise in `(i, j)`.
+pub(crate) fn grid_triangles(m: usize) -> Vec<[u32; 3]> {
+    let idx = |i: usize, j: usize| (j * (m + 1) + i) as u32;
+    let mut tris = Vec::with_capacity(2 * m * m);
+    for j in 0..m {
+        for i in 0..m {
+            tris.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
+            tris.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+        }
+    }
+    tris
 }
 
 /// Closest approaches under `tol` between a new curve and `other`.
@@ -371,10 +391,27 @@ impl CurveNetwork {
     }
 
     /// Replaces curve `i` (after a tool edit) and makes every neighbour
-    /// follow so the net stays connected.
+    /// follow so the net stays connected. On error the net is unchanged.
     pub fn set_curve(&mut self, i: usize, curve: SplineCurve) -> Result<(), StylingError> {
         self.curve(i)?;
-        self.curves[i] = Some(curve);
+        let old = self.curves[i].replace(curve);
+        match self.followers(i) {
+            Ok(moved) => {
+                for (b, c) in moved {
+                    self.curves[b] = Some(c);
+                }
+                Ok(())
+            }
+            Err(e) => {
+                self.curves[i] = old;
+                Err(e)
+            }
+        }
+    }
+
+    /// The neighbours of curve `i` moved to meet it at their shared nodes
+    /// (their other nodes held).
+    fn followers(&self, i: usize) -> Result<Vec<(usize, SplineCurve)>, StylingError> {
         let mut neighbours: Vec<usize> = self
             .nodes
             .iter()
@@ -384,6 +421,7 @@ impl CurveNetwork {
             .collect();
         neighbours.sort_unstable();
         neighbours.dedup();
+        let mut out = Vec::with_capacity(neighbours.len());
         for b in neighbours {
             let cb = self.curve(b)?.clone();
             let mut cons = Vec::new();
@@ -397,10 +435,9 @@ impl CurveNetwork {
                 };
                 cons.push((tb, target));
             }
-            let moved = constrain(&cb, b, &cons)?;
-            self.curves[b] = Some(moved);
+            out.push((b, constrain(&cb, b, &cons)?));
         }
-        Ok(())
+        Ok(out)
     }
 
     /// Deletes curve `i`, its node memberships and the patches using it.
@@ -445,8 +482,8 @@ impl CurveNetwork {
         out
     }
 
-    /// Chordless loops of 3 or 4 pieces not yet filled, each as pieces
-    /// head to tail, in a deterministic order.
+    /// Chordless loops of 3 to [`MAX_SIDES`] pieces not yet filled, each
+    /// as pieces head to tail, in a deterministic order.
     pub fn find_loops(&self) -> Vec<Vec<Piece>> {
         let pieces = self.pieces();
         let connected = |a: usize, b: usize| {
@@ -471,8 +508,10 @@ impl CurveNetwork {
                 let start = path[0].from;
                 if path.len() >= 3 && last.to == start {
                     let nodes: Vec<usize> = path.iter().map(|p| p.from).collect();
-                    let chord = nodes.len() == 4
-                        && (connected(nodes[0], nodes[2]) || connected(nodes[1], nodes[3]));
+                    let n = nodes.len();
+                    let chord = (0..n).any(|i| {
+                        (i + 2..n).any(|j| (j + 1) % n != i && connected(nodes[i], nodes[j]))
+                    });
                     let mut key = ids.clone();
                     key.sort_unstable();
                     if !chord && !found.iter().any(|(k, _)| *k == key) {
@@ -480,7 +519,7 @@ impl CurveNetwork {
                     }
                     continue;
                 }
-                if path.len() == 4 {
+                if path.len() == MAX_SIDES {
                     continue;
                 }
                 for (e, p) in pieces.iter().enumerate() {
@@ -515,12 +554,13 @@ impl CurveNetwork {
         })
     }
 
-    /// Checks that `lp` is a closed loop of 3 or 4 pieces of live curves,
-    /// each between consecutive nodes of its curve.
+    /// Checks that `lp` is a closed loop of 3 to [`MAX_SIDES`] pieces of
+    /// live curves, each between consecutive nodes of its curve.
     pub fn check_loop(&self, lp: &[Piece]) -> Result<(), StylingError> {
-        if lp.len() < 3 || lp.len() > 4 {
+        if lp.len() < 3 || lp.len() > MAX_SIDES {
             return Err(StylingError::LoopSize(lp.len()));
         }
+        self.check_ngon(lp.len())?;
         let all = self.pieces();
         for (k, p) in lp.iter().enumerate() {
             self.curve(p.curve)?;
@@ -567,7 +607,11 @@ impl CurveNetwork {
         if same_dir {
             pieces = pieces.iter().rev().map(|p| p.reversed()).collect();
         }
-        let n = self.surface_n as usize;
+        let n = if pieces.len() > 4 {
+            0
+        } else {
+            self.surface_n as usize
+        };
         self.patches.push(Patch {
             pieces,
             disp: vec![[0.0; 3]; n * n],
@@ -575,25 +619,35 @@ impl CurveNetwork {
         Ok(self.patches.len() - 1)
     }
 
-    /// Fills every automatically found loop, neighbours first (each next
-    /// loop shares a piece with a filled one when possible), so that the
-    /// orientation propagates consistently over a closed net.
+    /// Patches bordering the span of `p`.
+    fn borders(&self, p: &Piece) -> usize {
+        self.patches
+            .iter()
+            .flat_map(|q| &q.pieces)
+            .filter(|q| q.same_span(p))
+            .count()
+    }
+
+    /// Fills every automatically found loop by size tiers (3 and 4 sides,
+    /// then 5, 6, ...), neighbours first within a tier (each next loop
+    /// shares a piece with a filled one when possible), so that the
+    /// orientation propagates consistently over a closed net. A loop with
+    /// a piece that already borders two patches is skipped.
     pub fn fill_all(&mut self) -> Result<Vec<usize>, StylingError> {
+        let tier = |l: &Vec<Piece>| l.len().max(4);
         let mut loops = self.find_loops();
+        loops.sort_by_key(tier);
         let mut out = Vec::new();
         while !loops.is_empty() {
+            let now = tier(&loops[0]);
             let next = loops
                 .iter()
-                .position(|l| {
-                    l.iter().any(|p| {
-                        self.patches
-                            .iter()
-                            .flat_map(|q| &q.pieces)
-                            .any(|q| q.same_span(p))
-                    })
-                })
+                .position(|l| tier(l) == now && l.iter().any(|p| self.borders(p) > 0))
                 .unwrap_or(0);
             let lp = loops.remove(next);
+            if lp.iter().any(|p| self.borders(p) >= 2) {
+                continue;
+            }
             out.push(self.fill(&lp)?);
         }
         Ok(out)
@@ -655,7 +709,7 @@ impl CurveNetwork {
 
     /// Canonical sample `i` of `m` along a piece (shared by both patches
     /// that use the piece, whatever their direction).
-    fn piece_sample(&self, p: &Piece, i: usize, m: usize) -> DVec3 {
+    pub(crate) fn piece_sample(&self, p: &Piece, i: usize, m: usize) -> DVec3 {
         if i == 0 {
             return self.node_point(p.from);
         }
@@ -680,6 +734,9 @@ impl CurveNetwork {
 
     /// Triangle mesh of patch `k` (boundary vertices on the curves).
     pub fn patch_mesh(&self, k: usize) -> TriMesh {
+        if self.patches[k].pieces.len() > 4 {
+            return self.ngon_mesh(k);
+        }
         let m = self.resolution as usize;
         let pc = &self.patches[k].pieces;
         let mut pos = Vec::with_capacity((m + 1) * (m + 1));
@@ -703,15 +760,7 @@ impl CurveNetwork {
                 pos.push(p.to_array());
             }
         }
-        let idx = |i: usize, j: usize| (j * (m + 1) + i) as u32;
-        let mut tris = Vec::with_capacity(2 * m * m);
-        for j in 0..m {
-            for i in 0..m {
-                tris.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
-                tris.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
-            }
-        }
-        TriMesh::new(pos, tris)
+        TriMesh::new(pos, grid_triangles(m))
     }
 
     /// The mesh of every patch, welded; degenerate triangles (collapsed

@@ -103,7 +103,7 @@ pub struct CurveDelete {
 pub struct CurveFillLoop {
     /// The network.
     pub id: ObjectId,
-    /// 3 or 4 pieces head to tail.
+    /// 3 to 8 pieces head to tail.
     pub pieces: Vec<Piece>,
 }
 
@@ -262,6 +262,9 @@ fn patch_system(
 ) -> Result<SurfaceSystem, StylingError> {
     if k >= net.patches.len() {
         return Err(StylingError::NoPatch(k));
+    }
+    if net.patches[k].pieces.len() > 4 {
+        return Err(StylingError::NotQuad(k));
     }
     let n = net.surface_n as usize;
     let base = |u: f64, v: f64| net.coons(k, u, v);

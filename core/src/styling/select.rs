@@ -82,3 +82,31 @@ pub fn select_tool(curve: &SplineCurve, tip: DVec3, dir: DVec3) -> Selection {
         angle_deg,
     }
 }
+
+/// Table 1 over a whole network: the live curve nearest to the tip (ties
+/// go to the lower index) and the selection against it. Distances are in
+/// model units; `scale` (metres per model unit) converts them for Table 1,
+/// whose bands are in metres. `None` when the network has no curve.
+pub fn select_in_network(
+    net: &super::network::CurveNetwork,
+    tip: DVec3,
+    dir: DVec3,
+    scale: f64,
+) -> Option<(usize, Selection)> {
+    let mut best: Option<(usize, Selection)> = None;
+    for (i, c) in net.curves.iter().enumerate() {
+        let Some(c) = c else { continue };
+        let s = select_tool(c, tip, dir);
+        if best.is_none_or(|(_, b)| s.distance < b.distance) {
+            best = Some((i, s));
+        }
+    }
+    best.map(|(i, mut s)| {
+        s.tool = if s.angle_deg.is_finite() && (s.distance * scale).is_finite() {
+            table1(s.distance * scale, s.angle_deg)
+        } else {
+            None
+        };
+        (i, s)
+    })
+}
