@@ -107,8 +107,8 @@ pub(crate) fn csg_cup() -> Trace {
         DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2),
     );
     p.move_to(R, turned, 0.3)
-        .nan_frame(R)
-        .move_to(R, turned, 0.3)
+        .lose_tracking(R, 0.1)
+        .move_to(R, turned, 0.2)
         .set(R, Button::Grab, false)
         .wait(0.1)
         .move_to(R, at_model(&v, [0.19, 0.0, 0.0]), 0.2);
