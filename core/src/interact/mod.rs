@@ -18,11 +18,21 @@
 //! - `trace`, `puppet`: recorded input traces, their replay, and the
 //!   scripted puppet that makes them.
 //!
+//! - `csg_tool`, `brush_tool` (with `ctl_input`): the controller tools of
+//!   paper 2 (SDF CSG) and paper 4 (warp-brush sculpting).
+//!
 //! The geometry systems' tools (generalized cylinders, SDF CSG, curve
 //! styling, sculpting) plug in as further [`Tool`]s.
 
 mod bimanual;
 mod bindings;
+mod brush_tool;
+mod csg_tool;
+mod ctl_input;
+#[cfg(test)]
+mod ctl_tool_tests;
+#[cfg(test)]
+mod ctl_traces;
 mod curve_tool;
 #[cfg(test)]
 mod curve_tool_tests;
@@ -45,6 +55,8 @@ mod trace_fixture;
 
 pub use bimanual::{two_hand_scale, HandleBar, ModelFrame, OrientGrab, MIN_BAR, SCALE_RANGE};
 pub use bindings::{ActionItem, ActionMap, ActionType, AxisRegion, Binding, ACTIONS, PROFILES};
+pub use brush_tool::{BrushPreset, BrushTool, BrushToolSettings};
+pub use csg_tool::{CsgTool, CsgToolSettings, SceneOperate};
 pub use curve_tool::{
     CurveMode, CurveNetworkTool, CurvePreview, CurveTarget, CurveToolSettings, DrawPlane,
 };
@@ -64,7 +76,10 @@ pub use pick::{pick, ray_mesh, ray_triangle, Hit, Ray};
 pub use puppet::{Button, Puppet};
 pub use session::Session;
 pub use similarity::Similarity;
-pub use tool::{apply_command, MovingPreview, Preview, PreviewRay, Tool, ToolContext};
+pub use tool::{
+    apply_command, BrushPreview, MovingPreview, OperandPreview, Preview, PreviewRay, Tool,
+    ToolContext,
+};
 pub use trace::{
     replay, tool_named, ModelPlacement, Replay, Trace, TraceError, TraceHeader, TRACE_FORMAT,
     TRACE_VERSION,

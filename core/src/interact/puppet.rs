@@ -150,6 +150,16 @@ impl Puppet {
         self
     }
 
+    /// Sets `hand`'s trigger (`select`) to `value` (a partial press, e.g.
+    /// brush pressure), then records one frame.
+    pub fn trigger(&mut self, hand: Hand, value: f64) -> &mut Self {
+        if let Some(c) = self.controllers[hand.index()].as_mut() {
+            c.buttons.select = value;
+        }
+        self.emit();
+        self
+    }
+
     /// Press, hold 0.1 s, release, wait 0.1 s.
     pub fn click(&mut self, hand: Hand, button: Button) -> &mut Self {
         self.set(hand, button, true)
@@ -163,6 +173,19 @@ impl Puppet {
     pub fn flick(&mut self, hand: Hand, x: f64) -> &mut Self {
         if let Some(c) = self.controllers[hand.index()].as_mut() {
             c.buttons.stick = [x, 0.0];
+        }
+        self.wait(0.1);
+        if let Some(c) = self.controllers[hand.index()].as_mut() {
+            c.buttons.stick = [0.0, 0.0];
+        }
+        self.wait(0.1)
+    }
+
+    /// Pushes the stick fully down (`-1`) or up (`1`) for 0.1 s, then lets
+    /// it spring back.
+    pub fn flick_y(&mut self, hand: Hand, y: f64) -> &mut Self {
+        if let Some(c) = self.controllers[hand.index()].as_mut() {
+            c.buttons.stick = [0.0, y];
         }
         self.wait(0.1);
         if let Some(c) = self.controllers[hand.index()].as_mut() {

@@ -72,6 +72,46 @@ pub struct Preview {
     pub placing: Option<SolidShape>,
     /// The curve tool's state: selected tool, pointed curve point, planes.
     pub curve: Option<super::curve_tool::CurvePreview>,
+    /// The pending SDF operand under a ray (index in the tool's volume).
+    pub highlighted_operand: Option<usize>,
+    /// The selected pending SDF operand.
+    pub selected_operand: Option<usize>,
+    /// The SDF operand being dragged or scaled, where it would go now.
+    pub moving_operand: Option<OperandPreview>,
+    /// The sculpt brush (world space).
+    pub brush: Option<BrushPreview>,
+    /// The model placement the tool shows the document with (model to
+    /// stage), when the tool moves the view (the sculpt tool's orienting
+    /// hand); `None`: the session's placement.
+    pub view: Option<Similarity>,
+    /// The tool's current choices, for a status line (e.g. the CSG tool's
+    /// SceneOperate operation, menu component and scale axis).
+    pub mode: String,
+}
+
+/// A pending SDF operand shown at a placement the document does not have
+/// yet (during a drag or a two-hand scale).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OperandPreview {
+    /// The SDF volume.
+    pub volume: ObjectId,
+    /// Index among its pending operands.
+    pub index: usize,
+    /// Its placement if the gesture ended now (model space).
+    pub transform: Transform,
+}
+
+/// The sculpt brush to draw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BrushPreview {
+    /// Centre (world space).
+    pub position: DVec3,
+    /// Bounding radius (world space).
+    pub radius: f64,
+    /// Pressure now (trigger value).
+    pub pressure: f64,
+    /// A stroke is in progress.
+    pub stroking: bool,
 }
 
 impl Preview {

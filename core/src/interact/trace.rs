@@ -122,7 +122,7 @@ pub enum TraceError {
     #[error("trace header: model placement must be finite with a positive scale")]
     Model,
     /// The header names a tool this build does not have.
-    #[error("trace header: unknown tool `{0}` (known: object)")]
+    #[error("trace header: unknown tool `{0}` (known: object, csg, sculpt)")]
     UnknownTool(String),
 }
 
@@ -191,6 +191,8 @@ pub fn tool_named(name: &str) -> Result<Box<dyn Tool>, TraceError> {
     match name {
         "object" => Ok(Box::new(ObjectTool::default())),
         "curve" => Ok(Box::new(super::curve_tool::CurveNetworkTool::default())),
+        "csg" => Ok(Box::new(super::csg_tool::CsgTool::default())),
+        "sculpt" => Ok(Box::new(super::brush_tool::BrushTool::default())),
         other => Err(TraceError::UnknownTool(other.to_string())),
     }
 }
