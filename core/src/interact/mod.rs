@@ -23,6 +23,7 @@
 
 mod bimanual;
 mod bindings;
+mod gc_tool;
 mod gesture;
 #[cfg(test)]
 mod gesture_accuracy;
@@ -42,6 +43,7 @@ mod trace_fixture;
 
 pub use bimanual::{two_hand_scale, HandleBar, ModelFrame, OrientGrab, MIN_BAR, SCALE_RANGE};
 pub use bindings::{ActionItem, ActionMap, ActionType, AxisRegion, Binding, ACTIONS, PROFILES};
+pub use gc_tool::{mug_trace, teapot_trace, GcPreview, GcTarget, GcTool, GcToolSettings};
 pub use gesture::{
     score_sequence, Gesture, GestureClassifier, GestureLabel, GestureScore, GestureSettings,
     GestureState, HandFeatures,

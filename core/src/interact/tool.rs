@@ -70,6 +70,8 @@ pub struct Preview {
     pub sketch: Vec<DVec3>,
     /// The shape the next placement will create.
     pub placing: Option<SolidShape>,
+    /// State of the generalized-cylinder tool.
+    pub gc: super::gc_tool::GcPreview,
 }
 
 impl Preview {

@@ -190,6 +190,7 @@ pub struct Replay {
 pub fn tool_named(name: &str) -> Result<Box<dyn Tool>, TraceError> {
     match name {
         "object" => Ok(Box::new(ObjectTool::default())),
+        "gc" => Ok(Box::new(super::gc_tool::GcTool::default())),
         other => Err(TraceError::UnknownTool(other.to_string())),
     }
 }
