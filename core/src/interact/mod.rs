@@ -36,6 +36,7 @@ mod ctl_traces;
 mod curve_tool;
 #[cfg(test)]
 mod curve_tool_tests;
+mod gc_tool;
 mod gesture;
 #[cfg(test)]
 mod gesture_accuracy;
@@ -60,6 +61,7 @@ pub use csg_tool::{CsgTool, CsgToolSettings, SceneOperate};
 pub use curve_tool::{
     CurveMode, CurveNetworkTool, CurvePreview, CurveTarget, CurveToolSettings, DrawPlane,
 };
+pub use gc_tool::{mug_trace, teapot_trace, GcPreview, GcTarget, GcTool, GcToolSettings};
 pub use gesture::{
     score_sequence, Gesture, GestureClassifier, GestureLabel, GestureScore, GestureSettings,
     GestureState, HandFeatures,

@@ -87,6 +87,8 @@ pub struct Preview {
     /// The tool's current choices, for a status line (e.g. the CSG tool's
     /// SceneOperate operation, menu component and scale axis).
     pub mode: String,
+    /// State of the generalized-cylinder tool.
+    pub gc: super::gc_tool::GcPreview,
 }
 
 /// A pending SDF operand shown at a placement the document does not have

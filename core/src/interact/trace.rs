@@ -193,6 +193,7 @@ pub fn tool_named(name: &str) -> Result<Box<dyn Tool>, TraceError> {
         "curve" => Ok(Box::new(super::curve_tool::CurveNetworkTool::default())),
         "csg" => Ok(Box::new(super::csg_tool::CsgTool::default())),
         "sculpt" => Ok(Box::new(super::brush_tool::BrushTool::default())),
+        "gc" => Ok(Box::new(super::gc_tool::GcTool::default())),
         other => Err(TraceError::UnknownTool(other.to_string())),
     }
 }
