@@ -85,6 +85,9 @@ fn sphere_mesh_brush_warps_like_the_analytic_sphere() {
     );
 }
 
+/// What a refused op's error must satisfy.
+type Check = dyn Fn(&SculptError) -> bool;
+
 #[test]
 fn open_or_non_manifold_brush_mesh_is_refused_and_changes_nothing() {
     let mut log = OpLog::new();
@@ -103,7 +106,7 @@ fn open_or_non_manifold_brush_mesh_is_refused_and_changes_nothing() {
             f(triangles)
         }
     };
-    let cases: Vec<(Op, &dyn Fn(&SculptError) -> bool)> = vec![
+    let cases: Vec<(Op, &Check)> = vec![
         (
             with_mesh(&|b| {
                 tris(b, &|t| {
