@@ -6,8 +6,8 @@
 //! axes, within a few percent near it), with its gradient by central
 //! differences, normalized. The grid brush samples a dense grid
 //! ([`DistanceGrid`]) trilinearly; its gradient is the exact derivative of
-//! the trilinear interpolant, normalized. Building a grid from a closed
-//! mesh belongs to the mesh-to-SDF code of `core::sdf` and is not done here.
+//! the trilinear interpolant, normalized. Grids from closed meshes are
+//! built by [`super::mesh_brush`] with the mesh-to-SDF code of `core::sdf`.
 //!
 //! A brush lives in its own frame: `d_world(x) = s · d_local(Rᵀ(x − p) / s)`
 //! for brush position `p`, rotation `R` and brush scale `s` (separate from
@@ -16,6 +16,7 @@
 use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
+use super::mesh_brush::MeshBrush;
 use super::SculptError;
 
 /// A dense grid of signed distances: value `(i, j, k)` sits at
@@ -157,6 +158,11 @@ pub enum BrushShape {
     },
     /// A sampled distance grid (in the brush frame).
     Grid(DistanceGrid),
+    /// A grid generated from a closed mesh ([`MeshBrush`]). The
+    /// `sculpt_stroke` op resolves it to [`Self::Grid`] before the stroke
+    /// ([`MeshBrush::to_grid`]); left unresolved it reaches nothing
+    /// (distance +infinity, bound radius 0).
+    Mesh(MeshBrush),
 }
 
 fn finite(field: &str, v: &[f64]) -> Result<(), SculptError> {
@@ -210,6 +216,7 @@ impl BrushShape {
                 .iter()
                 .try_for_each(|&r| positive("brush.half_extents", r)),
             Self::Grid(g) => g.validate(),
+            Self::Mesh(m) => m.validate(),
         }
     }
 
@@ -231,6 +238,7 @@ impl BrushShape {
                 let corner = lo.abs().max(hi.abs());
                 corner.length()
             }
+            Self::Mesh(_) => 0.0,
         }
     }
 
@@ -290,6 +298,7 @@ impl BrushShape {
                 }
             }
             Self::Grid(g) => g.eval(x),
+            Self::Mesh(_) => (f64::INFINITY, DVec3::Z),
         }
     }
 }

@@ -81,6 +81,14 @@ pub enum SculptError {
         /// The limit.
         limit: u64,
     },
+    /// A mesh brush's grid would have too many samples.
+    #[error("the brush grid would have {samples} samples, above the limit of {limit}; use a larger step")]
+    BrushTooLarge {
+        /// Samples the step, padding and mesh size ask for.
+        samples: u64,
+        /// The limit.
+        limit: u64,
+    },
     /// The half-edge structure failed its validity check (an internal
     /// invariant; reported rather than panicking).
     #[error("half-edge mesh invalid: {0}")]

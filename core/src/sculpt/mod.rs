@@ -5,6 +5,8 @@
 //!   [`crate::mesh::TriMesh`] (closed meshes only), validity checker.
 //! - [`adapt`]: longest-edge bisection and shortest-edge collapse (§5.3).
 //! - [`brush`]: brushes as distance fields with gradients (§4.2, §4.5).
+//! - [`mesh_brush`]: grid brushes generated from closed meshes (inline or
+//!   a document object, the sculpted one included) via `core::sdf`.
 //! - [`warp`]: weight functions (§4.3) and warp operators (§4.4).
 //! - [`grid`]: a uniform hash grid of vertices, updated incrementally.
 //! - [`stroke`]: strokes applied frame by frame by a [`Sculptor`] (§4.1).
@@ -30,10 +32,8 @@
 //! weighted drag moves rigidly, so only the rim of the rigid region and
 //! non-rigidly moved vertices get fold checks and adaptation.
 //!
-//! Not here: building a grid brush from a closed mesh (that is the
-//! mesh-to-SDF of `core::sdf`; [`DistanceGrid`] is the seam to wire it to),
-//! and so the "brush from an open mesh" error; placement ops for sculpt
-//! objects (their `transform` is set at creation).
+//! Not here: placement ops for sculpt objects (their `transform` is set at
+//! creation).
 //!
 //! Own code rather than a crate: the per-frame hot path needs a layout we
 //! control (implicit `next`/face, 8 bytes per half-edge, free lists reused
@@ -47,6 +47,7 @@ pub mod brush;
 mod error;
 pub mod grid;
 pub mod halfedge;
+pub mod mesh_brush;
 pub mod ops;
 pub mod stroke;
 pub mod warp;
@@ -54,9 +55,12 @@ pub mod warp;
 pub use brush::{BrushPose, BrushShape, DistanceGrid};
 pub use error::SculptError;
 pub use halfedge::{FaceId, HalfEdgeId, HalfEdgeMesh, VertId};
+pub use mesh_brush::{MeshBrush, MeshSource};
 pub use ops::{SculptBase, SculptCreate, SculptMesh, SculptStroke};
 pub use stroke::{FrameInput, FrameStats, Sculptor, StrokeSample, StrokeSettings};
 pub use warp::{Falloff, Warp};
 
+#[cfg(test)]
+mod mesh_brush_tests;
 #[cfg(test)]
 mod tests;

@@ -7,7 +7,7 @@ use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::base::{geodesic_sphere, grid_box, sphere_frequency};
-use super::brush::{check_finite, positive, BrushPose};
+use super::brush::{check_finite, positive, BrushPose, BrushShape};
 use super::halfedge::HalfEdgeMesh;
 use super::stroke::{run_stroke, Sculptor, StrokeSample, StrokeSettings};
 use super::SculptError;
@@ -192,18 +192,25 @@ pub fn apply_stroke(doc: &mut Document, op: &SculptStroke) -> Result<OpOutcome, 
         }
     };
     let (scale, poses) = stroke_poses(&obj.transform, &op.settings, &op.samples)?;
+    // A mesh brush becomes a grid here, from the document as it is before
+    // this stroke (so replay rebuilds the same brush).
+    let resolved;
+    let settings = match &op.settings.brush {
+        BrushShape::Mesh(m) => {
+            resolved = StrokeSettings {
+                brush: BrushShape::Grid(m.to_grid(doc)?),
+                ..op.settings.clone()
+            };
+            &resolved
+        }
+        _ => &op.settings,
+    };
     // A quarter of the brush reach: the query box then holds about twice
     // the vertices within reach instead of about three times.
-    let cell = 0.25 * (op.settings.brush_size() + op.settings.influence) / scale;
+    let cell = 0.25 * (settings.brush_size() + settings.influence) / scale;
     let mut sculptor = Sculptor::new(obj.surface.clone(), cell);
     let transform = obj.transform;
-    run_stroke(
-        &mut sculptor,
-        &op.settings.brush,
-        &op.settings,
-        scale,
-        &poses,
-    );
+    run_stroke(&mut sculptor, &settings.brush, settings, scale, &poses);
     let surface = sculptor.into_mesh();
     doc.replace(
         op.id,

@@ -9,6 +9,7 @@
 //! fields it makes the region explicit).
 
 use glam::{DQuat, DVec3};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::brush::{check_finite, positive, BrushPose, BrushShape};
@@ -16,6 +17,13 @@ use super::grid::VertexGrid;
 use super::halfedge::{FaceId, HalfEdgeMesh, VertId};
 use super::warp::{DragIncrement, Falloff, Warp};
 use super::SculptError;
+
+/// Candidate count from which a frame's warp is evaluated in parallel
+/// (below it, thread hand-off costs more than it saves).
+const PARALLEL_MIN: usize = 8192;
+/// Candidates per parallel chunk (fixed, so the split never depends on the
+/// thread count; the results are appended in order either way).
+const PARALLEL_CHUNK: usize = 2048;
 
 /// One tracker sample: brush position, orientation and pressure.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -303,20 +311,20 @@ impl Sculptor {
             to: f.pose.position,
             rotation: (f.pose.rotation * f.prev.rotation.inverse()).normalize(),
         };
-        self.moves.clear();
-        let mut lo = DVec3::splat(f64::INFINITY);
-        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        let mut moves = std::mem::take(&mut self.moves);
+        moves.clear();
         let reach2 = reach * reach;
-        for &v in &cand {
-            let x = self.mesh.position(v);
+        let this = &*self;
+        let warp_vertex = |&v: &VertId| {
+            let x = this.mesh.position(v);
             // Beyond the bound radius plus h the weight is 0.
             if x.distance_squared(eval_pose.position) > reach2 {
-                continue;
+                return None;
             }
             let (d, g) = eval_pose.eval(f.shape, x);
             let w = f.falloff.weight(d, f.influence, f.pressure);
             if w.is_nan() || w <= 0.0 {
-                continue;
+                return None;
             }
             // A fully weighted drag moves the vertex rigidly with the brush:
             // its triangles keep their shape unless a neighbour moved
@@ -326,20 +334,32 @@ impl Sculptor {
                 Warp::Drag if rigid => inc.apply(x),
                 Warp::Drag => x + w * (inc.apply(x) - x),
                 Warp::Explode { delta } => x + w * (g * (f.influence * delta)),
-                Warp::Whittle => x + w * (self.centroid_of_neighbours(v) - x),
+                Warp::Whittle => x + w * (this.centroid_of_neighbours(v) - x),
             };
-            if x2 != x && x2.is_finite() {
-                self.moves.push((v, x, x2, rigid));
-                lo = lo.min(x).min(x2);
-                hi = hi.max(x).max(x2);
-            }
+            (x2 != x && x2.is_finite()).then_some((v, x, x2, rigid))
+        };
+        // Each vertex's warp reads only positions from before the frame, so
+        // evaluating fixed chunks in parallel and appending them in order
+        // gives the same moves, bit for bit, on any number of threads.
+        if cand.len() >= PARALLEL_MIN {
+            moves.par_extend(
+                cand.par_chunks(PARALLEL_CHUNK)
+                    .flat_map_iter(|c| c.iter().filter_map(warp_vertex)),
+            );
+        } else {
+            moves.extend(cand.iter().filter_map(warp_vertex));
+        }
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        for &(_, x, x2, _) in &moves {
+            lo = lo.min(x).min(x2);
+            hi = hi.max(x).max(x2);
         }
         self.cand = cand;
         let mut stats = FrameStats {
-            moved: self.moves.len(),
+            moved: moves.len(),
             ..Default::default()
         };
-        let mut moves = std::mem::take(&mut self.moves);
         // A rigidly moved vertex with a neighbour that did not move with it
         // (moved otherwise, or not at all) sits on the rim of the rigid
         // region: its triangles change shape, so it counts as reshaped.

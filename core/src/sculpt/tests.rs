@@ -217,7 +217,7 @@ fn weights_follow_the_paper() {
     assert!((Falloff::Smooth.weight(0.25, 1.0, 1.0) - (1.0 - 0.0625 * 2.5)).abs() < 1e-15);
 }
 
-fn settings(brush: BrushShape, h: f64, warp: Warp) -> StrokeSettings {
+pub(super) fn settings(brush: BrushShape, h: f64, warp: Warp) -> StrokeSettings {
     StrokeSettings {
         brush,
         brush_scale: 1.0,
@@ -229,7 +229,7 @@ fn settings(brush: BrushShape, h: f64, warp: Warp) -> StrokeSettings {
     }
 }
 
-fn sample(p: [f64; 3], q: DQuat, pressure: f64) -> StrokeSample {
+pub(super) fn sample(p: [f64; 3], q: DQuat, pressure: f64) -> StrokeSample {
     StrokeSample {
         position: p,
         rotation: q.to_array(),
@@ -290,7 +290,7 @@ fn full_pressure_drag_moves_the_inner_region_rigidly() {
     assert_closed(out);
 }
 
-fn create_op(n_edge: f64) -> Op {
+pub(super) fn create_op(n_edge: f64) -> Op {
     Op::SculptCreate(SculptCreate {
         base: SculptBase::Sphere {
             radius: 1.0,
@@ -313,22 +313,18 @@ fn stroke_op(id: u32, warp: Warp, z: f64) -> Op {
     })
 }
 
-#[test]
-fn undo_is_bit_identical_and_replay_equals_live() {
-    let mut log = OpLog::new();
-    log.apply(create_op(0.12)).unwrap();
-    let ops = [
-        stroke_op(1, Warp::Drag, 1.0),
-        stroke_op(1, Warp::Explode { delta: 0.1 }, 0.9),
-        stroke_op(1, Warp::Whittle, 1.0),
-    ];
+/// Applies `ops` to `log`, each changing the document; undoes them all
+/// (bit-identical hashes back), redoes them, and replays the whole log
+/// from its JSON text (same hash as live).
+pub(super) fn assert_undo_redo_replay(log: &mut OpLog, ops: &[Op]) {
+    let start = log.len();
     let mut hashes = vec![log.document().content_hash()];
-    for op in &ops {
+    for op in ops {
         log.apply(op.clone()).unwrap();
         hashes.push(log.document().content_hash());
     }
     assert!(hashes.windows(2).all(|w| w[0] != w[1]));
-    for i in (0..3).rev() {
+    for i in (0..ops.len()).rev() {
         log.undo().unwrap();
         assert_eq!(log.document().content_hash(), hashes[i]);
     }
@@ -345,8 +341,20 @@ fn undo_is_bit_identical_and_replay_equals_live() {
         .iter()
         .map(|t| serde_json::from_str(t).unwrap())
         .collect();
-    let replayed = OpLog::replay(parsed, 4).unwrap();
-    assert_eq!(replayed.document().content_hash(), hashes[3]);
+    let replayed = OpLog::replay(parsed, start + ops.len()).unwrap();
+    assert_eq!(replayed.document().content_hash(), hashes[ops.len()]);
+}
+
+#[test]
+fn undo_is_bit_identical_and_replay_equals_live() {
+    let mut log = OpLog::new();
+    log.apply(create_op(0.12)).unwrap();
+    let ops = [
+        stroke_op(1, Warp::Drag, 1.0),
+        stroke_op(1, Warp::Explode { delta: 0.1 }, 0.9),
+        stroke_op(1, Warp::Whittle, 1.0),
+    ];
+    assert_undo_redo_replay(&mut log, &ops);
     let obj = log.document().get(ObjectId(1)).unwrap();
     let r = validate(&obj.mesh, &ValidationSettings::default());
     assert!(r.is_closed_manifold(), "{}", r.problems());

@@ -13,6 +13,8 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use super::mc::{polygonize, MeshSink, VertKey};
 
 /// Samples per brick edge.
@@ -89,11 +91,44 @@ pub struct SparseGrid {
 
 /// The triangles extracted from the cells of one brick, with vertices
 /// named by their grid edge so that pieces stitch by key.
+///
+/// The first `owned` vertices are the brick's own (their edge's lower
+/// corner, or their cell, lies in the brick), sorted by key; the others lie
+/// on edges starting in a +x/+y/+z neighbour brick, which owns them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Piece {
     pub(crate) keys: Vec<VertKey>,
     pub(crate) positions: Vec<[f64; 3]>,
     pub(crate) triangles: Vec<[u32; 3]>,
+    pub(crate) owned: usize,
+}
+
+impl Piece {
+    /// Puts the owned vertices first, sorted by key (see [`Piece`]).
+    fn order_owned_first(&mut self, base: [i32; 3]) {
+        let n = self.keys.len();
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        let owned = |k: &VertKey| (0..3).all(|a| k.at[a] - base[a] < BRICK);
+        order.sort_unstable_by(|&a, &b| {
+            let (ka, kb) = (&self.keys[a as usize], &self.keys[b as usize]);
+            match (owned(ka), owned(kb)) {
+                (true, true) => ka.cmp(kb),
+                (true, false) => std::cmp::Ordering::Less,
+                (false, true) => std::cmp::Ordering::Greater,
+                (false, false) => a.cmp(&b),
+            }
+        });
+        let mut new_of_old = vec![0u32; n];
+        for (new, &old) in order.iter().enumerate() {
+            new_of_old[old as usize] = new as u32;
+        }
+        self.keys = order.iter().map(|&o| self.keys[o as usize]).collect();
+        self.positions = order.iter().map(|&o| self.positions[o as usize]).collect();
+        for t in &mut self.triangles {
+            *t = t.map(|i| new_of_old[i as usize]);
+        }
+        self.owned = self.keys.iter().take_while(|k| owned(k)).count();
+    }
 }
 
 impl SparseGrid {
@@ -153,7 +188,7 @@ impl SparseGrid {
     pub fn extraction_bricks(&self) -> Vec<BrickKey> {
         let classes: std::collections::HashMap<BrickKey, u8, super::mc::BuildKeyHasher> = self
             .bricks
-            .iter()
+            .par_iter()
             .map(|(k, b)| (*k, b.sign_class()))
             .collect();
         let mut cand: Vec<BrickKey> = Vec::with_capacity(self.bricks.len() * 2);
@@ -162,20 +197,23 @@ impl SparseGrid {
                 cand.push([k[0] - o[0], k[1] - o[1], k[2] - o[2]]);
             }
         }
-        cand.sort_unstable();
+        cand.par_sort_unstable();
         cand.dedup();
-        cand.retain(|key| {
-            let mut seen = [false; 3];
-            for o in super::mc::CORNER_OFFSETS {
-                let c = classes
-                    .get(&[key[0] + o[0], key[1] + o[1], key[2] + o[2]])
-                    .copied()
-                    .unwrap_or(0);
-                seen[c as usize] = true;
-            }
-            seen[2] || (seen[0] && seen[1])
-        });
-        cand
+        // Filtered in parallel; `collect` keeps the sorted order.
+        cand.into_par_iter()
+            .with_min_len(256)
+            .filter(|key| {
+                let mut seen = [false; 3];
+                for o in super::mc::CORNER_OFFSETS {
+                    let c = classes
+                        .get(&[key[0] + o[0], key[1] + o[1], key[2] + o[2]])
+                        .copied()
+                        .unwrap_or(0);
+                    seen[c as usize] = true;
+                }
+                seen[2] || (seen[0] && seen[1])
+            })
+            .collect()
     }
 
     /// True when brick `key`'s cells can contain a crossing.
@@ -195,47 +233,64 @@ impl SparseGrid {
     /// `key` (reading one sample layer of the +x/+y/+z neighbours).
     pub fn extract_brick(&self, key: BrickKey) -> Piece {
         const N: usize = BRICK as usize + 1;
+        const B: usize = BRICK as usize;
         let mut block = [0f32; N * N * N];
-        let nb: Vec<Brick> = super::mc::CORNER_OFFSETS
-            .iter()
-            .map(|o| self.brick([key[0] + o[0], key[1] + o[1], key[2] + o[2]]))
-            .collect();
-        for z in 0..N {
-            for y in 0..N {
-                for x in 0..N {
-                    let (bx, by, bz) = (x / 8, y / 8, z / 8);
-                    let b = &nb[bx | by << 1 | bz << 2];
-                    block[x + N * (y + N * z)] =
-                        b.get(local_index((x % 8) as i32, (y % 8) as i32, (z % 8) as i32));
+        // The 9³ block: brick `key` plus one sample layer of its +x/+y/+z
+        // neighbours, filled region by region (one match per region).
+        for o in super::mc::CORNER_OFFSETS.iter() {
+            let nb = self
+                .bricks
+                .get(&[key[0] + o[0], key[1] + o[1], key[2] + o[2]]);
+            let range = |a: usize| if o[a] == 0 { 0..B } else { B..N };
+            for z in range(2) {
+                for y in range(1) {
+                    let row = N * (y + N * z);
+                    let lrow = (y % B) * B + (z % B) * B * B;
+                    for x in range(0) {
+                        block[row + x] = match nb {
+                            None => self.band,
+                            Some(Brick::Uniform(v)) => *v,
+                            Some(Brick::Dense(d)) => d[lrow + x % B],
+                        };
+                    }
                 }
             }
         }
         let base = key.map(|k| k * BRICK);
         let mut sink = PieceSink::new(base);
-        for z in 0..8 {
-            for y in 0..8 {
-                for x in 0..8 {
+        // Per (y, z) row: inside counts of the 4-sample columns, so a cell's
+        // count is the sum of two columns (cells without a crossing are
+        // skipped after two loads).
+        let mut cols = [0u8; N];
+        for z in 0..B {
+            for y in 0..B {
+                let r = [
+                    N * (y + N * z),
+                    N * (y + 1 + N * z),
+                    N * (y + N * (z + 1)),
+                    N * (y + 1 + N * (z + 1)),
+                ];
+                for (x, c) in cols.iter_mut().enumerate() {
+                    *c = r.iter().map(|&r| (block[r + x] < 0.0) as u8).sum();
+                }
+                for x in 0..B {
+                    let s = cols[x] + cols[x + 1];
+                    if s == 0 || s == 8 {
+                        continue;
+                    }
                     let mut v = [0f32; 8];
-                    let mut any_in = false;
-                    let mut any_out = false;
                     for (c, o) in super::mc::CORNER_OFFSETS.iter().enumerate() {
-                        let s = block[(x + o[0] as usize)
+                        v[c] = block[(x + o[0] as usize)
                             + N * ((y + o[1] as usize) + N * (z + o[2] as usize))];
-                        v[c] = s;
-                        if s < 0.0 {
-                            any_in = true;
-                        } else {
-                            any_out = true;
-                        }
                     }
-                    if any_in && any_out {
-                        let cell = [base[0] + x as i32, base[1] + y as i32, base[2] + z as i32];
-                        polygonize(cell, &v, self.step, &mut sink);
-                    }
+                    let cell = [base[0] + x as i32, base[1] + y as i32, base[2] + z as i32];
+                    polygonize(cell, &v, self.step, &mut sink);
                 }
             }
         }
-        sink.piece
+        let mut piece = sink.piece;
+        piece.order_owned_first(base);
+        piece
     }
 }
 
@@ -285,24 +340,76 @@ impl MeshSink for PieceSink {
 }
 
 /// Stitches pieces (in key order) into one indexed mesh: vertices with the
-/// same key are one vertex.
-pub fn assemble<'a>(pieces: impl Iterator<Item = &'a Piece>) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let mut map: std::collections::HashMap<VertKey, u32, super::mc::BuildKeyHasher> =
+/// same key are one vertex. Each vertex is numbered once, by the piece
+/// that owns it (pieces in key order, owned vertices in key order); a
+/// piece finds the vertices it shares with a +x/+y/+z neighbour by binary
+/// search in that neighbour's owned keys. Pieces are remapped in parallel
+/// and concatenated in order, so the result does not depend on threads.
+pub fn assemble(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let list: Vec<(BrickKey, &Piece)> = pieces.iter().map(|(k, p)| (*k, p.as_ref())).collect();
+    let mut offsets = Vec::with_capacity(list.len());
+    let mut positions = Vec::with_capacity(list.iter().map(|(_, p)| p.owned).sum());
+    for (_, p) in &list {
+        offsets.push(positions.len() as u32);
+        positions.extend_from_slice(&p.positions[..p.owned]);
+    }
+    // A shared vertex not found in its owner (a piece set that is not
+    // closed under the extraction rule) gets u32::MAX and is numbered below.
+    let find = |key: &VertKey, brick: BrickKey| -> u32 {
+        let owner = [0, 1, 2].map(|a| brick[a] + (key.at[a] - brick[a] * BRICK >= BRICK) as i32);
+        list.binary_search_by(|(k, _)| k.cmp(&owner))
+            .ok()
+            .and_then(|o| {
+                let p = list[o].1;
+                p.keys[..p.owned]
+                    .binary_search(key)
+                    .ok()
+                    .map(|i| offsets[o] + i as u32)
+            })
+            .unwrap_or(u32::MAX)
+    };
+    let remapped: Vec<Vec<[u32; 3]>> = list
+        .par_iter()
+        .enumerate()
+        .with_min_len(8)
+        .map(|(o, (brick, p))| {
+            let remap: Vec<u32> = (0..p.keys.len())
+                .map(|i| {
+                    if i < p.owned {
+                        offsets[o] + i as u32
+                    } else {
+                        find(&p.keys[i], *brick)
+                    }
+                })
+                .collect();
+            p.triangles
+                .iter()
+                .map(|t| {
+                    t.map(|i| match remap[i as usize] {
+                        u32::MAX => u32::MAX - 1 - i,
+                        id => id,
+                    })
+                })
+                .collect()
+        })
+        .collect();
+    let mut triangles = Vec::with_capacity(remapped.iter().map(Vec::len).sum());
+    let mut orphans: std::collections::HashMap<VertKey, u32, super::mc::BuildKeyHasher> =
         Default::default();
-    let mut positions = Vec::new();
-    let mut triangles = Vec::new();
-    let mut remap = Vec::new();
-    for p in pieces {
-        remap.clear();
-        for (k, pos) in p.keys.iter().zip(&p.positions) {
-            let n = positions.len() as u32;
-            let id = *map.entry(*k).or_insert(n);
-            if id == n {
-                positions.push(*pos);
+    for ((_, p), tris) in list.iter().zip(remapped) {
+        for mut t in tris {
+            for i in &mut t {
+                if *i as usize >= positions.len() {
+                    let local = (u32::MAX - 1 - *i) as usize;
+                    let n = positions.len() as u32;
+                    *i = *orphans.entry(p.keys[local]).or_insert(n);
+                    if *i == n {
+                        positions.push(p.positions[local]);
+                    }
+                }
             }
-            remap.push(id);
+            triangles.push(t);
         }
-        triangles.extend(p.triangles.iter().map(|t| t.map(|i| remap[i as usize])));
     }
     (positions, triangles)
 }

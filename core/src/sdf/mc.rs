@@ -303,7 +303,9 @@ pub(crate) trait MeshSink {
     fn triangle(&mut self, t: [u32; 3]);
 }
 
-fn twice_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+/// The squared norm of twice the triangle's area vector (compared against
+/// the squared threshold: no square root per fan triangle).
+fn twice_area_sq(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
     let x = [
@@ -311,7 +313,7 @@ fn twice_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
         u[2] * w[0] - u[0] * w[2],
         u[0] * w[1] - u[1] * w[0],
     ];
-    (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt()
+    x[0] * x[0] + x[1] * x[1] + x[2] * x[2]
 }
 
 /// Polygonizes the cell whose lower corner is global sample `cell`, with
@@ -341,6 +343,7 @@ pub(crate) fn polygonize<S: MeshSink>(cell: [i32; 3], v: &[f32; 8], step: f64, s
         ids[k] = sink.vertex(VertKey { at: lo, kind: axis }, || p);
     }
     let min_area = MIN_TWICE_AREA_REL * step * step;
+    let min_area_sq = min_area * min_area;
     let mut begin = 0usize;
     for l in 0..case.n_loops as usize {
         let n = case.lens[l] as usize;
@@ -353,7 +356,7 @@ pub(crate) fn polygonize<S: MeshSink>(cell: [i32; 3], v: &[f32; 8], step: f64, s
         if case.apex[l] != u8::MAX {
             let a = case.apex[l] as usize;
             let ok = (1..n - 1)
-                .all(|k| twice_area(lp[a], lp[(a + k) % n], lp[(a + k + 1) % n]) > min_area);
+                .all(|k| twice_area_sq(lp[a], lp[(a + k) % n], lp[(a + k + 1) % n]) > min_area_sq);
             if ok {
                 for k in 1..n - 1 {
                     sink.triangle([lid[a], lid[(a + k + 1) % n], lid[(a + k) % n]]);

@@ -313,24 +313,32 @@ pub fn extract_keys(grid: &SparseGrid, keys: &[BrickKey]) -> BTreeMap<BrickKey, 
 
 /// Stitches pieces into the volume's mesh (normals computed).
 pub fn stitch(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> TriMesh {
-    let (p, t) = assemble(pieces.values().map(|p| p.as_ref()));
+    let (p, t) = assemble(pieces);
+    // Area-weighted face normals (cheaper than angle weights, no acos), in
+    // parallel; summed per vertex in triangle order (same bits on any
+    // number of threads).
+    let face: Vec<crate::math::DVec3> = t
+        .par_iter()
+        .with_min_len(1024)
+        .map(|tri| {
+            let [a, b, c] = tri.map(|i| crate::math::DVec3::from_array(p[i as usize]));
+            (b - a).cross(c - a)
+        })
+        .collect();
     let mut normals = vec![[0.0f64; 3]; p.len()];
-    for tri in &t {
-        let [a, b, c] = tri.map(|i| crate::math::DVec3::from_array(p[i as usize]));
-        // Area-weighted face normal (cheaper than angle weights, no acos).
-        let n = (b - a).cross(c - a);
+    for (tri, n) in t.iter().zip(&face) {
         for &i in tri {
             let o = &mut normals[i as usize];
             *o = [o[0] + n.x, o[1] + n.y, o[2] + n.z];
         }
     }
-    for n in &mut normals {
+    normals.par_iter_mut().with_min_len(1024).for_each(|n| {
         let v = crate::math::DVec3::from_array(*n);
         *n = v
             .try_normalize()
             .unwrap_or(crate::math::DVec3::Z)
             .to_array();
-    }
+    });
     let mut m = TriMesh::new(p, t);
     m.normals = normals;
     m

@@ -1,0 +1,143 @@
+//! Grid brushes generated from any closed mesh (paper 4 §4.2, "the brush
+//! generator"), including the model being sculpted.
+//!
+//! The distance field comes from the shared mesh-to-SDF code of `core::sdf`
+//! ([`crate::sdf::mesh_sdf::mesh_to_sdf`]: parry3d closest point,
+//! pseudo-normal sign), so a brush is refused exactly when that code refuses
+//! the mesh: open, non-manifold or inconsistently oriented meshes get
+//! [`SculptError::NotClosedManifold`] and nothing changes.
+//!
+//! Choices:
+//! - **What the op carries.** A [`MeshBrush`] names its mesh either inline
+//!   ([`MeshSource::Mesh`]) or by object id ([`MeshSource::Object`]). An id
+//!   means "that object's mesh at this point of the log": the stroke op
+//!   resolves it when it is applied, so replaying the same log reproduces
+//!   the same brush (ops before it rebuild the same mesh, bit for bit), and
+//!   the log stays small when the brush is a large model. The id may be the
+//!   sculpted object itself: its mesh before the stroke is used.
+//! - **Frame.** The mesh is used in its own (for objects: world) units,
+//!   re-centred on its bounding-box centre, which becomes the brush origin;
+//!   the stroke's `brush_scale` scales it like any other brush.
+//! - **Grid.** Spacing `step` and `padding` around the mesh's box are
+//!   explicit parameters; the grid may hold at most [`MAX_BRUSH_SAMPLES`]
+//!   samples ([`SculptError::BrushTooLarge`] otherwise). Values are the `f32`
+//!   distances of `mesh_to_sdf`, widened to `f64`.
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use super::brush::{check_finite, positive, DistanceGrid};
+use super::SculptError;
+use crate::doc::{Document, ObjectId, OpError};
+use crate::mesh::TriMesh;
+use crate::sdf::mesh_sdf::mesh_to_sdf;
+use crate::sdf::SdfError;
+
+/// Most samples a mesh brush's grid may have (2 Mi, 16 MiB of `f64`).
+pub const MAX_BRUSH_SAMPLES: u64 = 1 << 21;
+
+/// Where a mesh brush's mesh comes from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum MeshSource {
+    /// A mesh given inline (closed, counter-clockwise from outside).
+    Mesh {
+        /// Vertex positions.
+        positions: Vec<[f64; 3]>,
+        /// Triangles.
+        triangles: Vec<[u32; 3]>,
+    },
+    /// The current mesh of a document object (any kind, the sculpted
+    /// object included) at the point of the log where the stroke applies.
+    Object {
+        /// The object.
+        id: ObjectId,
+    },
+}
+
+/// A brush whose distance field is generated from a closed mesh.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshBrush {
+    /// The mesh.
+    pub source: MeshSource,
+    /// Grid spacing, in the mesh's units.
+    pub step: f64,
+    /// Margin sampled around the mesh's box (at least 0).
+    pub padding: f64,
+}
+
+impl MeshBrush {
+    /// Checks the parameters that need no document: step, padding, inline
+    /// positions finite.
+    pub fn validate(&self) -> Result<(), SculptError> {
+        positive("brush.step", self.step)?;
+        check_finite("brush.padding", &[self.padding])?;
+        if self.padding < 0.0 {
+            return Err(SculptError::OutOfRange {
+                field: "brush.padding".into(),
+                value: self.padding,
+                range: ">= 0",
+            });
+        }
+        if let MeshSource::Mesh { positions, .. } = &self.source {
+            for (i, p) in positions.iter().enumerate() {
+                check_finite(&format!("brush.positions[{i}]"), p)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The brush's distance grid, from the inline mesh or the object's
+    /// current mesh in `doc`.
+    pub fn to_grid(&self, doc: &Document) -> Result<DistanceGrid, OpError> {
+        self.validate()?;
+        let mesh = match &self.source {
+            MeshSource::Mesh {
+                positions,
+                triangles,
+            } => TriMesh::new(positions.clone(), triangles.clone()),
+            MeshSource::Object { id } => (*doc.get(*id)?.mesh).clone(),
+        };
+        Ok(grid_from_mesh(mesh, self.step, self.padding)?)
+    }
+}
+
+/// The distance grid of `mesh` re-centred on its box centre.
+pub fn grid_from_mesh(
+    mut mesh: TriMesh,
+    step: f64,
+    padding: f64,
+) -> Result<DistanceGrid, SculptError> {
+    let not_closed = |problems: String| SculptError::NotClosedManifold {
+        what: "brush",
+        problems,
+    };
+    let (lo, hi) = mesh.bbox().ok_or_else(|| not_closed("empty".into()))?;
+    let n = ((hi - lo + DVec3::splat(2.0 * padding)) / step).ceil() + DVec3::ONE;
+    let samples = n.x * n.y * n.z;
+    if samples.is_nan() || samples > MAX_BRUSH_SAMPLES as f64 {
+        return Err(SculptError::BrushTooLarge {
+            samples: if samples.is_finite() {
+                samples as u64
+            } else {
+                u64::MAX
+            },
+            limit: MAX_BRUSH_SAMPLES,
+        });
+    }
+    let c = (lo + hi) * 0.5;
+    for p in &mut mesh.positions {
+        *p = (DVec3::from_array(*p) - c).to_array();
+    }
+    let sdf = mesh_to_sdf(&mesh, step, padding).map_err(|e| match e {
+        SdfError::BadMesh(p) => not_closed(p),
+        other => not_closed(other.to_string()),
+    })?;
+    Ok(DistanceGrid {
+        origin: sdf.origin,
+        step: sdf.step,
+        dims: sdf.dims.map(|d| d as u32),
+        values: sdf.values.iter().map(|&v| v as f64).collect(),
+    })
+}
