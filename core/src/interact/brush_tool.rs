@@ -190,13 +190,13 @@ impl Stroke {
         if self.samples.len() == 1 || self.samples.last() != Some(&self.last) {
             self.samples.push(self.last);
         }
-        (self.samples.len() >= 2).then(|| {
-            ScriptCommand::Op(Op::SculptStroke(SculptStroke {
-                id: self.id,
-                settings: self.settings,
-                samples: self.samples,
-            }))
-        })
+        // A stroke starts with one sample, so it has at least two now (a
+        // dab held still is two equal samples).
+        Some(ScriptCommand::Op(Op::SculptStroke(SculptStroke {
+            id: self.id,
+            settings: self.settings,
+            samples: self.samples,
+        })))
     }
 }
 

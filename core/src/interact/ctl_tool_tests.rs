@@ -189,16 +189,8 @@ fn csg_select_copy_delete_update_and_undo() {
         // Nothing selected: update.
         .click(R, Button::Secondary);
     let (cmds, _) = drive(Box::new(CsgTool::default()), &mut log, &p);
-    let names: Vec<&str> = cmds
-        .iter()
-        .map(|c| match c {
-            ScriptCommand::Op(op) => op.name(),
-            ScriptCommand::Undo => "undo",
-            ScriptCommand::Redo => "redo",
-        })
-        .collect();
     assert_eq!(
-        names,
+        super::ctl_traces::names(&cmds),
         [
             "sdf_copy_operand",
             "sdf_cancel_operand",

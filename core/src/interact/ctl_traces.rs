@@ -176,9 +176,9 @@ pub(crate) fn csg_cup() -> Trace {
     t
 }
 
-/// Op names of a replay, with undo/redo.
-fn names(r: &Replay) -> Vec<String> {
-    r.commands
+/// Op names of commands, with undo/redo.
+pub(crate) fn names(commands: &[ScriptCommand]) -> Vec<String> {
+    commands
         .iter()
         .map(|c| match c {
             ScriptCommand::Op(op) => op.name().to_string(),
@@ -230,7 +230,7 @@ fn check_fixture(name: &str, made: &Trace) -> (Replay, TriMesh) {
 fn csg_cup_trace_replays_to_a_genus_one_cup() {
     let (r, m) = check_fixture("csg_cup.trace.jsonl", &csg_cup());
     assert_eq!(
-        names(&r),
+        names(&r.commands),
         [
             "sdf_create",
             "sdf_add_operand",
@@ -428,7 +428,7 @@ pub(crate) fn bust() -> Trace {
 #[test]
 fn bust_trace_replays_to_a_closed_bust() {
     let (r, m) = check_fixture("bust.trace.jsonl", &bust());
-    let n = names(&r);
+    let n = names(&r.commands);
     assert_eq!(n[0], "sculpt_create");
     assert_eq!(n.len(), 1 + bust_strokes().len());
     assert!(n[1..].iter().all(|s| s == "sculpt_stroke"), "{n:?}");
