@@ -1,11 +1,10 @@
 //! The OpenXR host: instance creation (the `openxr` crate's statically
-//! linked loader 1.1.54), action bindings as data, the session lifecycle
+//! linked loader 1.1.54), actions from the core's binding data, the session lifecycle
 //! as types, sanitized input handed to a [`FrameSink`], and the headless
 //! (`XR_MND_headless`) loop. Session creation, being unsafe, lives in
 //! `crate::gfx::xr_bridge`.
 
 pub mod actions;
-pub mod bindings;
 pub mod events;
 pub mod headless;
 pub mod headset;

@@ -406,8 +406,11 @@ fn component(hand: &ScriptHand, comp: &str) -> Option<Value> {
         "input/squeeze/value" | "input/squeeze/click" | "input/grasp_ext/value" => {
             Value::Float(hand.squeeze)
         }
-        "input/menu/click" | "input/b/click" | "input/y/click" => Value::Bool(hand.menu),
+        "input/menu/click" => Value::Bool(hand.menu),
+        "input/b/click" | "input/y/click" => Value::Bool(hand.secondary),
         "input/a/click" | "input/x/click" | "input/trackpad/click" => Value::Bool(hand.primary),
+        "input/thumbstick/x" | "input/trackpad/x" => Value::Float(hand.stick[0]),
+        "input/thumbstick/y" | "input/trackpad/y" => Value::Float(hand.stick[1]),
         _ => return None,
     })
 }
