@@ -550,7 +550,12 @@ pub(crate) unsafe extern "system" fn get_action_state_float(
                     })
                     .collect();
                 out.is_active = (!vals.is_empty()).into();
-                out.current_state = vals.iter().copied().fold(0.0, f32::max);
+                // Several bound sources combine to the one of largest
+                // magnitude (spec §11.5.1), keeping its sign (axes are -1..1).
+                out.current_state =
+                    vals.iter()
+                        .copied()
+                        .fold(0.0, |a: f32, b| if b.abs() > a.abs() { b } else { a });
                 out.changed_since_last_sync = false.into();
                 out.last_change_time = sys::Time::from_nanos(0);
                 sys::Result::SUCCESS
