@@ -14,6 +14,7 @@ use shapewright::interact::Trace;
 use shapewright::mesh;
 use shapewright_xr::interaction::Interaction;
 use shapewright_xr::render::{render_mesh_png, RenderSettings};
+use shapewright_xr::xr::quantile;
 
 use crate::cmd::write_mesh;
 
@@ -35,15 +36,6 @@ pub struct ReplayArgs {
     /// Run this tool instead of the one the trace header names.
     #[arg(long)]
     pub tool: Option<String>,
-}
-
-/// The `q` quantile (0..1) of `v` (sorted in place).
-pub fn quantile(v: &mut [f64], q: f64) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    v[((v.len() - 1) as f64 * q.clamp(0.0, 1.0)).round() as usize]
 }
 
 /// `replay`.
@@ -109,8 +101,8 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
         written.push(png.display().to_string());
     }
     let r = mesh::validate(&m, &Default::default());
-    let p50 = quantile(&mut frame_ms, 0.5);
-    let p99 = quantile(&mut frame_ms, 0.99);
+    let p50 = quantile(&frame_ms, 0.5).unwrap_or(f64::NAN);
+    let p99 = quantile(&frame_ms, 0.99).unwrap_or(f64::NAN);
     println!(
         "trace      {} ({} frames at {} fps, tool {tool})",
         path.display(),

@@ -155,14 +155,16 @@ pub struct RunReport {
 impl RunReport {
     /// The `q` quantile (0..1) of per-frame CPU time in microseconds.
     pub fn frame_cpu_quantile(&self, q: f64) -> Option<f64> {
-        if self.frame_cpu_us.is_empty() {
-            return None;
-        }
-        let mut v = self.frame_cpu_us.clone();
-        v.sort_by(f64::total_cmp);
-        let i = ((v.len() - 1) as f64 * q.clamp(0.0, 1.0)).round() as usize;
-        v.get(i).copied()
+        quantile(&self.frame_cpu_us, q)
     }
+}
+
+/// The `q` quantile (0..1, nearest rank) of `v`; None when empty.
+pub fn quantile(v: &[f64], q: f64) -> Option<f64> {
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    let i = ((v.len().checked_sub(1)?) as f64 * q.clamp(0.0, 1.0)).round() as usize;
+    v.get(i).copied()
 }
 
 /// A created instance with its system and what was enabled.
