@@ -1,11 +1,13 @@
 //! `shapewright-xr` as a library: the Vulkan renderer ([`gfx`], the only
-//! module with `unsafe`), offscreen rendering to PNG ([`render`]), and the
-//! OpenXR host ([`xr`]). The binary's subcommands call into these.
+//! module with `unsafe`), offscreen rendering to PNG ([`render`]), the
+//! OpenXR host ([`xr`]), and the interaction step the frame loops and
+//! `replay` share ([`interaction`]). The binary's subcommands call into these.
 
 #![deny(unsafe_code)]
 
 #[allow(unsafe_code)]
 pub mod gfx;
+pub mod interaction;
 pub mod render;
 pub mod sdf_store;
 pub mod xr;

@@ -1,7 +1,7 @@
 //! `shapewright-xr`: the standalone Shapewright host.
 //!
-//! Today it is the command line that replays op scripts and inspects
-//! meshes; the OpenXR headset session joins it later.
+//! Op scripts (`apply`), USD files (`info`, `export`), meshes (`render`),
+//! input traces (`replay`) and the OpenXR session (`run`).
 
 mod cmd;
 mod import_cmd;
@@ -34,14 +34,9 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
-    /// Replay a recorded input trace (.trace.jsonl) and export the model.
-    Replay {
-        /// The trace: a header line, then one input frame per line.
-        trace: PathBuf,
-        /// Output file; the format follows the extension.
-        #[arg(long)]
-        out: PathBuf,
-    },
+    /// Replay a recorded input trace (.trace.jsonl) through the interaction
+    /// core, write any of --out/--stl/--png and print a summary.
+    Replay(replay_cmd::ReplayArgs),
     /// Print the validation report of a mesh file (.stl, .obj), or the
     /// objects, op count and reports of a Shapewright USD file.
     Info {
@@ -98,7 +93,7 @@ fn main() -> ExitCode {
             obj,
             ply,
         } => usd_cmd::export(&file, stl.as_deref(), obj.as_deref(), ply.as_deref()),
-        Command::Replay { trace, out } => replay_cmd::replay(&trace, &out),
+        Command::Replay(args) => replay_cmd::replay(&args),
         Command::Import(args) => import_cmd::import(&args),
         Command::Run(args) => run_cmd::run(&args),
         Command::Render {

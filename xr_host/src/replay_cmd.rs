@@ -1,48 +1,156 @@
-//! `replay TRACE --out FILE`: replays a recorded input trace through the
-//! core's interaction session and exports the resulting model.
+//! `replay TRACE [--out FILE] [--stl X.stl] [--png X.png]`: plays a
+//! recorded input trace through the same interaction step as `run` (no
+//! OpenXR runtime), writes any subset of outputs (`--out` by extension:
+//! .usda with the op log, or .stl/.obj/.ply; the PNG from the host's own
+//! Vulkan renderer, lavapipe without a GPU), and prints a one-screen
+//! summary with the per-frame CPU time of interaction + preview update.
 
-use std::path::Path;
+use std::path::PathBuf;
+use std::time::Instant;
 
 use anyhow::{Context, Result};
-use shapewright::doc::ScriptCommand;
-use shapewright::interact::{replay as replay_trace, Trace};
+use shapewright::doc::{OpLog, ScriptCommand};
+use shapewright::interact::Trace;
 use shapewright::mesh;
+use shapewright_xr::interaction::Interaction;
+use shapewright_xr::render::{render_mesh_png, RenderSettings};
+use shapewright_xr::xr::quantile;
 
 use crate::cmd::write_mesh;
 
-/// `replay TRACE --out FILE`.
-pub fn replay(trace: &Path, out: &Path) -> Result<()> {
+/// Outputs of `replay`.
+#[derive(clap::Args, Debug)]
+pub struct ReplayArgs {
+    /// The trace: a header line, then one input frame per line.
+    pub trace: PathBuf,
+    /// Output file; the format follows the extension (.usda keeps the op
+    /// log; .stl, .obj, .ply the combined mesh).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write the combined mesh as binary STL here.
+    #[arg(long)]
+    pub stl: Option<PathBuf>,
+    /// Render the model to this PNG with the host's Vulkan renderer.
+    #[arg(long)]
+    pub png: Option<PathBuf>,
+    /// Run this tool instead of the one the trace header names.
+    #[arg(long)]
+    pub tool: Option<String>,
+}
+
+/// `replay`.
+pub fn replay(args: &ReplayArgs) -> Result<()> {
+    let path = &args.trace;
     let text =
-        std::fs::read_to_string(trace).with_context(|| format!("reading {}", trace.display()))?;
-    let parsed = Trace::from_jsonl(&text).with_context(|| format!("in {}", trace.display()))?;
-    let result = replay_trace(&parsed).with_context(|| format!("replaying {}", trace.display()))?;
-    for (i, e) in &result.rejected {
-        eprintln!("shapewright-xr: command {i} was refused: {e}");
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let trace = Trace::from_jsonl(&text).with_context(|| format!("in {}", path.display()))?;
+    let model = trace.header.model.similarity().with_context(|| {
+        format!(
+            "in {}: model placement must be finite with a positive scale",
+            path.display()
+        )
+    })?;
+    let tool = args.tool.as_deref().unwrap_or(&trace.header.tool);
+    let mut it = Interaction::new(tool, model, OpLog::new(), None)
+        .with_context(|| format!("in {}", path.display()))?;
+    let mut frame_ms = Vec::with_capacity(trace.frames.len());
+    let mut names = Vec::new();
+    for f in &trace.frames {
+        let t0 = Instant::now();
+        let cmd = it.step(f);
+        frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        if let Some(c) = cmd {
+            names.push(match c {
+                ScriptCommand::Op(op) => op.name(),
+                ScriptCommand::Undo => "undo",
+                ScriptCommand::Redo => "redo",
+            });
+        }
     }
-    let doc = result.log.document();
-    let mut m = doc.combined_mesh();
+    for e in &it.stats().rejected {
+        eprintln!("shapewright-xr: a command was refused: {e}");
+    }
+    let log = it.log();
+    let doc = log.document();
+    // The printable model: the boolean union of all objects (closed when
+    // every object is); an empty document gives an empty mesh.
+    let mut m = if doc.is_empty() {
+        Default::default()
+    } else {
+        doc.printable_mesh()
+            .context("building the printable union of the objects")?
+    };
     m.compute_normals();
-    write_mesh(&m, out)?;
-    let report = mesh::validate(&m, &Default::default());
-    let names: Vec<&str> = result
-        .commands
-        .iter()
-        .map(|c| match c {
-            ScriptCommand::Op(op) => op.name(),
-            ScriptCommand::Undo => "undo",
-            ScriptCommand::Redo => "redo",
-        })
-        .collect();
+    let mut written: Vec<String> = Vec::new();
+    if let Some(out) = &args.out {
+        if crate::usd_cmd::is_usd(out) {
+            shapewright_usd::save_file(out, log, &shapewright_usd::SaveOptions::default())
+                .with_context(|| format!("saving {}", out.display()))?;
+        } else {
+            write_mesh(&m, out)?;
+        }
+        written.push(out.display().to_string());
+    }
+    if let Some(stl) = &args.stl {
+        write_mesh(&m, stl)?;
+        written.push(stl.display().to_string());
+    }
+    if let Some(png) = &args.png {
+        render_mesh_png(&m, png, &RenderSettings::default())
+            .with_context(|| format!("rendering {}", png.display()))?;
+        written.push(png.display().to_string());
+    }
+    let r = mesh::validate(&m, &Default::default());
+    let p50 = quantile(&frame_ms, 0.5).unwrap_or(f64::NAN);
+    let p99 = quantile(&frame_ms, 0.99).unwrap_or(f64::NAN);
     println!(
-        "{}: {} frames -> {} commands [{}], {} objects -> {} ({} triangles, {})",
-        trace.display(),
-        parsed.frames.len(),
+        "trace      {} ({} frames at {} fps, tool {tool})",
+        path.display(),
+        trace.frames.len(),
+        trace.header.fps
+    );
+    println!(
+        "commands   {} ({} refused): {}",
         names.len(),
-        names.join(", "),
-        doc.len(),
-        out.display(),
-        m.triangle_count(),
-        report.problems()
+        it.stats().rejected.len(),
+        summarize(&names)
+    );
+    println!("ops        {} (cursor {})", log.len(), log.cursor());
+    println!("objects    {}", doc.len());
+    println!(
+        "mesh       {} triangles, {}, volume {:.6}",
+        r.triangle_count,
+        if r.is_closed_manifold() {
+            "closed 2-manifold".to_string()
+        } else {
+            format!("NOT closed: {}", r.problems())
+        },
+        r.signed_volume
+    );
+    println!("frame time {p50:.3} ms p50, {p99:.3} ms p99 (interaction + preview; budget 11.1 ms)");
+    println!(
+        "written    {}",
+        if written.is_empty() {
+            "nothing (give --out, --stl or --png)".to_string()
+        } else {
+            written.join(", ")
+        }
     );
     Ok(())
+}
+
+/// `a, b x3, c`: runs of equal names collapsed.
+fn summarize(names: &[&str]) -> String {
+    let mut out: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < names.len() {
+        let n = names[i..].iter().take_while(|x| **x == names[i]).count();
+        out.push(if n > 1 {
+            format!("{} x{n}", names[i])
+        } else {
+            names[i].to_string()
+        });
+        i += n;
+    }
+    out.join(", ")
 }

@@ -6,6 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use shapewright::interact::{self, replay, Trace};
+use shapewright_usd::{load_file, LoadOptions};
 use shapewright_xr::xr::{InputFrame, LifecycleEvent, RunReport};
 use shapewright_xr_testrt::script::{
     Fault, FaultAt, FrameStats, Keyframe, Script, ScriptHand, ScriptPose, SENTINEL,
@@ -569,4 +571,287 @@ fn headset_pixels_show_the_model_where_the_eye_sees_it() {
         }
     }
     assert!(hits > 100, "only {hits} model pixels near ({cx},{cy})");
+}
+
+// ---- The interaction core through the runtime --------------------------
+
+fn fixture_trace() -> Trace {
+    let p = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../tests/data/primitives_session.trace.jsonl"
+    );
+    Trace::from_jsonl(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+fn script_pose(p: &interact::Pose, valid: bool) -> ScriptPose {
+    let f = |x: f64| x as f32;
+    let (pos, q) = (p.position, p.orientation);
+    let finite = pos.is_finite() && q.is_finite();
+    ScriptPose {
+        p: if finite {
+            [f(pos.x), f(pos.y), f(pos.z)]
+        } else {
+            [0.0; 3]
+        },
+        q: if finite {
+            [f(q.x), f(q.y), f(q.z), f(q.w)]
+        } else {
+            [0.0, 0.0, 0.0, 1.0]
+        },
+        valid,
+        nan: !finite,
+    }
+}
+
+/// The trace as a runtime script: frame k of the trace is what the runtime
+/// reports at step k + 1 (the step at which the host's frame k is synced),
+/// on a stepped clock at the trace's rate.
+fn script_from_trace(trace: &Trace) -> Script {
+    let keyframes = trace
+        .frames
+        .iter()
+        .enumerate()
+        .map(|(k, f)| {
+            let hand = |i: usize| match &f.controllers[i] {
+                None => ScriptHand::default(),
+                Some(c) => ScriptHand {
+                    grip: Some(script_pose(&c.grip, c.grip_valid)),
+                    aim: Some(script_pose(&c.aim, c.aim_valid)),
+                    select: c.buttons.select as f32,
+                    squeeze: c.buttons.grab as f32,
+                    menu: c.buttons.menu,
+                    primary: c.buttons.primary,
+                    secondary: c.buttons.secondary,
+                    stick: c.buttons.stick.map(|x| x as f32),
+                    ..Default::default()
+                },
+            };
+            Keyframe {
+                at: k as u64 + 1,
+                head: Some(match &f.head {
+                    Some(h) => script_pose(h, true),
+                    None => script_pose(&interact::Pose::IDENTITY, false),
+                }),
+                left: hand(0),
+                right: hand(1),
+            }
+        })
+        .collect();
+    Script {
+        hand_tracking: false,
+        // The puppet presses menu on the right hand: Touch has no right
+        // menu button in the bindings, Vive wands have menu, trackpad
+        // (primary, stick) and squeeze on both hands.
+        profile: "/interaction_profiles/htc/vive_controller".into(),
+        keyframes,
+        step_ns: Some((1e9 / trace.header.fps).round() as i64),
+        ..Default::default()
+    }
+}
+
+struct ModelRun {
+    run: Run,
+    /// The autosaved USD file, loaded.
+    saved: Option<shapewright_usd::Loaded>,
+    /// The frames the host fed its session, as it recorded them.
+    recorded: Option<Trace>,
+}
+
+/// Runs the host headless with the object tool on `script` (1 ms ticks),
+/// autosaving to a USD file and recording the trace it stepped.
+fn run_model(name: &str, script: &Script, args: &[&str]) -> ModelRun {
+    let dir = std::env::temp_dir().join(format!("sw_xr_model_{name}_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let usd = dir.join("session.usda");
+    let trace = dir.join("run.trace.jsonl");
+    let (u, t) = (usd.to_str().unwrap(), trace.to_str().unwrap());
+    let mut all = vec![
+        "--tool",
+        "object",
+        "--period-ms",
+        "1",
+        "--save",
+        u,
+        "--trace",
+        t,
+    ];
+    all.extend_from_slice(args);
+    let run = run_host(name, script, &all);
+    let saved = usd
+        .exists()
+        .then(|| load_file(&usd, LoadOptions::default()).unwrap());
+    let recorded = std::fs::read_to_string(&trace)
+        .ok()
+        .map(|t| Trace::from_jsonl(&t).unwrap());
+    let _ = std::fs::remove_dir_all(&dir);
+    ModelRun {
+        run,
+        saved,
+        recorded,
+    }
+}
+
+/// Sorted (kind, bbox) of every object, to compare models built from f32
+/// (runtime) and f64 (trace) poses.
+fn objects(doc: &shapewright::doc::Document) -> Vec<(String, [f64; 6])> {
+    doc.objects()
+        .map(|(_, o)| {
+            let (lo, hi) = o.mesh.bbox().unwrap();
+            (
+                o.kind.name().to_string(),
+                [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z],
+            )
+        })
+        .collect()
+}
+
+fn assert_same_model(a: &shapewright::doc::Document, b: &shapewright::doc::Document, tol: f64) {
+    let (oa, ob) = (objects(a), objects(b));
+    assert_eq!(oa.len(), ob.len(), "{oa:?}\n{ob:?}");
+    for ((ka, ba), (kb, bb)) in oa.iter().zip(&ob) {
+        assert_eq!(ka, kb);
+        for (x, y) in ba.iter().zip(bb) {
+            assert!((x - y).abs() < tol, "{ka}: {ba:?} vs {bb:?}");
+        }
+    }
+}
+
+#[test]
+fn scripted_controllers_build_the_model_the_trace_replay_builds() {
+    let trace = fixture_trace();
+    let n = trace.frames.len().to_string();
+    let m = run_model("model", &script_from_trace(&trace), &["--frames", &n]);
+    assert_eq!(m.run.code, Some(0), "{}\n{}", m.run.stdout, m.run.stderr);
+    let want = replay(&trace).unwrap();
+    let saved = m.saved.expect("the session was autosaved");
+    assert!(saved.report.is_consistent(), "{}", saved.report);
+    let names = |ops: &[shapewright::doc::Op]| ops.iter().map(|o| o.name()).collect::<Vec<_>>();
+    assert_eq!(names(saved.log.ops()), names(want.log.ops()));
+    assert_eq!(saved.log.cursor(), want.log.cursor());
+    assert!(saved.log.document().len() >= 4);
+    // The host's own recording replays to exactly what it saved.
+    let rec = m.recorded.unwrap();
+    assert_eq!(rec.frames.len(), trace.frames.len());
+    let again = replay(&rec).unwrap();
+    assert_eq!(
+        again.log.document().content_hash(),
+        saved.log.document().content_hash()
+    );
+    assert!(m.run.stdout.contains("frame CPU time"), "{}", m.run.stdout);
+    // Poses went through f32 in the runtime: placements agree to ~1e-6 m.
+    assert_same_model(saved.log.document(), want.log.document(), 1e-4);
+}
+
+fn ops_of(t: &Trace) -> Vec<shapewright::doc::Op> {
+    replay(t).unwrap().log.ops().to_vec()
+}
+
+/// The fixture trace with `faults` at fractions of its length, autosaving
+/// only on loss and exit (no op or time trigger can fire).
+fn run_with_faults(name: &str, faults: &[(f64, Fault)], refuse_creates: u32) -> ModelRun {
+    let trace = fixture_trace();
+    let n = trace.frames.len();
+    let mut s = script_from_trace(&trace);
+    s.faults = faults
+        .iter()
+        .map(|&(at, fault)| FaultAt {
+            at: (n as f64 * at) as u64,
+            fault,
+        })
+        .collect();
+    s.refuse_creates = refuse_creates;
+    let frames = n.to_string();
+    let args = [
+        "--frames",
+        &frames,
+        "--autosave-ops",
+        "1000000",
+        "--autosave-secs",
+        "3600",
+    ];
+    run_model(name, &s, &args)
+}
+
+#[test]
+fn no_acknowledged_op_is_lost_across_session_and_instance_loss() {
+    let faults = [
+        (1.0 / 3.0, Fault::LossPending),
+        (2.0 / 3.0, Fault::InstanceLoss),
+    ];
+    let m = run_with_faults("loss", &faults, 1);
+    assert_eq!(m.run.code, Some(0), "{}\n{}", m.run.stdout, m.run.stderr);
+    let rep = m.run.report.clone().unwrap();
+    assert_eq!(rep.session_losses, 1);
+    assert_eq!(rep.instance_losses, 1);
+    assert_eq!(rep.sessions_created, 3);
+    let saved = m.saved.unwrap();
+    let recorded = m.recorded.unwrap();
+    // Every op the host applied (its recorded input, replayed) is in the file.
+    let acknowledged = ops_of(&recorded);
+    assert!(acknowledged.len() >= 4, "{}", acknowledged.len());
+    assert_eq!(saved.log.ops(), acknowledged.as_slice());
+    assert!(saved.report.is_consistent(), "{}", saved.report);
+}
+
+#[test]
+fn a_run_that_gives_up_after_instance_loss_still_saved_every_op() {
+    let m = run_with_faults("giveup", &[(0.5, Fault::InstanceLoss)], 1000);
+    assert_eq!(m.run.code, Some(1), "{}\n{}", m.run.stdout, m.run.stderr);
+    let saved = m.saved.expect("saved on instance loss");
+    let acknowledged = ops_of(&m.recorded.unwrap());
+    assert!(acknowledged.len() >= 2, "{}", acknowledged.len());
+    assert_eq!(saved.log.ops(), acknowledged.as_slice());
+}
+
+#[test]
+fn nan_poses_and_tracking_loss_change_nothing() {
+    let trace = fixture_trace();
+    let n = trace.frames.len();
+    let clean = script_from_trace(&trace);
+    // A stretch of 40 frames after the first ops with no button held.
+    let idle = |f: &interact::InputFrame| {
+        f.controllers
+            .iter()
+            .all(|c| c.is_some_and(|c| c.buttons == Default::default()))
+    };
+    let start = (200..n - 40)
+        .find(|&k| trace.frames[k..k + 40].iter().all(idle))
+        .expect("an idle stretch");
+    let mut bad = clean.clone();
+    for kf in &mut bad.keyframes[start + 10..start + 30] {
+        if let Some(g) = &mut kf.right.grip {
+            g.nan = true;
+        }
+        if let Some(a) = &mut kf.left.aim {
+            a.valid = false;
+        }
+        if let Some(h) = &mut kf.head {
+            h.valid = false;
+        }
+    }
+    let frames = n.to_string();
+    let a = run_model("nanclean", &clean, &["--frames", &frames]);
+    let b = run_model("nanbad", &bad, &["--frames", &frames]);
+    assert_eq!(b.run.code, Some(0), "{}", b.run.stderr);
+    let dropped = |m: &ModelRun| m.run.report.as_ref().unwrap().poses_dropped;
+    assert_eq!(
+        dropped(&b),
+        dropped(&a) + 60,
+        "20 frames x (NaN grip, lost aim, lost head)"
+    );
+    let (sa, sb) = (a.saved.unwrap(), b.saved.unwrap());
+    assert_eq!(sa.log.ops(), sb.log.ops());
+    assert_eq!(
+        sa.log.document().content_hash(),
+        sb.log.document().content_hash()
+    );
+    // The core saw those poses as invalid (identity contents), never NaN.
+    let rec = b.recorded.unwrap();
+    for f in &rec.frames[start + 10..start + 30] {
+        let [l, r] = &f.controllers;
+        let (l, r) = (l.unwrap(), r.unwrap());
+        assert!(!r.grip_valid && r.grip == interact::Pose::IDENTITY);
+        assert!(!l.aim_valid && l.aim == interact::Pose::IDENTITY);
+        assert!(f.head.is_none());
+    }
 }

@@ -1,97 +1,136 @@
-//! Creating the action set from [`super::bindings`], per-session spaces
-//! and hand trackers, and reading one sanitized [`InputFrame`].
+//! Creating the action set from the core's binding data
+//! ([`shapewright::interact::ActionMap::default_map`], the single source
+//! of bindings for both hosts), per-session spaces and hand trackers, and
+//! reading one sanitized [`InputFrame`].
 
 use openxr as xr;
+use shapewright::interact::{ActionMap, ActionType};
 
-use super::bindings::{expand, ActionId, ACTIONS, PROFILES};
-use super::input::{sanitize_pose, sanitize_value, HandInput, InputFrame, Pose};
+use super::input::{sanitize_axis, sanitize_pose, sanitize_value, HandInput, InputFrame, Pose};
 use super::lifecycle::Running;
+
+/// The instance extension an interaction profile needs, if any (the
+/// profiles of the core's map are core OpenXR 1.0 except bare hands).
+pub fn profile_extension(profile: &str) -> Option<&'static str> {
+    (profile == "/interaction_profiles/ext/hand_interaction_ext")
+        .then_some("XR_EXT_hand_interaction")
+}
+
+/// One created action, typed.
+enum AnyAction {
+    Pose(xr::Action<xr::Posef>),
+    Float(xr::Action<f32>),
+    Bool(xr::Action<bool>),
+}
+
+/// A button action's value this frame.
+enum Value {
+    Float(f32),
+    Bool(bool),
+}
 
 /// The instance-level actions (created once per instance).
 pub struct Actions {
     set: xr::ActionSet,
-    grip: xr::Action<xr::Posef>,
-    aim: xr::Action<xr::Posef>,
-    select: xr::Action<f32>,
-    squeeze: xr::Action<f32>,
-    menu: xr::Action<bool>,
-    primary: xr::Action<bool>,
+    actions: Vec<(String, AnyAction)>,
     hands: [xr::Path; 2],
     /// Profiles the runtime accepted bindings for.
-    pub accepted_profiles: Vec<&'static str>,
+    pub accepted_profiles: Vec<String>,
 }
 
 impl Actions {
-    /// Creates the set and its actions and suggests bindings for every
-    /// profile whose extension (if any) is enabled. A profile the runtime
-    /// rejects (XR_ERROR_PATH_UNSUPPORTED) is skipped; other errors fail.
+    /// Creates the set and one action per item of the core's default map
+    /// (vibration items are left out: the host sends no haptics), and
+    /// suggests the map's bindings for every profile whose extension (if
+    /// any) is enabled. A profile the runtime rejects
+    /// (XR_ERROR_PATH_UNSUPPORTED) is skipped; other errors fail.
     pub fn new(instance: &xr::Instance, enabled_exts: &[String]) -> xr::Result<Self> {
+        Self::from_map(instance, enabled_exts, &ActionMap::default_map())
+    }
+
+    /// As [`Actions::new`] with another map.
+    pub fn from_map(
+        instance: &xr::Instance,
+        enabled_exts: &[String],
+        map: &ActionMap,
+    ) -> xr::Result<Self> {
         let set = instance.create_action_set("shapewright", "Shapewright", 0)?;
+        let user = ["/user/hand/left", "/user/hand/right"];
         let hands = [
-            instance.string_to_path("/user/hand/left")?,
-            instance.string_to_path("/user/hand/right")?,
+            instance.string_to_path(user[0])?,
+            instance.string_to_path(user[1])?,
         ];
-        let name = |id: ActionId| {
-            ACTIONS
-                .iter()
-                .find(|a| a.0 == id)
-                .map(|a| (a.1, a.2))
-                .unwrap_or(("unnamed", "Unnamed"))
-        };
-        let (n, l) = name(ActionId::Grip);
-        let grip = set.create_action::<xr::Posef>(n, l, &hands)?;
-        let (n, l) = name(ActionId::Aim);
-        let aim = set.create_action::<xr::Posef>(n, l, &hands)?;
-        let (n, l) = name(ActionId::Select);
-        let select = set.create_action::<f32>(n, l, &hands)?;
-        let (n, l) = name(ActionId::Squeeze);
-        let squeeze = set.create_action::<f32>(n, l, &hands)?;
-        let (n, l) = name(ActionId::Menu);
-        let menu = set.create_action::<bool>(n, l, &hands)?;
-        let (n, l) = name(ActionId::Primary);
-        let primary = set.create_action::<bool>(n, l, &hands)?;
+        let mut actions = Vec::new();
+        for item in &map.items {
+            let (n, l) = (item.name.as_str(), item.name.replace('_', " "));
+            let a = match item.kind {
+                ActionType::Pose => AnyAction::Pose(set.create_action(n, &l, &hands)?),
+                ActionType::Float => AnyAction::Float(set.create_action(n, &l, &hands)?),
+                ActionType::Button => AnyAction::Bool(set.create_action(n, &l, &hands)?),
+                ActionType::Vibration => continue,
+            };
+            actions.push((item.name.clone(), a));
+        }
+        let mut profiles: Vec<&str> = Vec::new();
+        for b in map.items.iter().flat_map(|i| &i.bindings) {
+            if !profiles.contains(&b.profile.as_str()) {
+                profiles.push(&b.profile);
+            }
+        }
         let mut accepted = Vec::new();
-        for p in PROFILES {
-            if let Some(ext) = p.extension {
+        for profile in profiles {
+            if let Some(ext) = profile_extension(profile) {
                 if !enabled_exts.iter().any(|e| e == ext) {
                     continue;
                 }
             }
-            let rows = expand(p);
-            let mut paths = Vec::with_capacity(rows.len());
-            for (_, path) in &rows {
-                paths.push(instance.string_to_path(path)?);
+            let mut rows = Vec::new();
+            for (item, action) in map
+                .items
+                .iter()
+                .filter_map(|i| Some((i, &actions.iter().find(|a| a.0 == i.name)?.1)))
+            {
+                let Some(b) = item.bindings.iter().find(|b| b.profile == profile) else {
+                    continue;
+                };
+                for (u, comp) in user.iter().zip(&b.component_paths) {
+                    if let Some(comp) = comp {
+                        rows.push((action, instance.string_to_path(&format!("{u}{comp}"))?));
+                    }
+                }
             }
             let bindings: Vec<xr::Binding> = rows
                 .iter()
-                .zip(&paths)
-                .map(|((id, _), &path)| match id {
-                    ActionId::Grip => xr::Binding::new(&grip, path),
-                    ActionId::Aim => xr::Binding::new(&aim, path),
-                    ActionId::Select => xr::Binding::new(&select, path),
-                    ActionId::Squeeze => xr::Binding::new(&squeeze, path),
-                    ActionId::Menu => xr::Binding::new(&menu, path),
-                    ActionId::Primary => xr::Binding::new(&primary, path),
+                .map(|(action, path)| match action {
+                    AnyAction::Pose(a) => xr::Binding::new(a, *path),
+                    AnyAction::Float(a) => xr::Binding::new(a, *path),
+                    AnyAction::Bool(a) => xr::Binding::new(a, *path),
                 })
                 .collect();
-            let profile = instance.string_to_path(p.profile)?;
-            match instance.suggest_interaction_profile_bindings(profile, &bindings) {
-                Ok(()) => accepted.push(p.profile),
+            let path = instance.string_to_path(profile)?;
+            match instance.suggest_interaction_profile_bindings(path, &bindings) {
+                Ok(()) => accepted.push(profile.to_string()),
                 Err(xr::sys::Result::ERROR_PATH_UNSUPPORTED) => {}
                 Err(e) => return Err(e),
             }
         }
         Ok(Self {
             set,
-            grip,
-            aim,
-            select,
-            squeeze,
-            menu,
-            primary,
+            actions,
             hands,
             accepted_profiles: accepted,
         })
+    }
+
+    fn get(&self, name: &str) -> Option<&AnyAction> {
+        self.actions.iter().find(|a| a.0 == name).map(|a| &a.1)
+    }
+
+    fn pose(&self, name: &str) -> Option<&xr::Action<xr::Posef>> {
+        match self.get(name)? {
+            AnyAction::Pose(a) => Some(a),
+            _ => None,
+        }
     }
 }
 
@@ -100,8 +139,8 @@ impl Actions {
 pub struct SessionInput {
     base: xr::Space,
     view: xr::Space,
-    grip: [xr::Space; 2],
-    aim: [xr::Space; 2],
+    grip: [Option<xr::Space>; 2],
+    aim: [Option<xr::Space>; 2],
     trackers: Option<[xr::HandTracker; 2]>,
 }
 
@@ -126,14 +165,12 @@ impl SessionInput {
         let id = xr::Posef::IDENTITY;
         let base = session.create_reference_space(xr::ReferenceSpaceType::LOCAL, id)?;
         let view = session.create_reference_space(xr::ReferenceSpaceType::VIEW, id)?;
-        let grip = [
-            actions.grip.create_space(session, actions.hands[0], id)?,
-            actions.grip.create_space(session, actions.hands[1], id)?,
-        ];
-        let aim = [
-            actions.aim.create_space(session, actions.hands[0], id)?,
-            actions.aim.create_space(session, actions.hands[1], id)?,
-        ];
+        let space = |name: &str, h: usize| match actions.pose(name) {
+            Some(a) => a.create_space(session, actions.hands[h], id).map(Some),
+            None => Ok(None),
+        };
+        let grip = [space("grip_pose", 0)?, space("grip_pose", 1)?];
+        let aim = [space("aim_pose", 0)?, space("aim_pose", 1)?];
         let trackers = if hand_tracking {
             Some([
                 session.create_hand_tracker(xr::Hand::LEFT)?,
@@ -177,16 +214,42 @@ impl SessionInput {
         for h in 0..2 {
             let path = actions.hands[h];
             let hand = &mut frame.hands[h];
-            if actions.grip.is_active(session, path)? {
-                hand.grip = locate(&self.grip[h], &self.base, time, drops)?;
+            for (space, pose_name, out) in [
+                (&self.grip[h], "grip_pose", &mut hand.grip),
+                (&self.aim[h], "aim_pose", &mut hand.aim),
+            ] {
+                if let (Some(space), Some(action)) = (space, actions.pose(pose_name)) {
+                    if action.is_active(session, path)? {
+                        *out = locate(space, &self.base, time, drops)?;
+                    }
+                }
             }
-            if actions.aim.is_active(session, path)? {
-                hand.aim = locate(&self.aim[h], &self.base, time, drops)?;
+            for (name, action) in &actions.actions {
+                // Inactive actions (nothing bound on this hand) keep defaults.
+                let value = match action {
+                    AnyAction::Pose(_) => continue,
+                    AnyAction::Float(a) => {
+                        let st = a.state(session, path)?;
+                        st.is_active.then_some(Value::Float(st.current_state))
+                    }
+                    AnyAction::Bool(a) => {
+                        let st = a.state(session, path)?;
+                        st.is_active.then_some(Value::Bool(st.current_state))
+                    }
+                };
+                let Some(value) = value else { continue };
+                hand.active = true;
+                match (name.as_str(), value) {
+                    ("select", Value::Float(v)) => hand.select = sanitize_value(v),
+                    ("grab", Value::Float(v)) => hand.squeeze = sanitize_value(v),
+                    ("stick_x", Value::Float(v)) => hand.stick[0] = sanitize_axis(v),
+                    ("stick_y", Value::Float(v)) => hand.stick[1] = sanitize_axis(v),
+                    ("primary", Value::Bool(b)) => hand.primary = b,
+                    ("secondary", Value::Bool(b)) => hand.secondary = b,
+                    ("menu", Value::Bool(b)) => hand.menu = b,
+                    _ => {}
+                }
             }
-            hand.select = float_state(&actions.select, session, path)?;
-            hand.squeeze = float_state(&actions.squeeze, session, path)?;
-            hand.menu = bool_state(&actions.menu, session, path)?;
-            hand.primary = bool_state(&actions.primary, session, path)?;
             if let Some(trackers) = &self.trackers {
                 read_joints(&self.base, &trackers[h], time, hand, drops)?;
             }
@@ -256,18 +319,4 @@ fn read_joints(
         })
         .collect();
     Ok(())
-}
-
-fn float_state<G>(a: &xr::Action<f32>, s: &xr::Session<G>, path: xr::Path) -> xr::Result<f32> {
-    let st = a.state(s, path)?;
-    Ok(if st.is_active {
-        sanitize_value(st.current_state)
-    } else {
-        0.0
-    })
-}
-
-fn bool_state<G>(a: &xr::Action<bool>, s: &xr::Session<G>, path: xr::Path) -> xr::Result<bool> {
-    let st = a.state(s, path)?;
-    Ok(st.is_active && st.current_state)
 }

@@ -257,6 +257,7 @@ fn run_session(
         )),
         None => None,
     };
+    let mut gpu_doc: Option<(u64, GpuMesh)> = None;
     let mut life = Lifecycle::new(session);
     let mut buf = xr::EventDataBuffer::new();
     let mut drops = DropCounts::default();
@@ -324,7 +325,11 @@ fn run_session(
                 "xrWaitSwapchainImage",
                 stereo.swapchain.wait_image(xr::Duration::INFINITE)
             );
-            let rays = frame.as_ref().map(aim_rays).unwrap_or_default();
+            let scene = sink.scene();
+            let rays = match scene {
+                Some(s) => s.lines.clone(),
+                None => frame.as_ref().map(aim_rays).unwrap_or_default(),
+            };
             let render = (|| -> Result<(), crate::gfx::GfxError> {
                 stereo.renderer.set_views(&cams)?;
                 let lines = if rays.is_empty() {
@@ -332,7 +337,22 @@ fn run_session(
                 } else {
                     Some(stereo.renderer.upload_lines(&rays)?)
                 };
-                let draws: Vec<MeshDraw> = gpu_model
+                // The document is uploaded again only when it changed; the
+                // drag preview (small, short-lived) every frame.
+                if let Some(s) = scene {
+                    if gpu_doc.as_ref().map(|d| d.0) != Some(s.version) {
+                        gpu_doc = None;
+                        if let Some(m) = &s.document {
+                            gpu_doc = Some((s.version, stereo.renderer.upload_mesh(m)?));
+                        }
+                    }
+                }
+                let preview = match scene.and_then(|s| s.preview.as_ref()) {
+                    Some(m) => Some(stereo.renderer.upload_mesh(m)?),
+                    None => None,
+                };
+                let to_world = scene.map(|s| s.model_to_world).unwrap_or_default();
+                let mut draws: Vec<MeshDraw> = gpu_model
                     .iter()
                     .map(|(m, placement)| MeshDraw {
                         mesh: m,
@@ -340,6 +360,18 @@ fn run_session(
                         color: [0.55, 0.62, 0.75, 1.0],
                     })
                     .collect();
+                for (m, color) in [
+                    (gpu_doc.as_ref().map(|d| &d.1), [0.62, 0.66, 0.72, 1.0]),
+                    (preview.as_ref(), [0.95, 0.75, 0.35, 1.0]),
+                ] {
+                    if let Some(mesh) = m {
+                        draws.push(MeshDraw {
+                            mesh,
+                            model: to_world,
+                            color,
+                        });
+                    }
+                }
                 let Some(fb) = stereo.targets.framebuffer(index) else {
                     return Ok(());
                 };
@@ -392,6 +424,7 @@ fn run_session(
     report.poses_dropped += drops.poses;
     report.joints_dropped += drops.joints;
     drop(gpu_model);
+    drop(gpu_doc);
     drop(stereo);
     drop(input);
     drop(stream);

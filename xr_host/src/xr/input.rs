@@ -6,6 +6,8 @@
 //! contents of a pose without VALID bits are undefined by the spec).
 
 use serde::{Deserialize, Serialize};
+use shapewright::interact;
+use shapewright::math::{DQuat, DVec3};
 
 /// A rigid pose in the session's base (LOCAL) space, meters, OpenXR axes
 /// (Y up).
@@ -24,14 +26,24 @@ pub struct HandInput {
     pub grip: Option<Pose>,
     /// Aim pose, if tracked.
     pub aim: Option<Pose>,
-    /// Select / trigger / pinch, 0..1.
+    /// Whether any of the hand's button actions is active (a controller,
+    /// or a tracked hand under the hand-interaction profile, is bound).
+    #[serde(default)]
+    pub active: bool,
+    /// Select / trigger / pinch, 0..1 (the `select` action).
     pub select: f32,
-    /// Squeeze / grasp, 0..1.
+    /// Squeeze / grasp, 0..1 (the `grab` action).
     pub squeeze: f32,
     /// Menu button.
     pub menu: bool,
-    /// Primary face button.
+    /// Primary face button (A / X).
     pub primary: bool,
+    /// Secondary face button (B / Y).
+    #[serde(default)]
+    pub secondary: bool,
+    /// Thumbstick or trackpad `[x, y]`, each -1..1.
+    #[serde(default)]
+    pub stick: [f32; 2],
     /// The 26 `XR_EXT_hand_tracking` joints (palm, wrist, thumb..little),
     /// each None if its pose was not valid; empty when no hand tracking.
     pub joints: Vec<Option<Pose>>,
@@ -69,6 +81,11 @@ pub trait FrameSink {
     fn frame(&mut self, frame: &InputFrame);
     /// Called on lifecycle changes (default: ignored).
     fn lifecycle(&mut self, _event: &LifecycleEvent) {}
+    /// What to draw for the document and the tool (default: nothing; the
+    /// headset then draws only `--model` and the aim rays).
+    fn scene(&self) -> Option<&crate::interaction::Scene> {
+        None
+    }
 }
 
 /// A sink that keeps every frame (tests, recording).
@@ -117,10 +134,91 @@ pub fn sanitize_pose(
 
 /// A 0..1 analog value, NaN mapped to 0.
 pub fn sanitize_value(v: f32) -> f32 {
+    sanitize_axis(v).max(0.0)
+}
+
+/// A -1..1 axis value, NaN mapped to 0.
+pub fn sanitize_axis(v: f32) -> f32 {
     if v.is_finite() {
-        v.clamp(0.0, 1.0)
+        v.clamp(-1.0, 1.0)
     } else {
         0.0
+    }
+}
+
+impl Pose {
+    /// The pose in the interaction core's f64 types.
+    pub fn to_interact(&self) -> interact::Pose {
+        let [x, y, z] = self.position.map(f64::from);
+        let [qx, qy, qz, qw] = self.orientation.map(f64::from);
+        interact::Pose::new(DVec3::new(x, y, z), DQuat::from_xyzw(qx, qy, qz, qw))
+    }
+}
+
+/// A sample the runtime did not mark valid: the identity pose with the
+/// valid flag unset, so the core never sees the runtime's undefined values.
+fn raw_pose(p: Option<Pose>) -> (interact::Pose, bool) {
+    p.map_or((interact::Pose::IDENTITY, false), |p| {
+        (p.to_interact(), true)
+    })
+}
+
+impl HandInput {
+    /// The controller sample the core reads (None: no controller bound).
+    fn controller(&self) -> Option<interact::ControllerSample> {
+        if !self.active && self.grip.is_none() && self.aim.is_none() {
+            return None;
+        }
+        let (grip, grip_valid) = raw_pose(self.grip);
+        let (aim, aim_valid) = raw_pose(self.aim);
+        Some(interact::ControllerSample {
+            grip,
+            grip_valid,
+            aim,
+            aim_valid,
+            buttons: interact::ControllerButtons {
+                select: f64::from(self.select),
+                grab: f64::from(self.squeeze),
+                primary: self.primary,
+                secondary: self.secondary,
+                menu: self.menu,
+                stick: self.stick.map(f64::from),
+            },
+            buttons_valid: self.active,
+        })
+    }
+
+    /// The tracked hand the core reads (None: no joints this frame).
+    fn hand(&self) -> Option<interact::HandSample> {
+        if self.joints.len() != interact::JOINT_COUNT {
+            return None;
+        }
+        let mut joints = [interact::JointSample::default(); interact::JOINT_COUNT];
+        for (j, p) in joints.iter_mut().zip(&self.joints) {
+            if let Some(p) = p {
+                j.pose = p.to_interact();
+                j.valid = true;
+            }
+        }
+        Some(interact::HandSample {
+            active: true,
+            joints,
+        })
+    }
+}
+
+impl InputFrame {
+    /// The frame as `core::interact` takes it: time in seconds, poses in
+    /// f64, every pose that was dropped here marked invalid (identity
+    /// contents), controllers and hands present as the runtime reported.
+    /// This is the one conversion the headless and headset loops share.
+    pub fn to_interact(&self) -> interact::InputFrame {
+        interact::InputFrame {
+            time: self.time_ns as f64 * 1e-9,
+            head: self.head.map(|p| p.to_interact()),
+            hands: [self.hands[0].hand(), self.hands[1].hand()],
+            controllers: [self.hands[0].controller(), self.hands[1].controller()],
+        }
     }
 }
 

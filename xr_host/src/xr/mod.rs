@@ -1,11 +1,10 @@
 //! The OpenXR host: instance creation (the `openxr` crate's statically
-//! linked loader 1.1.54), action bindings as data, the session lifecycle
+//! linked loader 1.1.54), actions from the core's binding data, the session lifecycle
 //! as types, sanitized input handed to a [`FrameSink`], and the headless
 //! (`XR_MND_headless`) loop. Session creation, being unsafe, lives in
 //! `crate::gfx::xr_bridge`.
 
 pub mod actions;
-pub mod bindings;
 pub mod events;
 pub mod headless;
 pub mod headset;
@@ -156,14 +155,16 @@ pub struct RunReport {
 impl RunReport {
     /// The `q` quantile (0..1) of per-frame CPU time in microseconds.
     pub fn frame_cpu_quantile(&self, q: f64) -> Option<f64> {
-        if self.frame_cpu_us.is_empty() {
-            return None;
-        }
-        let mut v = self.frame_cpu_us.clone();
-        v.sort_by(f64::total_cmp);
-        let i = ((v.len() - 1) as f64 * q.clamp(0.0, 1.0)).round() as usize;
-        v.get(i).copied()
+        quantile(&self.frame_cpu_us, q)
     }
+}
+
+/// The `q` quantile (0..1, nearest rank) of `v`; None when empty.
+pub fn quantile(v: &[f64], q: f64) -> Option<f64> {
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    let i = ((v.len().checked_sub(1)?) as f64 * q.clamp(0.0, 1.0)).round() as usize;
+    v.get(i).copied()
 }
 
 /// A created instance with its system and what was enabled.

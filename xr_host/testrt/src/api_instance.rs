@@ -512,7 +512,15 @@ pub(crate) unsafe extern "system" fn convert_timespec_time_to_time(
         _ => return sys::Result::ERROR_VALIDATION_FAILURE,
     };
     with_rt(|rt| {
+        let stepped = rt
+            .script
+            .step_ns
+            .map(|d| 1_000_000_000i64.saturating_add(d.saturating_mul(rt.step as i64)));
         done(inst(rt, instance).and_then(|_| {
+            if let Some(t) = stepped {
+                *out = sys::Time::from_nanos(t);
+                return Ok(sys::Result::SUCCESS);
+            }
             #[allow(clippy::useless_conversion)] // time_t and c_long are i64 on LP64 only
             let (sec, nsec) = (i64::from(ts.tv_sec), i64::from(ts.tv_nsec));
             if sec < 0 || !(0..1_000_000_000).contains(&nsec) {

@@ -406,8 +406,11 @@ fn component(hand: &ScriptHand, comp: &str) -> Option<Value> {
         "input/squeeze/value" | "input/squeeze/click" | "input/grasp_ext/value" => {
             Value::Float(hand.squeeze)
         }
-        "input/menu/click" | "input/b/click" | "input/y/click" => Value::Bool(hand.menu),
+        "input/menu/click" => Value::Bool(hand.menu),
+        "input/b/click" | "input/y/click" => Value::Bool(hand.secondary),
         "input/a/click" | "input/x/click" | "input/trackpad/click" => Value::Bool(hand.primary),
+        "input/thumbstick/x" | "input/trackpad/x" => Value::Float(hand.stick[0]),
+        "input/thumbstick/y" | "input/trackpad/y" => Value::Float(hand.stick[1]),
         _ => return None,
     })
 }
@@ -547,7 +550,12 @@ pub(crate) unsafe extern "system" fn get_action_state_float(
                     })
                     .collect();
                 out.is_active = (!vals.is_empty()).into();
-                out.current_state = vals.iter().copied().fold(0.0, f32::max);
+                // Several bound sources combine to the one of largest
+                // magnitude (spec §11.5.1), keeping its sign (axes are -1..1).
+                out.current_state =
+                    vals.iter()
+                        .copied()
+                        .fold(0.0, |a: f32, b| if b.abs() > a.abs() { b } else { a });
                 out.changed_since_last_sync = false.into();
                 out.last_change_time = sys::Time::from_nanos(0);
                 sys::Result::SUCCESS

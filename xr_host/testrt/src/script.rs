@@ -50,9 +50,15 @@ pub struct ScriptHand {
     /// Menu button.
     #[serde(default)]
     pub menu: bool,
-    /// Primary button.
+    /// Primary button (A / X, trackpad click).
     #[serde(default)]
     pub primary: bool,
+    /// Secondary button (B / Y).
+    #[serde(default)]
+    pub secondary: bool,
+    /// Thumbstick / trackpad `[x, y]`.
+    #[serde(default)]
+    pub stick: [f32; 2],
     /// Wrist pose from which the 26 joints are laid out 1 cm apart along
     /// +X (None: the hand tracker is inactive).
     pub joints: Option<ScriptPose>,
@@ -129,6 +135,11 @@ pub struct Script {
     /// xrCreateInstance calls refused after an instance loss.
     #[serde(default)]
     pub refuse_creates: u32,
+    /// A stepped clock: xrConvertTimespecTimeToTimeKHR answers
+    /// `step * step_ns` (plus one second) instead of the wall clock, so the
+    /// time the host sees advances exactly one step per synced frame.
+    #[serde(default)]
+    pub step_ns: Option<i64>,
 }
 
 fn touch() -> String {
@@ -146,6 +157,7 @@ impl Default for Script {
             keyframes: Vec::new(),
             faults: Vec::new(),
             refuse_creates: 0,
+            step_ns: None,
         }
     }
 }

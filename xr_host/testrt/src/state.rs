@@ -130,6 +130,7 @@ impl Runtime {
                 keyframes: Vec::new(),
                 faults: Vec::new(),
                 refuse_creates: 0,
+                step_ns: None,
             },
             next_handle: 1,
             instance: None,
