@@ -1,6 +1,6 @@
 //! `import FILE.usd[a|c|z] --as component|base|brush`: meshes authored
 //! elsewhere (Blender, Pixar tools) into a Shapewright document
-//! (shapewright-usd `import_op`).
+//! (shapewright-usd `import_into` and `import_brush`).
 //!
 //! `component` and `base` append one op (`sdf_import_component`,
 //! `sculpt_create` with a mesh base) to the document `--into DOC.usda`,
