@@ -257,6 +257,26 @@ def _section_op(op: str) -> Callable[[dict], dict]:
     return build
 
 
+SURFACE_EQ = (
+    Field("weights", "json", SURFACE_WEIGHTS),
+    Field("f", "float", 0.8),
+    Field("wq_max", "float", 1.0),
+)
+
+
+def path_tool(op: str, label: str, element: str, params: tuple[Field, ...]) -> OpSpec:
+    """A styling tool held along a sketched path on one curve or patch."""
+    return OpSpec(
+        op,
+        label,
+        "curve",
+        f"{label}: the tool held along the sketch path",
+        (Field("id", "target", -1), Field(element, "int", 0), *params, Field("points", "points", "")),
+        _vec_op(op, "path"),
+        sketch="points",
+    )
+
+
 SPECS: tuple[OpSpec, ...] = (
     # Generalized cylinders (paper 1)
     OpSpec(
@@ -481,48 +501,21 @@ SPECS: tuple[OpSpec, ...] = (
         _curve_draw,
         sketch="points",
     ),
-    OpSpec(
-        "curve_smooth",
-        "Smooth Curve",
-        "curve",
-        "Curve smoother held along the sketch path",
-        (
-            Field("id", "target", -1),
-            Field("curve", "int", 0),
-            Field("params", "json", SMOOTH_PARAMS),
-            Field("points", "points", ""),
-        ),
-        _vec_op("curve_smooth", "path"),
-        sketch="points",
-    ),
-    OpSpec(
+    path_tool("curve_smooth", "Smooth Curve", "curve", (Field("params", "json", SMOOTH_PARAMS),)),
+    path_tool(
         "curve_sharpen",
         "Sharpen Curve",
         "curve",
-        "Curve sharpener held along the sketch path",
         (
-            Field("id", "target", -1),
-            Field("curve", "int", 0),
             Field("params", "json", SHARPEN_PARAMS),
             Field("limits", "json", {"max_step": 0.004, "max_growth": 4.0}),
-            Field("points", "points", ""),
         ),
-        _vec_op("curve_sharpen", "path"),
-        sketch="points",
     ),
-    OpSpec(
+    path_tool(
         "curve_pull",
         "Pull Curve",
         "curve",
-        "Curve puller held along the sketch path",
-        (
-            Field("id", "target", -1),
-            Field("curve", "int", 0),
-            Field("params", "json", {"wpp": 200.0, "wp0": 1.0, "wp1": 0.001}),
-            Field("points", "points", ""),
-        ),
-        _vec_op("curve_pull", "path"),
-        sketch="points",
+        (Field("params", "json", {"wpp": 200.0, "wp0": 1.0, "wp1": 0.001}),),
     ),
     OpSpec(
         "curve_delete",
@@ -545,41 +538,18 @@ SPECS: tuple[OpSpec, ...] = (
         "Fill every loop found automatically",
         (Field("id", "target", -1),),
     ),
-    *(
-        OpSpec(
-            op,
-            label,
-            "curve",
-            f"Surface {label.split()[0].lower()}er held along the sketch path",
-            (
-                Field("id", "target", -1),
-                Field("patch", "int", 0),
-                Field("weights", "json", SURFACE_WEIGHTS),
-                Field("f", "float", 0.8),
-                Field("wq_max", "float", 1.0),
-                Field("points", "points", ""),
-            ),
-            _vec_op(op, "path"),
-            sketch="points",
-        )
-        for op, label in (("surface_smooth", "Smooth Surface"), ("surface_sharpen", "Sharpen Surface"))
-    ),
-    OpSpec(
+    path_tool("surface_smooth", "Smooth Surface", "patch", SURFACE_EQ),
+    path_tool("surface_sharpen", "Sharpen Surface", "patch", SURFACE_EQ),
+    path_tool(
         "surface_pull",
         "Pull Surface",
-        "curve",
-        "Surface puller from (u0, v0) along the sketch path",
+        "patch",
         (
-            Field("id", "target", -1),
-            Field("patch", "int", 0),
             Field("weights", "json", SURFACE_WEIGHTS),
             Field("wpp", "float", 2000.0),
             Field("u0", "float", 0.5),
             Field("v0", "float", 0.5),
-            Field("points", "points", ""),
         ),
-        _vec_op("surface_pull", "path"),
-        sketch="points",
     ),
     # Warp brushes (paper 4)
     OpSpec(

@@ -9,10 +9,17 @@ import bpy
 from . import history, op_table, sync
 
 
-class VIEW3D_PT_shapewright(bpy.types.Panel):
+class _Sidebar:
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "Shapewright"
+
+
+class _SubPanel(_Sidebar):
+    bl_parent_id = "VIEW3D_PT_shapewright"
+
+
+class VIEW3D_PT_shapewright(_Sidebar, bpy.types.Panel):
     bl_label = "Shapewright"
 
     def draw(self, context):
@@ -47,12 +54,8 @@ class VIEW3D_PT_shapewright(bpy.types.Panel):
         row.operator("shapewright.apply_op", icon="CONSOLE")
 
 
-class VIEW3D_PT_shapewright_sketch(bpy.types.Panel):
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Shapewright"
+class VIEW3D_PT_shapewright_sketch(_SubPanel, bpy.types.Panel):
     bl_label = "Sketch"
-    bl_parent_id = "VIEW3D_PT_shapewright"
 
     def draw(self, context):
         layout = self.layout
@@ -74,25 +77,13 @@ def _category_panel(key: str, title: str) -> type:
 
     return type(
         f"VIEW3D_PT_shapewright_{key}",
-        (bpy.types.Panel,),
-        {
-            "bl_space_type": "VIEW_3D",
-            "bl_region_type": "UI",
-            "bl_category": "Shapewright",
-            "bl_label": title,
-            "bl_parent_id": "VIEW3D_PT_shapewright",
-            "bl_options": {"DEFAULT_CLOSED"},
-            "draw": draw,
-        },
+        (_SubPanel, bpy.types.Panel),
+        {"bl_label": title, "bl_options": {"DEFAULT_CLOSED"}, "draw": draw},
     )
 
 
-class VIEW3D_PT_shapewright_history(bpy.types.Panel):
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Shapewright"
+class VIEW3D_PT_shapewright_history(_SubPanel, bpy.types.Panel):
     bl_label = "History and output"
-    bl_parent_id = "VIEW3D_PT_shapewright"
 
     def draw(self, context):
         layout = self.layout
@@ -120,11 +111,4 @@ classes = (
 )
 
 
-def register() -> None:
-    for cls in classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister() -> None:
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(classes)

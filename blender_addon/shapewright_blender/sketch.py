@@ -142,11 +142,4 @@ class SHAPEWRIGHT_OT_sketch(bpy.types.Operator):
 classes = (SHAPEWRIGHT_OT_sketch,)
 
 
-def register() -> None:
-    for cls in classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister() -> None:
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(classes)

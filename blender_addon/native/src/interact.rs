@@ -33,9 +33,9 @@ impl InputSession {
     fn new(tool: &str, placement_json: &str) -> PyResult<Self> {
         let placement: ModelPlacement =
             serde_json::from_str(placement_json).map_err(|e| parse_err("placement", e))?;
-        let model = placement.similarity().ok_or_else(|| {
-            ParseError::new_err("placement must be finite with a positive scale")
-        })?;
+        let model = placement
+            .similarity()
+            .ok_or_else(|| ParseError::new_err("placement must be finite with a positive scale"))?;
         let tool = tool_named(tool).map_err(|e| parse_err("tool", e))?;
         Ok(Self(Driver::new(tool, model)))
     }
@@ -98,7 +98,9 @@ fn preview_dict<'py>(py: Python<'py>, p: &Preview) -> PyResult<Bound<'py, PyDict
     d.set_item("selected", p.selected.map(|i| i.0))?;
     let moving = p.moving.as_ref().map(|m| {
         let a = m.motion.to_affine();
-        let c = shapewright::math::DMat4::from(a).transpose().to_cols_array();
+        let c = shapewright::math::DMat4::from(a)
+            .transpose()
+            .to_cols_array();
         (m.id.0, c)
     });
     d.set_item("moving", moving)?;
