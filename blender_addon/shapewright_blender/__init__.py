@@ -11,14 +11,14 @@ from __future__ import annotations
 if "bpy" in locals():
     import importlib
 
-    for _m in (props, history, sync, operators, panels):  # noqa: F821
+    for _m in (props, history, sync, op_table, draw, operators, sketch, xr, panels):  # noqa: F821
         importlib.reload(_m)
 else:
-    from . import history, operators, panels, props, sync
+    from . import draw, history, op_table, operators, panels, props, sketch, sync, xr
 
 import bpy  # noqa: E402
 
-_modules = (props, operators, panels)
+_modules = (props, operators, sketch, xr, draw, panels)
 
 
 def register() -> None:
@@ -33,4 +33,4 @@ def unregister() -> None:
         m.unregister()
 
 
-__all__ = ["register", "unregister", "sync", "bpy"]
+__all__ = ["register", "unregister", "sync", "op_table", "bpy"]

@@ -8,14 +8,22 @@ undo step and the log's cursor move together.
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
 import bpy
 import shapewright as sw
-from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
+from bpy.props import (
+    BoolProperty,
+    EnumProperty,
+    FloatProperty,
+    FloatVectorProperty,
+    IntProperty,
+    StringProperty,
+)
 
-from . import history, sync
+from . import history, op_table, sync
 
 SHAPES = (
     ("box", "Box", "Axis-aligned box"),
@@ -226,6 +234,101 @@ class SHAPEWRIGHT_OT_run_script(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class SHAPEWRIGHT_OT_apply_op(bpy.types.Operator):
+    """Apply any op given as JSON (one line of an op script)"""
+
+    bl_idname = "shapewright.apply_op"
+    bl_label = "Apply Op"
+    bl_options = {"REGISTER", "UNDO"}
+
+    op_json: StringProperty(name="Op (JSON)", default="")
+
+    def execute(self, context):
+        try:
+            op = json.loads(self.op_json)
+        except json.JSONDecodeError as e:
+            self.report({"ERROR"}, f"op is not JSON: {e}")
+            return {"CANCELLED"}
+        if not isinstance(op, dict):
+            self.report({"ERROR"}, "op must be a JSON object")
+            return {"CANCELLED"}
+        return run_op(self, context, op)
+
+
+def _property(f: op_table.Field):
+    """The bpy property of one op-table field."""
+    label = f.label or f.name.replace("_", " ").capitalize()
+    if f.kind == "target":
+        return IntProperty(name=label, default=-1, min=-1, description="Object id (-1: the active object)")
+    if f.kind == "int":
+        return IntProperty(name=label, default=f.default)
+    if f.kind == "float":
+        return FloatProperty(name=label, default=f.default, precision=4)
+    if f.kind == "bool":
+        return BoolProperty(name=label, default=f.default)
+    if f.kind == "vec3":
+        return FloatVectorProperty(name=label, default=f.default, size=3)
+    if f.kind == "enum":
+        return EnumProperty(
+            name=label, items=[(i, i.replace("_", " ").capitalize(), "") for i in f.items], default=f.default
+        )
+    if f.kind == "library":
+        return EnumProperty(name=label, items=[(n, n, "") for n in sw.library_names()], default=f.default)
+    if f.kind == "json":
+        return StringProperty(name=label, default=json.dumps(f.default))
+    return StringProperty(name=label, default="", description="JSON [[x, y, z], ...]; empty: the last sketch")
+
+
+def op_values(operator, spec: op_table.OpSpec, context) -> dict:
+    """The flat values of a typed operator, with targets and sketches
+    resolved. Raises ValueError with a message for the user."""
+    values = {}
+    for f in spec.fields:
+        raw = getattr(operator, f.name)
+        if f.kind == "target" and raw < 0:
+            raw = active_id(context)
+            if raw is None:
+                raise ValueError(f"{spec.label}: select a Shapewright object (or set {f.name})")
+        try:
+            v = op_table.decode(f, raw)
+        except json.JSONDecodeError as e:
+            raise ValueError(f"{spec.label}: {f.name} is not JSON: {e}") from e
+        if f.kind == "points" and not v:
+            v = json.loads(context.scene.shapewright.sketch or "[]")
+            if not v and spec.op != "gc_create":
+                raise ValueError(f"{spec.label}: sketch a path first (Sketch on Plane) or give {f.name}")
+        values[f.name] = v
+    return values
+
+
+def _typed_execute(self, context):
+    spec = op_table.BY_OP[self.op_name]
+    try:
+        op = op_table.build_op(spec, op_values(self, spec, context))
+    except ValueError as e:
+        self.report({"ERROR"}, str(e))
+        return {"CANCELLED"}
+    return run_op(self, context, op)
+
+
+def typed_operator(spec: op_table.OpSpec) -> type:
+    """A thin operator class for one op spec: its fields as properties,
+    execute = build the op dict and apply it."""
+    return type(
+        f"SHAPEWRIGHT_OT_{spec.op}",
+        (bpy.types.Operator,),
+        {
+            "__doc__": spec.description,
+            "bl_idname": f"shapewright.{spec.op}",
+            "bl_label": spec.label,
+            "bl_options": {"REGISTER", "UNDO"},
+            "op_name": spec.op,
+            "__annotations__": {f.name: _property(f) for f in spec.fields},
+            "execute": _typed_execute,
+        },
+    )
+
+
 class SHAPEWRIGHT_OT_undo(bpy.types.Operator):
     """Undo through Blender's undo, which moves the op log's cursor"""
 
@@ -299,6 +402,7 @@ classes = (
     SHAPEWRIGHT_OT_duplicate,
     SHAPEWRIGHT_OT_delete,
     SHAPEWRIGHT_OT_run_script,
+    SHAPEWRIGHT_OT_apply_op,
     SHAPEWRIGHT_OT_undo,
     SHAPEWRIGHT_OT_redo,
     SHAPEWRIGHT_OT_export_mesh,
@@ -306,11 +410,16 @@ classes = (
 )
 
 
+typed_classes: tuple[type, ...] = ()
+
+
 def register() -> None:
-    for cls in classes:
+    global typed_classes
+    typed_classes = tuple(typed_operator(spec) for spec in op_table.SPECS)
+    for cls in classes + typed_classes:
         bpy.utils.register_class(cls)
 
 
 def unregister() -> None:
-    for cls in reversed(classes):
+    for cls in reversed(classes + typed_classes):
         bpy.utils.unregister_class(cls)

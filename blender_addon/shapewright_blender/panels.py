@@ -1,16 +1,25 @@
-"""Sidebar panels (3D View > Sidebar > Shapewright)."""
+"""Sidebar panels (3D View > Sidebar > Shapewright): solids and object
+edits, one sub-panel per geometry system listing the typed operators of
+`op_table`, the desktop sketch tool, and history/output."""
 
 from __future__ import annotations
 
 import bpy
 
-from . import history, sync
+from . import history, op_table, sync
 
 
-class VIEW3D_PT_shapewright(bpy.types.Panel):
+class _Sidebar:
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "Shapewright"
+
+
+class _SubPanel(_Sidebar):
+    bl_parent_id = "VIEW3D_PT_shapewright"
+
+
+class VIEW3D_PT_shapewright(_Sidebar, bpy.types.Panel):
     bl_label = "Shapewright"
 
     def draw(self, context):
@@ -40,15 +49,41 @@ class VIEW3D_PT_shapewright(bpy.types.Panel):
             row.operator("shapewright.delete")
         else:
             box.label(text="Select a Shapewright object to edit it")
-        layout.operator("shapewright.run_script", icon="FILE_SCRIPT")
+        row = layout.row(align=True)
+        row.operator("shapewright.run_script", icon="FILE_SCRIPT")
+        row.operator("shapewright.apply_op", icon="CONSOLE")
 
 
-class VIEW3D_PT_shapewright_history(bpy.types.Panel):
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Shapewright"
+class VIEW3D_PT_shapewright_sketch(_SubPanel, bpy.types.Panel):
+    bl_label = "Sketch"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.label(text="Left-drag on a plane, then the op runs:")
+        grid = layout.grid_flow(columns=2, align=True)
+        for spec in op_table.SPECS:
+            if spec.sketch:
+                grid.operator("shapewright.sketch", text=spec.label, icon="GREASEPENCIL").target = spec.op
+        n = len(context.scene.shapewright.sketch) and context.scene.shapewright.sketch.count("],")
+        layout.label(text=f"Last sketch: {n + 1 if n else 0} points")
+
+
+def _category_panel(key: str, title: str) -> type:
+    def draw(self, context):
+        col = self.layout.column(align=True)
+        for spec in op_table.SPECS:
+            if spec.category == key:
+                col.operator(f"shapewright.{spec.op}")
+
+    return type(
+        f"VIEW3D_PT_shapewright_{key}",
+        (_SubPanel, bpy.types.Panel),
+        {"bl_label": title, "bl_options": {"DEFAULT_CLOSED"}, "draw": draw},
+    )
+
+
+class VIEW3D_PT_shapewright_history(_SubPanel, bpy.types.Panel):
     bl_label = "History and output"
-    bl_parent_id = "VIEW3D_PT_shapewright"
 
     def draw(self, context):
         layout = self.layout
@@ -60,6 +95,7 @@ class VIEW3D_PT_shapewright_history(bpy.types.Panel):
         row.operator("shapewright.redo", icon="LOOP_FORWARDS")
         layout.operator("shapewright.export_mesh", icon="EXPORT")
         layout.operator("shapewright.render_png", icon="RENDER_STILL")
+        layout.prop(props, "xr_tool")
         if props.ops:
             report = history.session(context.scene).validate()
             layout.label(
@@ -67,14 +103,12 @@ class VIEW3D_PT_shapewright_history(bpy.types.Panel):
             )
 
 
-classes = (VIEW3D_PT_shapewright, VIEW3D_PT_shapewright_history)
+classes = (
+    VIEW3D_PT_shapewright,
+    VIEW3D_PT_shapewright_sketch,
+    *(_category_panel(key, title) for key, title in op_table.CATEGORIES),
+    VIEW3D_PT_shapewright_history,
+)
 
 
-def register() -> None:
-    for cls in classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister() -> None:
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(classes)

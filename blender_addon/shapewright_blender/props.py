@@ -14,6 +14,16 @@ class ShapewrightSceneProps(bpy.types.PropertyGroup):
         default="",
     )
     cursor: IntProperty(name="Cursor", description="How many ops are applied", default=0, min=0)
+    sketch: StringProperty(
+        name="Sketch",
+        description="The last desktop or VR sketch, JSON [[x, y, z], ...] (world space)",
+        default="",
+    )
+    xr_tool: StringProperty(
+        name="VR tool",
+        description="The core tool VR controller actions drive",
+        default="object",
+    )
 
 
 classes = (ShapewrightSceneProps,)

@@ -22,7 +22,22 @@ def addon_zip() -> Path:
     return zips[-1]
 
 
-@pytest.mark.parametrize("scenario", ["build", "undo", "save_reload", "usd_roundtrip", "render", "export"])
+@pytest.mark.parametrize(
+    "scenario",
+    [
+        "build",
+        "undo",
+        "save_reload",
+        "usd_roundtrip",
+        "render",
+        "export",
+        "models",
+        "typed",
+        "sketch_projection",
+        "xr_trace",
+        "history_usd",
+    ],
+)
 def test_scenario(scenario: str, addon_zip: Path, tmp_path: Path) -> None:
     env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "blender"))
     r = subprocess.run(

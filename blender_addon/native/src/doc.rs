@@ -13,6 +13,23 @@ use crate::mesh::{buffers, report_dict};
 #[repr(transparent)]
 pub struct Session(OpLog);
 
+impl Session {
+    /// A session over an existing log.
+    pub(crate) fn from_log(log: OpLog) -> Self {
+        Self(log)
+    }
+
+    /// The log.
+    pub(crate) fn log(&self) -> &OpLog {
+        &self.0
+    }
+
+    /// The log, mutably (input feeding applies commands to it).
+    pub(crate) fn log_mut(&mut self) -> &mut OpLog {
+        &mut self.0
+    }
+}
+
 #[pymethods]
 impl Session {
     /// An empty document.

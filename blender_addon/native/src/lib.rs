@@ -6,7 +6,10 @@
 
 mod doc;
 mod error;
+mod interact;
 mod mesh;
+mod sdf;
+mod usd;
 
 use pyo3::prelude::*;
 
@@ -15,6 +18,12 @@ use pyo3::prelude::*;
 #[pyo3(name = "_native")]
 fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<doc::Session>()?;
+    m.add_class::<interact::InputSession>()?;
+    m.add_function(wrap_pyfunction!(interact::action_map_json, m)?)?;
+    m.add_function(wrap_pyfunction!(interact::trace_format, m)?)?;
+    m.add_function(wrap_pyfunction!(usd::save_usd, m)?)?;
+    m.add_function(wrap_pyfunction!(sdf::library_names, m)?)?;
+    m.add_function(wrap_pyfunction!(usd::load_usd, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::validate_buffers, m)?)?;
     m.add_function(wrap_pyfunction!(doc::op_names, m)?)?;
     m.add("OP_FORMAT_VERSION", shapewright::doc::OP_FORMAT_VERSION)?;

@@ -1,0 +1,121 @@
+//! Input feeding for `core::interact`: an `InputSession` wraps the core
+//! per-frame driver (sanitizer, gesture classifiers, active tool) and
+//! applies the command it produces to a document `Session`'s log, exactly
+//! as `core::interact::replay` does. Controller bindings come from the
+//! core's data (`ActionMap::default_map`), never from a copy in Python.
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use shapewright::doc::ScriptCommand;
+use shapewright::interact::{
+    apply_command, tool_named, ActionMap, InputFrame, ModelPlacement, Preview, Session as Driver,
+    TRACE_FORMAT, TRACE_VERSION,
+};
+
+use crate::doc::Session;
+use crate::error::{log_err, ParseError};
+
+/// The per-frame input driver of one tool.
+#[pyclass(module = "shapewright._native", unsendable)]
+#[repr(transparent)]
+pub struct InputSession(Driver);
+
+fn parse_err(what: &str, e: impl std::fmt::Display) -> PyErr {
+    ParseError::new_err(format!("{what}: {e}"))
+}
+
+#[pymethods]
+impl InputSession {
+    /// A driver running the tool named `tool` (see `core::interact::tool_named`),
+    /// with the model placed in stage space by `placement_json`
+    /// (`{"translate":[..],"rotate":[x,y,z,w],"scale":s}`).
+    #[new]
+    fn new(tool: &str, placement_json: &str) -> PyResult<Self> {
+        let placement: ModelPlacement =
+            serde_json::from_str(placement_json).map_err(|e| parse_err("placement", e))?;
+        let model = placement
+            .similarity()
+            .ok_or_else(|| ParseError::new_err("placement must be finite with a positive scale"))?;
+        let tool = tool_named(tool).map_err(|e| parse_err("tool", e))?;
+        Ok(Self(Driver::new(tool, model)))
+    }
+
+    /// Feeds one raw frame (a trace line: `InputFrame` as JSON). When the
+    /// tool completes a gesture, its command is applied to `doc`; returns
+    /// `(command_json, error)`: the command as a script line and, if the
+    /// log refused it (nothing changed then), why. `None` when no command
+    /// was produced (most frames).
+    /// The tool is not `Send`, so the GIL stays held; a frame costs
+    /// microseconds unless it completes a gesture.
+    fn step(
+        &mut self,
+        doc: &mut Session,
+        frame_json: &str,
+    ) -> PyResult<Option<(String, Option<String>)>> {
+        let frame: InputFrame =
+            serde_json::from_str(frame_json).map_err(|e| parse_err("input frame", e))?;
+        let log = doc.log_mut();
+        let Some(cmd) = self.0.step(&frame, log.document()) else {
+            return Ok(None);
+        };
+        let refused = apply_command(log, &cmd).err();
+        let line = match &cmd {
+            ScriptCommand::Op(op) => serde_json::to_string(op).map_err(|e| parse_err("op", e))?,
+            ScriptCommand::Undo => "{\"op\":\"undo\"}".to_string(),
+            ScriptCommand::Redo => "{\"op\":\"redo\"}".to_string(),
+        };
+        Ok(Some((line, refused.map(|e| log_err(e).to_string()))))
+    }
+
+    /// Switches to the tool named `tool`, cancelling any gesture in progress.
+    fn set_tool(&mut self, tool: &str) -> PyResult<()> {
+        let tool = tool_named(tool).map_err(|e| parse_err("tool", e))?;
+        self.0.set_tool(tool);
+        Ok(())
+    }
+
+    /// What to draw now: `rays` (per hand `None` or `(origin, dir, length,
+    /// hit)`), `sketch` (model-space points), `highlighted`, `selected`,
+    /// `moving` (`(id, motion 4x4 row-major)`).
+    fn preview<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        preview_dict(py, self.0.preview())
+    }
+}
+
+fn preview_dict<'py>(py: Python<'py>, p: &Preview) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let rays: Vec<Option<([f64; 3], [f64; 3], f64, bool)>> = p
+        .rays
+        .iter()
+        .map(|r| r.map(|r| (r.origin.to_array(), r.dir.to_array(), r.length, r.hit)))
+        .collect();
+    d.set_item("rays", rays)?;
+    d.set_item(
+        "sketch",
+        p.sketch.iter().map(|v| v.to_array()).collect::<Vec<_>>(),
+    )?;
+    d.set_item("highlighted", p.highlighted.map(|i| i.0))?;
+    d.set_item("selected", p.selected.map(|i| i.0))?;
+    let moving = p.moving.as_ref().map(|m| {
+        let a = m.motion.to_affine();
+        let c = shapewright::math::DMat4::from(a)
+            .transpose()
+            .to_cols_array();
+        (m.id.0, c)
+    });
+    d.set_item("moving", moving)?;
+    Ok(d)
+}
+
+/// Shapewright's controller bindings (every profile) as JSON, from the
+/// core's data.
+#[pyfunction]
+pub(crate) fn action_map_json() -> String {
+    ActionMap::default_map().to_json()
+}
+
+/// The trace format name and version this build reads.
+#[pyfunction]
+pub(crate) fn trace_format() -> (&'static str, u32) {
+    (TRACE_FORMAT, TRACE_VERSION)
+}

@@ -1,0 +1,610 @@
+"""Every SPEC.md operation as data: one `OpSpec` per op kind, from which
+`operators.py` generates a thin typed operator (`SHAPEWRIGHT_OT_gc_bend`,
+`shapewright.gc_bend`) and `panels.py` its button. Each spec lists its
+fields (name, kind, default) and, where the op's JSON is nested, a `build`
+function from the flat operator properties to the op dict. Nothing here
+computes geometry; the core validates every value and refuses bad ones.
+
+Field kinds:
+- ``target``: an object id; -1 means the active Shapewright object.
+- ``int``, ``float``, ``bool``, ``vec3``, ``enum``: plain properties.
+- ``json``: a nested value given as JSON text (defaults are the values the
+  example scripts use).
+- ``points``: a polyline as JSON ``[[x, y, z], ...]``; empty means the
+  scene's last desktop or VR sketch (see `sketch.py`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+IDENTITY_ROT = [0.0, 0.0, 0.0, 1.0]
+
+
+@dataclass(frozen=True)
+class Field:
+    name: str
+    kind: str
+    default: Any = None
+    items: tuple[str, ...] = ()
+    label: str = ""
+
+
+@dataclass(frozen=True)
+class OpSpec:
+    op: str
+    label: str
+    category: str
+    description: str
+    fields: tuple[Field, ...] = ()
+    build: Callable[[dict], dict] | None = None
+    sketch: str = ""  # the field a sketch fills ("points" fields), if any
+    extra: dict = field(default_factory=dict)
+
+
+PROFILE_TEMPLATES = ("circle", "ellipse", "polygon", "rectangle")
+SOLID_SHAPES = ("box", "sphere", "ellipsoid", "cylinder", "cone", "torus", "capsule")
+
+
+def profile(v: dict) -> dict:
+    """A GC section profile from the template fields."""
+    t = v["template"]
+    if t == "circle":
+        return {"template": t, "radius": v["size_a"]}
+    if t == "ellipse":
+        return {"template": t, "rx": v["size_a"], "ry": v["size_b"]}
+    if t == "polygon":
+        return {"template": t, "sides": v["sides"], "radius": v["size_a"]}
+    return {"template": t, "width": v["size_a"], "height": v["size_b"]}
+
+
+def shape_type(v: dict) -> dict:
+    t = v["shape_type"]
+    if t == "solid":
+        return {"type": t}
+    if t == "shell":
+        return {"type": t, "thickness": v["thickness"]}
+    return {"type": t, "thickness": v["thickness"], "closed_end": v["closed_end"]}
+
+
+def solid_shape(v: dict) -> dict:
+    """A parametric solid (`SolidShape`) from the shape fields."""
+    k, a, b = v["shape"], v["size_a"], v["size_b"]
+    if k == "box":
+        return {"kind": k, "size": [a, a, b]}
+    if k == "sphere":
+        return {"kind": k, "radius": a}
+    if k == "ellipsoid":
+        return {"kind": k, "radii": [a, a, b]}
+    if k in ("cylinder", "cone"):
+        return {"kind": k, "radius": a, "height": b}
+    if k == "torus":
+        return {"kind": k, "major_radius": a, "minor_radius": b}
+    return {"kind": k, "radius": a, "length": b}
+
+
+def transform(v: dict, loc: str = "location") -> dict:
+    rz = v.get("angle_z", 0.0) / 2
+    return {
+        "translate": list(v[loc]),
+        "rotate": [0.0, 0.0, math.sin(rz), math.cos(rz)],
+        "scale": list(v.get("scale", (1.0, 1.0, 1.0))),
+    }
+
+
+def sections(v: dict) -> list[dict]:
+    p = profile(v)
+    return [
+        {"profile": p, "v": 0.0, "scale": 1.0, "twist": 0.0},
+        {"profile": p, "v": 1.0, "scale": 1.0, "twist": 0.0},
+    ]
+
+
+TEMPLATE_FIELDS = (
+    Field("template", "enum", "circle", PROFILE_TEMPLATES),
+    Field("size_a", "float", 0.05, label="Radius / width"),
+    Field("size_b", "float", 0.03, label="Height / ry"),
+    Field("sides", "int", 6),
+)
+SHAPE_TYPE_FIELDS = (
+    Field("shape_type", "enum", "solid", ("solid", "shell", "container")),
+    Field("thickness", "float", 0.004),
+    Field("closed_end", "enum", "start", ("start", "end")),
+)
+SOLID_FIELDS = (
+    Field("shape", "enum", "sphere", SOLID_SHAPES),
+    Field("size_a", "float", 0.1, label="Radius / size"),
+    Field("size_b", "float", 0.2, label="Height / minor"),
+)
+PLACE_FIELDS = (
+    Field("location", "vec3", (0.0, 0.0, 0.0)),
+    Field("angle_z", "float", 0.0),
+    Field("scale", "vec3", (1.0, 1.0, 1.0)),
+)
+GC_PART = (Field("id", "target", -1), Field("part", "int", 0))
+SMOOTH_PARAMS = {"wb": 1e-06, "ws": 0.0, "wp0": 1.0, "wp1": 0.0, "wp2": 0.0, "alpha": 20.0}
+SHARPEN_PARAMS = {"wb": 2e-06, "ws": 0.0, "wp0": 1.0, "wp1": 0.0, "wp2": 3e-06, "alpha": 30.0}
+SURFACE_WEIGHTS = {"wb": 1.0, "ws": 0.0}
+STROKE_SETTINGS = {
+    "brush": {"kind": "sphere", "radius": 0.3},
+    "brush_scale": 1.0,
+    "influence": 0.7,
+    "falloff": "smooth",
+    "warp": {"kind": "drag"},
+    "max_edge_rel": 0.1,
+    "min_edge_rel": 0.03,
+}
+
+
+def _gc_create(v: dict) -> dict:
+    spine = v["points"] or [
+        list(v["location"]),
+        [v["location"][0], v["location"][1], v["location"][2] + v["length"]],
+    ]
+    return {
+        "op": "gc_create",
+        "spine": spine,
+        "plane_normal": list(v["plane_normal"]),
+        "sections": sections(v),
+        "shape": shape_type(v),
+        "resolution": {"u": v["res_u"], "v": v["res_v"]},
+    }
+
+
+def _gc_add_child(v: dict) -> dict:
+    return {
+        "op": "gc_add_child",
+        "id": v["id"],
+        "parent": v["parent"],
+        "at": list(v["at"]),
+        "tolerance": 1e-4,
+        "spine": [[-0.004, 0.0], [v["length"], 0.0]],
+        "end": v["end"],
+        "end_tolerance": 1e-4,
+        "sections": sections(v),
+        "shape": {"type": "solid"},
+        "resolution": {"u": 96, "v": 64},
+    }
+
+
+def _part_move(op: str) -> Callable[[dict], dict]:
+    def build(v: dict) -> dict:
+        out = {"op": op, "id": v["id"], "part": v["part"], "translate": list(v["location"])}
+        t = transform(v)
+        out["rotate"] = t["rotate"]
+        out["tolerance"] = 1e-4
+        if op == "gc_copy":
+            out["mirror"] = v["mirror"]
+        return out
+
+    return build
+
+
+def _sdf_add(v: dict) -> dict:
+    comp = (
+        {"kind": "library", "name": v["library"]}
+        if v["component"] == "library"
+        else {"kind": "solid", "shape": solid_shape(v)}
+    )
+    return {
+        "op": "sdf_add_operand",
+        "volume": v["volume"],
+        "component": comp,
+        "csg": v["csg"],
+        "transform": transform(v),
+    }
+
+
+def _sdf_two_hand(v: dict) -> dict:
+    return {
+        "op": "sdf_scale_two_hand",
+        "volume": v["volume"],
+        "operand": v["operand"],
+        "axis": v["axis"],
+        "hands_start": [list(v["left_start"]), list(v["right_start"])],
+        "hands_end": [list(v["left_end"]), list(v["right_end"])],
+    }
+
+
+def _curve_draw(v: dict) -> dict:
+    fit = {"mode": "interpolate"} if v["fit"] == "interpolate" else {"mode": "approximate", "tol": v["tol"]}
+    return {
+        "op": "curve_draw",
+        "id": v["id"],
+        "samples": v["points"],
+        "fit": fit,
+        "resample": v["resample"] if v["resample"] > 0 else None,
+        "snap_tol": v["snap_tol"],
+    }
+
+
+def _sculpt_create(v: dict) -> dict:
+    if v["base"] == "sphere":
+        base = {"kind": "sphere", "radius": v["size_a"], "edge_length": v["edge_length"]}
+    else:
+        base = {"kind": "box", "size": [v["size_a"] * 2] * 3, "edge_length": v["edge_length"]}
+    return {"op": "sculpt_create", "base": base, "transform": transform(v)}
+
+
+def _sculpt_stroke(v: dict) -> dict:
+    samples = [{"position": p, "rotation": IDENTITY_ROT, "pressure": 1.0} for p in v["points"]]
+    return {"op": "sculpt_stroke", "id": v["id"], "settings": v["settings"], "samples": samples}
+
+
+def _vec_op(op: str, key: str) -> Callable[[dict], dict]:
+    """Ops whose only nested part is a sketch `path`/`points` (styling tools)."""
+
+    def build(v: dict) -> dict:
+        out = {k: val for k, val in v.items() if k != "points"}
+        out["op"] = op
+        out[key] = v["points"]
+        return out
+
+    return build
+
+
+def _section_op(op: str) -> Callable[[dict], dict]:
+    def build(v: dict) -> dict:
+        out = {"op": op, "id": v["id"], "part": v["part"], "section": v["section"]}
+        if op == "gc_replace_section":
+            out["profile"] = profile(v)
+        return out
+
+    return build
+
+
+SURFACE_EQ = (
+    Field("weights", "json", SURFACE_WEIGHTS),
+    Field("f", "float", 0.8),
+    Field("wq_max", "float", 1.0),
+)
+
+
+def path_tool(op: str, label: str, element: str, params: tuple[Field, ...]) -> OpSpec:
+    """A styling tool held along a sketched path on one curve or patch."""
+    return OpSpec(
+        op,
+        label,
+        "curve",
+        f"{label}: the tool held along the sketch path",
+        (Field("id", "target", -1), Field(element, "int", 0), *params, Field("points", "points", "")),
+        _vec_op(op, "path"),
+        sketch="points",
+    )
+
+
+SPECS: tuple[OpSpec, ...] = (
+    # Generalized cylinders (paper 1)
+    OpSpec(
+        "gc_create",
+        "Cylinder from Template",
+        "gc",
+        "Create a generalized cylinder: a template section swept along the sketch or a straight spine",
+        (
+            Field("location", "vec3", (0.0, 0.0, 0.0)),
+            Field("length", "float", 0.2),
+            Field("plane_normal", "vec3", (0.0, 1.0, 0.0)),
+            Field("points", "points", ""),
+            *TEMPLATE_FIELDS,
+            *SHAPE_TYPE_FIELDS,
+            Field("res_u", "int", 96),
+            Field("res_v", "int", 64),
+        ),
+        _gc_create,
+        sketch="points",
+    ),
+    OpSpec(
+        "gc_bend",
+        "Bend",
+        "gc",
+        "Move a key point of the spine",
+        (*GC_PART, Field("section", "int", 1), Field("to", "vec3", (0.0, 0.0, 0.1))),
+    ),
+    OpSpec(
+        "gc_replace_spine",
+        "Replace Spine",
+        "gc",
+        "Replace the spine by a sketched curve",
+        (*GC_PART, Field("points", "points", ""), Field("plane_normal", "vec3", (0.0, 1.0, 0.0))),
+        sketch="points",
+    ),
+    OpSpec(
+        "gc_resize",
+        "Resize Section",
+        "gc",
+        "Scale a key section",
+        (*GC_PART, Field("section", "int", 0), Field("factor", "float", 1.2)),
+    ),
+    OpSpec(
+        "gc_shift",
+        "Shift Section",
+        "gc",
+        "Move a key section along the spine",
+        (*GC_PART, Field("section", "int", 1), Field("v", "float", 0.5)),
+    ),
+    OpSpec(
+        "gc_twist",
+        "Twist Section",
+        "gc",
+        "Twist an interior key section",
+        (*GC_PART, Field("section", "int", 1), Field("angle", "float", 0.5)),
+    ),
+    OpSpec(
+        "gc_replace_section",
+        "Replace Section",
+        "gc",
+        "Replace a key section by a template",
+        (*GC_PART, Field("section", "int", 0), *TEMPLATE_FIELDS),
+        _section_op("gc_replace_section"),
+    ),
+    OpSpec(
+        "gc_delete_section",
+        "Delete Section",
+        "gc",
+        "Delete a key section",
+        (*GC_PART, Field("section", "int", 1)),
+        _section_op("gc_delete_section"),
+    ),
+    OpSpec(
+        "gc_insert_section",
+        "Insert Section",
+        "gc",
+        "Insert a key section at spine parameter v",
+        (*GC_PART, Field("v", "float", 0.5)),
+    ),
+    OpSpec(
+        "gc_set_shape",
+        "Shape Type",
+        "gc",
+        "Solid, shell or container, with a wall thickness",
+        (*GC_PART, *SHAPE_TYPE_FIELDS),
+        lambda v: {"op": "gc_set_shape", "id": v["id"], "part": v["part"], "shape": shape_type(v)},
+    ),
+    OpSpec(
+        "gc_add_child",
+        "Add Child",
+        "gc",
+        "Add a child cylinder starting on a part's surface",
+        (
+            Field("id", "target", -1),
+            Field("parent", "int", 0),
+            Field("at", "vec3", (0.0, 0.0, 0.0)),
+            Field("length", "float", 0.1),
+            Field("end", "enum", "free", ("free", "parent")),
+            *TEMPLATE_FIELDS,
+        ),
+        _gc_add_child,
+    ),
+    OpSpec(
+        "gc_copy",
+        "Instance Part",
+        "gc",
+        "Copy a part with its children (an instance; optionally mirrored)",
+        (*GC_PART, Field("mirror", "bool", False), *PLACE_FIELDS[:2]),
+        _part_move("gc_copy"),
+    ),
+    OpSpec(
+        "gc_transform_part",
+        "Move Part",
+        "gc",
+        "Move a part rigidly",
+        (*GC_PART, *PLACE_FIELDS[:2]),
+        _part_move("gc_transform_part"),
+    ),
+    # CSG with the component library (paper 2)
+    OpSpec(
+        "sdf_create", "New CSG Volume", "csg", "Create an empty CSG volume", (Field("step", "float", 0.01),)
+    ),
+    OpSpec(
+        "sdf_add_operand",
+        "Add Component",
+        "csg",
+        "Add a library component or a solid with a boolean operation",
+        (
+            Field("volume", "target", -1),
+            Field("component", "enum", "library", ("library", "solid")),
+            Field("library", "library", "chair_seat"),
+            *SOLID_FIELDS,
+            Field("csg", "enum", "union", ("union", "subtract", "intersect")),
+            *PLACE_FIELDS,
+        ),
+        _sdf_add,
+    ),
+    OpSpec(
+        "sdf_set_operand_transform",
+        "Place Operand",
+        "csg",
+        "Place an operand",
+        (Field("volume", "target", -1), Field("operand", "int", 0), *PLACE_FIELDS),
+        lambda v: {
+            "op": "sdf_set_operand_transform",
+            "volume": v["volume"],
+            "operand": v["operand"],
+            "transform": transform(v),
+        },
+    ),
+    OpSpec(
+        "sdf_scale_two_hand",
+        "Two-Hand Scale",
+        "csg",
+        "Scale an operand by the change of distance between two hands",
+        (
+            Field("volume", "target", -1),
+            Field("operand", "int", 0),
+            Field("axis", "enum", "uniform", ("x", "y", "z", "uniform")),
+            Field("left_start", "vec3", (0.0, 0.0, 0.0)),
+            Field("right_start", "vec3", (0.2, 0.0, 0.0)),
+            Field("left_end", "vec3", (0.0, 0.0, 0.0)),
+            Field("right_end", "vec3", (0.3, 0.0, 0.0)),
+        ),
+        _sdf_two_hand,
+    ),
+    OpSpec(
+        "sdf_update",
+        "Operate",
+        "csg",
+        "Fuse the pending operands into the volume",
+        (Field("volume", "target", -1),),
+    ),
+    OpSpec(
+        "sdf_cancel_operand",
+        "Cancel Operand",
+        "csg",
+        "Drop a pending operand",
+        (Field("volume", "target", -1), Field("operand", "int", 0)),
+    ),
+    OpSpec(
+        "sdf_copy_operand",
+        "Copy Operand",
+        "csg",
+        "Copy an operand to a new placement",
+        (Field("volume", "target", -1), Field("operand", "int", 0), *PLACE_FIELDS),
+        lambda v: {
+            "op": "sdf_copy_operand",
+            "volume": v["volume"],
+            "operand": v["operand"],
+            "transform": transform(v),
+        },
+    ),
+    OpSpec(
+        "sdf_set_step",
+        "Grid Step",
+        "csg",
+        "Set the volume's grid step",
+        (Field("volume", "target", -1), Field("step", "float", 0.01)),
+    ),
+    # Curve drawing and styling (paper 3)
+    OpSpec(
+        "curve_network_create",
+        "New Curve Network",
+        "curve",
+        "Create an empty curve network",
+        (Field("resolution", "int", 24), Field("surface_n", "int", 8)),
+    ),
+    OpSpec(
+        "curve_draw",
+        "Draw Curve",
+        "curve",
+        "Draw a curve from sketch samples",
+        (
+            Field("id", "target", -1),
+            Field("points", "points", ""),
+            Field("fit", "enum", "interpolate", ("interpolate", "approximate")),
+            Field("tol", "float", 0.002),
+            Field("resample", "float", 0.0),
+            Field("snap_tol", "float", 0.002),
+        ),
+        _curve_draw,
+        sketch="points",
+    ),
+    path_tool("curve_smooth", "Smooth Curve", "curve", (Field("params", "json", SMOOTH_PARAMS),)),
+    path_tool(
+        "curve_sharpen",
+        "Sharpen Curve",
+        "curve",
+        (
+            Field("params", "json", SHARPEN_PARAMS),
+            Field("limits", "json", {"max_step": 0.004, "max_growth": 4.0}),
+        ),
+    ),
+    path_tool(
+        "curve_pull",
+        "Pull Curve",
+        "curve",
+        (Field("params", "json", {"wpp": 200.0, "wp0": 1.0, "wp1": 0.001}),),
+    ),
+    OpSpec(
+        "curve_delete",
+        "Delete Curve",
+        "curve",
+        "Delete a network curve",
+        (Field("id", "target", -1), Field("curve", "int", 0)),
+    ),
+    OpSpec(
+        "curve_fill_loop",
+        "Fill Loop",
+        "curve",
+        "Fill a picked loop of curve pieces with a patch",
+        (Field("id", "target", -1), Field("pieces", "json", [])),
+    ),
+    OpSpec(
+        "curve_fill_auto",
+        "Fill All Loops",
+        "curve",
+        "Fill every loop found automatically",
+        (Field("id", "target", -1),),
+    ),
+    path_tool("surface_smooth", "Smooth Surface", "patch", SURFACE_EQ),
+    path_tool("surface_sharpen", "Sharpen Surface", "patch", SURFACE_EQ),
+    path_tool(
+        "surface_pull",
+        "Pull Surface",
+        "patch",
+        (
+            Field("weights", "json", SURFACE_WEIGHTS),
+            Field("wpp", "float", 2000.0),
+            Field("u0", "float", 0.5),
+            Field("v0", "float", 0.5),
+        ),
+    ),
+    # Warp brushes (paper 4)
+    OpSpec(
+        "sculpt_create",
+        "New Sculpt",
+        "sculpt",
+        "Create a sculpt object from a base shape",
+        (
+            Field("base", "enum", "sphere", ("sphere", "box")),
+            Field("size_a", "float", 0.3, label="Radius / half size"),
+            Field("edge_length", "float", 0.03),
+            *PLACE_FIELDS,
+        ),
+        _sculpt_create,
+    ),
+    OpSpec(
+        "sculpt_stroke",
+        "Warp Stroke",
+        "sculpt",
+        "Apply a warp-brush stroke along the sketch",
+        (
+            Field("id", "target", -1),
+            Field("settings", "json", STROKE_SETTINGS),
+            Field("points", "points", ""),
+        ),
+        _sculpt_stroke,
+        sketch="points",
+    ),
+)
+
+BY_OP = {s.op: s for s in SPECS}
+CATEGORIES = (
+    ("gc", "Generalized Cylinders"),
+    ("csg", "CSG"),
+    ("curve", "Curves and Surfaces"),
+    ("sculpt", "Warp Brushes"),
+)
+
+
+def build_op(spec: OpSpec, values: dict) -> dict:
+    """The op dict of `spec` from flat property values (json/points fields
+    already decoded)."""
+    if spec.build is not None:
+        return spec.build(values)
+    out = {"op": spec.op}
+    for f in spec.fields:
+        v = values[f.name]
+        out[f.name] = list(v) if f.kind == "vec3" else v
+    return out
+
+
+def decode(f: Field, raw: Any) -> Any:
+    """A property value as the op wants it (JSON text decoded)."""
+    if f.kind in ("json", "points"):
+        return json.loads(raw) if raw.strip() else []
+    if f.kind == "vec3":
+        return tuple(float(x) for x in raw)
+    return raw

@@ -1,0 +1,311 @@
+"""VR: our XR action map, and the modal operator its actions drive.
+
+When a VR Scene Inspection session starts (`xr_session_start_pre`), the
+action map is built from the core's bindings data (`sw.action_map_json()`,
+every profile: Oculus Touch, Index, Vive, WMR, simple, hand interaction),
+the way the bundled `viewport_vr_preview` add-on builds its own: one action
+set, pose actions for grip and aim, float actions that run
+`shapewright.xr_tool` modally, a haptic action. Our set is made active.
+
+Input path: every XR action event and every timer tick goes to one
+`XrDriver`, which keeps the controllers' latest poses and button values,
+turns them into a core `InputFrame` (stage space: Blender's Z-up world
+turned to OpenXR's Y-up, so the model space is Blender's world space) and
+steps the core `InputSession` (sanitizer, gestures, active tool); the
+command it returns is already applied to the scene's log, which is then
+recorded and synced like any other op. Headless tests drive the same
+`XrDriver` with a recorded trace converted into this event stream.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+
+import bpy
+import shapewright as sw
+from bpy.app.handlers import persistent
+from bpy.props import StringProperty
+
+from . import draw, history
+
+ACTION_SET = "shapewright"
+HANDS = ("/user/hand/left", "/user/hand/right")
+FLOAT_ACTIONS = ("select", "grab")
+STICK = {"stick_x": 0, "stick_y": 1}
+BUTTON_ACTIONS = ("primary", "secondary", "menu")
+# Blender world (Z up) to OpenXR stage (Y up): a rotation of -90 degrees
+# about X, as `ModelPlacement::desk` uses; the model sits at the origin.
+_H = math.sqrt(0.5)
+STAGE_FROM_BLENDER = (-_H, 0.0, 0.0, _H)  # x, y, z, w
+PLACEMENT = {"translate": [0.0, 0.0, 0.0], "rotate": list(STAGE_FROM_BLENDER), "scale": 1.0}
+
+
+def _qmul(a, b):
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return (
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+        aw * bw - ax * bx - ay * by - az * bz,
+    )
+
+
+def to_stage(location, rotation_wxyz) -> dict:
+    """A Blender world pose as a stage-space trace pose {"p", "q"}."""
+    x, y, z = (float(c) for c in location)
+    w, qx, qy, qz = (float(c) for c in rotation_wxyz)
+    return {"p": [x, z, -y], "q": list(_qmul(STAGE_FROM_BLENDER, (qx, qy, qz, w)))}
+
+
+def from_stage(pose: dict) -> tuple[tuple, tuple]:
+    """The inverse of `to_stage`: (location, rotation wxyz) in Blender."""
+    x, y, z = pose["p"]
+    inv = (-STAGE_FROM_BLENDER[0], 0.0, 0.0, STAGE_FROM_BLENDER[3])
+    qx, qy, qz, w = _qmul(inv, tuple(pose["q"]))
+    return (x, -z, y), (w, qx, qy, qz)
+
+
+def hand_index(user_path: str) -> int:
+    return HANDS.index(user_path) if user_path in HANDS else 1
+
+
+class XrDriver:
+    """Latest controller state, turned into core input frames."""
+
+    def __init__(self, tool: str = "object") -> None:
+        self.input = sw.InputSession(tool, json.dumps(PLACEMENT))
+        self.poses: list[dict] = [{}, {}]
+        self.buttons: list[dict] = [{}, {}]
+        self.head: dict | None = None
+        self.commands: list[tuple[str, str | None]] = []
+
+    def set_pose(self, hand: int, kind: str, location, rotation_wxyz) -> None:
+        """`kind` is "grip" or "aim"; Blender world space."""
+        self.poses[hand][kind] = to_stage(location, rotation_wxyz)
+
+    def set_head(self, location, rotation_wxyz) -> None:
+        self.head = to_stage(location, rotation_wxyz)
+
+    def on_action(self, action: str, user_path: str, state: float, released: bool) -> None:
+        """One XR action event as Blender delivers it (`event.xr.action`,
+        `user_path`, `state`; released on the RELEASE event)."""
+        b = self.buttons[hand_index(user_path)]
+        value = 0.0 if released else float(state)
+        if action in FLOAT_ACTIONS:
+            b[action] = value
+        elif action in STICK:
+            stick = list(b.get("stick", [0.0, 0.0]))
+            stick[STICK[action]] = value
+            b["stick"] = stick
+        elif action in BUTTON_ACTIONS:
+            b[action] = not released
+
+    def frame(self, t: float) -> dict:
+        controllers = []
+        for hand in range(2):
+            p = self.poses[hand]
+            if not p:
+                controllers.append(None)
+                continue
+            grip = p.get("grip", p.get("aim"))
+            aim = p.get("aim", grip)
+            controllers.append(
+                {
+                    "grip": grip,
+                    "grip_valid": True,
+                    "aim": aim,
+                    "aim_valid": True,
+                    "buttons": dict(self.buttons[hand]),
+                    "buttons_valid": True,
+                }
+            )
+        return {"time": t, "head": self.head, "hands": [None, None], "controllers": controllers}
+
+    def step(self, scene: bpy.types.Scene, t: float) -> str | None:
+        """Feeds the current state as one frame; applies and records the
+        command it produces. Returns the command's JSON, if any."""
+        s = history.session(scene)
+        out = self.input.step(s, json.dumps(self.frame(t)))
+        self.show(s)
+        if out is None:
+            return None
+        self.commands.append(out)
+        if out[1] is None:
+            history.record(scene, s)
+        return out[0]
+
+    def show(self, s: sw.Session) -> None:
+        """Hands the preview to the draw handlers (Blender world space)."""
+        p = self.input.preview()
+        rays = []
+        for r in p["rays"]:
+            if r is not None:
+                (o, _), (d, _) = (
+                    from_stage({"p": r[0], "q": [0, 0, 0, 1]}),
+                    from_stage({"p": r[1], "q": [0, 0, 0, 1]}),
+                )
+                rays.append((o, d, r[2], r[3]))
+        draw.set_rays(rays)
+        draw.set_sketch(p["sketch"])
+
+
+_driver: XrDriver | None = None
+_running = False
+
+
+def driver(scene: bpy.types.Scene) -> XrDriver:
+    global _driver
+    if _driver is None:
+        _driver = XrDriver(scene.shapewright.xr_tool)
+    return _driver
+
+
+def reset() -> None:
+    global _driver, _running
+    _driver, _running = None, False
+    draw.set_rays([])
+
+
+def poll_session(context, d: XrDriver) -> None:
+    """Reads the controller and viewer poses from the running XR session."""
+    ss = context.window_manager.xr_session_state
+    if ss is None:
+        return
+    for hand in range(2):
+        d.set_pose(
+            hand,
+            "grip",
+            ss.controller_grip_location_get(context, hand),
+            ss.controller_grip_rotation_get(context, hand),
+        )
+        d.set_pose(
+            hand,
+            "aim",
+            ss.controller_aim_location_get(context, hand),
+            ss.controller_aim_rotation_get(context, hand),
+        )
+    d.set_head(ss.viewer_pose_location, ss.viewer_pose_rotation)
+
+
+class SHAPEWRIGHT_OT_xr_tool(bpy.types.Operator):
+    """Run the active Shapewright tool from VR controller actions"""
+
+    bl_idname = "shapewright.xr_tool"
+    bl_label = "Shapewright VR Tool"
+
+    tool: StringProperty(name="Tool", default="")
+
+    @classmethod
+    def poll(cls, context):
+        return context.window_manager.xr_session_state is not None
+
+    def _feed(self, context, event) -> None:
+        d = driver(context.scene)
+        if event.type == "XR_ACTION":
+            xr = event.xr
+            d.on_action(xr.action, xr.user_path, xr.state, event.value == "RELEASE")
+        poll_session(context, d)
+        d.step(context.scene, time.perf_counter() - self._t0)
+
+    def invoke(self, context, event):
+        global _running
+        self._t0 = time.perf_counter()
+        if _running:  # one modal instance drives everything; others forward
+            self._feed(context, event)
+            return {"FINISHED"}
+        _running = True
+        self._timer = context.window_manager.event_timer_add(1 / 90, window=context.window)
+        context.window_manager.modal_handler_add(self)
+        self._feed(context, event)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        global _running
+        if context.window_manager.xr_session_state is None or event.type == "ESC":
+            context.window_manager.event_timer_remove(self._timer)
+            _running = False
+            return {"FINISHED"}
+        if event.type in {"XR_ACTION", "TIMER"}:
+            self._feed(context, event)
+            return {"RUNNING_MODAL"}
+        return {"PASS_THROUGH"}
+
+
+def action_map() -> dict:
+    """The core's bindings data."""
+    return json.loads(sw.action_map_json())
+
+
+def build_actionmap(session_state) -> object:
+    """Adds our action map to a session state, from the core's data."""
+    am = session_state.actionmaps.new(session_state, ACTION_SET, True)
+    for item in action_map()["items"]:
+        ami = am.actionmap_items.new(item["name"], True)
+        for path in item["user_paths"]:
+            ami.user_paths.new(path)
+        kind = item["type"]
+        if kind == "pose":
+            ami.type = "POSE"
+            ami.pose_is_controller_grip = item["name"] == "grip_pose"
+            ami.pose_is_controller_aim = item["name"] == "aim_pose"
+        elif kind == "vibration":
+            ami.type = "VIBRATION"
+        else:
+            ami.type = "FLOAT"
+            ami.op = "shapewright.xr_tool"
+            ami.op_mode = "MODAL"
+            ami.bimanual = False
+        for b in item["bindings"]:
+            paths = b["component_paths"]
+            if None in paths:  # Blender binds one path per user path
+                continue
+            amb = ami.bindings.new(
+                b["profile"].rsplit("/", 2)[-2] + "_" + b["profile"].rsplit("/", 1)[-1], True
+            )
+            amb.profile = b["profile"]
+            for p in paths:
+                amb.component_paths.new(p)
+            if kind in ("float", "button"):
+                amb.threshold = b["threshold"]
+                amb.axis0_region = b["axis0_region"].upper()
+    return am
+
+
+@persistent
+def create_actions(*_args) -> None:
+    """`xr_session_start_pre`: register our action set with the session."""
+    context = bpy.context
+    ss = context.window_manager.xr_session_state
+    if ss is None:
+        return
+    reset()
+    am = build_actionmap(ss)
+    if not ss.action_set_create(context, am):
+        return
+    for ami in am.actionmap_items:
+        if len(ami.bindings) and ss.action_create(context, am, ami):
+            for amb in ami.bindings:
+                ss.action_binding_create(context, am, ami, amb)
+    ss.controller_pose_actions_set(context, am.name, "grip_pose", "aim_pose")
+    ss.active_action_set_set(context, am.name)
+
+
+classes = (SHAPEWRIGHT_OT_xr_tool,)
+
+
+def register() -> None:
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    if create_actions not in bpy.app.handlers.xr_session_start_pre:
+        bpy.app.handlers.xr_session_start_pre.append(create_actions)
+
+
+def unregister() -> None:
+    if create_actions in bpy.app.handlers.xr_session_start_pre:
+        bpy.app.handlers.xr_session_start_pre.remove(create_actions)
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)
+    reset()
