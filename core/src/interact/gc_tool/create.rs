@@ -80,6 +80,29 @@ impl Start {
     }
 }
 
+/// A closed stroke without its overlap: drawn loops come back to (and
+/// past) where they started, and the overlap would cross the start. The
+/// stroke is cut at its first return near the start after the point
+/// farthest from it.
+fn close_loop(stroke: &[DVec3]) -> &[DVec3] {
+    let Some(&p0) = stroke.first() else {
+        return stroke;
+    };
+    let far = stroke
+        .iter()
+        .enumerate()
+        .max_by(|a, b| (*a.1 - p0).length().total_cmp(&(*b.1 - p0).length()));
+    let Some((k, q)) = far else {
+        return stroke;
+    };
+    let reach = (*q - p0).length();
+    let cut = stroke[k..]
+        .iter()
+        .position(|p| (*p - p0).length() < 0.15 * reach)
+        .map_or(stroke.len(), |i| k + i);
+    &stroke[..cut]
+}
+
 /// The profile a closed stroke becomes: the best template, or the loop
 /// itself when no template fits well.
 pub(super) fn section_profile(
@@ -87,7 +110,7 @@ pub(super) fn section_profile(
     plane: &SketchPlane,
     s: &GcToolSettings,
 ) -> Option<Profile> {
-    let m = match_section_stroke(stroke, plane).ok()?;
+    let m = match_section_stroke(close_loop(stroke), plane).ok()?;
     let p = if m.score >= s.min_template_score {
         m.profile
     } else {

@@ -150,6 +150,8 @@ pub struct GcTool {
     view: Similarity,
     geo: GeoCache,
     mesh_time: f64,
+    /// Times of the current stroke's samples.
+    stroke_times: Vec<f64>,
 }
 
 impl Default for GcTool {
@@ -177,6 +179,7 @@ impl GcTool {
             view: Similarity::IDENTITY,
             geo: GeoCache::default(),
             mesh_time: f64::NEG_INFINITY,
+            stroke_times: Vec::new(),
         }
     }
 
@@ -317,15 +320,39 @@ impl GcTool {
     fn sketching(&mut self, cx: &ToolContext, h: &HandIn) -> Option<ScriptCommand> {
         let state = std::mem::replace(&mut self.state, State::Idle);
         let pen = h.pen.map(|p| self.to_model(cx, p));
-        let add = |stroke: &mut Vec<DVec3>| {
+        let t = cx.frame.time;
+        let keep_n = self
+            .stroke_times
+            .iter()
+            .filter(|&&st| st <= t - 0.15)
+            .count();
+        let times = &mut self.stroke_times;
+        let mut add = |stroke: &mut Vec<DVec3>| {
+            if stroke.is_empty() {
+                times.clear();
+            }
             if let (Some(p), false) = (pen, h.teleported) {
                 if stroke.last().is_none_or(|q| (*q - p).length() > 2e-4) {
                     stroke.push(p);
+                    times.push(t);
                 }
             }
         };
+        // The fingers move while the gesture changes back to OPEN (the
+        // classifier reports it a little later): drop the stroke's last
+        // 0.15 s.
+        let cut = |mut v: Vec<DVec3>| -> Vec<DVec3> {
+            v.truncate(keep_n.max(2));
+            v
+        };
         let s = &self.settings;
+        // A stroke starts on an OPEN -> POINT change, not on the POINT
+        // that selected the start point.
+        let fresh = self.prev == Gesture::Open;
         let (next, out) = match (state, h.gesture) {
+            (st @ (State::Placed(_) | State::Sectioned(..)), Gesture::Point) if !fresh => {
+                (st, None)
+            }
             (State::Placed(st), Gesture::Point) => {
                 let mut v = Vec::new();
                 add(&mut v);
@@ -342,7 +369,7 @@ impl GcTool {
                 (State::SketchSection(st, v), None)
             }
             (State::SketchSection(st, v), Gesture::Open) => {
-                match section_profile(&v, &st.section_plane, s) {
+                match section_profile(&cut(v), &st.section_plane, s) {
                     Some(p) => (State::Sectioned(st, p), None),
                     None => (State::Placed(st), None),
                 }
@@ -352,7 +379,7 @@ impl GcTool {
                 (State::SketchSpine(st, p, v), None)
             }
             (State::SketchSpine(st, p, v), Gesture::Open) => {
-                match create_op(&st, &p, &v, &self.geo, s) {
+                match create_op(&st, &p, &cut(v), &self.geo, s) {
                     Some(op) => (State::Idle, Some(op)),
                     None => (State::Sectioned(st, p), None),
                 }
@@ -363,7 +390,7 @@ impl GcTool {
             }
             (State::Replace(t, plane, v), Gesture::Open) => {
                 let asm = t.part().and_then(|(id, _)| self.geo.assembly(id));
-                let op = asm.and_then(|a| replace_op(&t, &plane, &v, a, s));
+                let op = asm.and_then(|a| replace_op(&t, &plane, &cut(v), a, s));
                 (State::Idle, op)
             }
             // FIST or PINCH while creating or sketching: cancel.

@@ -2,8 +2,8 @@
 //! `tests/data/teapot.trace.jsonl`: a right hand models the mug and the
 //! teapot of `tests/data/{mug,teapot}.jsonl` by gestures only (OPEN aims,
 //! POINT selects and sketches, FIST drags, PINCH sets the shape type),
-//! recorded as raw joints at 30 Hz (hand frames are ~3 KB of JSON, so
-//! 30 Hz keeps each trace under 3 MB).
+//! recorded as raw joints at 25 Hz (hand frames are ~3 KB of JSON, so
+//! 25 Hz keeps each trace under 3 MB).
 //!
 //! The scripts place the hand in model coordinates (the desk placement)
 //! and turn the wrist so that the tool's hand ray (palm, along the mean
@@ -18,7 +18,7 @@ use super::super::puppet::Puppet;
 use super::super::similarity::Similarity;
 use super::super::trace::{ModelPlacement, Trace};
 
-const FPS: f64 = 30.0;
+const FPS: f64 = 25.0;
 const R: Hand = Hand::Right;
 
 /// A right-hand puppet working in model coordinates.
