@@ -14,6 +14,12 @@ pub struct GcToolSettings {
     /// A surface hit this close (along the spine) to a key section's
     /// centre picks that section.
     pub section_band: f64,
+    /// A surface hit this close (along the spine) to a key section picks
+    /// that section even when the ray also passes the section's key point:
+    /// a ray aimed at a ring from outside crosses the spine near its key
+    /// point, so without this the X-ray key point would shadow every
+    /// section aimed at square on.
+    pub ring_band: f64,
     /// Seconds of an OPEN hold that delete or insert a section, and of a
     /// static FIST that instances a part (paper: 3 s).
     pub hold: f64,
@@ -56,6 +62,7 @@ impl Default for GcToolSettings {
             reach: 3.0,
             key_point_radius: 0.006,
             section_band: 0.005,
+            ring_band: 0.003,
             hold: 3.0,
             hold_drift: 0.03,
             grace: 0.25,

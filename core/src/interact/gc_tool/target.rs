@@ -9,7 +9,9 @@
 //!   is projected on each part's side surface and the nearest part wins.
 //!   A hit within [`super::GcToolSettings::section_band`] (along the spine)
 //!   of a key section picks that section, else the surface at parameter
-//!   `v`.
+//!   `v`. A hit within [`super::GcToolSettings::ring_band`] of a ring
+//!   picks the section even if the ray also passes its key point (aimed
+//!   square at a ring, a ray crosses the spine at the key point).
 //! - With no hit, the empty-space point is where the ray meets the model's
 //!   ground plane `z = 0` (within reach), else the point at a fixed
 //!   distance along the ray; it starts a new root part.
@@ -199,14 +201,22 @@ impl GeoCache {
 
     /// What `ray` (model space) selects, looking at most `reach` far.
     pub fn pick(&self, doc: &Document, ray: &Ray, reach: f64, s: &GcToolSettings) -> GcTarget {
-        if let Some(t) = self.pick_key_point(ray, reach, s) {
-            return t;
-        }
+        let key = self.pick_key_point(ray, reach, s);
         if let Some(hit) = pick(doc, ray, reach) {
-            if let Some(t) = self.classify_hit(hit.id, hit.point, s) {
+            let on_ring = self.classify_hit(hit.id, hit.point, s.ring_band);
+            if let Some(t @ GcTarget::Section { .. }) = on_ring {
+                return t;
+            }
+            if let Some(t) = key {
+                return t;
+            }
+            if let Some(t) = self.classify_hit(hit.id, hit.point, s.section_band) {
                 return t;
             }
             return GcTarget::Empty { point: hit.point };
+        }
+        if let Some(t) = key {
+            return t;
         }
         let t = if ray.dir.z < -1e-6 {
             (-ray.origin.z / ray.dir.z).min(reach)
@@ -248,7 +258,9 @@ impl GeoCache {
         best.map(|b| b.1)
     }
 
-    fn classify_hit(&self, id: ObjectId, p: DVec3, s: &GcToolSettings) -> Option<GcTarget> {
+    /// The section (within `band` along the spine) or surface a mesh hit
+    /// lies on.
+    fn classify_hit(&self, id: ObjectId, p: DVec3, band: f64) -> Option<GcTarget> {
         let g = self.objects.get(&id)?;
         let mut best: Option<(f64, usize, DVec3, f64)> = None;
         for (part, geo) in g.parts.iter().enumerate() {
@@ -268,7 +280,7 @@ impl GeoCache {
             .enumerate()
             .map(|(k, f)| (k, (c - f.origin).length()))
             .min_by(|a, b| a.1.total_cmp(&b.1))?;
-        Some(if near.1 < s.section_band {
+        Some(if near.1 < band {
             GcTarget::Section {
                 id,
                 part,

@@ -96,7 +96,6 @@ fn edit_of(run: &Run) -> crate::assembly::ops::PartEdit {
 const A: f64 = -50.0;
 
 #[test]
-#[ignore = "section picking classifies ring hits as part surface (known defect, see the helper report)"]
 fn fist_on_a_section_resizes_shifts_or_twists_by_the_motion_component() {
     use crate::assembly::ops::PartEdit;
     let at = ring(0.05, A, 0.08);
@@ -182,8 +181,7 @@ fn point_on_the_surface_sketches_a_child_section_and_spine() {
 }
 
 #[test]
-#[ignore = "section picking classifies ring hits as part surface (known defect, see the helper report)"]
-fn point_on_a_section_or_key_point_replaces_it_by_a_sketch() {
+fn point_on_a_section_replaces_it_by_a_sketch() {
     let mut r = rig();
     let at = ring(0.05, A, 0.04);
     // A square loop around the section's plane.
@@ -202,6 +200,11 @@ fn point_on_a_section_or_key_point_replaces_it_by_a_sketch() {
     let run1 = run(&[body()], &r);
     assert_eq!(names(&run1), ["gc_replace_section"]);
     assert_eq!(run1.rejected, 0);
+}
+
+#[test]
+#[ignore = "selecting a key point with POINT then sketching makes no op yet (known defect)"]
+fn point_on_a_key_point_replaces_the_spine_by_a_sketch() {
     let mut r = rig();
     let key = DVec3::new(0.0, 0.0, 0.08);
     let spine = path(
@@ -221,13 +224,17 @@ fn point_on_a_section_or_key_point_replaces_it_by_a_sketch() {
 }
 
 #[test]
-#[ignore = "section picking classifies ring hits as part surface (known defect, see the helper report)"]
-fn an_open_hold_deletes_a_section_or_inserts_one_once() {
+fn an_open_hold_on_a_section_deletes_it() {
     let mut r = rig();
     r.aim(ring(0.05, A, 0.04), outward(A, 0.2, 0.08), 0.3)
         .wait(4.5);
     let run1 = run(&[body()], &r);
     assert_eq!(names(&run1), ["gc_delete_section"]);
+}
+
+#[test]
+#[ignore = "an OPEN hold on the surface between sections makes no insert yet (known defect)"]
+fn an_open_hold_on_the_surface_inserts_a_section_once() {
     let mut r = rig();
     r.aim(ring(0.05, A, 0.1), outward(A, 0.2, 0.08), 0.3)
         .wait(3.4);
@@ -266,7 +273,6 @@ fn a_static_fist_for_three_seconds_instances_the_part_then_moves_the_copy() {
 }
 
 #[test]
-#[ignore = "section picking classifies ring hits as part surface (known defect, see the helper report)"]
 fn pinch_on_an_end_section_sets_the_shape_type() {
     let mut r = rig();
     r.pinch(ring(0.05, A, 0.118), outward(A, 0.2, 0.08));
@@ -326,7 +332,6 @@ fn drag_rig() -> (Rig, DVec3, DVec3) {
 }
 
 #[test]
-#[ignore = "section picking classifies ring hits as part surface (known defect, see the helper report)"]
 fn nan_joints_are_dropped_and_change_nothing() {
     let (mut r, _, _) = drag_rig();
     r.drag(ring(0.005, A, 0.0), 0.3)
@@ -361,7 +366,6 @@ fn nan_joints_are_dropped_and_change_nothing() {
 }
 
 #[test]
-#[ignore = "section picking classifies ring hits as part surface (known defect, see the helper report)"]
 fn a_hand_that_vanishes_mid_drag_or_mid_sketch_leaves_the_document_unchanged() {
     let (mut r, _, _) = drag_rig();
     r.p.hide_hand(Hand::Right);
@@ -390,7 +394,6 @@ fn a_hand_that_vanishes_mid_drag_or_mid_sketch_leaves_the_document_unchanged() {
 }
 
 #[test]
-#[ignore = "section picking classifies ring hits as part surface (known defect, see the helper report)"]
 fn tracking_lost_during_a_drag_resumes_within_grace_or_cancels() {
     use crate::assembly::ops::PartEdit;
     // 0.1 s gap: the drag continues and commits once.
@@ -418,7 +421,6 @@ fn tracking_lost_during_a_drag_resumes_within_grace_or_cancels() {
 }
 
 #[test]
-#[ignore = "section picking classifies ring hits as part surface (known defect, see the helper report)"]
 fn a_teleporting_hand_commits_the_drag_it_had_before_the_jump() {
     use crate::assembly::ops::PartEdit;
     let (mut r, _, _) = drag_rig();
