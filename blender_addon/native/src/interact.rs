@@ -82,9 +82,12 @@ impl InputSession {
     }
 }
 
+/// A preview ray as Python sees it: origin, direction, length, hit.
+type RayTuple = ([f64; 3], [f64; 3], f64, bool);
+
 fn preview_dict<'py>(py: Python<'py>, p: &Preview) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    let rays: Vec<Option<([f64; 3], [f64; 3], f64, bool)>> = p
+    let rays: Vec<Option<RayTuple>> = p
         .rays
         .iter()
         .map(|r| r.map(|r| (r.origin.to_array(), r.dir.to_array(), r.length, r.hit)))
