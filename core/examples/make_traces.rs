@@ -25,15 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let path = data.join(format!("{name}.trace.jsonl"));
         std::fs::write(&path, &text)?;
         let r = replay(&trace)?;
-        let ops: Vec<&str> = r
-            .commands
-            .iter()
-            .map(|c| match c {
-                ScriptCommand::Op(op) => op.name(),
-                ScriptCommand::Undo => "undo",
-                ScriptCommand::Redo => "redo",
-            })
-            .collect();
+        let ops: Vec<&str> = r.commands.iter().map(ScriptCommand::name).collect();
         println!(
             "{}: {} frames, {} bytes, ops {:?}, rejected {:?}",
             path.display(),

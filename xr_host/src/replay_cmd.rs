@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use shapewright::doc::{OpLog, ScriptCommand};
+use shapewright::doc::OpLog;
 use shapewright::interact::Trace;
 use shapewright::mesh;
 use shapewright_xr::interaction::Interaction;
@@ -60,11 +60,7 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
         let cmd = it.step(f);
         frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
         if let Some(c) = cmd {
-            names.push(match c {
-                ScriptCommand::Op(op) => op.name(),
-                ScriptCommand::Undo => "undo",
-                ScriptCommand::Redo => "redo",
-            });
+            names.push(c.name());
         }
     }
     for e in &it.stats().rejected {

@@ -20,6 +20,17 @@ pub enum ScriptCommand {
     Redo,
 }
 
+impl ScriptCommand {
+    /// The op's name (`gc_bend`, ...), or `undo` / `redo`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Op(op) => op.name(),
+            Self::Undo => "undo",
+            Self::Redo => "redo",
+        }
+    }
+}
+
 /// A command and the line it came from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScriptLine {

@@ -178,14 +178,7 @@ pub(crate) fn csg_cup() -> Trace {
 
 /// Op names of commands, with undo/redo.
 pub(crate) fn names(commands: &[ScriptCommand]) -> Vec<String> {
-    commands
-        .iter()
-        .map(|c| match c {
-            ScriptCommand::Op(op) => op.name().to_string(),
-            ScriptCommand::Undo => "undo".into(),
-            ScriptCommand::Redo => "redo".into(),
-        })
-        .collect()
+    commands.iter().map(|c| c.name().to_string()).collect()
 }
 
 /// Checks the file matches the script (rewriting it on request), replays

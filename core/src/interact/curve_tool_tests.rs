@@ -142,13 +142,7 @@ fn path() -> std::path::PathBuf {
 }
 
 fn names(cmds: &[ScriptCommand]) -> Vec<&'static str> {
-    cmds.iter()
-        .map(|c| match c {
-            ScriptCommand::Op(op) => op.name(),
-            ScriptCommand::Undo => "undo",
-            ScriptCommand::Redo => "redo",
-        })
-        .collect()
+    cmds.iter().map(ScriptCommand::name).collect()
 }
 
 fn net_of(log: &OpLog) -> &CurveNetwork {

@@ -180,14 +180,7 @@ fn select_copy_delete_undo_redo() {
         "undo",
         "add_solid",
     ];
-    let got: Vec<&str> = cmds
-        .iter()
-        .map(|c| match c {
-            ScriptCommand::Op(op) => op.name(),
-            ScriptCommand::Undo => "undo",
-            ScriptCommand::Redo => "redo",
-        })
-        .collect();
+    let got: Vec<&str> = cmds.iter().map(ScriptCommand::name).collect();
     assert_eq!(got, want);
     assert_eq!(
         cmds[1],

@@ -445,15 +445,7 @@ fn check_trace(file: &str, expected_prefix: &[&str], fresh: &Trace) {
         "{file} is stale: regenerate with `cargo run -p shapewright --example make_traces`"
     );
     let a = replay(&trace).expect("replay");
-    let kinds: Vec<&str> = a
-        .commands
-        .iter()
-        .map(|c| match c {
-            ScriptCommand::Op(op) => op.name(),
-            ScriptCommand::Undo => "undo",
-            ScriptCommand::Redo => "redo",
-        })
-        .collect();
+    let kinds: Vec<&str> = a.commands.iter().map(ScriptCommand::name).collect();
     assert!(kinds.starts_with(expected_prefix), "{file}: {kinds:?}");
     assert!(kinds.contains(&"gc_add_child"), "{file}: {kinds:?}");
     assert!(a.rejected.is_empty(), "{:?}", a.rejected);
