@@ -7,7 +7,8 @@ use super::{mirror_gc, reflect, transform_gc};
 use crate::gc::ops::{GcCreate, SectionSpec};
 use crate::gc::{mesh_gc, Profile, Resolution, ShapeType};
 
-fn sample() -> crate::gc::Gc {
+/// A solid GC on a bent spine in the y = 0 plane with the given sections.
+fn bent(sections: Vec<SectionSpec>) -> crate::gc::Gc {
     GcCreate {
         spine: vec![
             DVec3::ZERO,
@@ -15,25 +16,28 @@ fn sample() -> crate::gc::Gc {
             DVec3::new(0.1, 0.0, 1.0),
         ],
         plane_normal: DVec3::Y,
-        sections: vec![
-            SectionSpec {
-                profile: Profile::Ellipse { rx: 0.2, ry: 0.1 },
-                v: 0.0,
-                scale: 1.0,
-                twist: 0.0,
-            },
-            SectionSpec {
-                profile: Profile::Circle { radius: 0.15 },
-                v: 1.0,
-                scale: 1.0,
-                twist: 0.3,
-            },
-        ],
+        sections,
         shape: ShapeType::Solid,
         resolution: Resolution::PREVIEW,
     }
     .build()
     .expect("gc")
+}
+
+fn section(profile: Profile, v: f64, twist: f64) -> SectionSpec {
+    SectionSpec {
+        profile,
+        v,
+        scale: 1.0,
+        twist,
+    }
+}
+
+fn sample() -> crate::gc::Gc {
+    bent(vec![
+        section(Profile::Ellipse { rx: 0.2, ry: 0.1 }, 0.0, 0.0),
+        section(Profile::Circle { radius: 0.15 }, 1.0, 0.3),
+    ])
 }
 
 #[test]
@@ -100,32 +104,10 @@ fn mirrored_sketched_sections_give_the_mirror_surface() {
     }
     .curve()
     .expect("curve");
-    let gc = GcCreate {
-        spine: vec![
-            DVec3::ZERO,
-            DVec3::new(0.2, 0.0, 0.5),
-            DVec3::new(0.1, 0.0, 1.0),
-        ],
-        plane_normal: DVec3::Y,
-        sections: vec![
-            SectionSpec {
-                profile: Profile::Points { points: loop_pts },
-                v: 0.0,
-                scale: 1.0,
-                twist: 0.0,
-            },
-            SectionSpec {
-                profile: Profile::Curve { curve },
-                v: 1.0,
-                scale: 1.0,
-                twist: 0.4,
-            },
-        ],
-        shape: ShapeType::Solid,
-        resolution: Resolution::PREVIEW,
-    }
-    .build()
-    .expect("gc");
+    let gc = bent(vec![
+        section(Profile::Points { points: loop_pts }, 0.0, 0.0),
+        section(Profile::Curve { curve }, 1.0, 0.4),
+    ]);
     let (o, n) = (DVec3::new(0.3, 0.0, 0.0), DVec3::X);
     let m = mirror_gc(&gc, o, n);
     let worst = mirror_mismatch(&gc, &m, o, n);
