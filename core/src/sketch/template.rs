@@ -16,6 +16,9 @@ use crate::gc::Profile;
 /// Samples the stroke is resampled to before matching.
 pub const MATCH_SAMPLES: usize = 96;
 
+/// The most sides a matched regular polygon has.
+pub const MAX_POLYGON_SIDES: usize = 8;
+
 /// The result of matching a closed stroke.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SectionMatch {
@@ -145,8 +148,11 @@ pub fn match_section(points: &[DVec2]) -> Result<SectionMatch, SketchError> {
             phi,
         ),
     ];
+    // Polygons up to 8 sides: beyond that a regular polygon is within a
+    // few percent of its circle, and a noisy hand-drawn circle simplifies
+    // to 9 to 12 corners often enough to win by noise alone.
     let corners = rdp_closed(&pts, 0.1 * r_mean);
-    if (3..=12).contains(&corners.len()) {
+    if (3..=MAX_POLYGON_SIDES).contains(&corners.len()) {
         let radius =
             corners.iter().map(|c| (*c - center).length()).sum::<f64>() / corners.len() as f64;
         // Rotation: the circular mean of the corner angles modulo 2π/n.

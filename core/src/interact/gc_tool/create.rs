@@ -80,27 +80,28 @@ impl Start {
     }
 }
 
-/// A closed stroke without its overlap: drawn loops come back to (and
-/// past) where they started, and the overlap would cross the start. The
-/// stroke is cut at its first return near the start after the point
-/// farthest from it.
+/// The loop of a drawn closed stroke. A drawn loop comes back to (and
+/// often past) where it started, and both ends carry small hooks (the
+/// fingertip settles while the gesture changes); either would cross the
+/// loop. The loop runs between the closest pair of samples `(i, j)` with
+/// `i` in the first and `j` in the last quarter of the stroke, `j` left
+/// out (it nearly repeats `i`).
 fn close_loop(stroke: &[DVec3]) -> &[DVec3] {
-    let Some(&p0) = stroke.first() else {
+    let n = stroke.len();
+    if n < 8 {
         return stroke;
-    };
-    let far = stroke
-        .iter()
-        .enumerate()
-        .max_by(|a, b| (*a.1 - p0).length().total_cmp(&(*b.1 - p0).length()));
-    let Some((k, q)) = far else {
-        return stroke;
-    };
-    let reach = (*q - p0).length();
-    let cut = stroke[k..]
-        .iter()
-        .position(|p| (*p - p0).length() < 0.15 * reach)
-        .map_or(stroke.len(), |i| k + i);
-    &stroke[..cut]
+    }
+    let q = n / 4;
+    let mut best = (f64::INFINITY, 0, n);
+    for i in 0..=q {
+        for j in n - 1 - q..n {
+            let d = (stroke[j] - stroke[i]).length();
+            if d < best.0 {
+                best = (d, i, j);
+            }
+        }
+    }
+    &stroke[best.1..best.2]
 }
 
 /// The profile a closed stroke becomes: the best template, or the loop

@@ -18,7 +18,8 @@
 //!   surface point under it.
 //! - A PINCH on an end section sets the shape type: closed pinch closes
 //!   that end, open pinch opens it, with shell thickness from the finger
-//!   gap.
+//!   gap. Opening the free end of a solid child makes a tube (its start
+//!   is buried in the parent).
 
 use crate::assembly::ops::{GcEditPart, GcTransformPart, PartEdit};
 use crate::doc::{ObjectId, Op};
@@ -165,11 +166,16 @@ fn other(e: ClosedEnd) -> ClosedEnd {
 }
 
 /// The shape type after a pinch at end `end`: closed (`gap = None`) or
-/// open with finger gap `gap` (metres).
+/// open with finger gap `gap` (metres). `child` says the part is a child,
+/// whose start end is buried in its parent: opening a solid child's free
+/// end makes a tube (shell), not a container, since a cap at the buried
+/// start would seal the tube's inside off where it crosses a hollow
+/// parent's wall (a void no printer can empty).
 pub(super) fn pinch_shape(
     current: ShapeType,
     end: ClosedEnd,
     gap: Option<f64>,
+    child: bool,
     s: &GcToolSettings,
 ) -> ShapeType {
     match gap {
@@ -191,6 +197,9 @@ pub(super) fn pinch_shape(
             let (lo, hi) = s.thickness_range;
             let thickness = (g * s.thickness_per_gap).clamp(lo, hi);
             match current {
+                ShapeType::Solid if child && end == ClosedEnd::End => {
+                    ShapeType::Shell { thickness }
+                }
                 ShapeType::Solid => ShapeType::Container {
                     thickness,
                     closed_end: other(end),

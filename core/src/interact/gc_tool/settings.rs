@@ -14,15 +14,24 @@ pub struct GcToolSettings {
     /// A surface hit this close (along the spine) to a key section's
     /// centre picks that section.
     pub section_band: f64,
+    /// The section band grows to a quarter of the gap to the neighbouring
+    /// section, up to this.
+    pub section_band_max: f64,
     /// A surface hit this close (along the spine) to a key section picks
     /// that section even when the ray also passes the section's key point:
     /// a ray aimed at a ring from outside crosses the spine near its key
     /// point, so without this the X-ray key point would shadow every
     /// section aimed at square on.
     pub ring_band: f64,
+    /// The ring band grows like the section band, up to this.
+    pub ring_band_max: f64,
     /// Seconds of an OPEN hold that delete or insert a section, and of a
     /// static FIST that instances a part (paper: 3 s).
     pub hold: f64,
+    /// Seconds after OPEN within which a new gesture still counts as
+    /// coming from OPEN (the classifier may pass through another gesture
+    /// on the way, e.g. PINCH between OPEN and FIST).
+    pub transition: f64,
     /// How far (world metres) the palm may drift during a hold.
     pub hold_drift: f64,
     /// Seconds a gesture survives lost tracking before it is cancelled.
@@ -62,8 +71,11 @@ impl Default for GcToolSettings {
             reach: 3.0,
             key_point_radius: 0.006,
             section_band: 0.005,
+            section_band_max: 0.01,
             ring_band: 0.003,
+            ring_band_max: 0.007,
             hold: 3.0,
+            transition: 0.3,
             hold_drift: 0.03,
             grace: 0.25,
             max_hand_speed: 12.0,

@@ -11,7 +11,11 @@
 //!   of a key section picks that section, else the surface at parameter
 //!   `v`. A hit within [`super::GcToolSettings::ring_band`] of a ring
 //!   picks the section even if the ray also passes its key point (aimed
-//!   square at a ring, a ray crosses the spine at the key point).
+//!   square at a ring, a ray crosses the spine at the key point), and
+//!   a hit within the section band picks the section over its own key
+//!   point (a ray level with a ring passes through its centre). Both
+//!   bands widen to a quarter of the gap to the neighbouring section (up
+//!   to `section_band_max` / `ring_band_max`), since hand rays jitter.
 //! - With no hit, the empty-space point is where the ray meets the model's
 //!   ground plane `z = 0` (within reach), else the point at a fixed
 //!   distance along the ray; it starts a new root part.
@@ -203,17 +207,31 @@ impl GeoCache {
     pub fn pick(&self, doc: &Document, ray: &Ray, reach: f64, s: &GcToolSettings) -> GcTarget {
         let key = self.pick_key_point(ray, reach, s);
         if let Some(hit) = pick(doc, ray, reach) {
-            let on_ring = self.classify_hit(hit.id, hit.point, s.ring_band);
+            let on_ring = self.classify_hit(hit.id, hit.point, s.ring_band, s.ring_band_max);
             if let Some(t @ GcTarget::Section { .. }) = on_ring {
                 return t;
             }
-            if let Some(t) = key {
-                return t;
-            }
-            if let Some(t) = self.classify_hit(hit.id, hit.point, s.section_band) {
-                return t;
-            }
-            return GcTarget::Empty { point: hit.point };
+            let near = self.classify_hit(hit.id, hit.point, s.section_band, s.section_band_max);
+            return match (key, near) {
+                // A ray aimed level at a ring passes through the ring's
+                // own key point: the ring is what it aims at.
+                (
+                    Some(GcTarget::KeyPoint {
+                        id, part, section, ..
+                    }),
+                    Some(
+                        t @ GcTarget::Section {
+                            id: i2,
+                            part: p2,
+                            section: s2,
+                            ..
+                        },
+                    ),
+                ) if (id, part, section) == (i2, p2, s2) => t,
+                (Some(k), _) => k,
+                (None, Some(t)) => t,
+                (None, None) => GcTarget::Empty { point: hit.point },
+            };
         }
         if let Some(t) = key {
             return t;
@@ -258,9 +276,10 @@ impl GeoCache {
         best.map(|b| b.1)
     }
 
-    /// The section (within `band` along the spine) or surface a mesh hit
+    /// The section (within `band` along the spine, widened up to
+    /// `band_max` where the sections are far apart) or surface a mesh hit
     /// lies on.
-    fn classify_hit(&self, id: ObjectId, p: DVec3, band: f64) -> Option<GcTarget> {
+    fn classify_hit(&self, id: ObjectId, p: DVec3, band: f64, band_max: f64) -> Option<GcTarget> {
         let g = self.objects.get(&id)?;
         let mut best: Option<(f64, usize, DVec3, f64)> = None;
         for (part, geo) in g.parts.iter().enumerate() {
@@ -280,6 +299,16 @@ impl GeoCache {
             .enumerate()
             .map(|(k, f)| (k, (c - f.origin).length()))
             .min_by(|a, b| a.1.total_cmp(&b.1))?;
+        // The band grows with the room around the section (a quarter of
+        // the gap to its nearest neighbour), up to `band_max`: hand rays
+        // jitter by millimetres, and sections far apart can afford it.
+        let f = &geo.frames;
+        let gap = [near.0.wrapping_sub(1), near.0 + 1]
+            .iter()
+            .filter_map(|&j| f.get(j))
+            .map(|g| (g.origin - f[near.0].origin).length())
+            .fold(f64::INFINITY, f64::min);
+        let band = (0.25 * gap).clamp(band, band_max.max(band));
         Some(if near.1 < band {
             GcTarget::Section {
                 id,

@@ -7,7 +7,7 @@
 //! | idle             | → POINT on surface/empty | placed (start point `O_s`)           |
 //! | placed           | POINT … OPEN          | sectioned (template matched)            |
 //! | sectioned        | POINT … OPEN          | `gc_add_child` / `gc_create`            |
-//! | idle             | → POINT on key point / section | sketch … OPEN: `gc_replace_spine` / `gc_replace_section` |
+//! | idle             | → POINT on key point / section | replace: POINT … OPEN sketches, `gc_replace_spine` / `gc_replace_section` |
 //! | idle             | → FIST on key point   | drag … OPEN: `gc_edit_part` (bend)      |
 //! | idle             | → FIST on section     | drag … OPEN: `gc_edit_part` (resize / shift / twist) |
 //! | idle             | → FIST on part        | drag … OPEN: `gc_transform_part`; FIST static 3 s first: `gc_copy`, then the copy is dragged |
@@ -16,6 +16,13 @@
 //!
 //! A FIST during creation cancels it. Commands are emitted only when a
 //! gesture completes; everything else is [`Preview`] state.
+//!
+//! Gesture changes: a gesture counts as coming from OPEN when OPEN was
+//! seen within [`GcToolSettings::transition`] (0.3 s), since the
+//! classifier may pass through another gesture on the way (a frame or two
+//! of PINCH between OPEN and FIST is common); a PINCH that turns into
+//! FIST or POINT that quickly is taken as that gesture. A hold acts on
+//! where the ray points when it fires, not where it started.
 //!
 //! Bad input: NaN samples never reach the tool (the sanitizer drops
 //! them). A hand that vanishes (or shows no gesture) freezes the state for
@@ -78,6 +85,8 @@ enum State {
     SketchSection(Start, Vec<DVec3>),
     Sectioned(Start, Profile),
     SketchSpine(Start, Profile, Vec<DVec3>),
+    /// A key point or section picked by POINT, waiting for its stroke.
+    ReplaceArmed(GcTarget, SketchPlane),
     Replace(GcTarget, SketchPlane, Vec<DVec3>),
     Drag(Drag),
     Pinch(PinchState),
@@ -92,6 +101,7 @@ impl State {
             State::SketchSection(..) => "sketch_section",
             State::Sectioned(..) => "sectioned",
             State::SketchSpine(..) => "sketch_spine",
+            State::ReplaceArmed(..) => "replace",
             State::Replace(..) => "sketch_replace",
             State::Drag(_) => "drag",
             State::Pinch(_) => "pinch",
@@ -143,6 +153,11 @@ pub struct GcTool {
     state: State,
     filters: [HandFilter; 2],
     prev: Gesture,
+    /// When the right hand last showed OPEN in idle: a gesture that
+    /// follows within [`GcToolSettings::transition`] counts as coming from
+    /// OPEN even when the classifier passed through another gesture on
+    /// the way (OPEN to FIST often shows PINCH for a frame or two).
+    open_time: f64,
     /// Target under the ray in the last frame (idle).
     last_target: Option<GcTarget>,
     hold: Option<Hold>,
@@ -173,6 +188,7 @@ impl GcTool {
             state: State::Idle,
             filters: [HandFilter::default(); 2],
             prev: Gesture::None,
+            open_time: f64::NEG_INFINITY,
             last_target: None,
             hold: None,
             lost_since: None,
@@ -230,11 +246,12 @@ impl GcTool {
             self.preview.highlighted = target.part().map(|p| p.0);
             self.preview.gc.target = Some(target);
             self.last_target = Some(target);
+            self.open_time = t;
             return self.holding(t, palm, target);
         }
         self.hold = None;
         self.preview.gc.hold = 0.0;
-        if self.prev != Gesture::Open {
+        if h.gesture == self.prev || t - self.open_time > self.settings.transition {
             return None;
         }
         let target = self.last_target?;
@@ -247,7 +264,7 @@ impl GcTool {
             }
             (Gesture::Point, GcTarget::KeyPoint { .. } | GcTarget::Section { .. }) => {
                 if let Some(plane) = replace_plane(&target, &self.geo) {
-                    self.state = State::Replace(target, plane, Vec::new());
+                    self.state = State::ReplaceArmed(target, plane);
                 }
             }
             (Gesture::Fist, GcTarget::Empty { .. }) => {
@@ -300,6 +317,10 @@ impl GcTool {
             palm,
             fired: false,
         });
+        // The hold is timed from its start, but acts where the ray points
+        // now: the ray settles while the hand comes to rest, so the first
+        // hit of a surface hold can be a centimetre off.
+        hold.target = target;
         let progress = ((t - hold.since) / s.hold).clamp(0.0, 1.0);
         let holdable = hold_op(&hold.target).is_some();
         self.preview.gc.hold = if holdable && !hold.fired {
@@ -321,6 +342,14 @@ impl GcTool {
         let state = std::mem::replace(&mut self.state, State::Idle);
         let pen = h.pen.map(|p| self.to_model(cx, p));
         let t = cx.frame.time;
+        // The fingertip also settles for a moment after POINT is reported
+        // (a hook at the start): drop the stroke's first 0.1 s.
+        let t0 = self.stroke_times.first().copied().unwrap_or(t);
+        let skip_n = self
+            .stroke_times
+            .iter()
+            .filter(|&&st| st < t0 + 0.1)
+            .count();
         let keep_n = self
             .stroke_times
             .iter()
@@ -343,6 +372,9 @@ impl GcTool {
         // 0.15 s.
         let cut = |mut v: Vec<DVec3>| -> Vec<DVec3> {
             v.truncate(keep_n.max(2));
+            if v.len() >= skip_n + 2 {
+                v.drain(..skip_n);
+            }
             v
         };
         let s = &self.settings;
@@ -350,9 +382,10 @@ impl GcTool {
         // that selected the start point.
         let fresh = self.prev == Gesture::Open;
         let (next, out) = match (state, h.gesture) {
-            (st @ (State::Placed(_) | State::Sectioned(..)), Gesture::Point) if !fresh => {
-                (st, None)
-            }
+            (
+                st @ (State::Placed(_) | State::Sectioned(..) | State::ReplaceArmed(..)),
+                Gesture::Point,
+            ) if !fresh => (st, None),
             (State::Placed(st), Gesture::Point) => {
                 let mut v = Vec::new();
                 add(&mut v);
@@ -363,7 +396,15 @@ impl GcTool {
                 add(&mut v);
                 (State::SketchSpine(st, p, v), None)
             }
-            (st @ (State::Placed(_) | State::Sectioned(..)), Gesture::Open) => (st, None),
+            (State::ReplaceArmed(t, plane), Gesture::Point) => {
+                let mut v = Vec::new();
+                add(&mut v);
+                (State::Replace(t, plane, v), None)
+            }
+            (
+                st @ (State::Placed(_) | State::Sectioned(..) | State::ReplaceArmed(..)),
+                Gesture::Open,
+            ) => (st, None),
             (State::SketchSection(st, mut v), Gesture::Point) => {
                 add(&mut v);
                 (State::SketchSection(st, v), None)
@@ -390,8 +431,11 @@ impl GcTool {
             }
             (State::Replace(t, plane, v), Gesture::Open) => {
                 let asm = t.part().and_then(|(id, _)| self.geo.assembly(id));
-                let op = asm.and_then(|a| replace_op(&t, &plane, &cut(v), a, s));
-                (State::Idle, op)
+                match asm.and_then(|a| replace_op(&t, &plane, &cut(v), a, s)) {
+                    Some(op) => (State::Idle, Some(op)),
+                    // A stroke that fits nothing: sketch it again.
+                    None => (State::ReplaceArmed(t, plane), None),
+                }
             }
             // FIST or PINCH while creating or sketching: cancel.
             _ => (State::Idle, None),
@@ -454,7 +498,7 @@ impl GcTool {
         };
         if t - self.mesh_time >= 0.1 {
             self.mesh_time = t;
-            self.preview.gc.mesh = self.preview_mesh(cx, &d);
+            self.preview.gc.mesh = self.preview_mesh(&d);
         }
         self.preview.gc.target = Some(d.target);
         self.state = State::Drag(d);
@@ -462,15 +506,18 @@ impl GcTool {
     }
 
     /// The edited part, meshed at preview resolution, as the drag would
-    /// leave it.
-    fn preview_mesh(&self, cx: &ToolContext, d: &Drag) -> Option<Arc<TriMesh>> {
+    /// leave it. The drag's edit is applied to a copy of the assembly's
+    /// parameters only: applying the op to the document would also unite
+    /// all parts (tens of milliseconds once a part has children), which a
+    /// 90 Hz frame cannot afford.
+    fn preview_mesh(&self, d: &Drag) -> Option<Arc<TriMesh>> {
         let (id, part) = d.target.part()?;
-        let op = drag_op(&d.target, d.motion, &self.geo)?;
-        let mut doc = cx.doc.clone();
-        op.apply(&mut doc).ok()?;
-        let crate::doc::ObjectKind::GcAssembly(asm) = &doc.get(id).ok()?.kind else {
-            return None;
-        };
+        let mut asm = self.geo.assembly(id)?.clone();
+        match drag_op(&d.target, d.motion, &self.geo)? {
+            Op::GcEditPart(e) => e.apply_to(&mut asm).ok()?,
+            Op::GcTransformPart(t) => t.apply_to(&mut asm).ok()?,
+            _ => return None,
+        }
         let mut gc = asm.parts.get(part)?.gc.clone();
         gc.resolution = self.settings.preview_resolution;
         mesh_gc(&gc).ok().map(Arc::new)
@@ -492,13 +539,19 @@ impl GcTool {
         if h.gesture == Gesture::Pinch {
             let gap = (!h.state.pinch_closed).then_some(h.state.pinch_gap);
             let current = asm.parts.get(part)?.gc.shape;
+            let child = asm.parts.get(part)?.parent.is_some();
             p.history
-                .push((t, pinch_shape(current, end, gap, &self.settings)));
+                .push((t, pinch_shape(current, end, gap, child, &self.settings)));
             p.history.retain(|(ht, _)| t - ht <= 0.5);
             self.state = State::Pinch(p);
             return None;
         }
         if h.gesture != Gesture::Open {
+            // A PINCH that was only the way from OPEN to FIST or POINT:
+            // act on that gesture instead.
+            if t - self.open_time <= self.settings.transition && p.history.len() <= 3 {
+                return self.idle(cx, h);
+            }
             return None;
         }
         // The fingers open through wider gaps before the gesture changes:
@@ -604,6 +657,7 @@ impl Tool for GcTool {
         self.state = State::Idle;
         self.hold = None;
         self.prev = Gesture::None;
+        self.open_time = f64::NEG_INFINITY;
         self.last_target = None;
         self.preview.gc.mesh = None;
     }
@@ -623,6 +677,7 @@ impl GcTool {
             State::SketchSection(st, v) => (Some(v), Some(&st.section_plane), None),
             State::Sectioned(st, pr) => (None, Some(&st.spine_plane), Some(pr)),
             State::SketchSpine(st, pr, v) => (Some(v), Some(&st.spine_plane), Some(pr)),
+            State::ReplaceArmed(_, pl) => (None, Some(pl), None),
             State::Replace(_, pl, v) => (Some(v), Some(pl), None),
             _ => (None, None, None),
         };

@@ -3,7 +3,7 @@
 //! teapot of `tests/data/{mug,teapot}.jsonl` by gestures only (OPEN aims,
 //! POINT selects and sketches, FIST drags, PINCH sets the shape type),
 //! recorded as raw joints at 25 Hz (hand frames are ~3 KB of JSON, so
-//! 25 Hz keeps each trace under 3 MB).
+//! 25 Hz keeps each trace under 4 MB).
 //!
 //! The scripts place the hand in model coordinates (the desk placement)
 //! and turn the wrist so that the tool's hand ray (palm, along the mean
@@ -350,24 +350,36 @@ pub fn teapot_trace() -> Trace {
     let sec = loop_points(base + DVec3::Z * 0.02, DVec3::X, DVec3::Y, 0.061, 0.061, 28);
     let spine = path(&[base, base + DVec3::Z * 0.046], 10);
     create(&mut r, base, DVec3::new(0.05, -0.25, 0.3), &sec, &spine);
-    // Dome it: middle section to 3.5 cm, top to 1.2 cm.
-    r.fist_drag(
-        base + ring(0.061, a, 0.023),
-        outward(a, 0.2, 0.1),
-        ring(-0.026, a, 0.0),
-    );
+    // Dome it: top section to 1.4 cm, middle to 3.5 cm (radial FIST
+    // drags on the rings, aimed a little from above and level).
     r.fist_drag(
         base + ring(0.061, a, 0.044),
-        outward(a, 0.2, 0.1),
-        ring(-0.049, a, 0.0),
+        outward(a, 0.2, 0.02),
+        ring(-0.047, a, 0.0),
     );
-    // Put it on the body: FIST on the lid's side, between sections.
-    let side = base + ring(0.05, -90.0, 0.012);
+    r.fist_drag(
+        base + ring(0.061, a, 0.023),
+        outward(a, 0.2, 0.0),
+        ring(-0.026, a, 0.0),
+    );
+    // A knob: a 3 s OPEN hold on the surface at 3.45 cm inserts a section
+    // there (the surface keeps its shape), then a FIST pulls its ring in
+    // to a waist of about 8 mm.
+    r.aim(base + ring(0.02, a, 0.0345), outward(a, 0.2, 0.0), 0.4)
+        .wait(3.4);
+    r.fist_drag(
+        base + ring(0.022, a, 0.0345),
+        outward(a, 0.2, 0.0),
+        ring(-0.014, a, 0.0),
+    );
+    // Put it on the body: FIST on the lid's side between its lowest two
+    // sections, and carry it over.
+    let side = base + ring(0.06, -90.0, 0.011);
     r.fist_drag(
         side,
-        DVec3::new(0.0, -0.2, 0.1),
+        DVec3::new(0.0, -0.2, 0.0),
         DVec3::new(-0.3, 0.0, 0.154),
     );
     r.wait(0.3);
-    r.trace("teapot by hand gestures: body (create, shape, open top), spout, handle, lid (create, dome, place)")
+    r.trace("teapot by hand gestures: body (create, shape, open top), spout (create, taper, open), handle, lid (create, dome, insert a knob section, place)")
 }
