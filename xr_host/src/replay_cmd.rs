@@ -59,14 +59,19 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
         let t0 = Instant::now();
         let cmd = it.step(f);
         frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        // The headset loop lets commits finish in the background; a replay
+        // waits for each, so the tool sees what the core's replay shows it.
+        it.flush();
         if let Some(c) = cmd {
             names.push(c.name());
         }
     }
-    for e in &it.stats().rejected {
+    let stats = it.stats();
+    for e in &stats.rejected {
         eprintln!("shapewright-xr: a command was refused: {e}");
     }
     let log = it.log();
+    let log = &*log;
     let doc = log.document();
     // The printable model: the boolean union of all objects (closed when
     // every object is); an empty document gives an empty mesh.
@@ -99,6 +104,8 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
     let r = mesh::validate(&m, &Default::default());
     let p50 = quantile(&frame_ms, 0.5).unwrap_or(f64::NAN);
     let p99 = quantile(&frame_ms, 0.99).unwrap_or(f64::NAN);
+    let commit_max = stats.commit_ms.iter().copied().fold(0.0, f64::max);
+    let commit_p50 = quantile(&stats.commit_ms, 0.5).unwrap_or(0.0);
     println!(
         "trace      {} ({} frames at {} fps, tool {tool})",
         path.display(),
@@ -108,7 +115,7 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
     println!(
         "commands   {} ({} refused): {}",
         names.len(),
-        it.stats().rejected.len(),
+        stats.rejected.len(),
         summarize(&names)
     );
     println!("ops        {} (cursor {})", log.len(), log.cursor());
@@ -123,7 +130,10 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
         },
         r.signed_volume
     );
-    println!("frame time {p50:.3} ms p50, {p99:.3} ms p99 (interaction + preview; budget 11.1 ms)");
+    println!("frame time {p50:.3} ms p50, {p99:.3} ms p99 (input + interaction + preview; budget 11.1 ms)");
+    println!(
+        "commits    {commit_p50:.1} ms p50, {commit_max:.1} ms max (op + document mesh, off the frame thread)"
+    );
     println!(
         "written    {}",
         if written.is_empty() {

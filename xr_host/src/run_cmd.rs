@@ -231,6 +231,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
             .with_context(|| format!("writing {}", p.display()))?;
     }
     print_summary(&report);
+    let unsaved = sink.interaction.unsaved_changes();
     let st = sink.interaction.stats();
     let log = sink.interaction.log();
     println!(
@@ -249,7 +250,8 @@ pub fn run(args: &RunArgs) -> Result<()> {
             format!(" ({} failed saves)", st.save_errors.len())
         }
     );
-    if sink.interaction.unsaved_changes() > 0 {
+    drop(log);
+    if unsaved > 0 {
         let e = st.save_errors.last().map_or("", String::as_str);
         bail!("changes are not saved to {}: {e}", save_path.display());
     }
