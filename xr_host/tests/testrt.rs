@@ -102,6 +102,8 @@ fn run_host_mode(
     let record = dir.join("record.jsonl");
     let report = dir.join("report.json");
     let out = Command::new(env!("CARGO_BIN_EXE_shapewright-xr"))
+        // The default autosave file lands in the working directory.
+        .current_dir(&dir)
         .arg("run")
         .args(mode)
         .arg("--model")
@@ -418,6 +420,7 @@ fn without_hand_tracking_controllers_still_work() {
 #[test]
 fn missing_runtime_is_a_clean_error() {
     let out = Command::new(env!("CARGO_BIN_EXE_shapewright-xr"))
+        .current_dir(std::env::temp_dir())
         .args(["run", "--headless", "--frames", "1"])
         .env("XR_RUNTIME_JSON", "/nonexistent/runtime.json")
         .output()
@@ -438,6 +441,7 @@ fn real_runtime_if_configured() {
         return;
     };
     let out = Command::new(env!("CARGO_BIN_EXE_shapewright-xr"))
+        .current_dir(std::env::temp_dir())
         .args(["run", "--headless", "--seconds", "2"])
         .env("XR_RUNTIME_JSON", &manifest)
         .output()
@@ -465,6 +469,7 @@ fn headset_mode_reports_a_runtime_without_vulkan() {
     )
     .unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_shapewright-xr"))
+        .current_dir(std::env::temp_dir())
         .args(["run", "--frames", "1"])
         .env("XR_RUNTIME_JSON", &manifest)
         .env_remove("SHAPEWRIGHT_TESTRT_SCRIPT")
