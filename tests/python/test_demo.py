@@ -1,7 +1,9 @@
-"""The demo path end to end: script -> host -> STL -> Blender render."""
+"""The demo path end to end: the README's demo command (teapot trace ->
+host -> USD/STL/PNG), and script -> host -> STL -> Blender render."""
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -11,6 +13,28 @@ from pngcheck import foreground_fraction, read_png
 
 def run(cmd: list, cwd: Path) -> subprocess.CompletedProcess:
     return subprocess.run([str(c) for c in cmd], cwd=cwd, capture_output=True, text=True)
+
+
+def test_readme_demo_command(root: Path, host_bin: Path) -> None:
+    """`bash scripts/demo.sh`, exactly as the README gives it: the
+    hand-gesture teapot trace replayed by the host to the three files."""
+    r = run(["bash", "scripts/demo.sh"], root)
+    assert r.returncode == 0, r.stdout + r.stderr
+    out = r.stdout
+    assert "commands   15 (0 refused)" in out, out
+    assert "gc_insert_section" in out and "gc_add_child" in out
+    assert "closed 2-manifold" in out
+    assert "replaying the history gives the snapshot" in out
+    assert len(out.splitlines()) <= 24, out
+    # Frame times are reported (speed is judged by the benchmarks, not here).
+    assert re.search(r"frame time [0-9.]+ ms p50, [0-9.]+ ms p99", out), out
+    for ext in ("usda", "stl", "png"):
+        assert (root / "out" / f"teapot.{ext}").stat().st_size > 1000
+    r = run([host_bin, "info", root / "out/teapot.stl"], root)
+    assert "printable:            yes" in r.stdout
+    assert "components:           1" in r.stdout
+    img = read_png(root / "out/teapot.png")
+    assert 0.05 < foreground_fraction(img) < 0.6
 
 
 def test_apply_info_render(root: Path, host_bin: Path, tmp_path: Path) -> None:

@@ -1,6 +1,9 @@
 #version 450
 // Headlight plus a fixed key light; back faces get a distinct tint so
-// inside-out or open geometry is visible at a glance.
+// inside-out or open geometry is visible at a glance. Back faces are told
+// by the triangle's winding (gl_FrontFacing), not by the interpolated
+// normal: a smooth normal turns away from the eye just inside a
+// silhouette, which tinted the rims of closed models.
 layout(push_constant) uniform Push {
     mat4 model;
     vec4 color;
@@ -13,9 +16,11 @@ void main() {
     vec3 e = normalize(v_to_eye);
     float facing = dot(n, e);
     vec3 base = pc.color.rgb;
+    if (!gl_FrontFacing) {
+        base = vec3(0.8, 0.15, 0.15);
+    }
     if (facing < 0.0) {
         n = -n;
-        base = vec3(0.8, 0.15, 0.15);
     }
     vec3 key = normalize(vec3(0.3, 0.5, 0.8));
     float head = max(dot(n, e), 0.0);

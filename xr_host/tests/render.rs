@@ -190,3 +190,39 @@ fn bad_input_gets_typed_errors() {
     let e = render_mesh(&ctx, &cube(), &[], &zero, false).unwrap_err();
     assert!(e.to_string().contains("bad image size"), "{e}");
 }
+
+/// Pixels where red clearly dominates (the back-face tint).
+fn reddish(px: &[(u32, u32, [u8; 4])]) -> usize {
+    px.iter()
+        .filter(|p| p.2[0] as u32 > 2 * p.2[1] as u32 + 10 && p.2[0] > 40)
+        .count()
+}
+
+#[test]
+fn back_faces_are_tinted_by_winding_not_by_smooth_normals() {
+    let ctx = ctx();
+    let settings = RenderSettings {
+        width: 160,
+        height: 120,
+        ..Default::default()
+    };
+    // A smooth sphere: its vertex normals turn away from the eye just
+    // inside the silhouette, but every visible triangle is a front face.
+    let mut sphere = tessellate(&SolidShape::Sphere { radius: 1.0 }, 48).unwrap();
+    sphere.compute_normals();
+    let img = render_mesh(&ctx, &sphere, &[], &settings, false)
+        .unwrap()
+        .remove(0);
+    let px = object_pixels(&img);
+    assert!(px.len() > 1000);
+    assert_eq!(reddish(&px), 0, "front faces drawn as back faces");
+    // Turned inside out, every visible triangle is a back face.
+    for t in &mut sphere.triangles {
+        t.swap(1, 2);
+    }
+    let img = render_mesh(&ctx, &sphere, &[], &settings, false)
+        .unwrap()
+        .remove(0);
+    let px = object_pixels(&img);
+    assert!(reddish(&px) * 10 > px.len() * 8, "{} of {}", reddish(&px), px.len());
+}
