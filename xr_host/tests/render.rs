@@ -224,5 +224,10 @@ fn back_faces_are_tinted_by_winding_not_by_smooth_normals() {
         .unwrap()
         .remove(0);
     let px = object_pixels(&img);
-    assert!(reddish(&px) * 10 > px.len() * 8, "{} of {}", reddish(&px), px.len());
+    assert!(
+        reddish(&px) * 10 > px.len() * 8,
+        "{} of {}",
+        reddish(&px),
+        px.len()
+    );
 }
