@@ -15,6 +15,11 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+/// mimalloc: the system allocator returns and re-faults large blocks on
+/// every mesh update (see the workspace manifest).
+#[global_allocator]
+static ALLOC: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// Shapewright standalone host.
 #[derive(Parser)]
 #[command(name = "shapewright-xr", version, about)]

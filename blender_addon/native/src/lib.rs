@@ -13,6 +13,12 @@ mod usd;
 
 use pyo3::prelude::*;
 
+/// mimalloc for this library's own allocations (Blender's are untouched):
+/// the system allocator returns and re-faults large blocks on every mesh
+/// update (see the workspace manifest).
+#[global_allocator]
+static ALLOC: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// The native module.
 #[pymodule]
 #[pyo3(name = "_native")]
