@@ -14,8 +14,6 @@
 //! surface than the brick's radius plus the band is uniform without
 //! sampling its 512 points.
 
-use std::sync::Arc;
-
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -72,7 +70,7 @@ pub fn component_brick(grid: &SparseGrid, f: &PlacedField, key: BrickKey) -> Bri
     // then sample.
     let mut d = vec![0f32; BRICK_LEN];
     fill_block(grid, f, base, [0; 3], BRICK, &mut d);
-    Brick::Dense(Arc::new(d)).normalized(grid.band)
+    Brick::dense(d, grid.band)
 }
 
 /// Fills the `size`³ block at local offset `o` of the brick at sample
@@ -132,7 +130,7 @@ fn combine(op: CsgOp, a: &Brick, b: &Brick, band: f32) -> Brick {
         (Brick::Uniform(x), Brick::Uniform(y)) => Brick::Uniform(f(*x, *y)),
         _ => {
             let d: Vec<f32> = (0..BRICK_LEN).map(|l| f(a.get(l), b.get(l))).collect();
-            Brick::Dense(Arc::new(d)).normalized(band)
+            Brick::dense(d, band)
         }
     }
 }

@@ -15,12 +15,15 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::mc::{polygonize, MeshSink, VertKey};
-
 /// Samples per brick edge.
 pub const BRICK: i32 = 8;
 /// Samples per brick.
 pub const BRICK_LEN: usize = 512;
+
+/// Sign bit of samples at or above zero (outside).
+pub(crate) const SIGN_OUT: u8 = 1;
+/// Sign bit of negative samples (inside).
+pub(crate) const SIGN_IN: u8 = 2;
 
 /// A brick's coordinates (brick `B` holds samples `8B .. 8B + 8`).
 pub type BrickKey = [i32; 3];
@@ -30,11 +33,39 @@ pub type BrickKey = [i32; 3];
 pub enum Brick {
     /// Every sample is this value (`+band` or `-band`).
     Uniform(f32),
-    /// 512 samples, x fastest.
-    Dense(Arc<Vec<f32>>),
+    /// 512 samples, x fastest, with their signs per region.
+    Dense(Arc<DenseBrick>),
+}
+
+/// The samples of a dense brick and, computed once when it is made, the
+/// signs that extraction asks about (see [`Brick::region_signs`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DenseBrick {
+    values: Vec<f32>,
+    signs: [u8; 8],
+}
+
+impl std::ops::Deref for DenseBrick {
+    type Target = [f32];
+    fn deref(&self) -> &[f32] {
+        &self.values
+    }
 }
 
 impl Brick {
+    /// The brick holding `values` (512 samples, x fastest): uniform when
+    /// every sample equals `±band`, else dense.
+    pub fn dense(values: Vec<f32>, band: f32) -> Brick {
+        assert_eq!(values.len(), BRICK_LEN, "a brick has 512 samples");
+        for u in [band, -band] {
+            if values.iter().all(|x| *x == u) {
+                return Brick::Uniform(u);
+            }
+        }
+        let signs = dense_region_signs(&values);
+        Brick::Dense(Arc::new(DenseBrick { values, signs }))
+    }
+
     /// The sample at local index `l` (0..512).
     #[inline]
     pub fn get(&self, l: usize) -> f32 {
@@ -44,32 +75,54 @@ impl Brick {
         }
     }
 
-    /// Collapses a dense brick whose samples all equal `±band`.
-    pub fn normalized(self, band: f32) -> Brick {
-        if let Brick::Dense(d) = &self {
-            for u in [band, -band] {
-                if d.iter().all(|x| *x == u) {
-                    return Brick::Uniform(u);
-                }
-            }
+    /// The signs (bits [`SIGN_OUT`], [`SIGN_IN`]) of the samples a brick
+    /// `key - o` reads from this one, for each corner offset `o` (index as
+    /// in `CORNER_OFFSETS`): all of them for `o = 0`, otherwise the low
+    /// face, edge or corner sample across which the lower brick's cells
+    /// reach.
+    pub(crate) fn region_signs(&self) -> [u8; 8] {
+        match self {
+            Brick::Uniform(v) => [sign_bit(*v); 8],
+            Brick::Dense(d) => d.signs,
         }
-        self
     }
 
-    /// Whether every sample is inside, every sample outside, or mixed.
+    /// Whether every sample is outside (0), every sample inside (1), or
+    /// mixed (2).
     fn sign_class(&self) -> u8 {
-        match self {
-            Brick::Uniform(v) => (*v < 0.0) as u8,
-            Brick::Dense(d) => {
-                let neg = d.iter().filter(|x| **x < 0.0).count();
-                match neg {
-                    0 => 0,
-                    BRICK_LEN => 1,
-                    _ => 2,
-                }
-            }
+        match self.region_signs()[0] {
+            SIGN_OUT => 0,
+            SIGN_IN => 1,
+            _ => 2,
         }
     }
+}
+
+#[inline]
+fn sign_bit(v: f32) -> u8 {
+    if v < 0.0 {
+        SIGN_IN
+    } else {
+        SIGN_OUT
+    }
+}
+
+fn dense_region_signs(d: &[f32]) -> [u8; 8] {
+    std::array::from_fn(|o| {
+        let range = |a: usize| if o >> a & 1 == 1 { 0..1 } else { 0..BRICK };
+        let mut s = 0u8;
+        for z in range(2) {
+            for y in range(1) {
+                for x in range(0) {
+                    s |= sign_bit(d[local_index(x, y, z)]);
+                }
+            }
+            if s == SIGN_IN | SIGN_OUT {
+                return s;
+            }
+        }
+        s
+    })
 }
 
 /// Local index of a sample within its brick.
@@ -87,48 +140,6 @@ pub struct SparseGrid {
     pub band: f32,
     /// Stored bricks; absent bricks are uniform `+band`.
     pub bricks: BTreeMap<BrickKey, Brick>,
-}
-
-/// The triangles extracted from the cells of one brick, with vertices
-/// named by their grid edge so that pieces stitch by key.
-///
-/// The first `owned` vertices are the brick's own (their edge's lower
-/// corner, or their cell, lies in the brick), sorted by key; the others lie
-/// on edges starting in a +x/+y/+z neighbour brick, which owns them.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Piece {
-    pub(crate) keys: Vec<VertKey>,
-    pub(crate) positions: Vec<[f64; 3]>,
-    pub(crate) triangles: Vec<[u32; 3]>,
-    pub(crate) owned: usize,
-}
-
-impl Piece {
-    /// Puts the owned vertices first, sorted by key (see [`Piece`]).
-    fn order_owned_first(&mut self, base: [i32; 3]) {
-        let n = self.keys.len();
-        let mut order: Vec<u32> = (0..n as u32).collect();
-        let owned = |k: &VertKey| (0..3).all(|a| k.at[a] - base[a] < BRICK);
-        order.sort_unstable_by(|&a, &b| {
-            let (ka, kb) = (&self.keys[a as usize], &self.keys[b as usize]);
-            match (owned(ka), owned(kb)) {
-                (true, true) => ka.cmp(kb),
-                (true, false) => std::cmp::Ordering::Less,
-                (false, true) => std::cmp::Ordering::Greater,
-                (false, false) => a.cmp(&b),
-            }
-        });
-        let mut new_of_old = vec![0u32; n];
-        for (new, &old) in order.iter().enumerate() {
-            new_of_old[old as usize] = new as u32;
-        }
-        self.keys = order.iter().map(|&o| self.keys[o as usize]).collect();
-        self.positions = order.iter().map(|&o| self.positions[o as usize]).collect();
-        for t in &mut self.triangles {
-            *t = t.map(|i| new_of_old[i as usize]);
-        }
-        self.owned = self.keys.iter().take_while(|k| owned(k)).count();
-    }
 }
 
 impl SparseGrid {
@@ -185,7 +196,55 @@ impl SparseGrid {
     /// Bricks whose cells may cross the surface: every brick `B` such that
     /// the 8 bricks `B + {0,1}³` (which its cells read) are not all inside
     /// or all outside. Sorted.
+    ///
+    /// When the stored bricks fill their bounding box reasonably (any
+    /// single compact model does), the sign classes go into a dense array
+    /// over the box and every candidate is tested with 8 array reads;
+    /// otherwise through a hash map of the stored bricks' classes.
     pub fn extraction_bricks(&self) -> Vec<BrickKey> {
+        let Some((lo, dims)) = self.candidate_box() else {
+            return self.extraction_bricks_sparse();
+        };
+        let volume = dims[0] * dims[1] * dims[2];
+        let index = |k: [i32; 3]| -> usize {
+            let l = [0, 1, 2].map(|a| (k[a] - lo[a]) as usize);
+            (l[0] * dims[1] + l[1]) * dims[2] + l[2]
+        };
+        let stored: Vec<(&BrickKey, &Brick)> = self.bricks.iter().collect();
+        let classes: Vec<u8> = stored.par_iter().map(|(_, b)| b.sign_class()).collect();
+        let mut class = vec![0u8; volume];
+        for ((k, _), c) in stored.iter().zip(classes) {
+            class[index(**k)] = c;
+        }
+        // x-major order, as `BrickKey`s sort.
+        (0..dims[0])
+            .into_par_iter()
+            .flat_map_iter(|x| {
+                let class = &class;
+                (0..dims[1]).flat_map(move |y| {
+                    (0..dims[2]).filter_map(move |z| {
+                        let mut seen = 0u8;
+                        for o in super::mc::CORNER_OFFSETS {
+                            let l = [x + o[0] as usize, y + o[1] as usize, z + o[2] as usize];
+                            let c = if l[0] < dims[0] && l[1] < dims[1] && l[2] < dims[2] {
+                                class[(l[0] * dims[1] + l[1]) * dims[2] + l[2]]
+                            } else {
+                                0
+                            };
+                            seen |= 1 << c;
+                        }
+                        (seen & 4 != 0 || seen == 3).then_some([
+                            lo[0] + x as i32,
+                            lo[1] + y as i32,
+                            lo[2] + z as i32,
+                        ])
+                    })
+                })
+            })
+            .collect()
+    }
+
+    fn extraction_bricks_sparse(&self) -> Vec<BrickKey> {
         let classes: std::collections::HashMap<BrickKey, u8, super::mc::BuildKeyHasher> = self
             .bricks
             .par_iter()
@@ -229,187 +288,21 @@ impl SparseGrid {
         seen[2] || (seen[0] && seen[1])
     }
 
-    /// Marching cubes over the 8³ cells whose lower corner lies in brick
-    /// `key` (reading one sample layer of the +x/+y/+z neighbours).
-    pub fn extract_brick(&self, key: BrickKey) -> Piece {
-        const N: usize = BRICK as usize + 1;
-        const B: usize = BRICK as usize;
-        let mut block = [0f32; N * N * N];
-        // The 9³ block: brick `key` plus one sample layer of its +x/+y/+z
-        // neighbours, filled region by region (one match per region).
-        for o in super::mc::CORNER_OFFSETS.iter() {
-            let nb = self
-                .bricks
-                .get(&[key[0] + o[0], key[1] + o[1], key[2] + o[2]]);
-            let range = |a: usize| if o[a] == 0 { 0..B } else { B..N };
-            for z in range(2) {
-                for y in range(1) {
-                    let row = N * (y + N * z);
-                    let lrow = (y % B) * B + (z % B) * B * B;
-                    for x in range(0) {
-                        block[row + x] = match nb {
-                            None => self.band,
-                            Some(Brick::Uniform(v)) => *v,
-                            Some(Brick::Dense(d)) => d[lrow + x % B],
-                        };
-                    }
-                }
+    /// The box of candidate bricks (one below the stored ones) as its
+    /// lowest key and size, when the stored bricks fill it well enough for
+    /// a dense index (any single compact model does); `None` otherwise.
+    pub(crate) fn candidate_box(&self) -> Option<([i32; 3], [usize; 3])> {
+        let first = *self.bricks.keys().next()?;
+        let (mut lo, mut hi) = (first, first);
+        for k in self.bricks.keys() {
+            for a in 0..3 {
+                lo[a] = lo[a].min(k[a]);
+                hi[a] = hi[a].max(k[a]);
             }
         }
-        let base = key.map(|k| k * BRICK);
-        let mut sink = PieceSink::new(base);
-        // Per (y, z) row: inside counts of the 4-sample columns, so a cell's
-        // count is the sum of two columns (cells without a crossing are
-        // skipped after two loads).
-        let mut cols = [0u8; N];
-        for z in 0..B {
-            for y in 0..B {
-                let r = [
-                    N * (y + N * z),
-                    N * (y + 1 + N * z),
-                    N * (y + N * (z + 1)),
-                    N * (y + 1 + N * (z + 1)),
-                ];
-                for (x, c) in cols.iter_mut().enumerate() {
-                    *c = r.iter().map(|&r| (block[r + x] < 0.0) as u8).sum();
-                }
-                for x in 0..B {
-                    let s = cols[x] + cols[x + 1];
-                    if s == 0 || s == 8 {
-                        continue;
-                    }
-                    let mut v = [0f32; 8];
-                    for (c, o) in super::mc::CORNER_OFFSETS.iter().enumerate() {
-                        v[c] = block[(x + o[0] as usize)
-                            + N * ((y + o[1] as usize) + N * (z + o[2] as usize))];
-                    }
-                    let cell = [base[0] + x as i32, base[1] + y as i32, base[2] + z as i32];
-                    polygonize(cell, &v, self.step, &mut sink);
-                }
-            }
-        }
-        let mut piece = sink.piece;
-        piece.order_owned_first(base);
-        piece
+        let lo = lo.map(|c| c - 1);
+        let dims = [0, 1, 2].map(|a| (hi[a] - lo[a] + 1) as usize);
+        let volume = dims[0] * dims[1] * dims[2];
+        (volume <= 64 * self.bricks.len() + 4096).then_some((lo, dims))
     }
-}
-
-/// Builds one brick's piece; edge vertices are found through a table
-/// indexed by the edge's position in the 9³ block instead of a hash map.
-struct PieceSink {
-    base: [i32; 3],
-    slots: Vec<u32>,
-    piece: Piece,
-}
-
-impl PieceSink {
-    fn new(base: [i32; 3]) -> Self {
-        Self {
-            base,
-            slots: vec![u32::MAX; 9 * 9 * 9 * 3],
-            piece: Piece::default(),
-        }
-    }
-}
-
-impl MeshSink for PieceSink {
-    #[inline]
-    fn vertex(&mut self, key: VertKey, pos: impl FnOnce() -> [f64; 3]) -> u32 {
-        let l = [0, 1, 2].map(|a| (key.at[a] - self.base[a]) as usize);
-        let slot = ((l[0] + 9 * (l[1] + 9 * l[2])) * 3) + key.kind as usize;
-        let id = self.slots[slot];
-        if id != u32::MAX {
-            return id;
-        }
-        let n = self.piece.positions.len() as u32;
-        self.slots[slot] = n;
-        self.piece.keys.push(key);
-        self.piece.positions.push(pos());
-        n
-    }
-    fn fresh(&mut self, key: VertKey, pos: [f64; 3]) -> u32 {
-        let n = self.piece.positions.len() as u32;
-        self.piece.keys.push(key);
-        self.piece.positions.push(pos);
-        n
-    }
-    #[inline]
-    fn triangle(&mut self, t: [u32; 3]) {
-        self.piece.triangles.push(t)
-    }
-}
-
-/// Stitches pieces (in key order) into one indexed mesh: vertices with the
-/// same key are one vertex. Each vertex is numbered once, by the piece
-/// that owns it (pieces in key order, owned vertices in key order); a
-/// piece finds the vertices it shares with a +x/+y/+z neighbour by binary
-/// search in that neighbour's owned keys. Pieces are remapped in parallel
-/// and concatenated in order, so the result does not depend on threads.
-pub fn assemble(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let list: Vec<(BrickKey, &Piece)> = pieces.iter().map(|(k, p)| (*k, p.as_ref())).collect();
-    let mut offsets = Vec::with_capacity(list.len());
-    let mut positions = Vec::with_capacity(list.iter().map(|(_, p)| p.owned).sum());
-    for (_, p) in &list {
-        offsets.push(positions.len() as u32);
-        positions.extend_from_slice(&p.positions[..p.owned]);
-    }
-    // A shared vertex not found in its owner (a piece set that is not
-    // closed under the extraction rule) gets u32::MAX and is numbered below.
-    let find = |key: &VertKey, brick: BrickKey| -> u32 {
-        let owner = [0, 1, 2].map(|a| brick[a] + (key.at[a] - brick[a] * BRICK >= BRICK) as i32);
-        list.binary_search_by(|(k, _)| k.cmp(&owner))
-            .ok()
-            .and_then(|o| {
-                let p = list[o].1;
-                p.keys[..p.owned]
-                    .binary_search(key)
-                    .ok()
-                    .map(|i| offsets[o] + i as u32)
-            })
-            .unwrap_or(u32::MAX)
-    };
-    let remapped: Vec<Vec<[u32; 3]>> = list
-        .par_iter()
-        .enumerate()
-        .with_min_len(8)
-        .map(|(o, (brick, p))| {
-            let remap: Vec<u32> = (0..p.keys.len())
-                .map(|i| {
-                    if i < p.owned {
-                        offsets[o] + i as u32
-                    } else {
-                        find(&p.keys[i], *brick)
-                    }
-                })
-                .collect();
-            p.triangles
-                .iter()
-                .map(|t| {
-                    t.map(|i| match remap[i as usize] {
-                        u32::MAX => u32::MAX - 1 - i,
-                        id => id,
-                    })
-                })
-                .collect()
-        })
-        .collect();
-    let mut triangles = Vec::with_capacity(remapped.iter().map(Vec::len).sum());
-    let mut orphans: std::collections::HashMap<VertKey, u32, super::mc::BuildKeyHasher> =
-        Default::default();
-    for ((_, p), tris) in list.iter().zip(remapped) {
-        for mut t in tris {
-            for i in &mut t {
-                if *i as usize >= positions.len() {
-                    let local = (u32::MAX - 1 - *i) as usize;
-                    let n = positions.len() as u32;
-                    *i = *orphans.entry(p.keys[local]).or_insert(n);
-                    if *i == n {
-                        positions.push(p.positions[local]);
-                    }
-                }
-            }
-            triangles.push(t);
-        }
-    }
-    (positions, triangles)
 }

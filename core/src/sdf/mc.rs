@@ -49,6 +49,12 @@ pub const EDGE_EPS: f64 = 1.0 / 256.0;
 /// nearly degenerate and triggers the centroid fan.
 const MIN_TWICE_AREA_REL: f64 = 1e-5;
 
+// A loop of three is emitted without the degeneracy check (see
+// `polygonize`): that needs √3·EDGE_EPS² > MIN_TWICE_AREA_REL.
+const _: () = assert!(
+    3.0 * EDGE_EPS * EDGE_EPS * EDGE_EPS * EDGE_EPS > MIN_TWICE_AREA_REL * MIN_TWICE_AREA_REL
+);
+
 /// Corner `c` of a cell sits at offset `(c & 1, c >> 1 & 1, c >> 2 & 1)`.
 pub(crate) const CORNER_OFFSETS: [[i32; 3]; 8] = [
     [0, 0, 0],
@@ -299,6 +305,8 @@ pub(crate) trait MeshSink {
     fn vertex(&mut self, key: VertKey, pos: impl FnOnce() -> [f64; 3]) -> u32;
     /// Index of a fresh vertex (a centroid, owned by one cell).
     fn fresh(&mut self, key: VertKey, pos: [f64; 3]) -> u32;
+    /// The position of vertex `id`.
+    fn position(&self, id: u32) -> [f64; 3];
     /// Emits a triangle, counter-clockwise seen from outside.
     fn triangle(&mut self, t: [u32; 3]);
 }
@@ -338,9 +346,11 @@ pub(crate) fn polygonize<S: MeshSink>(cell: [i32; 3], v: &[f32; 8], step: f64, s
         let off = CORNER_OFFSETS[c as usize];
         let lo = [cell[0] + off[0], cell[1] + off[1], cell[2] + off[2]];
         let (va, vb) = (v[c as usize], v[(c | (1 << axis)) as usize]);
-        let p = edge_vertex(lo, axis as usize, va, vb, step);
-        pos[k] = p;
-        ids[k] = sink.vertex(VertKey { at: lo, kind: axis }, || p);
+        // Computed only by the first cell that meets the vertex.
+        let id = sink.vertex(VertKey { at: lo, kind: axis }, || {
+            edge_vertex(lo, axis as usize, va, vb, step)
+        });
+        ids[k] = id;
     }
     let min_area = MIN_TWICE_AREA_REL * step * step;
     let min_area_sq = min_area * min_area;
@@ -348,10 +358,22 @@ pub(crate) fn polygonize<S: MeshSink>(cell: [i32; 3], v: &[f32; 8], step: f64, s
     for l in 0..case.n_loops as usize {
         let n = case.lens[l] as usize;
         let lid = &ids[begin..begin + n];
-        let lp = &pos[begin..begin + n];
         // Triangles are emitted against the loop direction: loops run
         // counter-clockwise around the inside seen from outside the cube,
         // so reversing makes the normals point out of the solid.
+        if n == 3 {
+            // A loop of three cuts off one corner: its vertices lie on the
+            // corner's three edges at least EDGE_EPS from it, so twice its
+            // area is at least √3·EDGE_EPS² step² (2.6e-5 step²), above
+            // the degeneracy threshold: no check needed.
+            sink.triangle([lid[0], lid[2], lid[1]]);
+            begin += n;
+            continue;
+        }
+        for (k, &id) in lid.iter().enumerate() {
+            pos[k] = sink.position(id);
+        }
+        let lp = &pos[..n];
         let mut fanned = false;
         if case.apex[l] != u8::MAX {
             let a = case.apex[l] as usize;
@@ -413,6 +435,10 @@ impl MeshSink for KeyedMesh {
         self.keys.push(key);
         self.positions.push(pos);
         n
+    }
+    #[inline]
+    fn position(&self, id: u32) -> [f64; 3] {
+        self.positions[id as usize]
     }
     #[inline]
     fn triangle(&mut self, t: [u32; 3]) {

@@ -4,6 +4,7 @@
 //! - [`mc`]: our own watertight marching cubes (§5.1's extraction), the
 //!   core guarantee: a closed oriented 2-manifold, even with exact zeros.
 //! - [`grid`]: the scene SDF as sparse 8³ bricks, narrow band, no extent.
+//! - [`extract`]: extraction brick by brick and stitching into one mesh.
 //! - [`analytic`], [`dense`], [`placement`]: component fields, trilinear
 //!   resampling at `T⁻¹p` (§5.2) and the non-uniform scale correction.
 //! - [`csg`]: union / intersect / subtract in the restricted region (§5.3).
@@ -13,24 +14,25 @@
 //!   pseudo-normal sign), the starter library, the on-disk cache.
 //! - [`ops`]: the `sdf_*` ops.
 //!
-//! ## Measured (scripts/bench/sdf.py, 2 cores, shared machine)
+//! ## Measured (scripts/bench/sdf.py, 2 cores, noisy shared machine)
 //!
-//! One update (all fusions + one extraction) at step 0.01, ms: Cube–Sphere
-//! 11.5 (paper 31), Chair 8.9 (paper 62), Cup 3.7 (paper 61); at 0.006:
-//! 32.7 / 21.1 / 10.6 (paper 110 / 231 / 229). Fusion samples only blocks
-//! the conservative far test (brick, 4³, 2³ with the √3 Lipschitz bound of
-//! trilinear grids) cannot prove uniform. About equal to NumPy fusion +
-//! scikit-image on the same grids (whose fusion is handed operands already
-//! resampled), 3–5× slower than fast-surface-nets alone (not manifold-safe).
-//! Full-grid extraction of a sphere minus a torus: 3.4–5.7× a single-thread
-//! "classify the cells" floor measured in the same run (goal 2×, not met),
-//! 2.4–2.6× faster than scikit-image.
+//! One update (all fusions + one extraction) at step 0.01: Cube–Sphere
+//! 6.4–8.5 ms (paper 31), Chair 4.5–5.8 (paper 62), Cup 1.9–2.9 (paper
+//! 61); at 0.006 about 18 / 12 / 6–7 ms (paper 110 / 231 / 229). 1.1–1.9×
+//! faster than NumPy fusion + scikit-image on the same grids (whose
+//! fusion is handed operands already resampled). Full-grid extraction of
+//! a sphere minus a torus, against a single-thread "classify every cell"
+//! pass over the dense grid measured in the same runs: 128³ in 1.8–2.6×
+//! (3.4× on one thread), 256³ in 1.1–1.5× (1.9× on one thread); 5–10×
+//! faster than scikit-image, 1.5–3× faster than fast-surface-nets (which
+//! is not manifold-safe).
 
 pub mod analytic;
 pub mod cache;
 pub mod csg;
 pub mod dense;
 mod error;
+pub mod extract;
 pub mod grid;
 pub mod library;
 pub mod mc;

@@ -18,7 +18,8 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::csg::{brick_count_in_box, fuse, CsgOp};
-use super::grid::{assemble, BrickKey, Piece, SparseGrid, BRICK_LEN};
+use super::extract::{assemble, Piece};
+use super::grid::{BrickKey, SparseGrid, BRICK_LEN};
 use super::library::{cached_component_sdf, starter_sdf};
 use super::placement::{LocalField, PlacedField};
 use super::SdfError;
@@ -204,8 +205,7 @@ impl SdfVolume {
             fuse(&mut grid, &f, o.csg);
             check_budget(&grid)?;
         }
-        let keys = grid.extraction_bricks();
-        let pieces = extract_keys(&grid, &keys);
+        let pieces = grid.extract_all();
         let mesh = Arc::new(stitch(&pieces));
         Ok(VolumeState { grid, pieces, mesh })
     }
@@ -311,35 +311,8 @@ pub fn extract_keys(grid: &SparseGrid, keys: &[BrickKey]) -> BTreeMap<BrickKey, 
         .collect()
 }
 
-/// Stitches pieces into the volume's mesh (normals computed).
+/// Stitches pieces into the volume's mesh, with the field's gradient as
+/// the vertex normals (computed by the owning brick).
 pub fn stitch(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> TriMesh {
-    let (p, t) = assemble(pieces);
-    // Area-weighted face normals (cheaper than angle weights, no acos), in
-    // parallel; summed per vertex in triangle order (same bits on any
-    // number of threads).
-    let face: Vec<crate::math::DVec3> = t
-        .par_iter()
-        .with_min_len(1024)
-        .map(|tri| {
-            let [a, b, c] = tri.map(|i| crate::math::DVec3::from_array(p[i as usize]));
-            (b - a).cross(c - a)
-        })
-        .collect();
-    let mut normals = vec![[0.0f64; 3]; p.len()];
-    for (tri, n) in t.iter().zip(&face) {
-        for &i in tri {
-            let o = &mut normals[i as usize];
-            *o = [o[0] + n.x, o[1] + n.y, o[2] + n.z];
-        }
-    }
-    normals.par_iter_mut().with_min_len(1024).for_each(|n| {
-        let v = crate::math::DVec3::from_array(*n);
-        *n = v
-            .try_normalize()
-            .unwrap_or(crate::math::DVec3::Z)
-            .to_array();
-    });
-    let mut m = TriMesh::new(p, t);
-    m.normals = normals;
-    m
+    assemble(pieces)
 }

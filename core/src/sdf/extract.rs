@@ -1,0 +1,600 @@
+//! Surface extraction from the sparse grid (paper 2 §5.1, "extract the
+//! zero level set"), brick by brick, and the stitching of the bricks'
+//! pieces into one mesh. The cell polygons come from [`super::mc`].
+//!
+//! - Each brick's cells read a 9³ block (the brick plus one sample layer
+//!   of its +x/+y/+z neighbours). The bricks' per-region signs, computed
+//!   when a brick is made, say whether a block changes sign at all, so
+//!   blocks without surface are never loaded.
+//! - Vertices are named by their slot in the brick's vertex table (see
+//!   [`Piece`]): found by a stamped table instead of a hash map, owned by
+//!   exactly one brick, numbered in slot order, so that a piece depends on
+//!   its block alone and incremental extraction equals a full one.
+//! - Normals are the gradient of the field (the trilinear interpolant of a
+//!   canonical cell), computed by the owning brick: no pass over the
+//!   stitched triangles.
+//! - [`SparseGrid::extract_all`] gives every candidate brick its 8
+//!   neighbours through a dense index over the bricks' bounding box, in
+//!   one parallel pass.
+//!
+//! Measured (`scripts/bench/sdf.py`, sphere minus torus, 2 threads):
+//! 128³ in about 1.8× and 256³ in about 1.1× a single-thread "classify
+//! every cell" pass over the dense grid.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use super::grid::{Brick, BrickKey, SparseGrid, BRICK, BRICK_LEN, SIGN_IN, SIGN_OUT};
+use super::mc::{polygonize, MeshSink, VertKey};
+use crate::mesh::TriMesh;
+
+/// The triangles extracted from the cells of one brick, with vertices
+/// named by their slot in the brick's vertex table, so that pieces stitch
+/// by slot.
+///
+/// A brick's vertex table numbers the crossing vertex on the grid edge
+/// with lower corner `l` (local, `0..=8` per axis) along axis `a` as
+/// `(l.x + 9 (l.y + 9 l.z)) 3 + a`, and the centroid vertex of loop `k` of
+/// cell `c` (local index) as [`EDGE_SLOTS`]` + 4 c + k`. The brick *owns*
+/// its centroids and the edge vertices with `l < 8` on every axis; the
+/// others lie on edges starting in a +x/+y/+z neighbour brick, which owns
+/// them. The first `slots.len()` vertices are the owned ones, in slot
+/// order; the rest are shared, each naming its owner and its slot there.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Piece {
+    /// Slots of the owned vertices, increasing.
+    pub(crate) slots: Vec<u32>,
+    /// Positions of all vertices: owned first, then shared.
+    pub(crate) positions: Vec<[f64; 3]>,
+    /// Unit normals of the owned vertices (the gradient of the field).
+    pub(crate) normals: Vec<[f64; 3]>,
+    /// Per shared vertex: its owner (bit `a` set: `+1` along axis `a`)
+    /// and its slot in the owner's table.
+    pub(crate) shared: Vec<(u8, u32)>,
+    /// Triangles, counter-clockwise seen from outside.
+    pub(crate) triangles: Vec<[u32; 3]>,
+}
+
+/// Samples per edge of the block a brick's cells read.
+const N: usize = BRICK as usize + 1;
+/// Slots of edge vertices in a brick's vertex table (see [`Piece`]).
+pub const EDGE_SLOTS: u32 = (N * N * N * 3) as u32;
+const SLOTS: usize = EDGE_SLOTS as usize + BRICK_LEN * 4;
+
+/// The gradient of the trilinear interpolant of a cell's samples `c`
+/// (corner `i` at offset `(i & 1, i >> 1 & 1, i >> 2 & 1)`) at the local
+/// fractions `f`, in units of 1/step.
+fn cell_gradient(c: &[f32; 8], f: [f64; 3]) -> [f64; 3] {
+    let v = c.map(f64::from);
+    let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
+    let [x, y, z] = f;
+    let gx = lerp(
+        lerp(v[1] - v[0], v[3] - v[2], y),
+        lerp(v[5] - v[4], v[7] - v[6], y),
+        z,
+    );
+    let gy = lerp(
+        lerp(v[2] - v[0], v[3] - v[1], x),
+        lerp(v[6] - v[4], v[7] - v[5], x),
+        z,
+    );
+    let gz = lerp(
+        lerp(v[4] - v[0], v[5] - v[1], x),
+        lerp(v[6] - v[2], v[7] - v[3], x),
+        y,
+    );
+    [gx, gy, gz]
+}
+
+fn unit_or_z(g: [f64; 3]) -> [f64; 3] {
+    let l = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
+    if l > 0.0 && l.is_finite() {
+        let inv = 1.0 / l;
+        g.map(|x| x * inv)
+    } else {
+        [0.0, 0.0, 1.0]
+    }
+}
+
+/// Per-thread scratch of brick extraction: the 9³ block, the vertex
+/// table (reset by a generation stamp instead of clearing) and the
+/// temporary buffers, reused from brick to brick.
+struct Scratch {
+    block: [f32; N * N * N],
+    stamp: Vec<u32>,
+    id: Vec<u32>,
+    generation: u32,
+    slot: Vec<u32>,
+    positions: Vec<[f64; 3]>,
+    triangles: Vec<[u32; 3]>,
+    order: Vec<u64>,
+    new_of_old: Vec<u32>,
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch {
+        block: [0.0; N * N * N],
+        stamp: vec![0; SLOTS],
+        id: vec![0; SLOTS],
+        generation: 0,
+        slot: Vec::new(),
+        positions: Vec::new(),
+        triangles: Vec::new(),
+        order: Vec::new(),
+        new_of_old: Vec::new(),
+    });
+}
+
+/// Builds one brick's piece: vertices get temporary ids in creation order
+/// and are renumbered (owned in slot order, then shared) at the end.
+struct PieceSink<'a> {
+    base: [i32; 3],
+    inv_step: f64,
+    sc: &'a mut Scratch,
+}
+
+#[inline]
+fn block_index(l: [usize; 3]) -> usize {
+    l[0] + N * (l[1] + N * l[2])
+}
+
+impl PieceSink<'_> {
+    /// The unit normal of an owned vertex: the gradient of the trilinear
+    /// interpolant of the cell at the vertex's edge's lower corner (a
+    /// canonical cell, so the normal does not depend on which cell met the
+    /// vertex first), or of the centroid's own cell.
+    fn normal(&self, slot: u32, pos: [f64; 3]) -> [f64; 3] {
+        let b = &self.sc.block;
+        if slot >= EDGE_SLOTS {
+            let cell = ((slot - EDGE_SLOTS) / 4) as usize;
+            let bs = BRICK as usize;
+            let l = [cell % bs, cell / bs % bs, cell / (bs * bs)];
+            let mut c = [0f32; 8];
+            for (i, o) in super::mc::CORNER_OFFSETS.iter().enumerate() {
+                c[i] = b[block_index([0, 1, 2].map(|a| l[a] + o[a] as usize))];
+            }
+            let f = [0, 1, 2].map(|a| pos[a] * self.inv_step - (self.base[a] + l[a] as i32) as f64);
+            return unit_or_z(cell_gradient(&c, f));
+        }
+        let e = (slot / 3) as usize;
+        let axis = (slot % 3) as usize;
+        let l = [e % N, e / N % N, e / (N * N)];
+        let mut l1 = l;
+        l1[axis] += 1;
+        let (i0, i1) = (block_index(l), block_index(l1));
+        let (v0, v1) = (b[i0] as f64, b[i1] as f64);
+        // Where the vertex lies along its edge (read back from its
+        // position: a multiply instead of the division that placed it).
+        let t = pos[axis] * self.inv_step - (self.base[axis] + l[axis] as i32) as f64;
+        let mut g = [0.0; 3];
+        for (a, ga) in g.iter_mut().enumerate() {
+            *ga = if a == axis {
+                v1 - v0
+            } else {
+                let stride = [1, N, N * N][a];
+                let d0 = b[i0 + stride] as f64 - v0;
+                let d1 = b[i1 + stride] as f64 - v1;
+                d0 + (d1 - d0) * t
+            };
+        }
+        unit_or_z(g)
+    }
+
+    fn push(&mut self, slot: u32, pos: [f64; 3]) -> u32 {
+        let sc = &mut *self.sc;
+        let n = sc.positions.len() as u32;
+        sc.stamp[slot as usize] = sc.generation;
+        sc.id[slot as usize] = n;
+        sc.slot.push(slot);
+        sc.positions.push(pos);
+        n
+    }
+
+    /// Renumbers the vertices (owned first, in slot order) into a piece.
+    fn finish(self) -> Piece {
+        let n = self.sc.positions.len();
+        self.sc.order.clear();
+        let mut n_shared = 0;
+        for (t, &slot) in self.sc.slot.iter().enumerate() {
+            if is_owned(slot) {
+                self.sc.order.push((slot as u64) << 32 | t as u64);
+            } else {
+                n_shared += 1;
+            }
+        }
+        self.sc.order.sort_unstable();
+        let n_owned = self.sc.order.len();
+        let mut piece = Piece {
+            slots: Vec::with_capacity(n_owned),
+            positions: Vec::with_capacity(n),
+            normals: Vec::with_capacity(n_owned),
+            shared: Vec::with_capacity(n_shared),
+            triangles: Vec::with_capacity(self.sc.triangles.len()),
+        };
+        self.sc.new_of_old.clear();
+        self.sc.new_of_old.resize(n, 0);
+        for k in 0..n_owned {
+            let o = self.sc.order[k];
+            let t = (o & 0xffff_ffff) as usize;
+            let slot = (o >> 32) as u32;
+            self.sc.new_of_old[t] = k as u32;
+            let p = self.sc.positions[t];
+            piece.slots.push(slot);
+            piece.positions.push(p);
+            piece.normals.push(self.normal(slot, p));
+        }
+        let sc = &mut *self.sc;
+        for (t, &slot) in sc.slot.iter().enumerate() {
+            if !is_owned(slot) {
+                let (owner, there) = slot_owner(slot);
+                sc.new_of_old[t] = piece.positions.len() as u32;
+                piece.positions.push(sc.positions[t]);
+                piece.shared.push((owner, there));
+            }
+        }
+        piece.triangles.extend(
+            sc.triangles
+                .iter()
+                .map(|t| t.map(|i| sc.new_of_old[i as usize])),
+        );
+        piece
+    }
+}
+
+/// Whether the brick owns the vertex in `slot` (a centroid, or an edge
+/// starting inside the brick).
+#[inline]
+fn is_owned(slot: u32) -> bool {
+    if slot >= EDGE_SLOTS {
+        return true;
+    }
+    let e = (slot / 3) as usize;
+    e % N < BRICK as usize && e / N % N < BRICK as usize && e / (N * N) < BRICK as usize
+}
+
+/// The owner of the vertex in `slot` (bit `a`: the +`a` neighbour; 0: the
+/// brick itself) and its slot in the owner's table.
+fn slot_owner(slot: u32) -> (u8, u32) {
+    if slot >= EDGE_SLOTS {
+        return (0, slot);
+    }
+    let cell = (slot / 3) as usize;
+    let axis = slot % 3;
+    let mut l = [cell % N, cell / N % N, cell / (N * N)];
+    let mut owner = 0u8;
+    for (a, c) in l.iter_mut().enumerate() {
+        if *c == BRICK as usize {
+            owner |= 1 << a;
+            *c = 0;
+        }
+    }
+    (owner, (block_index(l) * 3) as u32 + axis)
+}
+
+impl MeshSink for PieceSink<'_> {
+    #[inline]
+    fn vertex(&mut self, key: VertKey, pos: impl FnOnce() -> [f64; 3]) -> u32 {
+        let l = [0, 1, 2].map(|a| (key.at[a] - self.base[a]) as usize);
+        let slot = (block_index(l) * 3) as u32 + key.kind as u32;
+        if self.sc.stamp[slot as usize] == self.sc.generation {
+            return self.sc.id[slot as usize];
+        }
+        self.push(slot, pos())
+    }
+
+    fn fresh(&mut self, key: VertKey, pos: [f64; 3]) -> u32 {
+        let l = [0, 1, 2].map(|a| (key.at[a] - self.base[a]) as usize);
+        let cell = l[0] + BRICK as usize * (l[1] + BRICK as usize * l[2]);
+        self.push(EDGE_SLOTS + (cell * 4) as u32 + (key.kind - 3) as u32, pos)
+    }
+
+    #[inline]
+    fn position(&self, id: u32) -> [f64; 3] {
+        self.sc.positions[id as usize]
+    }
+
+    #[inline]
+    fn triangle(&mut self, t: [u32; 3]) {
+        self.sc.triangles.push(t)
+    }
+}
+
+impl SparseGrid {
+    /// Marching cubes over the 8³ cells whose lower corner lies in brick
+    /// `key` (reading one sample layer of the +x/+y/+z neighbours). A
+    /// block without a sign change is skipped after the loads.
+    pub fn extract_brick(&self, key: BrickKey) -> Piece {
+        let nbs: [Option<&Brick>; 8] = super::mc::CORNER_OFFSETS.map(|o| {
+            self.bricks
+                .get(&[key[0] + o[0], key[1] + o[1], key[2] + o[2]])
+        });
+        self.extract_with(key, &nbs)
+    }
+
+    /// Extracts every brick with surface (in parallel, merged in key
+    /// order), as [`Self::extraction_bricks`] and [`Self::extract_brick`]
+    /// would, but faster: where the stored bricks fill their bounding box
+    /// reasonably, a dense index over the box gives each candidate its 8
+    /// bricks without map lookups, and each brick's per-region signs (the
+    /// whole brick, the low faces, edges and corner that lower neighbours
+    /// read) tell exactly which candidates' 9³ blocks change sign, so no
+    /// block without surface is loaded.
+    pub fn extract_all(&self) -> BTreeMap<BrickKey, Arc<Piece>> {
+        let Some(bbox) = self.candidate_box() else {
+            let keys = self.extraction_bricks();
+            let v: Vec<(BrickKey, Piece)> = keys
+                .par_iter()
+                .with_min_len(2)
+                .map(|k| (*k, self.extract_brick(*k)))
+                .collect();
+            return v
+                .into_iter()
+                .filter(|(_, p)| !p.triangles.is_empty())
+                .map(|(k, p)| (k, Arc::new(p)))
+                .collect();
+        };
+        let (lo, dims) = bbox;
+        let at = |l: [usize; 3]| (l[0] * dims[1] + l[1]) * dims[2] + l[2];
+        let stored: Vec<(&BrickKey, &Brick)> = self.bricks.iter().collect();
+        let mut index = vec![u32::MAX; dims[0] * dims[1] * dims[2]];
+        for (i, (k, _)) in stored.iter().enumerate() {
+            index[at([0, 1, 2].map(|a| (k[a] - lo[a]) as usize))] = i as u32;
+        }
+        let signs: Vec<[u8; 8]> = stored.iter().map(|(_, b)| b.region_signs()).collect();
+        let (index, signs, stored) = (&index, &signs, &stored);
+        // One task per (x, y) column: surface is unevenly spread over x.
+        let v: Vec<(BrickKey, Piece)> = (0..dims[0] * dims[1])
+            .into_par_iter()
+            .flat_map_iter(|xy| {
+                let (x, y) = (xy / dims[1], xy % dims[1]);
+                {
+                    (0..dims[2]).filter_map(move |z| {
+                        let mut nbs: [Option<&Brick>; 8] = [None; 8];
+                        let mut seen = 0u8;
+                        for (c, o) in super::mc::CORNER_OFFSETS.iter().enumerate() {
+                            let l = [x + o[0] as usize, y + o[1] as usize, z + o[2] as usize];
+                            let i = if l[0] < dims[0] && l[1] < dims[1] && l[2] < dims[2] {
+                                index[at(l)]
+                            } else {
+                                u32::MAX
+                            };
+                            if i == u32::MAX {
+                                seen |= SIGN_OUT;
+                            } else {
+                                seen |= signs[i as usize][c];
+                                nbs[c] = Some(stored[i as usize].1);
+                            }
+                        }
+                        if seen != SIGN_OUT | SIGN_IN {
+                            return None;
+                        }
+                        let key = [lo[0] + x as i32, lo[1] + y as i32, lo[2] + z as i32];
+                        let piece = self.extract_with(key, &nbs);
+                        (!piece.triangles.is_empty()).then_some((key, piece))
+                    })
+                }
+            })
+            .collect();
+        v.into_iter().map(|(k, p)| (k, Arc::new(p))).collect()
+    }
+
+    /// Marching cubes over brick `key`'s cells, given the 8 bricks
+    /// `key + {0,1}³` (`None`: absent).
+    fn extract_with(&self, key: BrickKey, nbs: &[Option<&Brick>; 8]) -> Piece {
+        const B: usize = BRICK as usize;
+        // The block changes sign only if the parts of the 8 bricks that
+        // it reads do (absent bricks are outside).
+        let mut seen = 0u8;
+        for (o, nb) in nbs.iter().enumerate() {
+            seen |= nb.map_or(SIGN_OUT, |b| b.region_signs()[o]);
+        }
+        if seen != SIGN_OUT | SIGN_IN {
+            return Piece::default();
+        }
+        SCRATCH.with(|sc| {
+            let sc = &mut *sc.borrow_mut();
+            // The 9³ block: brick `key` plus one sample layer of its
+            // +x/+y/+z neighbours, filled region by region.
+            for (o, nb) in super::mc::CORNER_OFFSETS.iter().zip(nbs) {
+                let range = |a: usize| if o[a] == 0 { 0..B } else { B..N };
+                for z in range(2) {
+                    for y in range(1) {
+                        let row = N * (y + N * z);
+                        let lrow = (y % B) * B + (z % B) * B * B;
+                        // Rows of 8 (this brick's x range) or 1 (the +x
+                        // layer), copied with fixed lengths so that the
+                        // copies inline.
+                        if o[0] == 0 {
+                            let dst: &mut [f32; B] = (&mut sc.block[row..row + B])
+                                .try_into()
+                                .expect("a row of 8");
+                            match nb {
+                                None => *dst = [self.band; B],
+                                Some(Brick::Uniform(v)) => *dst = [*v; B],
+                                Some(Brick::Dense(d)) => {
+                                    *dst = d[lrow..lrow + B].try_into().expect("a row of 8");
+                                }
+                            }
+                        } else {
+                            let v = match nb {
+                                None => self.band,
+                                Some(Brick::Uniform(v)) => *v,
+                                Some(Brick::Dense(d)) => d[lrow],
+                            };
+                            sc.block[row + B] = v;
+                        }
+                    }
+                }
+            }
+            sc.generation = sc.generation.wrapping_add(1);
+            if sc.generation == 0 {
+                sc.stamp.fill(0);
+                sc.generation = 1;
+            }
+            let base = key.map(|k| k * BRICK);
+            sc.slot.clear();
+            sc.positions.clear();
+            sc.triangles.clear();
+            let block = sc.block;
+            let mut sink = PieceSink {
+                base,
+                inv_step: 1.0 / self.step,
+                sc,
+            };
+            // Per (y, z) row: inside counts of the 4-sample columns, so a
+            // cell's count is the sum of two columns (cells without a
+            // crossing are skipped after two loads).
+            let mut cols = [0u8; N];
+            for z in 0..B {
+                for y in 0..B {
+                    let r = [
+                        N * (y + N * z),
+                        N * (y + 1 + N * z),
+                        N * (y + N * (z + 1)),
+                        N * (y + 1 + N * (z + 1)),
+                    ];
+                    for (x, c) in cols.iter_mut().enumerate() {
+                        *c = r.iter().map(|&r| (block[r + x] < 0.0) as u8).sum();
+                    }
+                    for x in 0..B {
+                        let s = cols[x] + cols[x + 1];
+                        if s == 0 || s == 8 {
+                            continue;
+                        }
+                        let mut v = [0f32; 8];
+                        for (c, o) in super::mc::CORNER_OFFSETS.iter().enumerate() {
+                            v[c] = block[(x + o[0] as usize)
+                                + N * ((y + o[1] as usize) + N * (z + o[2] as usize))];
+                        }
+                        let cell = [base[0] + x as i32, base[1] + y as i32, base[2] + z as i32];
+                        polygonize(cell, &v, self.step, &mut sink);
+                    }
+                }
+            }
+            sink.finish()
+        })
+    }
+}
+
+/// Stitches pieces (in key order) into one indexed mesh with normals:
+/// each vertex is numbered once, by the piece that owns it (pieces in key
+/// order, owned vertices in slot order); a piece finds each vertex it
+/// shares with a +x/+y/+z neighbour by binary search of its slot in that
+/// neighbour's owned slots. Every piece writes its own ranges of the
+/// output in parallel, so the result does not depend on threads.
+pub fn assemble(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> TriMesh {
+    let list: Vec<(BrickKey, &Piece)> = pieces.iter().map(|(k, p)| (*k, p.as_ref())).collect();
+    let mut offsets = Vec::with_capacity(list.len());
+    let (mut nv, mut nt) = (0usize, 0usize);
+    for (_, p) in &list {
+        offsets.push((nv as u32, nt));
+        nv += p.slots.len();
+        nt += p.triangles.len();
+    }
+    let mut positions = vec![[0.0f64; 3]; nv];
+    let mut normals = vec![[0.0f64; 3]; nv];
+    let mut triangles = vec![[0u32; 3]; nt];
+    // Each piece's output ranges, split off in order.
+    let mut jobs = Vec::with_capacity(list.len());
+    {
+        let (mut pr, mut nr, mut tr) = (&mut positions[..], &mut normals[..], &mut triangles[..]);
+        for (_, p) in &list {
+            let (a, b) = std::mem::take(&mut pr).split_at_mut(p.slots.len());
+            let (c, d) = std::mem::take(&mut nr).split_at_mut(p.slots.len());
+            let (e, f) = std::mem::take(&mut tr).split_at_mut(p.triangles.len());
+            jobs.push((a, c, e));
+            (pr, nr, tr) = (b, d, f);
+        }
+    }
+    // A shared vertex not found in its owner (a piece set that is not
+    // closed under the extraction rule) is marked and numbered below.
+    let missing = std::sync::atomic::AtomicBool::new(false);
+    jobs.into_par_iter()
+        .enumerate()
+        .with_min_len(8)
+        .for_each(|(o, (pos, nor, tri))| {
+            let (brick, p) = list[o];
+            let owned = p.slots.len();
+            pos.copy_from_slice(&p.positions[..owned]);
+            nor.copy_from_slice(&p.normals);
+            let owners: [Option<usize>; 8] = std::array::from_fn(|bits| {
+                let k = [0, 1, 2].map(|a| brick[a] + (bits >> a & 1) as i32);
+                list.binary_search_by(|(key, _)| key.cmp(&k)).ok()
+            });
+            let base = offsets[o].0;
+            let remap: Vec<u32> = p
+                .shared
+                .iter()
+                .map(|&(bits, slot)| {
+                    owners[bits as usize]
+                        .and_then(|w| {
+                            let q = list[w].1;
+                            q.slots
+                                .binary_search(&slot)
+                                .ok()
+                                .map(|j| offsets[w].0 + j as u32)
+                        })
+                        .unwrap_or_else(|| {
+                            missing.store(true, std::sync::atomic::Ordering::Relaxed);
+                            u32::MAX
+                        })
+                })
+                .collect();
+            for (out, t) in tri.iter_mut().zip(&p.triangles) {
+                *out = t.map(|i| {
+                    let i = i as usize;
+                    if i < owned {
+                        base + i as u32
+                    } else {
+                        remap[i - owned]
+                    }
+                });
+            }
+        });
+    if missing.into_inner() {
+        add_orphans(
+            &list,
+            &offsets,
+            &mut positions,
+            &mut normals,
+            &mut triangles,
+        );
+    }
+    let mut mesh = TriMesh::new(positions, triangles);
+    mesh.normals = normals;
+    mesh
+}
+
+/// Numbers the shared vertices whose owner piece is missing (in piece and
+/// triangle order, so still independent of threads).
+fn add_orphans(
+    list: &[(BrickKey, &Piece)],
+    offsets: &[(u32, usize)],
+    positions: &mut Vec<[f64; 3]>,
+    normals: &mut Vec<[f64; 3]>,
+    triangles: &mut [[u32; 3]],
+) {
+    let mut orphans: std::collections::HashMap<(BrickKey, u32), u32> = Default::default();
+    for (o, (brick, p)) in list.iter().enumerate() {
+        let owned = p.slots.len();
+        let t0 = offsets[o].1;
+        for (k, t) in p.triangles.iter().enumerate() {
+            for (c, &i) in t.iter().enumerate() {
+                if triangles[t0 + k][c] != u32::MAX {
+                    continue;
+                }
+                let (bits, slot) = p.shared[i as usize - owned];
+                let owner = [0, 1, 2].map(|a| brick[a] + (bits >> a & 1) as i32);
+                let n = positions.len() as u32;
+                let id = *orphans.entry((owner, slot)).or_insert(n);
+                if id == n {
+                    positions.push(p.positions[i as usize]);
+                    normals.push([0.0, 0.0, 1.0]);
+                }
+                triangles[t0 + k][c] = id;
+            }
+        }
+    }
+}
