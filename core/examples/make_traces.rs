@@ -1,6 +1,8 @@
 //! Regenerates the hand-gesture traces `tests/data/mug.trace.jsonl` and
-//! `tests/data/teapot.trace.jsonl` from their puppet scripts
-//! (`shapewright::interact::{mug_trace, teapot_trace}`), replays each and
+//! `tests/data/teapot.trace.jsonl`, and the teapot by a controller
+//! (`teapot_controller.trace.jsonl`, buttons for gestures), from their
+//! puppet scripts (`shapewright::interact::{mug_trace, teapot_trace,
+//! teapot_controller_trace}`), replays each and
 //! prints its ops; with `--stl DIR` it also writes the replayed printable
 //! models as `DIR/{mug,teapot}.stl` (to render and look at).
 //!
@@ -9,7 +11,7 @@
 use std::path::PathBuf;
 
 use shapewright::doc::ScriptCommand;
-use shapewright::interact::{mug_trace, replay, teapot_trace};
+use shapewright::interact::{mug_trace, replay, teapot_controller_trace, teapot_trace};
 use shapewright::mesh::{validate, ValidationSettings};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -20,7 +22,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .and_then(|i| args.get(i + 1))
         .map(PathBuf::from);
     let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/data");
-    for (name, trace) in [("mug", mug_trace()), ("teapot", teapot_trace())] {
+    for (name, trace) in [
+        ("mug", mug_trace()),
+        ("teapot", teapot_trace()),
+        ("teapot_controller", teapot_controller_trace()),
+    ] {
         let text = trace.to_jsonl();
         let path = data.join(format!("{name}.trace.jsonl"));
         std::fs::write(&path, &text)?;

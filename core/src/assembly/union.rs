@@ -1,12 +1,18 @@
-//! The evaluated mesh of an assembly: the manifold union of its parts.
+//! The evaluated mesh of an assembly: the manifold union of its parts,
+//! with the inside of its hollow parts kept empty.
 
 use super::AssemblyError;
-use crate::gc::{mesh_gc, GcAssembly};
-use crate::mesh::{union, validate, TriMesh};
+use crate::gc::{cavity_gc, mesh_gc, GcAssembly};
+use crate::mesh::{difference, union, validate, TriMesh};
 
 /// Meshes every part and unites them with `manifold-rust`
-/// ([`crate::mesh::union`], which checks every operand's status); the
-/// result is checked to be a closed oriented 2-manifold. A one-part
+/// ([`crate::mesh::union`], which checks every operand's status), then
+/// keeps the inside of every shell and container empty: the union minus
+/// their cavities ([`cavity_gc`]). So a part's end sunk into a hollow
+/// parent is trimmed at the parent's inner wall, and a hollow child (a
+/// spout) opens its channel through its parent's wall: the teapot pours,
+/// and no sealed void is left where a tube's inside meets a hollow body.
+/// The result is checked to be a closed oriented 2-manifold. A one-part
 /// assembly is its part's mesh (already closed), unchanged.
 pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
     asm.validate()?;
@@ -14,13 +20,23 @@ pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
         return Ok(mesh_gc(&only.gc)?);
     }
     let mut meshes = Vec::with_capacity(asm.parts.len());
+    let mut cavities = Vec::new();
     for (i, p) in asm.parts.iter().enumerate() {
         let mut m = mesh_gc(&p.gc)?;
         m.set_source(i as u32);
         meshes.push(m);
+        if let Some(mut c) = cavity_gc(&p.gc)? {
+            c.set_source(i as u32);
+            cavities.push(c);
+        }
     }
     let refs: Vec<&TriMesh> = meshes.iter().collect();
-    let out = collapse_slivers(union(&refs)?);
+    let mut united = union(&refs)?;
+    if !cavities.is_empty() {
+        let cuts: Vec<&TriMesh> = cavities.iter().collect();
+        united = difference(&united, &cuts)?;
+    }
+    let out = collapse_slivers(united);
     let report = validate(&out, &Default::default());
     // Manifold may leave zero-area slivers; they do not break closedness.
     if !(report.is_closed() && report.non_manifold_vertices == 0 && report.signed_volume > 0.0) {

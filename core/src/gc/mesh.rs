@@ -314,7 +314,19 @@ fn param_at_arc_length(gc: &Gc, from: f64, to: f64, len: f64) -> Option<f64> {
 }
 
 /// Meshes `gc` at its resolution.
-pub fn mesh_gc(gc: &Gc) -> Result<TriMesh, GcError> {
+/// A GC's side surface sampled on the meshing grid.
+struct Sampled {
+    surf: NurbsSurface,
+    us: Vec<f64>,
+    /// Samples per ring.
+    m: usize,
+    /// Ring indices of polygon corners (mitred offsets there).
+    creases: Vec<usize>,
+    vs: Vec<f64>,
+    rows: Vec<Vec<DVec3>>,
+}
+
+fn sample(gc: &Gc) -> Result<Sampled, GcError> {
     let surf = gc.surface()?;
     let res = gc.resolution;
     let mut us = knot_aligned_samples(&surf.knots_u, surf.degree_u, res.u as usize);
@@ -337,63 +349,83 @@ pub fn mesh_gc(gc: &Gc) -> Result<TriMesh, GcError> {
             }
         }
     }
-    let mut b = Builder {
+    Ok(Sampled {
+        surf,
+        us,
         m,
-        ..Default::default()
-    };
-    let nr = rows.len();
-    let outer = b.rows(&rows);
-    let row_base = |base: u32, j: usize| base + (j * m) as u32;
-    b.side(outer, nr, false);
-    match gc.shape {
-        ShapeType::Solid => {
-            b.cap(row_base(outer, 0), &rows[0], false);
-            b.cap(row_base(outer, nr - 1), &rows[nr - 1], true);
-        }
+        creases,
+        vs,
+        rows,
+    })
+}
+
+/// The rings of a hollow GC's inner wall: the side offset inwards by τ,
+/// over the whole spine for a shell, up to the floor (τ of arc length
+/// from the closed end) for a container; `None` for a solid.
+fn inner_wall(gc: &Gc, s: &Sampled) -> Result<Option<Vec<Vec<DVec3>>>, GcError> {
+    let (thickness, closed_end) = match gc.shape {
+        ShapeType::Solid => return Ok(None),
         ShapeType::Shell { thickness } => {
-            let inner_rows = offset_rows(&rows, &vs, thickness, &creases)?;
-            let inner = b.rows(&inner_rows);
-            b.side(inner, nr, true);
-            b.annulus(row_base(outer, 0), row_base(inner, 0), false);
-            b.annulus(row_base(outer, nr - 1), row_base(inner, nr - 1), true);
+            return offset_rows(&s.rows, &s.vs, thickness, &s.creases).map(Some);
         }
         ShapeType::Container {
             thickness,
             closed_end,
-        } => {
-            let (v0, v1) = (vs[0], vs[nr - 1]);
-            let eps = 1e-9 * (v1 - v0);
-            let too_short = || GcError::ThicknessTooLarge {
-                thickness,
-                inscribed_radius: 0.0,
-                v: if closed_end == ClosedEnd::Start {
-                    v0
-                } else {
-                    v1
-                },
-            };
-            let vs_in: Vec<f64> = match closed_end {
-                ClosedEnd::Start => {
-                    let vf = param_at_arc_length(gc, v0, v1, thickness).ok_or_else(too_short)?;
-                    let mut v = vec![vf];
-                    v.extend(vs.iter().copied().filter(|x| *x > vf + eps));
-                    v
-                }
-                ClosedEnd::End => {
-                    let vf = param_at_arc_length(gc, v1, v0, thickness).ok_or_else(too_short)?;
-                    let mut v: Vec<f64> = vs.iter().copied().filter(|x| *x < vf - eps).collect();
-                    v.push(vf);
-                    v
-                }
-            };
-            if vs_in.len() < 2 {
-                return Err(too_short());
-            }
-            let in_src = rows_at(&surf, &us, &vs_in)?;
-            // Offset normals need v-neighbours: check the thickness on the
-            // full outer rows too (inscribed radius of every ring).
-            offset_rows(&rows, &vs, thickness, &creases)?;
-            let inner_rows = offset_rows(&in_src, &vs_in, thickness, &creases)?;
+        } => (thickness, closed_end),
+    };
+    let vs = &s.vs;
+    let nr = vs.len();
+    let (v0, v1) = (vs[0], vs[nr - 1]);
+    let eps = 1e-9 * (v1 - v0);
+    let too_short = || GcError::ThicknessTooLarge {
+        thickness,
+        inscribed_radius: 0.0,
+        v: if closed_end == ClosedEnd::Start {
+            v0
+        } else {
+            v1
+        },
+    };
+    let vs_in: Vec<f64> = match closed_end {
+        ClosedEnd::Start => {
+            let vf = param_at_arc_length(gc, v0, v1, thickness).ok_or_else(too_short)?;
+            let mut v = vec![vf];
+            v.extend(vs.iter().copied().filter(|x| *x > vf + eps));
+            v
+        }
+        ClosedEnd::End => {
+            let vf = param_at_arc_length(gc, v1, v0, thickness).ok_or_else(too_short)?;
+            let mut v: Vec<f64> = vs.iter().copied().filter(|x| *x < vf - eps).collect();
+            v.push(vf);
+            v
+        }
+    };
+    if vs_in.len() < 2 {
+        return Err(too_short());
+    }
+    let in_src = rows_at(&s.surf, &s.us, &vs_in)?;
+    // Offset normals need v-neighbours: check the thickness on the full
+    // outer rows too (inscribed radius of every ring).
+    offset_rows(&s.rows, vs, thickness, &s.creases)?;
+    offset_rows(&in_src, &vs_in, thickness, &s.creases).map(Some)
+}
+
+/// Meshes `gc` to a closed, oriented 2-manifold (see the module doc).
+pub fn mesh_gc(gc: &Gc) -> Result<TriMesh, GcError> {
+    let s = sample(gc)?;
+    let inner = inner_wall(gc, &s)?;
+    let rows = &s.rows;
+    let mut b = Builder {
+        m: s.m,
+        ..Default::default()
+    };
+    let nr = rows.len();
+    let m = s.m;
+    let outer = b.rows(rows);
+    let row_base = |base: u32, j: usize| base + (j * m) as u32;
+    b.side(outer, nr, false);
+    match (gc.shape, inner) {
+        (ShapeType::Container { closed_end, .. }, Some(inner_rows)) => {
             let ni = inner_rows.len();
             let inner = b.rows(&inner_rows);
             b.side(inner, ni, true);
@@ -410,11 +442,45 @@ pub fn mesh_gc(gc: &Gc) -> Result<TriMesh, GcError> {
                 }
             }
         }
+        (_, Some(inner_rows)) => {
+            let inner = b.rows(&inner_rows);
+            b.side(inner, nr, true);
+            b.annulus(row_base(outer, 0), row_base(inner, 0), false);
+            b.annulus(row_base(outer, nr - 1), row_base(inner, nr - 1), true);
+        }
+        (_, None) => {
+            b.cap(row_base(outer, 0), &rows[0], false);
+            b.cap(row_base(outer, nr - 1), &rows[nr - 1], true);
+        }
     }
     let mut mesh = TriMesh::new(b.pos, b.tris);
     check_geometry(&mesh)?;
     mesh.compute_normals();
     Ok(mesh)
+}
+
+/// The hollow inside of a shell or container as a closed solid (its inner
+/// wall capped at both ends: the open ends' rims and a container's floor),
+/// or `None` for a solid GC. An assembly keeps this space empty (see
+/// [`crate::assembly::union_mesh`]).
+pub fn cavity_gc(gc: &Gc) -> Result<Option<TriMesh>, GcError> {
+    let s = sample(gc)?;
+    let Some(inner) = inner_wall(gc, &s)? else {
+        return Ok(None);
+    };
+    let mut b = Builder {
+        m: s.m,
+        ..Default::default()
+    };
+    let n = inner.len();
+    let base = b.rows(&inner);
+    b.side(base, n, false);
+    b.cap(base, &inner[0], false);
+    b.cap(base + ((n - 1) * s.m) as u32, &inner[n - 1], true);
+    let mut mesh = TriMesh::new(b.pos, b.tris);
+    check_geometry(&mesh)?;
+    mesh.compute_normals();
+    Ok(Some(mesh))
 }
 
 /// The geometric half of [`crate::mesh::validate`] (the topology is closed

@@ -28,7 +28,7 @@ mod section;
 
 pub use assembly::{GcAssembly, GcPart};
 pub use error::GcError;
-pub use mesh::{inscribed_radius, mesh_gc, samples_between};
+pub use mesh::{cavity_gc, inscribed_radius, mesh_gc, samples_between};
 pub use model::{
     fit_spine, ClosedEnd, Gc, Resolution, ShapeType, Spine, SpineFrames, MAX_SPINE_POINTS,
     RMF_STEPS,

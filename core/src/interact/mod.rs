@@ -9,6 +9,8 @@
 //!
 //! - `input`: per-frame input types and the sanitizing layer.
 //! - `gesture`: the hand gesture classifier (paper 1, §4).
+//! - `controller_hand`: hands made from controllers (buttons choose the
+//!   gesture), for the hand-gesture tool where no hand is tracked.
 //! - `handmodel`: a kinematic hand model, the classifier's labelled test set.
 //! - `bimanual`: handle bar, two-hand scaling, one hand orienting the model.
 //! - `bindings`: controller bindings as data (Blender's layout).
@@ -27,6 +29,7 @@
 mod bimanual;
 mod bindings;
 mod brush_tool;
+mod controller_hand;
 mod csg_tool;
 mod ctl_input;
 #[cfg(test)]
@@ -57,11 +60,15 @@ mod trace_fixture;
 pub use bimanual::{two_hand_scale, HandleBar, ModelFrame, OrientGrab, MIN_BAR, SCALE_RANGE};
 pub use bindings::{ActionItem, ActionMap, ActionType, AxisRegion, Binding, ACTIONS, PROFILES};
 pub use brush_tool::{BrushPreset, BrushTool, BrushToolSettings};
+pub use controller_hand::{controller_gesture, controller_hand, point_tip_offset};
 pub use csg_tool::{CsgTool, CsgToolSettings, SceneOperate};
 pub use curve_tool::{
     CurveMode, CurveNetworkTool, CurvePreview, CurveTarget, CurveToolSettings, DrawPlane,
 };
-pub use gc_tool::{mug_trace, teapot_trace, GcPreview, GcTarget, GcTool, GcToolSettings};
+pub use gc_tool::{
+    mug_controller_trace, mug_trace, teapot_controller_trace, teapot_trace, GcPreview, GcTarget,
+    GcTool, GcToolSettings,
+};
 pub use gesture::{
     score_sequence, Gesture, GestureClassifier, GestureLabel, GestureScore, GestureSettings,
     GestureState, HandFeatures,

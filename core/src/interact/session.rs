@@ -1,10 +1,13 @@
 //! [`Session`]: the per-frame driver both hosts run — sanitizer, one
-//! gesture classifier per hand, and the active tool.
+//! gesture classifier per hand, and the active tool. For a tool that reads
+//! hands, an untracked hand with a controller is made from the controller
+//! ([`super::controller_hand`]).
 
 use crate::doc::{Document, ScriptCommand};
 
+use super::controller_hand::controller_hand;
 use super::gesture::{GestureClassifier, GestureState};
-use super::input::{Frame, InputFrame, Sanitizer};
+use super::input::{Frame, Hand, InputFrame, Sanitizer};
 use super::similarity::Similarity;
 use super::tool::{Preview, Tool, ToolContext};
 
@@ -37,7 +40,17 @@ impl Session {
     /// Feeds one raw frame. A frame the sanitizer rejects changes nothing
     /// and returns `None`.
     pub fn step(&mut self, raw: &InputFrame, doc: &Document) -> Option<ScriptCommand> {
-        let frame = self.sanitizer.accept(raw)?;
+        let mut frame = self.sanitizer.accept(raw)?;
+        if self.tool.uses_hands() {
+            for hand in Hand::BOTH {
+                let i = hand.index();
+                if frame.hands[i].is_none() {
+                    frame.hands[i] = frame.controllers[i]
+                        .as_ref()
+                        .and_then(|c| controller_hand(c, hand));
+                }
+            }
+        }
         for (i, c) in self.classifiers.iter_mut().enumerate() {
             self.gestures[i] = c.update(frame.time, frame.hands[i].as_ref(), frame.head.as_ref());
         }

@@ -140,6 +140,12 @@ pub trait Tool {
     fn cancel(&mut self);
     /// What to render now.
     fn preview(&self) -> &Preview;
+    /// Whether the tool reads tracked hands (their gestures): then a hand
+    /// the runtime does not track is made from its controller
+    /// ([`super::controller_hand`]).
+    fn uses_hands(&self) -> bool {
+        false
+    }
 }
 
 /// Applies a command to the log.

@@ -65,6 +65,28 @@ pub fn union(meshes: &[&TriMesh]) -> Result<TriMesh, BooleanError> {
     Ok(export(&result))
 }
 
+/// `a` minus the union of `cutters` (closed meshes), as one closed mesh;
+/// sources as for [`union`] (cutters count from operand index 1).
+pub fn difference(a: &TriMesh, cutters: &[&TriMesh]) -> Result<TriMesh, BooleanError> {
+    let base = import(0, a, a.tri_source.first().copied().unwrap_or(0))?;
+    let mut cuts = Vec::with_capacity(cutters.len());
+    for (i, m) in cutters.iter().enumerate() {
+        if !m.triangles.is_empty() {
+            let source = m.tri_source.first().copied().unwrap_or(i as u32 + 1);
+            cuts.push(import(i + 1, m, source)?);
+        }
+    }
+    if cuts.is_empty() {
+        return Ok(export(&base));
+    }
+    let cut = Manifold::batch_boolean(&cuts, OpType::Add);
+    let result = base.boolean(&cut, OpType::Subtract);
+    if result.status() != ManifoldStatus::NoError {
+        return Err(BooleanError::Failed(format!("{:?}", result.status())));
+    }
+    Ok(export(&result))
+}
+
 /// Imports `m`, tagging its triangles with `source` as their original id
 /// (our ids, not Manifold's global counter, so output is deterministic).
 fn import(index: usize, m: &TriMesh, source: u32) -> Result<Manifold, BooleanError> {

@@ -13,7 +13,7 @@ mod test_meshes;
 mod trimesh;
 mod validate;
 
-pub use boolean::{union, BooleanError};
+pub use boolean::{difference, union, BooleanError};
 pub use error::MeshIoError;
 pub use format::MeshFormat;
 pub use obj::{read_obj, write_obj};

@@ -23,4 +23,4 @@ mod traces;
 pub use settings::GcToolSettings;
 pub use target::GcTarget;
 pub use tool::{GcPreview, GcTool};
-pub use traces::{mug_trace, teapot_trace};
+pub use traces::{mug_controller_trace, mug_trace, teapot_controller_trace, teapot_trace};

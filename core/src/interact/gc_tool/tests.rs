@@ -526,7 +526,10 @@ fn teapot_trace_replays_to_a_printable_teapot() {
             "gc_edit_part",
             "gc_transform_part",
         ],
-        1,
+        // The handle, and the passage in at the spout (its channel opens
+        // through the body's wall) and out past the lid, which rests in
+        // the opening without sealing it.
+        2,
         &teapot_trace(),
     );
     let pot = assembly(&log, 1);
@@ -548,4 +551,38 @@ fn teapot_trace_replays_to_a_printable_teapot() {
     // The lid sits on the body's rim.
     let bottom = lid.parts[0].gc.spine.curve.point(0.0);
     assert!((bottom.z - 0.155).abs() < 0.01, "lid bottom at {bottom}");
+}
+
+/// The same scripts with a controller instead of a tracked hand (buttons
+/// stand for the gestures): the same op sequence, a printable model.
+#[test]
+fn controller_traces_build_the_same_models_as_the_hand_traces() {
+    for (hand, ctl) in [
+        (mug_trace(), super::mug_controller_trace()),
+        (teapot_trace(), super::teapot_controller_trace()),
+    ] {
+        assert!(ctl.frames.iter().all(|f| f.hands == [None, None]));
+        let a = replay(&hand).expect("replay");
+        let b = replay(&ctl).expect("replay");
+        let names = |r: &crate::interact::trace::Replay| -> Vec<&'static str> {
+            r.commands.iter().map(ScriptCommand::name).collect()
+        };
+        assert_eq!(names(&a), names(&b), "{}", ctl.header.note);
+        assert!(b.rejected.is_empty(), "{:?}", b.rejected);
+        let mesh = b.log.document().printable_mesh().expect("union");
+        let rep = validate(&mesh, &ValidationSettings::default());
+        assert!(rep.is_closed_manifold(), "{rep:?}");
+        assert_eq!(rep.components, 1, "{}: {rep:?}", ctl.header.note);
+        let va = validate(
+            &a.log.document().printable_mesh().expect("union"),
+            &Default::default(),
+        )
+        .signed_volume;
+        // The hand jitters, the controller does not: sizes differ a little.
+        assert!(
+            (rep.signed_volume - va).abs() < 0.1 * va,
+            "{} vs {va}",
+            rep.signed_volume
+        );
+    }
 }

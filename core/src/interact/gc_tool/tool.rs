@@ -665,6 +665,10 @@ impl Tool for GcTool {
     fn preview(&self) -> &Preview {
         &self.preview
     }
+
+    fn uses_hands(&self) -> bool {
+        true
+    }
 }
 
 impl GcTool {

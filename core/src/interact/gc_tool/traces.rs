@@ -11,25 +11,30 @@
 
 use crate::math::{DMat3, DQuat, DVec3};
 
+use super::super::controller_hand::point_tip_offset;
 use super::super::gesture::GestureLabel;
 use super::super::handmodel::{hand_pose, HandParams, Rng};
 use super::super::input::{Hand, Joint, Pose};
-use super::super::puppet::Puppet;
+use super::super::puppet::{Button, Puppet};
 use super::super::similarity::Similarity;
 use super::super::trace::{ModelPlacement, Trace};
 
 const FPS: f64 = 25.0;
 const R: Hand = Hand::Right;
 
-/// A right-hand puppet working in model coordinates.
+/// A right-hand puppet working in model coordinates: a tracked hand, or a
+/// controller whose buttons stand for the gestures (see
+/// [`super::super::controller_hand`]).
 pub(super) struct Rig {
     pub(super) p: Puppet,
     place: ModelPlacement,
     model: Similarity,
-    /// Current wrist orientation.
+    /// Current ray orientation: the hand ray (or the aim) along its -Z.
     q: DQuat,
     /// Current palm (world).
     palm: DVec3,
+    /// Drive a controller instead of a tracked hand.
+    controller: bool,
 }
 
 fn local(label: GestureLabel, j: Joint) -> DVec3 {
@@ -50,32 +55,54 @@ fn ray_local() -> DVec3 {
     ((k[0] + k[1] + k[2] + k[3]) * 0.25).normalize()
 }
 
-/// A wrist rotation whose hand ray points along `dir`, back of the hand
-/// up as far as possible.
-fn wrist_rotation(dir: DVec3) -> DQuat {
+/// A rotation whose -Z points along `dir`, +Y up as far as possible.
+fn look_along(dir: DVec3) -> DQuat {
     let z = -dir.normalize();
     let up = if z.y.abs() > 0.95 { DVec3::Z } else { DVec3::Y };
     let x = up.cross(z).normalize();
     let y = z.cross(x);
-    let look = DQuat::from_mat3(&DMat3::from_cols(x, y, z));
-    look * DQuat::from_rotation_arc(ray_local(), DVec3::NEG_Z)
+    DQuat::from_mat3(&DMat3::from_cols(x, y, z))
 }
 
 impl Rig {
     pub(super) fn new(place: ModelPlacement) -> Rig {
+        Self::start(place, false)
+    }
+
+    /// The same puppet holding a controller.
+    pub(super) fn with_controller(place: ModelPlacement) -> Rig {
+        Self::start(place, true)
+    }
+
+    fn start(place: ModelPlacement, controller: bool) -> Rig {
         let model = place.similarity().unwrap_or(Similarity::IDENTITY);
-        let q = wrist_rotation(DVec3::new(0.0, -0.5, -1.0));
+        let q = look_along(DVec3::new(0.0, -0.5, -1.0));
         let palm = DVec3::new(0.15, 1.15, -0.25);
-        let mut p = Puppet::new(FPS);
-        let wrist = Pose::new(palm - q * local(GestureLabel::Open, Joint::Palm), q);
-        p.hand(R, GestureLabel::Open, wrist);
-        p.wait(0.3);
-        Rig {
-            p,
+        let mut r = Rig {
+            p: Puppet::new(FPS),
             place,
             model,
             q,
             palm,
+            controller,
+        };
+        if controller {
+            r.p.controller(R, Pose::new(palm, q));
+        } else {
+            let w = r.wrist();
+            r.p.hand(R, GestureLabel::Open, w);
+        }
+        r.p.wait(0.3);
+        r
+    }
+
+    /// The pose the puppet moves: the wrist of the tracked hand, or the
+    /// controller's aim.
+    fn pose(&self) -> Pose {
+        if self.controller {
+            Pose::new(self.palm, self.q)
+        } else {
+            self.wrist()
         }
     }
 
@@ -84,14 +111,12 @@ impl Rig {
     }
 
     pub(super) fn wrist(&self) -> Pose {
-        Pose::new(
-            self.palm - self.q * local(GestureLabel::Open, Joint::Palm),
-            self.q,
-        )
+        let q = self.q * DQuat::from_rotation_arc(ray_local(), DVec3::NEG_Z);
+        Pose::new(self.palm - q * local(GestureLabel::Open, Joint::Palm), q)
     }
 
     fn go(&mut self, secs: f64) -> &mut Self {
-        let w = self.wrist();
+        let w = self.pose();
         self.p.move_to(R, w, secs);
         self
     }
@@ -99,13 +124,29 @@ impl Rig {
     /// OPEN hand `from` (model offset) of `target`, aiming at it.
     pub(super) fn aim(&mut self, target: DVec3, from: DVec3, secs: f64) -> &mut Self {
         let (t, o) = (self.w(target), self.w(target + from));
-        self.q = wrist_rotation(t - o);
+        self.q = look_along(t - o);
         self.palm = o;
         self.go(secs)
     }
 
+    /// Changes the gesture over `secs`: the hand blends its pose; the
+    /// controller presses the gesture's buttons (then holds still).
     pub(super) fn gesture(&mut self, g: GestureLabel, secs: f64) -> &mut Self {
-        self.p.gesture(R, g, secs);
+        if !self.controller {
+            self.p.gesture(R, g, secs);
+            return self;
+        }
+        let (select, grab, primary) = match g {
+            GestureLabel::Open => (0.0, false, false),
+            GestureLabel::Point => (1.0, false, false),
+            GestureLabel::Fist => (0.0, true, false),
+            GestureLabel::PinchOpen => (0.4, false, true),
+            GestureLabel::PinchClosed => (1.0, false, true),
+        };
+        self.p.set(R, Button::Grab, grab);
+        self.p.set(R, Button::Primary, primary);
+        self.p.trigger(R, select);
+        self.p.wait((secs - 3.0 / FPS).max(1.0 / FPS));
         self
     }
 
@@ -122,9 +163,14 @@ impl Rig {
 
     /// Puts the POINT index tip at `m` (model).
     pub(super) fn pen_to(&mut self, m: DVec3, secs: f64) -> &mut Self {
-        let tip = local(GestureLabel::Point, Joint::IndexTip);
-        let palm = local(GestureLabel::Open, Joint::Palm);
-        self.palm = self.w(m) - self.q * (tip - palm);
+        let offset = if self.controller {
+            self.q * point_tip_offset(R)
+        } else {
+            let tip = local(GestureLabel::Point, Joint::IndexTip);
+            let palm = local(GestureLabel::Open, Joint::Palm);
+            self.wrist().orientation * (tip - palm)
+        };
+        self.palm = self.w(m) - offset;
         self.go(secs)
     }
 
@@ -212,9 +258,18 @@ pub(super) fn outward(angle_deg: f64, dist: f64, up: f64) -> DVec3 {
     ring(dist, angle_deg, up)
 }
 
-/// The mug: a container body with a flared rim and a handle.
+/// The mug: a container body with a flared rim and a handle, by a
+/// tracked hand.
 pub fn mug_trace() -> Trace {
-    let mut r = Rig::new(ModelPlacement::desk());
+    mug(Rig::new(ModelPlacement::desk()))
+}
+
+/// The mug by a controller (buttons for gestures).
+pub fn mug_controller_trace() -> Trace {
+    mug(Rig::with_controller(ModelPlacement::desk()))
+}
+
+fn mug(mut r: Rig) -> Trace {
     // Body: start on the desk, circle r = 4.2 cm, spine 10 cm up.
     let sec = loop_points(
         DVec3::new(0.0, 0.0, 0.02),
@@ -232,15 +287,16 @@ pub fn mug_trace() -> Trace {
         &sec,
         &spine,
     );
-    // Flare the rim by 3 mm (radial FIST on the top section).
+    // Flare the rim by 6 mm (radial FIST on the top section; drags under
+    // the tool's 4 mm minimum are no edit).
     let a = -50.0;
     r.fist_drag(
         ring(0.042, a, 0.097),
         outward(a, 0.18, 0.12),
-        ring(0.003, a, 0.0),
+        ring(0.006, a, 0.0),
     );
     // Open the top: a container (open PINCH on the top section).
-    r.pinch(ring(0.045, a, 0.097), outward(a, 0.18, 0.12));
+    r.pinch(ring(0.048, a, 0.097), outward(a, 0.18, 0.12));
     // Handle on the -x side: section r = 7 mm, spine out and back.
     let o = DVec3::new(-0.042, 0.0, 0.08);
     let n = DVec3::NEG_X;
@@ -259,12 +315,29 @@ pub fn mug_trace() -> Trace {
     );
     create(&mut r, o, DVec3::new(-0.22, -0.1, 0.08), &sec, &spine);
     r.wait(0.3);
-    r.trace("mug by hand gestures: body (create, flare, open top), handle (create on the body)")
+    let how = if r.controller {
+        "a controller"
+    } else {
+        "hand gestures"
+    };
+    r.trace(&format!(
+        "mug by {how}: body (create, flare, open top), handle (create on the body)"
+    ))
 }
 
-/// The teapot of `tests/data/teapot.jsonl`: body, spout, handle and lid.
+/// The teapot of `tests/data/teapot.jsonl` (body, spout, handle and lid)
+/// by a tracked hand.
 pub fn teapot_trace() -> Trace {
-    let mut r = Rig::new(ModelPlacement::desk());
+    teapot(Rig::new(ModelPlacement::desk()))
+}
+
+/// The teapot by a controller (buttons for gestures), as in Blender's VR
+/// session.
+pub fn teapot_controller_trace() -> Trace {
+    teapot(Rig::with_controller(ModelPlacement::desk()))
+}
+
+fn teapot(mut r: Rig) -> Trace {
     let a = -50.0;
     // Body: circle r = 9 cm on the desk, spine 16 cm up (5 sections).
     let sec = loop_points(
@@ -381,5 +454,10 @@ pub fn teapot_trace() -> Trace {
         DVec3::new(-0.3, 0.0, 0.154),
     );
     r.wait(0.3);
-    r.trace("teapot by hand gestures: body (create, shape, open top), spout (create, taper, open), handle, lid (create, dome, insert a knob section, place)")
+    let how = if r.controller {
+        "a controller"
+    } else {
+        "hand gestures"
+    };
+    r.trace(&format!("teapot by {how}: body (create, shape, open top), spout (create, taper, open), handle, lid (create, dome, insert a knob section, place)"))
 }
