@@ -4,7 +4,27 @@ of Blender's undo state and of the saved .blend."""
 from __future__ import annotations
 
 import bpy
-from bpy.props import IntProperty, PointerProperty, StringProperty
+import shapewright as sw
+from bpy.props import EnumProperty, IntProperty, PointerProperty, StringProperty
+
+_TOOL_LABELS = {
+    "object": "Objects",
+    "gc": "Generalized cylinders",
+    "csg": "SDF CSG",
+    "curve": "Curves",
+    "sculpt": "Sculpt",
+}
+_TOOL_HELP = {
+    "object": "Place, move, scale and delete objects",
+    "gc": "Paper 1 by gestures: trigger sketches, grip drags, A/X pinches, a still ray holds",
+    "csg": "Paper 2: components, CSG operands, two-hand scaling",
+    "curve": "Paper 3: draw and style curves, fill patches",
+    "sculpt": "Paper 4: warp brushes, trigger pressure",
+}
+
+# The core's tools as enum items (built here: Blender evaluates the
+# property annotations below where a comprehension cannot see this module).
+_TOOL_ITEMS = [(t, _TOOL_LABELS.get(t, t.title()), _TOOL_HELP.get(t, "")) for t in sw.tool_names()]
 
 
 class ShapewrightSceneProps(bpy.types.PropertyGroup):
@@ -19,9 +39,10 @@ class ShapewrightSceneProps(bpy.types.PropertyGroup):
         description="The last desktop or VR sketch, JSON [[x, y, z], ...] (world space)",
         default="",
     )
-    xr_tool: StringProperty(
+    xr_tool: EnumProperty(
         name="VR tool",
         description="The core tool VR controller actions drive",
+        items=_TOOL_ITEMS,
         default="object",
     )
 

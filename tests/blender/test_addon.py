@@ -35,6 +35,7 @@ def addon_zip() -> Path:
         "typed",
         "sketch_projection",
         "xr_trace",
+        "xr_gc_trace",
         "history_usd",
     ],
 )

@@ -117,6 +117,12 @@ pub(crate) fn action_map_json() -> String {
     ActionMap::default_map().to_json()
 }
 
+/// The names of the core's tools (what `InputSession` takes).
+#[pyfunction]
+pub(crate) fn tool_names() -> Vec<&'static str> {
+    shapewright::interact::TOOL_NAMES.to_vec()
+}
+
 /// The trace format name and version this build reads.
 #[pyfunction]
 pub(crate) fn trace_format() -> (&'static str, u32) {

@@ -27,6 +27,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<interact::InputSession>()?;
     m.add_function(wrap_pyfunction!(interact::action_map_json, m)?)?;
     m.add_function(wrap_pyfunction!(interact::trace_format, m)?)?;
+    m.add_function(wrap_pyfunction!(interact::tool_names, m)?)?;
     m.add_function(wrap_pyfunction!(usd::save_usd, m)?)?;
     m.add_function(wrap_pyfunction!(sdf::library_names, m)?)?;
     m.add_function(wrap_pyfunction!(usd::load_usd, m)?)?;

@@ -374,6 +374,11 @@ fn brush_orienting_hand_turns_and_scales_model_and_brush() {
 
 #[test]
 fn tools_are_named_in_traces() {
-    assert_eq!(super::tool_named("csg").unwrap().name(), "csg");
-    assert_eq!(super::tool_named("sculpt").unwrap().name(), "sculpt");
+    for name in super::TOOL_NAMES {
+        assert_eq!(super::tool_named(name).unwrap().name(), name);
+    }
+    let e = super::tool_named("nope").err().expect("unknown");
+    for name in super::TOOL_NAMES {
+        assert!(e.to_string().contains(name), "{e}");
+    }
 }

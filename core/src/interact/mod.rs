@@ -90,6 +90,6 @@ pub use tool::{
     ToolContext,
 };
 pub use trace::{
-    replay, tool_named, ModelPlacement, Replay, Trace, TraceError, TraceHeader, TRACE_FORMAT,
-    TRACE_VERSION,
+    replay, tool_named, ModelPlacement, Replay, Trace, TraceError, TraceHeader, TOOL_NAMES,
+    TRACE_FORMAT, TRACE_VERSION,
 };

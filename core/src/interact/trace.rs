@@ -122,7 +122,7 @@ pub enum TraceError {
     #[error("trace header: model placement must be finite with a positive scale")]
     Model,
     /// The header names a tool this build does not have.
-    #[error("trace header: unknown tool `{0}` (known: object, csg, sculpt)")]
+    #[error("trace header: unknown tool `{0}` (known: object, gc, csg, curve, sculpt)")]
     UnknownTool(String),
 }
 
@@ -185,6 +185,10 @@ pub struct Replay {
     /// command changes nothing.
     pub rejected: Vec<(usize, LogError)>,
 }
+
+/// The names [`tool_named`] knows: the object tool, the hand-gesture GC
+/// tool (paper 1), and the controller tools of papers 2, 3 and 4.
+pub const TOOL_NAMES: [&str; 5] = ["object", "gc", "csg", "curve", "sculpt"];
 
 /// The tool a header names.
 pub fn tool_named(name: &str) -> Result<Box<dyn Tool>, TraceError> {

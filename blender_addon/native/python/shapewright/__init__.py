@@ -25,6 +25,7 @@ from ._native import (
     load_usd,
     op_names,
     save_usd,
+    tool_names,
     trace_format,
     validate_buffers,
 )
@@ -44,6 +45,7 @@ __all__ = [
     "mesh_arrays",
     "op_names",
     "save_usd",
+    "tool_names",
     "trace_format",
     "validate_arrays",
     "validate_buffers",
