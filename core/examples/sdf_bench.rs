@@ -24,6 +24,7 @@ use fast_surface_nets::ndshape::RuntimeShape;
 use fast_surface_nets::{surface_nets, SurfaceNetsBuffer};
 use shapewright::math::Transform;
 use shapewright::sdf::csg::fuse;
+use shapewright::sdf::features::ExactField;
 use shapewright::sdf::grid::{Brick, SparseGrid, BRICK};
 use shapewright::sdf::volume::stitch;
 use shapewright::sdf::{Component, CsgOp, Operand, SdfVolume};
@@ -237,7 +238,19 @@ fn main() {
     for (name, ops) in workloads {
         for step in [0.012, 0.01, 0.008, 0.006] {
             let mut v = SdfVolume::new(step).expect("step");
-            let placed: Vec<_> = ops.iter().map(|o| v.placed(o).expect("operand")).collect();
+            let placed: Vec<_> = ops
+                .iter()
+                .map(|o| std::sync::Arc::new(v.placed(o).expect("operand")))
+                .collect();
+            // Sharp features with exact normals, as the volume extracts.
+            let exact = ExactField::new(
+                placed
+                    .iter()
+                    .cloned()
+                    .zip(ops.iter().map(|o| o.csg))
+                    .collect(),
+                3.0 * step,
+            );
             let (mut tf, mut te, mut tt) = (Vec::new(), Vec::new(), Vec::new());
             let mut tris = 0;
             let mut grid = SparseGrid::new(step, (3.0 * step) as f32);
@@ -250,7 +263,7 @@ fn main() {
                 let f = s.elapsed().as_secs_f64() * 1e3;
                 let s = Instant::now();
                 // Pieces are kept past the timing, as the volume keeps them.
-                let pieces = g.extract_all();
+                let pieces = g.extract_all(Some(&exact));
                 let m = stitch(&pieces);
                 te.push(s.elapsed().as_secs_f64() * 1e3);
                 drop(pieces);
@@ -333,7 +346,7 @@ fn main() {
         // noisy machine slows both alike; medians of each.
         let extract = || {
             let s = Instant::now();
-            let pieces = g.extract_all();
+            let pieces = g.extract_all(None);
             let m = stitch(&pieces);
             let ms = s.elapsed().as_secs_f64() * 1e3;
             drop(pieces);

@@ -26,8 +26,10 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
+use super::features::{feature_apex, ExactField};
 use super::grid::{Brick, BrickKey, SparseGrid, BRICK, BRICK_LEN, SIGN_IN, SIGN_OUT};
-use super::mc::{polygonize, MeshSink, VertKey};
+use super::mc::{polygonize, MeshSink, VertKey, MIN_TWICE_AREA_REL};
+use crate::math::DVec3;
 use crate::mesh::TriMesh;
 
 /// The triangles extracted from the cells of one brick, with vertices
@@ -55,6 +57,9 @@ pub struct Piece {
     pub(crate) shared: Vec<(u8, u32)>,
     /// Triangles, counter-clockwise seen from outside.
     pub(crate) triangles: Vec<[u32; 3]>,
+    /// The triangles (indices into `triangles`) of feature fans, each with
+    /// its fan vertex first.
+    pub(crate) feature_triangles: Vec<u32>,
 }
 
 /// Samples per edge of the block a brick's cells read.
@@ -109,6 +114,7 @@ struct Scratch {
     slot: Vec<u32>,
     positions: Vec<[f64; 3]>,
     triangles: Vec<[u32; 3]>,
+    feature_triangles: Vec<u32>,
     order: Vec<u64>,
     new_of_old: Vec<u32>,
 }
@@ -122,6 +128,7 @@ thread_local! {
         slot: Vec::new(),
         positions: Vec::new(),
         triangles: Vec::new(),
+        feature_triangles: Vec::new(),
         order: Vec::new(),
         new_of_old: Vec::new(),
     });
@@ -131,7 +138,9 @@ thread_local! {
 /// and are renumbered (owned in slot order, then shared) at the end.
 struct PieceSink<'a> {
     base: [i32; 3],
+    step: f64,
     inv_step: f64,
+    exact: Option<&'a ExactField>,
     sc: &'a mut Scratch,
 }
 
@@ -212,6 +221,7 @@ impl PieceSink<'_> {
             normals: Vec::with_capacity(n_owned),
             shared: Vec::with_capacity(n_shared),
             triangles: Vec::with_capacity(self.sc.triangles.len()),
+            feature_triangles: Vec::new(),
         };
         self.sc.new_of_old.clear();
         self.sc.new_of_old.resize(n, 0);
@@ -239,6 +249,7 @@ impl PieceSink<'_> {
                 .iter()
                 .map(|t| t.map(|i| sc.new_of_old[i as usize])),
         );
+        piece.feature_triangles = sc.feature_triangles.clone();
         piece
     }
 }
@@ -295,8 +306,21 @@ impl MeshSink for PieceSink<'_> {
         self.sc.positions[id as usize]
     }
 
+    fn feature_apex(&mut self, cell: [i32; 3], loop_points: &[[f64; 3]]) -> Option<[f64; 3]> {
+        let lo = DVec3::new(cell[0] as f64, cell[1] as f64, cell[2] as f64) * self.step;
+        let min = MIN_TWICE_AREA_REL * self.step * self.step;
+        feature_apex(self.exact?, lo, self.step, loop_points, min)
+    }
+
     #[inline]
     fn triangle(&mut self, t: [u32; 3]) {
+        self.sc.triangles.push(t)
+    }
+
+    fn feature_triangle(&mut self, t: [u32; 3]) {
+        self.sc
+            .feature_triangles
+            .push(self.sc.triangles.len() as u32);
         self.sc.triangles.push(t)
     }
 }
@@ -304,13 +328,14 @@ impl MeshSink for PieceSink<'_> {
 impl SparseGrid {
     /// Marching cubes over the 8³ cells whose lower corner lies in brick
     /// `key` (reading one sample layer of the +x/+y/+z neighbours). A
-    /// block without a sign change is skipped after the loads.
-    pub fn extract_brick(&self, key: BrickKey) -> Piece {
+    /// block without a sign change is skipped after the loads. With
+    /// `exact`, cells on sharp features keep them ([`super::features`]).
+    pub fn extract_brick(&self, key: BrickKey, exact: Option<&ExactField>) -> Piece {
         let nbs: [Option<&Brick>; 8] = super::mc::CORNER_OFFSETS.map(|o| {
             self.bricks
                 .get(&[key[0] + o[0], key[1] + o[1], key[2] + o[2]])
         });
-        self.extract_with(key, &nbs)
+        self.extract_with(key, &nbs, exact)
     }
 
     /// Extracts every brick with surface (in parallel, merged in key
@@ -321,13 +346,13 @@ impl SparseGrid {
     /// whole brick, the low faces, edges and corner that lower neighbours
     /// read) tell exactly which candidates' 9³ blocks change sign, so no
     /// block without surface is loaded.
-    pub fn extract_all(&self) -> BTreeMap<BrickKey, Arc<Piece>> {
+    pub fn extract_all(&self, exact: Option<&ExactField>) -> BTreeMap<BrickKey, Arc<Piece>> {
         let Some(bbox) = self.candidate_box() else {
             let keys = self.extraction_bricks();
             let v: Vec<(BrickKey, Piece)> = keys
                 .par_iter()
                 .with_min_len(2)
-                .map(|k| (*k, self.extract_brick(*k)))
+                .map(|k| (*k, self.extract_brick(*k, exact)))
                 .collect();
             return v
                 .into_iter()
@@ -371,7 +396,7 @@ impl SparseGrid {
                             return None;
                         }
                         let key = [lo[0] + x as i32, lo[1] + y as i32, lo[2] + z as i32];
-                        let piece = self.extract_with(key, &nbs);
+                        let piece = self.extract_with(key, &nbs, exact);
                         (!piece.triangles.is_empty()).then_some((key, piece))
                     })
                 }
@@ -382,7 +407,12 @@ impl SparseGrid {
 
     /// Marching cubes over brick `key`'s cells, given the 8 bricks
     /// `key + {0,1}³` (`None`: absent).
-    fn extract_with(&self, key: BrickKey, nbs: &[Option<&Brick>; 8]) -> Piece {
+    fn extract_with(
+        &self,
+        key: BrickKey,
+        nbs: &[Option<&Brick>; 8],
+        exact: Option<&ExactField>,
+    ) -> Piece {
         const B: usize = BRICK as usize;
         // The block changes sign only if the parts of the 8 bricks that
         // it reads do (absent bricks are outside).
@@ -437,9 +467,12 @@ impl SparseGrid {
             sc.slot.clear();
             sc.positions.clear();
             sc.triangles.clear();
+            sc.feature_triangles.clear();
             let block = sc.block;
             let mut sink = PieceSink {
                 base,
+                step: self.step,
+                exact,
                 inv_step: 1.0 / self.step,
                 sc,
             };
@@ -562,9 +595,96 @@ pub fn assemble(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> TriMesh {
             &mut triangles,
         );
     }
+    flip_feature_edges(&list, &offsets, &mut positions, &mut triangles);
     let mut mesh = TriMesh::new(positions, triangles);
     mesh.normals = normals;
     mesh
+}
+
+/// Joins the fan vertices of neighbouring feature cells (Kobbelt et al.'s
+/// edge flip): where a feature fan's triangle `(f, a, b)` meets another
+/// fan's `(g, b, a)` across the crossing edge `a b`, the pair becomes
+/// `(f, a, g)`, `(f, g, b)`, so that the sharp edge runs through the fan
+/// vertices instead of zigzagging through the crossings between them.
+/// Each pair of fan vertices is joined once (a second flip would repeat
+/// the edge), and only where the pair stays unfolded; a fan vertex joined
+/// to none goes back to its rim's centroid. In piece and triangle order:
+/// the same on any thread count.
+fn flip_feature_edges(
+    list: &[(BrickKey, &Piece)],
+    offsets: &[(u32, usize)],
+    positions: &mut [[f64; 3]],
+    triangles: &mut [[u32; 3]],
+) {
+    let fans: Vec<usize> = list
+        .iter()
+        .zip(offsets)
+        .flat_map(|((_, p), (_, t0))| p.feature_triangles.iter().map(move |&t| t0 + t as usize))
+        .collect();
+    if fans.is_empty() {
+        return;
+    }
+    // The crossing edge of each fan triangle, directed as the triangle
+    // runs it.
+    let by_edge: std::collections::HashMap<(u32, u32), usize> = fans
+        .iter()
+        .map(|&t| {
+            let [_, a, b] = triangles[t];
+            ((a, b), t)
+        })
+        .collect();
+    let mut joined: std::collections::HashSet<(u32, u32)> = Default::default();
+    let mut flipped: std::collections::HashSet<usize> = Default::default();
+    for &t in &fans {
+        if flipped.contains(&t) {
+            continue;
+        }
+        let [f, a, b] = triangles[t];
+        let Some(&u) = by_edge.get(&(b, a)) else {
+            continue;
+        };
+        let [g, b2, a2] = triangles[u];
+        if flipped.contains(&u) || g == f || (b2, a2) != (b, a) {
+            continue;
+        }
+        // The quad f a g b must stay unfolded: both new triangles face
+        // the way the old pair did.
+        let p = |i: u32| DVec3::from_array(positions[i as usize]);
+        let normal = |t: [u32; 3]| (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
+        let before = normal([f, a, b]) + normal([g, b, a]);
+        if normal([f, a, g]).dot(before) <= 0.0 || normal([f, g, b]).dot(before) <= 0.0 {
+            continue;
+        }
+        if !joined.insert((f.min(g), f.max(g))) {
+            continue;
+        }
+        triangles[t] = [f, a, g];
+        triangles[u] = [f, g, b];
+        flipped.insert(t);
+        flipped.insert(u);
+    }
+    // A fan vertex joined to no other stands alone on its crease (its
+    // neighbours along it found no feature): a spike between chamfers.
+    // It goes back to its rim's centroid, the plain fan.
+    let joined_vertices: std::collections::HashSet<u32> =
+        joined.iter().flat_map(|&(f, g)| [f, g]).collect();
+    let mut rims: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+    for &t in &fans {
+        let [f, a, b] = triangles[t];
+        if !joined_vertices.contains(&f) {
+            let rim = rims.entry(f).or_default();
+            rim.push(a);
+            rim.push(b);
+        }
+    }
+    for (f, mut rim) in rims {
+        rim.sort_unstable();
+        rim.dedup();
+        let c = rim.iter().fold(DVec3::ZERO, |acc, &i| {
+            acc + DVec3::from_array(positions[i as usize])
+        }) / rim.len() as f64;
+        positions[f as usize] = c.to_array();
+    }
 }
 
 /// Numbers the shared vertices whose owner piece is missing (in piece and

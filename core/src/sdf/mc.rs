@@ -47,7 +47,7 @@ pub const EDGE_EPS: f64 = 1.0 / 256.0;
 
 /// A fan triangle with twice its area below this times step² counts as
 /// nearly degenerate and triggers the centroid fan.
-const MIN_TWICE_AREA_REL: f64 = 1e-5;
+pub(crate) const MIN_TWICE_AREA_REL: f64 = 1e-5;
 
 // A loop of three is emitted without the degeneracy check (see
 // `polygonize`): that needs √3·EDGE_EPS² > MIN_TWICE_AREA_REL.
@@ -307,6 +307,16 @@ pub(crate) trait MeshSink {
     fn fresh(&mut self, key: VertKey, pos: [f64; 3]) -> u32;
     /// The position of vertex `id`.
     fn position(&self, id: u32) -> [f64; 3];
+    /// The fan vertex for a single-loop cell on a sharp feature (see
+    /// [`super::features`]), or `None` for the plain fan.
+    fn feature_apex(&mut self, _cell: [i32; 3], _loop_points: &[[f64; 3]]) -> Option<[f64; 3]> {
+        None
+    }
+    /// Emits a triangle of a feature fan (apex first), counter-clockwise
+    /// seen from outside.
+    fn feature_triangle(&mut self, t: [u32; 3]) {
+        self.triangle(t)
+    }
     /// Emits a triangle, counter-clockwise seen from outside.
     fn triangle(&mut self, t: [u32; 3]);
 }
@@ -354,13 +364,58 @@ pub(crate) fn polygonize<S: MeshSink>(cell: [i32; 3], v: &[f32; 8], step: f64, s
     }
     let min_area = MIN_TWICE_AREA_REL * step * step;
     let min_area_sq = min_area * min_area;
+    // Loops across a bent field may sit on a sharp feature: each is fanned
+    // around its feature point when the sink finds one. With several loops
+    // (two sheets in one cell, as on a thin wall's rim) each point must be
+    // nearer its own loop than any other, so the fans stay apart.
+    let mut apex: [Option<[f64; 3]>; 4] = [None; 4];
+    if super::features::nonlinear(v, step) {
+        let mut centroids = [[0.0f64; 3]; 4];
+        let mut begin = 0usize;
+        for l in 0..case.n_loops as usize {
+            let n = case.lens[l] as usize;
+            for (k, &id) in ids[begin..begin + n].iter().enumerate() {
+                pos[k] = sink.position(id);
+            }
+            let c = pos[..n]
+                .iter()
+                .fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]]);
+            centroids[l] = c.map(|x| x / n as f64);
+            apex[l] = sink.feature_apex(cell, &pos[..n]);
+            begin += n;
+        }
+        let d2 =
+            |a: [f64; 3], b: [f64; 3]| (0..3).map(|k| (a[k] - b[k]) * (a[k] - b[k])).sum::<f64>();
+        for l in 0..case.n_loops as usize {
+            if let Some(x) = apex[l] {
+                let own = d2(x, centroids[l]);
+                if (0..case.n_loops as usize).any(|m| m != l && d2(x, centroids[m]) <= own) {
+                    apex[l] = None;
+                }
+            }
+        }
+    }
     let mut begin = 0usize;
-    for l in 0..case.n_loops as usize {
+    for (l, feature) in apex.iter().enumerate().take(case.n_loops as usize) {
         let n = case.lens[l] as usize;
         let lid = &ids[begin..begin + n];
         // Triangles are emitted against the loop direction: loops run
         // counter-clockwise around the inside seen from outside the cube,
         // so reversing makes the normals point out of the solid.
+        if let Some(x) = *feature {
+            let ci = sink.fresh(
+                VertKey {
+                    at: cell,
+                    kind: 3 + l as u8,
+                },
+                x,
+            );
+            for k in 0..n {
+                sink.feature_triangle([ci, lid[(k + 1) % n], lid[k]]);
+            }
+            begin += n;
+            continue;
+        }
         if n == 3 {
             // A loop of three cuts off one corner: its vertices lie on the
             // corner's three edges at least EDGE_EPS from it, so twice its

@@ -17,8 +17,9 @@ use std::sync::{Arc, OnceLock};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::csg::{brick_count_in_box, fuse, CsgOp};
+use super::csg::{brick_count_in_box, bricks_in_box, fuse, CsgOp};
 use super::extract::{assemble, Piece};
+use super::features::ExactField;
 use super::grid::{BrickKey, SparseGrid, BRICK_LEN};
 use super::library::{cached_component_sdf, starter_sdf};
 use super::placement::{LocalField, PlacedField};
@@ -87,6 +88,8 @@ pub struct VolumeState {
     pub pieces: BTreeMap<BrickKey, Arc<Piece>>,
     /// The stitched mesh.
     pub mesh: Arc<TriMesh>,
+    /// The fused operands' fields, for exact normals at sharp features.
+    pub exact: Arc<ExactField>,
 }
 
 /// A scene SDF object.
@@ -200,14 +203,22 @@ impl SdfVolume {
     /// Fuses every fused operand from scratch and extracts every brick.
     pub fn rebuild(&self) -> Result<VolumeState, SdfError> {
         let mut grid = SparseGrid::new(self.step, self.band());
+        let mut fields = Vec::with_capacity(self.fused.len());
         for o in &self.fused {
-            let f = self.placed(o)?;
+            let f = Arc::new(self.placed(o)?);
             fuse(&mut grid, &f, o.csg);
             check_budget(&grid)?;
+            fields.push((f, o.csg));
         }
-        let pieces = grid.extract_all();
+        let exact = Arc::new(ExactField::new(fields, self.band() as f64));
+        let pieces = grid.extract_all(Some(&exact));
         let mesh = Arc::new(stitch(&pieces));
-        Ok(VolumeState { grid, pieces, mesh })
+        Ok(VolumeState {
+            grid,
+            pieces,
+            mesh,
+            exact,
+        })
     }
 
     /// The volume after fusing its pending operands (lazy update, §5.4):
@@ -219,11 +230,19 @@ impl SdfVolume {
         let old = self.state()?;
         let mut grid = old.grid.clone();
         let mut changed = BTreeSet::new();
+        let mut fields = old.exact.fields().to_vec();
         for o in &self.pending {
-            let f = self.placed(o)?;
+            let f = Arc::new(self.placed(o)?);
             changed.extend(fuse(&mut grid, &f, o.csg));
             check_budget(&grid)?;
+            // Exact normals at points in the operand's box may now come
+            // from it, even where no sample changed: its whole box is
+            // re-extracted (only bricks with surface cost anything).
+            let (lo, hi) = f.world_box;
+            changed.extend(bricks_in_box(self.step, lo, hi));
+            fields.push((f, o.csg));
         }
+        let exact = Arc::new(ExactField::new(fields, self.band() as f64));
         let mut dirty = BTreeSet::new();
         for k in &changed {
             for o in super::mc::CORNER_OFFSETS {
@@ -238,12 +257,17 @@ impl SdfVolume {
                 grid.needs_extraction(*k)
             })
             .collect();
-        pieces.extend(extract_keys(&grid, &todo));
+        pieces.extend(extract_keys(&grid, &todo, Some(&exact)));
         let mesh = Arc::new(stitch(&pieces));
         let mut next = self.clone();
         next.fused.append(&mut next.pending);
         next.state = OnceLock::new();
-        let _ = next.state.set(Arc::new(VolumeState { grid, pieces, mesh }));
+        let _ = next.state.set(Arc::new(VolumeState {
+            grid,
+            pieces,
+            mesh,
+            exact,
+        }));
         Ok(next)
     }
 
@@ -299,11 +323,15 @@ fn check_budget(grid: &SparseGrid) -> Result<(), SdfError> {
 
 /// Extracts the bricks `keys` (in parallel, merged in key order); empty
 /// pieces are left out.
-pub fn extract_keys(grid: &SparseGrid, keys: &[BrickKey]) -> BTreeMap<BrickKey, Arc<Piece>> {
+pub fn extract_keys(
+    grid: &SparseGrid,
+    keys: &[BrickKey],
+    exact: Option<&ExactField>,
+) -> BTreeMap<BrickKey, Arc<Piece>> {
     let v: Vec<(BrickKey, Piece)> = keys
         .par_iter()
         .with_min_len(2)
-        .map(|k| (*k, grid.extract_brick(*k)))
+        .map(|k| (*k, grid.extract_brick(*k, exact)))
         .collect();
     v.into_iter()
         .filter(|(_, p)| !p.triangles.is_empty())
