@@ -6,9 +6,9 @@ use crate::gc::{cavity_gc, mesh_gc, GcAssembly};
 use crate::mesh::{difference, union, validate, TriMesh};
 
 /// Meshes every part and unites them with `manifold-rust`
-/// ([`crate::mesh::union`], which checks every operand's status), then
-/// keeps the inside of every shell and container empty: the union minus
-/// their cavities ([`cavity_gc`]). So a part's end sunk into a hollow
+/// ([`crate::mesh::union`], which checks every operand's status), keeping
+/// the inside of every shell and container empty: each part first loses
+/// the cavities ([`cavity_gc`]) of the other parts it reaches into. So a part's end sunk into a hollow
 /// parent is trimmed at the parent's inner wall, and a hollow child (a
 /// spout) opens its channel through its parent's wall: the teapot pours,
 /// and no sealed void is left where a tube's inside meets a hollow body.
@@ -20,22 +20,38 @@ pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
         return Ok(mesh_gc(&only.gc)?);
     }
     let mut meshes = Vec::with_capacity(asm.parts.len());
-    let mut cavities = Vec::new();
+    let mut cavities = Vec::with_capacity(asm.parts.len());
     for (i, p) in asm.parts.iter().enumerate() {
         let mut m = mesh_gc(&p.gc)?;
         m.set_source(i as u32);
         meshes.push(m);
-        if let Some(mut c) = cavity_gc(&p.gc)? {
-            c.set_source(i as u32);
-            cavities.push(c);
+        cavities.push(cavity_gc(&p.gc)?);
+    }
+    // Each part loses the cavities of the other parts it reaches into
+    // (never its own: its inner wall is that cavity's surface, and a
+    // boolean of coincident surfaces is slow and fragile).
+    for (i, mesh) in meshes.iter_mut().enumerate() {
+        let Some((lo, hi)) = mesh.bbox() else {
+            continue;
+        };
+        let cuts: Vec<&TriMesh> = cavities
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| *j != i)
+            .filter_map(|(_, c)| c.as_ref())
+            .filter(|c| {
+                c.bbox()
+                    .is_some_and(|(cl, ch)| cl.cmple(hi).all() && ch.cmpge(lo).all())
+            })
+            .collect();
+        if !cuts.is_empty() {
+            let mut cut = difference(mesh, &cuts)?;
+            cut.set_source(i as u32);
+            *mesh = cut;
         }
     }
     let refs: Vec<&TriMesh> = meshes.iter().collect();
-    let mut united = union(&refs)?;
-    if !cavities.is_empty() {
-        let cuts: Vec<&TriMesh> = cavities.iter().collect();
-        united = difference(&united, &cuts)?;
-    }
+    let united = union(&refs)?;
     let out = collapse_slivers(united);
     let report = validate(&out, &Default::default());
     // Manifold may leave zero-area slivers; they do not break closedness.
