@@ -403,16 +403,7 @@ pub(crate) fn polygonize<S: MeshSink>(cell: [i32; 3], v: &[f32; 8], step: f64, s
         // counter-clockwise around the inside seen from outside the cube,
         // so reversing makes the normals point out of the solid.
         if let Some(x) = *feature {
-            let ci = sink.fresh(
-                VertKey {
-                    at: cell,
-                    kind: 3 + l as u8,
-                },
-                x,
-            );
-            for k in 0..n {
-                sink.feature_triangle([ci, lid[(k + 1) % n], lid[k]]);
-            }
+            fan_around(sink, cell, l, lid, x, true);
             begin += n;
             continue;
         }
@@ -448,19 +439,35 @@ pub(crate) fn polygonize<S: MeshSink>(cell: [i32; 3], v: &[f32; 8], step: f64, s
                     c[d] += p[d];
                 }
             }
-            let c = c.map(|x| x / n as f64);
-            let ci = sink.fresh(
-                VertKey {
-                    at: cell,
-                    kind: 3 + l as u8,
-                },
-                c,
-            );
-            for k in 0..n {
-                sink.triangle([ci, lid[(k + 1) % n], lid[k]]);
-            }
+            fan_around(sink, cell, l, lid, c.map(|x| x / n as f64), false);
         }
         begin += n;
+    }
+}
+
+/// Fans loop `l` of `cell` (vertex ids `lid`) around a new vertex at `x`
+/// owned by the cell: its centroid, or its feature point (`feature`).
+fn fan_around<S: MeshSink>(
+    sink: &mut S,
+    cell: [i32; 3],
+    l: usize,
+    lid: &[u32],
+    x: [f64; 3],
+    feature: bool,
+) {
+    let key = VertKey {
+        at: cell,
+        kind: 3 + l as u8,
+    };
+    let ci = sink.fresh(key, x);
+    let n = lid.len();
+    for k in 0..n {
+        let t = [ci, lid[(k + 1) % n], lid[k]];
+        if feature {
+            sink.feature_triangle(t);
+        } else {
+            sink.triangle(t);
+        }
     }
 }
 
