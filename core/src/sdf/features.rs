@@ -32,7 +32,7 @@
 //!   non-degenerate area; otherwise the cell keeps the plain fan.
 //! - Incremental extraction equals a full one: the fold depends only on the
 //!   point and the operand list, and an update re-extracts every brick
-//!   whose cells meet a new operand's box.
+//!   with surface whose cells meet a new operand's box.
 
 use std::sync::Arc;
 

@@ -211,7 +211,7 @@ impl SparseGrid {
             (l[0] * dims[1] + l[1]) * dims[2] + l[2]
         };
         let stored: Vec<(&BrickKey, &Brick)> = self.bricks.iter().collect();
-        let classes: Vec<u8> = stored.par_iter().map(|(_, b)| b.sign_class()).collect();
+        let classes: Vec<u8> = stored.iter().map(|(_, b)| b.sign_class()).collect();
         let mut class = vec![0u8; volume];
         for ((k, _), c) in stored.iter().zip(classes) {
             class[index(**k)] = c;

@@ -17,10 +17,10 @@ use std::sync::{Arc, OnceLock};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::csg::{brick_count_in_box, bricks_in_box, fuse, CsgOp};
+use super::csg::{brick_count_in_box, fuse, CsgOp};
 use super::extract::{assemble, Piece};
 use super::features::ExactField;
-use super::grid::{BrickKey, SparseGrid, BRICK_LEN};
+use super::grid::{BrickKey, SparseGrid, BRICK, BRICK_LEN};
 use super::library::{cached_component_sdf, starter_sdf};
 use super::placement::{LocalField, PlacedField};
 use super::SdfError;
@@ -236,10 +236,20 @@ impl SdfVolume {
             changed.extend(fuse(&mut grid, &f, o.csg));
             check_budget(&grid)?;
             // Exact normals at points in the operand's box may now come
-            // from it, even where no sample changed: its whole box is
-            // re-extracted (only bricks with surface cost anything).
+            // from it, even where no sample changed: the bricks with
+            // surface there are re-extracted. A block with surface reads a
+            // stored brick, which lies at most one brick beyond the box, so
+            // the stored bricks of the box grown by one brick stand for it
+            // (the box's empty bricks cost nothing).
             let (lo, hi) = f.world_box;
-            changed.extend(bricks_in_box(self.step, lo, hi));
+            let b = BRICK as f64 * self.step;
+            let (klo, khi) = ((lo / b).floor() - 1.0, (hi / b).floor() + 1.0);
+            changed.extend(
+                grid.bricks
+                    .keys()
+                    .copied()
+                    .filter(|k| (0..3).all(|a| (k[a] as f64) >= klo[a] && (k[a] as f64) <= khi[a])),
+            );
             fields.push((f, o.csg));
         }
         let exact = Arc::new(ExactField::new(fields, self.band() as f64));
