@@ -6,9 +6,10 @@ mod common;
 
 use shapewright::doc::ObjectKind;
 use shapewright::math::DVec3;
+use shapewright::nurbs::segment;
 use shapewright::nurbs::uniform_samples as params;
 use shapewright::nurbs::{interpolate, ParamMethod};
-use shapewright_usd::coons::{patch_surface, segment};
+use shapewright_usd::coons::patch_surface;
 use shapewright_usd::parametric::{parts, Part};
 use shapewright_usd::{load_from_str, save_to_string, LoadOptions, Mismatch, SaveOptions};
 

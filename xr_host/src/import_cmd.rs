@@ -71,8 +71,7 @@ pub fn import(args: &ImportArgs) -> Result<()> {
             bail!("--as brush needs --out BRUSH.json");
         };
         let shape = import_brush(&args.file, &options, args.step, 2.0 * args.step)?;
-        std::fs::write(out, serde_json::to_string(&shape)?)
-            .with_context(|| format!("writing {}", out.display()))?;
+        shapewright_xr::files::write_text(out, &serde_json::to_string(&shape)?)?;
         println!("{} -> brush {}", args.file.display(), out.display());
         return Ok(());
     }
@@ -93,8 +92,9 @@ pub fn import(args: &ImportArgs) -> Result<()> {
         },
     };
     let outcome = import_into(&mut log, &args.file, &options, target)?;
-    save_file(into, &log, &SaveOptions::default())
+    let saved = save_file(into, &log, &SaveOptions::default())
         .with_context(|| format!("saving {}", into.display()))?;
+    eprint!("{}", saved.warnings());
     let name = log.ops().last().map_or("?", |op| op.name());
     println!(
         "{} -> {name}{} in {} ({} ops)",
