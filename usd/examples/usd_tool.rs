@@ -140,7 +140,11 @@ fn import_into_doc(
         meters_per_unit: 1.0,
         prefix: prefix.cloned(),
     };
-    let outcome = import_into(&mut log, file, &options, target).map_err(|e| e.to_string())?;
+    let imported = import_into(&mut log, file, &options, target).map_err(|e| e.to_string())?;
+    for note in &imported.flipped {
+        eprintln!("note: {note}");
+    }
+    let outcome = imported.outcome;
     save_file(doc, &log, &SaveOptions::default()).map_err(|e| e.to_string())?;
     let last = log.ops().last().ok_or("no op")?;
     // The mesh as the document holds it: the volume's component, or the

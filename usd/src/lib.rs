@@ -77,7 +77,7 @@ pub use atomic::{save_file, AutosaveSettings, Autosaver, SaveReport};
 pub use check::{ConsistencyReport, Mismatch};
 pub use error::{ImportError, LoadError, SaveError};
 pub use import::{import_file, ImportOptions, ImportedMesh};
-pub use import_op::{import_brush, import_into, ImportTarget};
+pub use import_op::{import_brush, import_combined, import_into, Combined, ImportTarget, Imported};
 pub use load::{
     load_file, load_from_bytes, load_from_data, load_from_str, read_layer, LoadOptions, Loaded,
     SnapshotUse,

@@ -70,7 +70,10 @@ pub fn import(args: &ImportArgs) -> Result<()> {
         let Some(out) = &args.out else {
             bail!("--as brush needs --out BRUSH.json");
         };
-        let shape = import_brush(&args.file, &options, args.step, 2.0 * args.step)?;
+        let (shape, flipped) = import_brush(&args.file, &options, args.step, 2.0 * args.step)?;
+        for note in flipped {
+            eprintln!("note: {note}");
+        }
         shapewright_xr::files::write_text(out, &serde_json::to_string(&shape)?)?;
         println!("{} -> brush {}", args.file.display(), out.display());
         return Ok(());
@@ -91,7 +94,11 @@ pub fn import(args: &ImportArgs) -> Result<()> {
             transform: Transform::default(),
         },
     };
-    let outcome = import_into(&mut log, &args.file, &options, target)?;
+    let imported = import_into(&mut log, &args.file, &options, target)?;
+    for note in &imported.flipped {
+        eprintln!("note: {note}");
+    }
+    let outcome = imported.outcome;
     let saved = save_file(into, &log, &SaveOptions::default())
         .with_context(|| format!("saving {}", into.display()))?;
     eprint!("{}", saved.warnings());
