@@ -15,7 +15,10 @@
 //!   (+90° about X, as Blender's importer does).
 //!
 //! Bad data (indices out of range, counts that do not add up, non-finite
-//! points, unknown xformOps) is an [`ImportError`] naming the prim.
+//! points, unknown xformOps) is an [`ImportError`] naming the prim. The
+//! module takes outside data: no indexing that can panic (checked by
+//! `clippy::indexing_slicing`, with one documented exception).
+#![deny(clippy::indexing_slicing)]
 
 use std::path::Path;
 
@@ -334,8 +337,12 @@ fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportErr
         get("orientation")?,
         Some(Value::Token(t)) if t.as_str() == "leftHanded"
     );
-    let total: i64 = counts.iter().sum();
-    if counts.iter().any(|&c| c < 0) || total != indices.len() as i64 {
+    if u32::try_from(points.len()).is_err() {
+        return Err(bad(format!("{} points exceed 32-bit indices", points.len())));
+    }
+    let total = counts.iter().try_fold(0i64, |acc, &c| acc.checked_add(c));
+    if counts.iter().any(|&c| c < 0) || total != Some(indices.len() as i64) {
+        let total = total.map_or("more than 2^63".to_owned(), |t| t.to_string());
         return Err(bad(format!(
             "faceVertexCounts add up to {total} but there are {} faceVertexIndices",
             indices.len()
@@ -347,7 +354,7 @@ fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportErr
     {
         return Err(bad(format!(
             "faceVertexIndices[{i}] = {} is out of range for {} points",
-            indices[i],
+            indices.get(i).copied().unwrap_or_default(),
             points.len()
         )));
     }
@@ -356,7 +363,9 @@ fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportErr
     let mut start = 0usize;
     for (face, &c) in counts.iter().enumerate() {
         let c = c as usize;
-        let poly: Vec<u32> = indices[start..start + c]
+        let poly: Vec<u32> = indices
+            .get(start..start + c)
+            .ok_or_else(|| bad(format!("face {face} runs past faceVertexIndices")))?
             .iter()
             .map(|&i| i as u32)
             .collect();
@@ -371,7 +380,7 @@ fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportErr
         let before = triangles.len();
         triangulate(&points, &poly, &mut triangles);
         if left_handed {
-            for t in &mut triangles[before..] {
+            for t in triangles.iter_mut().skip(before) {
                 t.swap(1, 2);
             }
         }
@@ -387,9 +396,24 @@ fn short(v: &Value) -> String {
 }
 
 /// Appends the triangles of polygon `poly` (n-2 of them, winding kept).
+/// An index outside `points` counts as a point at NaN (the polygon is then
+/// fanned); the caller checks indices first.
+// Indices into `poly`, `flat` and `rest` are taken modulo their lengths or
+// come from `rest`, whose entries are below `n`: in range by construction.
+#[allow(clippy::indexing_slicing)]
 pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
     let n = poly.len();
-    let pos = |i: u32| DVec3::from_array(points[i as usize]);
+    if n < 3 {
+        return;
+    }
+    let pos = |i: u32| {
+        DVec3::from_array(
+            points
+                .get(i as usize)
+                .copied()
+                .unwrap_or([f64::NAN; 3]),
+        )
+    };
     if n == 3 {
         out.push([poly[0], poly[1], poly[2]]);
         return;
@@ -478,7 +502,11 @@ pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
 }
 
 fn fan(poly: &[u32], out: &mut Vec<[u32; 3]>) {
-    for k in 1..poly.len().saturating_sub(1) {
-        out.push([poly[0], poly[k], poly[k + 1]]);
+    if let Some((&first, rest)) = poly.split_first() {
+        for pair in rest.windows(2) {
+            if let [b, c] = pair {
+                out.push([first, *b, *c]);
+            }
+        }
     }
 }

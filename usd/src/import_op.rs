@@ -20,6 +20,8 @@
 //! mirrored object) is flipped before it is used, and the caller is told
 //! which ([`Combined::flipped`]): flipping is what a user wants, refusing
 //! it helped nobody.
+// Reads outside data: no indexing that can panic (issue 22).
+#![deny(clippy::indexing_slicing)]
 
 use std::path::Path;
 

@@ -20,6 +20,8 @@
 //! parent (no per-prim walk to the root; `openusd`'s own traversal does
 //! that walk, which made 1,000 nested prims take 10.5 s), and op logs are
 //! read op by op.
+// Reads outside data: no indexing that can panic (issue 22).
+#![deny(clippy::indexing_slicing)]
 
 use logos::Logos;
 use openusd::usda::token::Token;

@@ -6,6 +6,8 @@
 //! in the session that saved it. Every load compares the stored meshes with
 //! the evaluated ones ([`crate::check`]); [`LoadOptions::verify_history`]
 //! also replays the whole history and compares it with the snapshot.
+// Reads outside data: no indexing that can panic (issue 22).
+#![deny(clippy::indexing_slicing)]
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;

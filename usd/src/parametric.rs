@@ -28,6 +28,8 @@
 //! attribute that differs (points beyond [`crate::check::POINT_ULPS`],
 //! anything else exactly) is a [`crate::Mismatch::Parametric`]. The log stays
 //! the truth; the prims are never read back into the document.
+// Reads outside data: no indexing that can panic (issue 22).
+#![deny(clippy::indexing_slicing)]
 
 use openusd::gf;
 use openusd::sdf::{self, AbstractData, Value};

@@ -13,6 +13,8 @@
 //! last row, ops in `xformOpOrder` applied last-first); glam multiplies
 //! column vectors, so a USD matrix read row-major is glam's column-major
 //! transpose and the stack is `M = op0 · op1 · … · opN` (opN applies first).
+// Reads outside data: no indexing that can panic (issue 22).
+#![deny(clippy::indexing_slicing)]
 
 use openusd::sdf::{self, Value};
 use openusd::usd::{Stage, TimeCode};
@@ -187,7 +189,7 @@ fn op_matrix(path: &sdf::Path, name: &str, value: Option<Value>) -> Result<DMat4
             // rotateABC rotates about A first, then B, then C: M = Rc·Rb·Ra.
             let a = v3()?.to_array();
             let mut m = DMat4::IDENTITY;
-            for axis in kind["rotate".len()..].chars() {
+            for axis in kind.trim_start_matches("rotate").chars() {
                 let angle = match axis {
                     'X' => a[0],
                     'Y' => a[1],

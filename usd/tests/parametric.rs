@@ -85,8 +85,19 @@ fn every_gc_and_network_example_has_its_prims() {
                         ]
                     })
                     .collect(),
+                // 3- and 4-sided patches are one bicubic surface; more
+                // sides: the patch's mesh and its boundary curves.
                 ObjectKind::CurveNetwork(n) => std::iter::once("def NurbsCurves \"Curves\"".into())
-                    .chain((0..n.patches.len()).map(|k| format!("def NurbsPatch \"Patch{k}\"")))
+                    .chain(n.patches.iter().enumerate().flat_map(|(k, p)| {
+                        if p.pieces.len() <= 4 {
+                            vec![format!("def NurbsPatch \"Patch{k}\"")]
+                        } else {
+                            vec![
+                                format!("def Mesh \"Patch{k}\""),
+                                format!("def NurbsCurves \"Patch{k}_Boundary\""),
+                            ]
+                        }
+                    }))
                     .collect(),
                 _ => continue,
             };
