@@ -338,7 +338,10 @@ fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportErr
         Some(Value::Token(t)) if t.as_str() == "leftHanded"
     );
     if u32::try_from(points.len()).is_err() {
-        return Err(bad(format!("{} points exceed 32-bit indices", points.len())));
+        return Err(bad(format!(
+            "{} points exceed 32-bit indices",
+            points.len()
+        )));
     }
     let total = counts.iter().try_fold(0i64, |acc, &c| acc.checked_add(c));
     if counts.iter().any(|&c| c < 0) || total != Some(indices.len() as i64) {
@@ -378,7 +381,8 @@ fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportErr
         }
         polygons += 1;
         let before = triangles.len();
-        triangulate(&points, &poly, &mut triangles);
+        triangulate_checked(&points, &poly, &mut triangles)
+            .map_err(|e| bad(format!("face {face} {e}")))?;
         if left_handed {
             for t in triangles.iter_mut().skip(before) {
                 t.swap(1, 2);
@@ -395,28 +399,38 @@ fn short(v: &Value) -> String {
     s.chars().take(60).collect()
 }
 
+/// The most vertices of a concave polygon that ear clipping (cubic in the
+/// vertex count at worst) triangulates; a larger concave polygon is an
+/// error from [`read_mesh`] (and fanned by [`triangulate`]), so a hostile
+/// file cannot make the importer run for hours.
+pub const MAX_EAR_CLIP: usize = 1024;
+
 /// Appends the triangles of polygon `poly` (n-2 of them, winding kept).
 /// An index outside `points` counts as a point at NaN (the polygon is then
-/// fanned); the caller checks indices first.
+/// fanned); the caller checks indices first. A concave polygon of more
+/// than [`MAX_EAR_CLIP`] vertices is fanned.
+pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
+    if triangulate_checked(points, poly, out).is_err() {
+        fan(poly, out);
+    }
+}
+
 // Indices into `poly`, `flat` and `rest` are taken modulo their lengths or
 // come from `rest`, whose entries are below `n`: in range by construction.
 #[allow(clippy::indexing_slicing)]
-pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
+fn triangulate_checked(
+    points: &[[f64; 3]],
+    poly: &[u32],
+    out: &mut Vec<[u32; 3]>,
+) -> Result<(), String> {
     let n = poly.len();
     if n < 3 {
-        return;
+        return Ok(());
     }
-    let pos = |i: u32| {
-        DVec3::from_array(
-            points
-                .get(i as usize)
-                .copied()
-                .unwrap_or([f64::NAN; 3]),
-        )
-    };
+    let pos = |i: u32| DVec3::from_array(points.get(i as usize).copied().unwrap_or([f64::NAN; 3]));
     if n == 3 {
         out.push([poly[0], poly[1], poly[2]]);
-        return;
+        return Ok(());
     }
     // Newell normal: robust plane normal of a (possibly non-planar) polygon.
     let mut normal = DVec3::ZERO;
@@ -431,7 +445,7 @@ pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
     }
     let Some(normal) = normal.try_normalize() else {
         fan(poly, out);
-        return;
+        return Ok(());
     };
     let u = normal.any_orthonormal_vector();
     let v = normal.cross(u);
@@ -458,11 +472,16 @@ pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
         // (A concave quad folds along 0-2, but its signed area and volume
         // stay right.)
         fan(poly, out);
-        return;
+        return Ok(());
     }
     if !(0..n).any(reflex) {
         fan(poly, out);
-        return;
+        return Ok(());
+    }
+    if n > MAX_EAR_CLIP {
+        return Err(format!(
+            "has {n} vertices and is concave; the importer ear-clips concave polygons of up to {MAX_EAR_CLIP} (triangulate it in the tool that wrote the file)"
+        ));
     }
     // Ear clipping (counter-clockwise in the (u, v) frame by construction).
     let mut rest: Vec<usize> = (0..n).collect();
@@ -499,6 +518,7 @@ pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
     // Whatever is left (3 vertices, or a degenerate remainder) as a fan.
     let left: Vec<u32> = rest.iter().map(|&k| poly[k]).collect();
     fan(&left, out);
+    Ok(())
 }
 
 fn fan(poly: &[u32], out: &mut Vec<[u32; 3]>) {

@@ -200,9 +200,9 @@ pub fn extent(points: &[gf::Vec3f]) -> Value {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for p in points {
-        for (k, v) in [p.x, p.y, p.z].into_iter().enumerate() {
-            lo[k] = lo[k].min(v);
-            hi[k] = hi[k].max(v);
+        for ((l, h), v) in lo.iter_mut().zip(hi.iter_mut()).zip([p.x, p.y, p.z]) {
+            *l = l.min(v);
+            *h = h.max(v);
         }
     }
     if points.is_empty() {
@@ -306,7 +306,7 @@ pub fn patch_prim(name: &str, s: &NurbsSurface) -> PrimOut {
         ]);
     }
     let order = (0..s.n_v).flat_map(|j| (0..s.n_u).map(move |i| i * s.n_v + j));
-    push_points(&mut p.attrs, order.map(|k| &s.control[k]));
+    push_points(&mut p.attrs, order.filter_map(|k| s.control.get(k)));
     p
 }
 

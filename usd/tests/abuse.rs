@@ -127,6 +127,45 @@ fn nesting_beyond_the_limit_is_a_clear_error_not_a_stack_overflow() {
     assert!(MAX_PRIM_DEPTH >= 2000);
 }
 
+/// One polygon of `n` vertices around a circle; `star` makes every other
+/// vertex dip inwards (concave).
+fn big_polygon(n: usize, star: bool) -> String {
+    let points: Vec<String> = (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            let r = if star && i % 2 == 1 { 0.5 } else { 1.0 };
+            format!("({}, {}, 0)", r * a.cos(), r * a.sin())
+        })
+        .collect();
+    let indices: Vec<String> = (0..n).map(|i| i.to_string()).collect();
+    format!(
+        "#usda 1.0\n(\n    metersPerUnit = 1\n    upAxis = \"Z\"\n)\ndef Mesh \"Cap\" {{\n int[] faceVertexCounts = [{n}]\n int[] faceVertexIndices = [{}]\n point3f[] points = [{}]\n}}\n",
+        indices.join(","),
+        points.join(",")
+    )
+}
+
+#[test]
+fn huge_concave_polygons_are_refused_not_ear_clipped_for_hours() {
+    let dir = common::scratch("polygons");
+    // A convex 5,000-gon (a cylinder cap) is fanned: fine.
+    let convex = write(&dir, "convex.usda", &big_polygon(5000, false));
+    let m = import_file(&convex, &ImportOptions::default()).unwrap();
+    assert_eq!(m[0].mesh.triangles.len(), 4998);
+    // A concave one of the same size would take cubic time: a clear error.
+    let t = Instant::now();
+    let star = write(&dir, "star.usda", &big_polygon(5000, true));
+    let e = import_file(&star, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("concave") && e.contains("5000 vertices"), "{e}");
+    assert!(t.elapsed().as_secs() < 30);
+    // Under the limit, concave polygons are ear-clipped.
+    let small = write(&dir, "star_small.usda", &big_polygon(200, true));
+    let m = import_file(&small, &ImportOptions::default()).unwrap();
+    assert_eq!(m[0].mesh.triangles.len(), 198);
+}
+
 /// Six straight curves around a hexagon of radius `r`, each overshooting
 /// its corners so that neighbours cross there, then every loop filled.
 fn hexagon_script(r: f64) -> Vec<Op> {

@@ -118,7 +118,9 @@ fn every_gc_and_network_example_has_its_prims() {
             // Sections are the placed key sections; the surface passes
             // through each at its v (exact skinning).
             if let ObjectKind::GcAssembly(a) = &obj.kind {
-                let ps = parts(&obj.kind).unwrap();
+                let made = parts(&obj.kind);
+                assert!(made.problems.is_empty(), "{:?}", made.problems);
+                let ps = made.parts;
                 for (i, part) in a.parts.iter().enumerate() {
                     let Part::Curves { curves, .. } = &ps[3 * i + 1] else {
                         panic!("sections")

@@ -121,6 +121,9 @@ fn open_or_new(path: &Path) -> Result<OpLog> {
     }
     let loaded = load_file(path, LoadOptions::default())
         .with_context(|| format!("loading {}", path.display()))?;
+    if let Some(w) = loaded.snapshot.warning() {
+        eprintln!("warning: {}: {w}", path.display());
+    }
     Ok(loaded.log)
 }
 

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use shapewright::mesh::validate;
-use shapewright_usd::{load_file, LoadOptions};
+use shapewright_usd::{load_file, LoadOptions, Mismatch};
 
 /// `export FILE.usda --stl/--obj/--ply OUT`: the document at the saved
 /// cursor, all objects in one mesh, to each requested format.
@@ -32,7 +32,12 @@ pub fn export(
             loaded.log.cursor()
         );
     }
-    if !loaded.report.is_consistent() {
+    let stored_differ = loaded
+        .report
+        .mismatches
+        .iter()
+        .any(|m| !matches!(m, Mismatch::History { .. }));
+    if stored_differ {
         eprintln!(
             "warning: {}: the meshes stored in the file disagree with its op log; exporting the log's document ({}), not the stored meshes:\n{}",
             file.display(),

@@ -36,8 +36,8 @@ pub fn write_ply(mesh: &TriMesh, w: &mut impl Write) -> std::io::Result<()> {
         for x in p {
             buf.extend_from_slice(&(*x as f32).to_le_bytes());
         }
-        if with_normals {
-            for x in &mesh.normals[i] {
+        if let Some(n) = mesh.normals.get(i).filter(|_| with_normals) {
+            for x in n {
                 buf.extend_from_slice(&(*x as f32).to_le_bytes());
             }
         }

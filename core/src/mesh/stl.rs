@@ -15,7 +15,9 @@ use super::{MeshIoError, TriMesh};
 pub fn write_stl(mesh: &TriMesh, w: &mut impl Write) -> std::io::Result<()> {
     let mut header = [0u8; 80];
     let tag = b"Shapewright binary STL";
-    header[..tag.len()].copy_from_slice(tag);
+    for (h, t) in header.iter_mut().zip(tag) {
+        *h = *t;
+    }
     w.write_all(&header)?;
     w.write_all(&(mesh.triangles.len() as u32).to_le_bytes())?;
     let mut buf = Vec::with_capacity(mesh.triangles.len() * 50);
