@@ -175,7 +175,7 @@ fn nurbs_samples(file: &Path) -> Result<Value, String> {
     let loaded = load_file(file, LoadOptions::default()).map_err(|e| e.to_string())?;
     let mut prims = Vec::new();
     for (id, obj) in loaded.log.document().objects() {
-        for part in parts(&obj.kind)? {
+        for part in parts(&obj.kind).parts {
             let prim = format!("/World/Object_{}/{}", id.0, part.name());
             prims.push(match &part {
                 Part::Curves { curves, .. } => {
@@ -205,6 +205,8 @@ fn nurbs_samples(file: &Path) -> Result<Value, String> {
                     }
                     json!({"prim": prim, "type": "NurbsPatch", "samples": samples})
                 }
+                // n-sided patches are stored as meshes, checked as meshes.
+                Part::Mesh { .. } => continue,
             });
         }
     }

@@ -22,12 +22,12 @@
 
 use std::path::Path;
 
-use openusd::sdf::{self, Value};
+use openusd::sdf::{self, AbstractData, Value};
 use openusd::usd::Stage;
 use shapewright::math::{DMat4, DVec2, DVec3};
 use shapewright::mesh::TriMesh;
 
-use crate::xform::{attr, local_transform};
+use crate::xform::{local_transform, Attrs, FlatLayer};
 use crate::ImportError;
 
 /// How to import.
@@ -97,13 +97,20 @@ fn import_file_here(
         });
     }
     // usda text: refuse deep nesting before the recursive parser sees it.
-    let head = std::fs::read(path).map_err(|e| open_err(e.to_string()))?;
-    if !(head.starts_with(b"PXR-USDC") || head.starts_with(b"PK\x03\x04")) {
-        if let Ok(text) = std::str::from_utf8(&head) {
+    let bytes = std::fs::read(path).map_err(|e| open_err(e.to_string()))?;
+    if !(bytes.starts_with(b"PXR-USDC") || bytes.starts_with(b"PK\x03\x04")) {
+        if let Ok(text) = std::str::from_utf8(&bytes) {
             crate::limits::check_usda_nesting(text)?;
         }
     }
-    drop(head);
+    // A layer without composition arcs is its own stage: read it directly
+    // (linear in the file). Only files with arcs are composed by openusd.
+    if let Ok(layer) = crate::read_layer(&bytes) {
+        if let Some(meshes) = import_flat(layer.as_ref(), options, &name)? {
+            return Ok(meshes);
+        }
+    }
+    drop(bytes);
     let stage = Stage::open(&name).map_err(|e| open_err(format!("{e:#}")))?;
     let units = stage_units(&stage)?;
     let mut root_fix = DMat4::from_scale(DVec3::splat(
@@ -134,6 +141,116 @@ fn import_file_here(
         return Err(ImportError::NoMesh(name));
     }
     Ok(out)
+}
+
+/// Fields that make a layer more than itself (composition arcs).
+const ARC_FIELDS: [&str; 7] = [
+    "references",
+    "payload",
+    "inheritPaths",
+    "specializes",
+    "variantSetNames",
+    "variantSelection",
+    "relocates",
+];
+
+/// The meshes of a layer read without composition, or `None` when the
+/// layer has a composition arc anywhere (then the stage must compose it).
+///
+/// Same region and rules as [`walk`] (defined, active, not abstract;
+/// transforms carried down), reading each prim's own fields: a fixed
+/// amount of work per prim, so deep nesting costs what its bytes cost.
+fn import_flat(
+    data: &dyn AbstractData,
+    options: &ImportOptions,
+    name: &str,
+) -> Result<Option<Vec<ImportedMesh>>, ImportError> {
+    let root = sdf::Path::abs_root();
+    let field = |p: &sdf::Path, key: &str| data.try_field(p, key).ok().flatten();
+    if field(&root, "subLayers").is_some() {
+        return Ok(None);
+    }
+    let meta = |key: &'static str| Ok(field(&root, key).map(std::borrow::Cow::into_owned));
+    let units = units_from(meta)?;
+    let mut root_fix = DMat4::from_scale(DVec3::splat(
+        units.meters_per_unit / options.meters_per_unit,
+    ));
+    if units.y_up {
+        root_fix *= DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2);
+    }
+    let layer = FlatLayer(data);
+    let names = |p: &sdf::Path| -> Vec<String> {
+        match field(p, "primChildren").as_deref() {
+            Some(Value::TokenVec(v)) => v.iter().map(|t| t.as_str().to_owned()).collect(),
+            Some(Value::StringVec(v)) => v.clone(),
+            _ => Vec::new(),
+        }
+    };
+    let mut stack: Vec<(sdf::Path, Result<DMat4, ImportError>, usize)> = Vec::new();
+    let push =
+        |stack: &mut Vec<_>, parent: &sdf::Path, world: &Result<DMat4, ImportError>, depth| {
+            for n in names(parent).iter().rev() {
+                if let Ok(child) = parent.append_path(n.as_str()) {
+                    stack.push((child, world.clone(), depth + 1));
+                }
+            }
+        };
+    push(&mut stack, &root, &Ok(DMat4::IDENTITY), 0);
+    let mut found = Vec::new();
+    while let Some((path, parent_world, depth)) = stack.pop() {
+        if depth > crate::limits::MAX_PRIM_DEPTH {
+            return Err(crate::limits::TooDeep {
+                what: "prim hierarchy",
+                depth,
+                place: path.as_str().chars().take(200).collect(),
+                limit: crate::limits::MAX_PRIM_DEPTH,
+            }
+            .into());
+        }
+        if ARC_FIELDS.iter().any(|k| field(&path, k).is_some()) {
+            return Ok(None);
+        }
+        let defined = matches!(
+            field(&path, "specifier").as_deref(),
+            Some(Value::Specifier(sdf::Specifier::Def))
+        );
+        let active = !matches!(field(&path, "active").as_deref(), Some(Value::Bool(false)));
+        if !(defined && active) {
+            continue;
+        }
+        let world = parent_world.and_then(|parent| {
+            let (local, reset) = local_transform(&layer, &path)?;
+            Ok(if reset { local } else { parent * local })
+        });
+        push(&mut stack, &path, &world, depth);
+        let is_mesh = matches!(
+            field(&path, "typeName").as_deref(),
+            Some(Value::Token(t)) if t.as_str() == "Mesh"
+        );
+        if is_mesh {
+            found.push((path, world));
+        }
+    }
+    let mut out = Vec::new();
+    for (p, world) in found {
+        if let Some(prefix) = &options.prefix {
+            if !p.as_str().starts_with(prefix.as_str()) {
+                continue;
+            }
+        }
+        let (mut mesh, polygons) = read_mesh(&layer, &p)?;
+        mesh.transform(&shapewright::math::DAffine3::from_mat4(root_fix * world?));
+        mesh.compute_normals();
+        out.push(ImportedMesh {
+            path: p.as_str().to_owned(),
+            mesh,
+            polygons,
+        });
+    }
+    if out.is_empty() {
+        return Err(ImportError::NoMesh(name.to_owned()));
+    }
+    Ok(Some(out))
 }
 
 /// A mesh prim found by [`walk`], with its local-to-world transform (an
@@ -182,12 +299,12 @@ fn walk(stage: &Stage) -> Result<Vec<MeshVisit>, ImportError> {
     push_children(&mut stack, &root, &Ok(DMat4::IDENTITY), 0)?;
     let mut out = Vec::new();
     while let Some((path, parent_world, depth)) = stack.pop() {
-        if depth > crate::limits::MAX_PRIM_DEPTH {
+        if depth > crate::limits::MAX_COMPOSED_DEPTH {
             return Err(crate::limits::TooDeep {
-                what: "prim hierarchy",
+                what: "prim hierarchy of a file with composition arcs",
                 depth,
                 place: path.as_str().chars().take(200).collect(),
-                limit: crate::limits::MAX_PRIM_DEPTH,
+                limit: crate::limits::MAX_COMPOSED_DEPTH,
             }
             .into());
         }
@@ -249,12 +366,18 @@ pub fn combined(meshes: &[ImportedMesh]) -> TriMesh {
 
 /// Reads `upAxis` and `metersPerUnit`, with USD's fallbacks (Y, 0.01).
 pub fn stage_units(stage: &Stage) -> Result<StageUnits, ImportError> {
-    let meta = |key: &'static str| {
+    units_from(|key| {
         stage.stage_metadata(key).map_err(|e| ImportError::Read {
             path: "/".to_owned(),
             message: format!("{key}: {e:#}"),
         })
-    };
+    })
+}
+
+/// [`stage_units`] from a metadata getter.
+fn units_from(
+    meta: impl Fn(&'static str) -> Result<Option<Value>, ImportError>,
+) -> Result<StageUnits, ImportError> {
     let y_up = match meta("upAxis")? {
         None => true,
         Some(Value::Token(t)) if t.as_str() == "Y" => true,
@@ -303,13 +426,13 @@ fn ints(v: Option<Value>) -> Option<Vec<i64>> {
 }
 
 /// Reads one mesh prim as triangles in its local space.
-fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportError> {
+fn read_mesh(stage: &impl Attrs, p: &sdf::Path) -> Result<(TriMesh, usize), ImportError> {
     let bad = |message: String| ImportError::BadMesh {
         path: p.as_str().to_owned(),
         message,
     };
     let get = |name: &str| {
-        attr(stage, p, name).map_err(|message| ImportError::Read {
+        stage.attr(p, name).map_err(|message| ImportError::Read {
             path: p.as_str().to_owned(),
             message,
         })

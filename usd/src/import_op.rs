@@ -69,15 +69,22 @@ pub fn import_combined(path: &Path, options: &ImportOptions) -> Result<Combined,
     let mut meshes = import_file(path, options)?;
     let mut flipped = Vec::new();
     for m in &mut meshes {
-        let r = validate(&m.mesh, &Default::default());
-        if r.is_closed_manifold() && r.signed_volume < 0.0 {
-            for t in &mut m.mesh.triangles {
-                t.swap(1, 2);
-            }
-            m.mesh.compute_normals();
+        let volume = m.mesh.signed_volume();
+        if volume.is_nan() || volume >= 0.0 {
+            continue;
+        }
+        // Flip when that gives a valid closed mesh (validation counts a
+        // negative volume as a problem, so check the flipped one).
+        let mut turned = m.mesh.clone();
+        for t in &mut turned.triangles {
+            t.swap(1, 2);
+        }
+        if validate(&turned, &Default::default()).is_closed_manifold() {
+            turned.compute_normals();
+            m.mesh = turned;
             flipped.push(format!(
-                "{} was inside out (closed, but its faces point inwards: volume {:.6}); flipped it",
-                m.path, r.signed_volume
+                "{} was inside out (closed, but its faces point inwards: volume {volume:.6}); flipped it",
+                m.path
             ));
         }
     }

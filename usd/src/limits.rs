@@ -9,17 +9,20 @@
 //!   exactly as the parser reads them) and refuses text nested deeper than
 //!   [`MAX_NESTING`] before parsing; the prim walk of the importer refuses
 //!   prims deeper than [`MAX_PRIM_DEPTH`] (for usdc and usdz, whose
-//!   nesting is only known after reading);
+//!   nesting is only known after reading), or [`MAX_COMPOSED_DEPTH`] in
+//!   files with composition arcs;
 //! - [`with_parser_stack`] runs a parse on a thread with a stack of
 //!   [`PARSER_STACK`] bytes, sized for the limit with a wide margin (a
 //!   level costs well under 2 KiB of stack; 5,000 levels fit in the 8 MiB
 //!   main stack in tests), so that the limit, not the stack, decides.
 //!
-//! Everything else the readers do is linear in the file's size: the prim
-//! walk carries each prim's world transform and status down from its
-//! parent (no per-prim walk to the root; `openusd`'s own traversal does
-//! that walk, which made 1,000 nested prims take 10.5 s), and op logs are
-//! read op by op.
+//! Everything else the readers do is linear in the file's size: a layer
+//! without composition arcs is read directly, its prim walk carrying each
+//! prim's world transform and status down from its parent (`openusd`'s
+//! stage re-walks every prim's ancestors, twice: in its traversal and in
+//! its instancing lookups, which made 1,000 nested prims take 10.5 s);
+//! and op logs are read op by op. Only files with composition arcs go
+//! through `openusd`'s stage, with the lower [`MAX_COMPOSED_DEPTH`].
 // Reads outside data: no indexing that can panic (issue 22).
 #![deny(clippy::indexing_slicing)]
 
@@ -31,8 +34,15 @@ use openusd::usda::token::Token;
 /// generated hierarchy while keeping the parser's recursion bounded.
 pub const MAX_NESTING: usize = 4096;
 
-/// The deepest prim accepted by the importer's walk (a root prim has depth 1).
+/// The deepest prim accepted by the importer's walk of a layer without
+/// composition arcs (a root prim has depth 1).
 pub const MAX_PRIM_DEPTH: usize = 4096;
+
+/// The deepest prim accepted in a file with composition arcs (references,
+/// payloads, variants, ...), which `openusd` composes: its instancing
+/// lookups walk every prim's ancestors, cubic in the depth (500 nested
+/// prims: 4 s in a debug build), so composed files get a lower limit.
+pub const MAX_COMPOSED_DEPTH: usize = 512;
 
 /// Stack size of the parser thread (reserved address space; pages are
 /// only touched as deep as the parse goes).
