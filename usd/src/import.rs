@@ -343,13 +343,10 @@ fn locally_active(stage: &Stage, prim: &openusd::usd::Prim) -> Result<bool, Impo
         let Some(layer) = stage.layer(&layer) else {
             continue;
         };
-        match layer.data().try_field(&spec, "active") {
-            Ok(Some(v)) => {
-                if let Value::Bool(b) = v.as_ref() {
-                    return Ok(*b);
-                }
+        if let Ok(Some(v)) = layer.data().try_field(&spec, "active") {
+            if let Value::Bool(b) = v.as_ref() {
+                return Ok(*b);
             }
-            Ok(None) | Err(_) => {}
         }
     }
     Ok(true)

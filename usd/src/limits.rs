@@ -145,7 +145,7 @@ mod tests {
     #[test]
     fn parser_stack_returns_and_propagates() {
         assert_eq!(with_parser_stack(|| 6 * 7), 42);
-        let borrowed = vec![1, 2, 3];
+        let borrowed = [1, 2, 3];
         assert_eq!(with_parser_stack(|| borrowed.iter().sum::<i32>()), 6);
         let r = std::panic::catch_unwind(|| with_parser_stack(|| panic!("boom")));
         assert!(r.is_err());
