@@ -20,3 +20,7 @@ echo "== pytest"
 cargo build --release -q -p shapewright-xr
 # `cargo test` above built the usd_tool example the USD tests drive.
 USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q tests/python tests/usd tests/blender
+# io: every reader fuzzed for a fixed budget over its seed corpus (issue 22);
+# long runs: bash scripts/fuzz.sh 1800 (see fuzz/README.md).
+echo "== fuzz"
+bash scripts/fuzz.sh "${SHAPEWRIGHT_FUZZ_SECONDS:-20}"

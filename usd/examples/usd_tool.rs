@@ -140,7 +140,11 @@ fn import_into_doc(
         meters_per_unit: 1.0,
         prefix: prefix.cloned(),
     };
-    let outcome = import_into(&mut log, file, &options, target).map_err(|e| e.to_string())?;
+    let imported = import_into(&mut log, file, &options, target).map_err(|e| e.to_string())?;
+    for note in &imported.flipped {
+        eprintln!("note: {note}");
+    }
+    let outcome = imported.outcome;
     save_file(doc, &log, &SaveOptions::default()).map_err(|e| e.to_string())?;
     let last = log.ops().last().ok_or("no op")?;
     // The mesh as the document holds it: the volume's component, or the
@@ -171,7 +175,7 @@ fn nurbs_samples(file: &Path) -> Result<Value, String> {
     let loaded = load_file(file, LoadOptions::default()).map_err(|e| e.to_string())?;
     let mut prims = Vec::new();
     for (id, obj) in loaded.log.document().objects() {
-        for part in parts(&obj.kind)? {
+        for part in parts(&obj.kind).parts {
             let prim = format!("/World/Object_{}/{}", id.0, part.name());
             prims.push(match &part {
                 Part::Curves { curves, .. } => {
@@ -201,6 +205,8 @@ fn nurbs_samples(file: &Path) -> Result<Value, String> {
                     }
                     json!({"prim": prim, "type": "NurbsPatch", "samples": samples})
                 }
+                // n-sided patches are stored as meshes, checked as meshes.
+                Part::Mesh { .. } => continue,
             });
         }
     }

@@ -1,73 +1,57 @@
 //! Crash-safe saving and autosave.
 //!
-//! [`save_file`] writes the new content to a temporary file in the target's
-//! directory, fsyncs it, renames it over the target (atomic on POSIX file
-//! systems) and fsyncs the directory so the rename itself is durable. A
-//! crash at any point leaves either the previous file or the new one, never
-//! a mix; a stale temporary file may remain and is overwritten next time.
+//! [`save_file`] authors the layer ([`crate::author`]) and writes it with
+//! the workspace's one crash-safe writer, [`shapewright_atomic::write_bytes`]:
+//! a temporary file in the target's directory, fsync, rename, fsync of the
+//! directory. A crash at any point leaves either the previous file or the
+//! new one, never a mix; the temporary file a killed save leaves behind is
+//! removed by the next save of the same target
+//! ([`SaveReport::removed_stale`]).
 //!
 //! [`Autosaver`] saves every [`AutosaveSettings::every_ops`] ops or once
 //! [`AutosaveSettings::every`] has passed since the last save with unsaved
 //! ops, whichever comes first.
 
-use std::fs::{File, OpenOptions};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use shapewright::doc::OpLog;
 
-use crate::{save_to_string, SaveError, SaveOptions};
+use crate::{author, SaveError, SaveOptions, Unwritten};
 
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> SaveError + '_ {
-    move |source| SaveError::Io {
-        path: path.display().to_string(),
-        source,
+/// What a save wrote.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SaveReport {
+    /// Bytes written.
+    pub bytes: u64,
+    /// Temporary files of earlier interrupted saves of the same file that
+    /// this save removed.
+    pub removed_stale: Vec<PathBuf>,
+    /// Parametric parts that could not be written (everything else was).
+    pub unwritten: Vec<Unwritten>,
+}
+
+impl SaveReport {
+    /// One line per part left out, for a warning (empty when complete).
+    pub fn warnings(&self) -> String {
+        self.unwritten
+            .iter()
+            .map(|u| format!("not written: {u} (its mesh and the log are saved)\n"))
+            .collect()
     }
 }
 
-/// Writes `bytes` to `path` crash-safely (see the module doc).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SaveError> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| SaveError::Author(format!("{} names no file", path.display())))?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    tmp_name.push(format!(".{}.tmp", std::process::id()));
-    let tmp = dir.join(tmp_name);
-    let result = (|| {
-        let mut f = OpenOptions::new()
-            .write(true)
-            .create(true)
-            .truncate(true)
-            .open(&tmp)
-            .map_err(io_err(&tmp))?;
-        f.write_all(bytes).map_err(io_err(&tmp))?;
-        f.sync_all().map_err(io_err(&tmp))?;
-        drop(f);
-        std::fs::rename(&tmp, path).map_err(io_err(path))?;
-        // Make the rename durable. Opening a directory read-only and
-        // fsyncing it is the POSIX way; other platforms skip it.
-        #[cfg(unix)]
-        File::open(&dir)
-            .and_then(|d| d.sync_all())
-            .map_err(io_err(&dir))?;
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
-
-/// Saves `log` to `path` as usda, crash-safely.
-pub fn save_file(path: &Path, log: &OpLog, options: &SaveOptions) -> Result<(), SaveError> {
-    let text = save_to_string(log, options)?;
-    write_atomic(path, text.as_bytes())
+/// Saves `log` to `path` as usda, crash-safely. Fails only when nothing
+/// could be written (the previous file is then untouched); parts left out
+/// are listed in the report.
+pub fn save_file(path: &Path, log: &OpLog, options: &SaveOptions) -> Result<SaveReport, SaveError> {
+    let authored = author(log, options)?;
+    let written = shapewright_atomic::write_bytes(path, authored.text.as_bytes())?;
+    Ok(SaveReport {
+        bytes: written.bytes,
+        removed_stale: written.removed_stale,
+        unwritten: authored.unwritten,
+    })
 }
 
 /// When to autosave. Both triggers are active; set one very large to use
@@ -100,6 +84,7 @@ pub struct Autosaver {
     changes: usize,
     last_save: Instant,
     saves: usize,
+    last_report: SaveReport,
 }
 
 impl Autosaver {
@@ -112,6 +97,7 @@ impl Autosaver {
             changes: 0,
             last_save: Instant::now(),
             saves: 0,
+            last_report: SaveReport::default(),
         }
     }
 
@@ -135,11 +121,16 @@ impl Autosaver {
 
     /// Saves now, whatever the settings say.
     pub fn save_now(&mut self, log: &OpLog) -> Result<(), SaveError> {
-        save_file(&self.path, log, &self.options)?;
+        self.last_report = save_file(&self.path, log, &self.options)?;
         self.changes = 0;
         self.last_save = Instant::now();
         self.saves += 1;
         Ok(())
+    }
+
+    /// What the last successful save wrote (which parts it left out).
+    pub fn last_report(&self) -> &SaveReport {
+        &self.last_report
     }
 
     /// Changes not yet saved.

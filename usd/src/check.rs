@@ -7,6 +7,8 @@
 //! evaluated f64 positions rounded to f32, allowing [`POINT_ULPS`] f32 ulps
 //! of the mesh's largest coordinate (a different libm may move a rounding);
 //! counts and indices must match exactly.
+// Reads outside data: no indexing that can panic (issue 22).
+#![deny(clippy::indexing_slicing)]
 
 use std::fmt;
 

@@ -8,21 +8,10 @@ pub enum SaveError {
     /// The layer could not be authored (a name or value USD cannot hold).
     #[error("cannot author the USD layer: {0}")]
     Author(String),
-    /// An op or the snapshot serialized to text that Pixar's and openusd's
-    /// usda readers would read differently (it contains a backslash).
-    #[error("{what} contains a backslash, which usda readers disagree on; refusing to write it")]
-    Unencodable {
-        /// Which value (`op 12`, `snapshot`).
-        what: String,
-    },
-    /// Writing, syncing or renaming the file failed.
-    #[error("writing {path}: {source}")]
-    Io {
-        /// The file or directory.
-        path: String,
-        /// The OS error.
-        source: std::io::Error,
-    },
+    /// Writing the file failed (see [`shapewright_atomic::AtomicError`]);
+    /// the previous file is untouched.
+    #[error(transparent)]
+    Write(#[from] shapewright_atomic::AtomicError),
 }
 
 /// Why a Shapewright USD file could not be loaded.
@@ -82,10 +71,22 @@ pub enum LoadError {
     /// The geometry stored in the file disagrees with the log (strict load).
     #[error("the file's geometry disagrees with its log:\n{0}")]
     Inconsistent(ConsistencyReport),
+    /// The stored geometry disagrees with the snapshot, and the log, which
+    /// would decide, cannot be replayed: neither can be trusted.
+    #[error("the file's snapshot disagrees with its stored geometry ({mismatches}), and its op log does not replay ({replay}): nothing in it can be trusted")]
+    Untrusted {
+        /// How the stored geometry disagrees with the snapshot.
+        mismatches: String,
+        /// Why the log does not replay.
+        replay: String,
+    },
+    /// The file is nested deeper than the readers accept.
+    #[error(transparent)]
+    TooDeep(#[from] crate::limits::TooDeep),
 }
 
 /// Why meshes could not be imported from a USD file.
-#[derive(Debug, thiserror::Error)]
+#[derive(Clone, Debug, thiserror::Error)]
 pub enum ImportError {
     /// The file could not be opened or composed.
     #[error("opening {path}: {message}")]
@@ -130,6 +131,9 @@ pub enum ImportError {
     /// No mesh matched.
     #[error("no UsdGeom.Mesh found in {0}")]
     NoMesh(String),
+    /// The file is nested deeper than the readers accept.
+    #[error(transparent)]
+    TooDeep(#[from] crate::limits::TooDeep),
     /// The document refused the import op (e.g. a component that is not a
     /// closed 2-manifold, an unknown volume, a duplicate name).
     #[error("applying {op}: {message}")]

@@ -15,16 +15,19 @@
 //!   (+90° about X, as Blender's importer does).
 //!
 //! Bad data (indices out of range, counts that do not add up, non-finite
-//! points, unknown xformOps) is an [`ImportError`] naming the prim.
+//! points, unknown xformOps) is an [`ImportError`] naming the prim. The
+//! module takes outside data: no indexing that can panic (checked by
+//! `clippy::indexing_slicing`, with one documented exception).
+#![deny(clippy::indexing_slicing)]
 
 use std::path::Path;
 
-use openusd::sdf::{self, Value};
-use openusd::usd::{PrimPredicate, Stage};
+use openusd::sdf::{self, AbstractData, Value};
+use openusd::usd::Stage;
 use shapewright::math::{DMat4, DVec2, DVec3};
 use shapewright::mesh::TriMesh;
 
-use crate::xform::{attr, world_transform};
+use crate::xform::{local_transform, Attrs, FlatLayer};
 use crate::ImportError;
 
 /// How to import.
@@ -67,7 +70,18 @@ pub struct StageUnits {
 }
 
 /// Imports every mesh of the USD file at `path`.
+///
+/// Runs on a thread with a large stack ([`crate::limits`]); usda text is
+/// checked for its nesting first, and the prim walk refuses prims deeper
+/// than [`crate::limits::MAX_PRIM_DEPTH`].
 pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Vec<ImportedMesh>, ImportError> {
+    crate::limits::with_parser_stack(|| import_file_here(path, options))
+}
+
+fn import_file_here(
+    path: &Path,
+    options: &ImportOptions,
+) -> Result<Vec<ImportedMesh>, ImportError> {
     let name = path.display().to_string();
     let open_err = |message: String| ImportError::Open {
         path: name.clone(),
@@ -76,13 +90,28 @@ pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Vec<ImportedM
     if !path.is_file() {
         return Err(open_err("no such file".to_owned()));
     }
-    let stage = Stage::open(&name).map_err(|e| open_err(format!("{e:#}")))?;
     if !(options.meters_per_unit.is_finite() && options.meters_per_unit > 0.0) {
         return Err(ImportError::BadStageMetadata {
             key: "metersPerUnit (requested)",
             value: options.meters_per_unit.to_string(),
         });
     }
+    // usda text: refuse deep nesting before the recursive parser sees it.
+    let bytes = std::fs::read(path).map_err(|e| open_err(e.to_string()))?;
+    if !(bytes.starts_with(b"PXR-USDC") || bytes.starts_with(b"PK\x03\x04")) {
+        if let Ok(text) = std::str::from_utf8(&bytes) {
+            crate::limits::check_usda_nesting(text)?;
+        }
+    }
+    // A layer without composition arcs is its own stage: read it directly
+    // (linear in the file). Only files with arcs are composed by openusd.
+    if let Ok(layer) = crate::read_layer(&bytes) {
+        if let Some(meshes) = import_flat(layer.as_ref(), options, &name)? {
+            return Ok(meshes);
+        }
+    }
+    drop(bytes);
+    let stage = Stage::open(&name).map_err(|e| open_err(format!("{e:#}")))?;
     let units = stage_units(&stage)?;
     let mut root_fix = DMat4::from_scale(DVec3::splat(
         units.meters_per_unit / options.meters_per_unit,
@@ -90,29 +119,16 @@ pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Vec<ImportedM
     if units.y_up {
         root_fix *= DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2);
     }
-    let mut paths = Vec::new();
-    stage
-        .traverse(PrimPredicate::DEFAULT_PROXIES, |p| paths.push(p.clone()))
-        .map_err(|e| open_err(format!("{e:#}")))?;
     let mut out = Vec::new();
-    for p in paths {
+    for visit in walk(&stage)? {
+        let p = visit.path;
         if let Some(prefix) = &options.prefix {
             if !p.as_str().starts_with(prefix.as_str()) {
                 continue;
             }
         }
-        let type_name = stage
-            .prim(p.clone())
-            .type_name()
-            .map_err(|e| ImportError::Read {
-                path: p.as_str().to_owned(),
-                message: format!("{e:#}"),
-            })?;
-        if type_name.as_ref().map(|t| t.as_str()) != Some("Mesh") {
-            continue;
-        }
         let (mut mesh, polygons) = read_mesh(&stage, &p)?;
-        let world = root_fix * world_transform(&stage, &p)?;
+        let world = root_fix * visit.world?;
         mesh.transform(&shapewright::math::DAffine3::from_mat4(world));
         mesh.compute_normals();
         out.push(ImportedMesh {
@@ -127,6 +143,215 @@ pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Vec<ImportedM
     Ok(out)
 }
 
+/// Fields that make a layer more than itself (composition arcs).
+const ARC_FIELDS: [&str; 7] = [
+    "references",
+    "payload",
+    "inheritPaths",
+    "specializes",
+    "variantSetNames",
+    "variantSelection",
+    "relocates",
+];
+
+/// The meshes of a layer read without composition, or `None` when the
+/// layer has a composition arc anywhere (then the stage must compose it).
+///
+/// Same region and rules as [`walk`] (defined, active, not abstract;
+/// transforms carried down), reading each prim's own fields: a fixed
+/// amount of work per prim, so deep nesting costs what its bytes cost.
+fn import_flat(
+    data: &dyn AbstractData,
+    options: &ImportOptions,
+    name: &str,
+) -> Result<Option<Vec<ImportedMesh>>, ImportError> {
+    let root = sdf::Path::abs_root();
+    let field = |p: &sdf::Path, key: &str| data.try_field(p, key).ok().flatten();
+    if field(&root, "subLayers").is_some() {
+        return Ok(None);
+    }
+    let meta = |key: &'static str| Ok(field(&root, key).map(std::borrow::Cow::into_owned));
+    let units = units_from(meta)?;
+    let mut root_fix = DMat4::from_scale(DVec3::splat(
+        units.meters_per_unit / options.meters_per_unit,
+    ));
+    if units.y_up {
+        root_fix *= DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2);
+    }
+    let layer = FlatLayer(data);
+    let names = |p: &sdf::Path| -> Vec<String> {
+        match field(p, "primChildren").as_deref() {
+            Some(Value::TokenVec(v)) => v.iter().map(|t| t.as_str().to_owned()).collect(),
+            Some(Value::StringVec(v)) => v.clone(),
+            _ => Vec::new(),
+        }
+    };
+    let mut stack: Vec<(sdf::Path, Result<DMat4, ImportError>, usize)> = Vec::new();
+    let push =
+        |stack: &mut Vec<_>, parent: &sdf::Path, world: &Result<DMat4, ImportError>, depth| {
+            for n in names(parent).iter().rev() {
+                if let Ok(child) = parent.append_path(n.as_str()) {
+                    stack.push((child, world.clone(), depth + 1));
+                }
+            }
+        };
+    push(&mut stack, &root, &Ok(DMat4::IDENTITY), 0);
+    let mut found = Vec::new();
+    while let Some((path, parent_world, depth)) = stack.pop() {
+        if depth > crate::limits::MAX_PRIM_DEPTH {
+            return Err(crate::limits::TooDeep {
+                what: "prim hierarchy",
+                depth,
+                place: path.as_str().chars().take(200).collect(),
+                limit: crate::limits::MAX_PRIM_DEPTH,
+            }
+            .into());
+        }
+        if ARC_FIELDS.iter().any(|k| field(&path, k).is_some()) {
+            return Ok(None);
+        }
+        let defined = matches!(
+            field(&path, "specifier").as_deref(),
+            Some(Value::Specifier(sdf::Specifier::Def))
+        );
+        let active = !matches!(field(&path, "active").as_deref(), Some(Value::Bool(false)));
+        if !(defined && active) {
+            continue;
+        }
+        let world = parent_world.and_then(|parent| {
+            let (local, reset) = local_transform(&layer, &path)?;
+            Ok(if reset { local } else { parent * local })
+        });
+        push(&mut stack, &path, &world, depth);
+        let is_mesh = matches!(
+            field(&path, "typeName").as_deref(),
+            Some(Value::Token(t)) if t.as_str() == "Mesh"
+        );
+        if is_mesh {
+            found.push((path, world));
+        }
+    }
+    let mut out = Vec::new();
+    for (p, world) in found {
+        if let Some(prefix) = &options.prefix {
+            if !p.as_str().starts_with(prefix.as_str()) {
+                continue;
+            }
+        }
+        let (mut mesh, polygons) = read_mesh(&layer, &p)?;
+        mesh.transform(&shapewright::math::DAffine3::from_mat4(root_fix * world?));
+        mesh.compute_normals();
+        out.push(ImportedMesh {
+            path: p.as_str().to_owned(),
+            mesh,
+            polygons,
+        });
+    }
+    if out.is_empty() {
+        return Err(ImportError::NoMesh(name.to_owned()));
+    }
+    Ok(Some(out))
+}
+
+/// A mesh prim found by [`walk`], with its local-to-world transform (an
+/// error when its own or an ancestor's xformOp stack is unreadable).
+struct MeshVisit {
+    path: sdf::Path,
+    world: Result<DMat4, ImportError>,
+}
+
+/// The `Mesh` prims of the stage in traversal order (depth first, children
+/// in order), in USD's default traversal region with instance proxies:
+/// defined (`def`), active, not abstract (`class`) prims and everything
+/// below instances.
+///
+/// Own walk rather than `Stage::traverse`, which re-walks every prim's
+/// ancestor chain for its status (and `world_transform` per mesh walked it
+/// again): cubic in the nesting depth (1,000 nested prims took 10.5 s).
+/// Here each prim's status and world transform come from its parent's, so
+/// the walk does a fixed amount of work per prim.
+fn walk(stage: &Stage) -> Result<Vec<MeshVisit>, ImportError> {
+    let read_err = |p: &sdf::Path, message: String| ImportError::Read {
+        path: p.as_str().to_owned(),
+        message,
+    };
+    let root = sdf::Path::abs_root();
+    let children = |p: &sdf::Path| {
+        stage
+            .prim(p.clone())
+            .child_names()
+            .map_err(|e| read_err(p, format!("{e:#}")))
+    };
+    let mut stack: Vec<(sdf::Path, Result<DMat4, ImportError>, usize)> = Vec::new();
+    let push_children = |stack: &mut Vec<_>,
+                         parent: &sdf::Path,
+                         world: &Result<DMat4, ImportError>,
+                         depth: usize|
+     -> Result<(), ImportError> {
+        for name in children(parent)?.iter().rev() {
+            let child = parent
+                .append_path(name.as_str())
+                .map_err(|e| read_err(parent, format!("child `{}`: {e}", name.as_str())))?;
+            stack.push((child, world.clone(), depth + 1));
+        }
+        Ok(())
+    };
+    push_children(&mut stack, &root, &Ok(DMat4::IDENTITY), 0)?;
+    let mut out = Vec::new();
+    while let Some((path, parent_world, depth)) = stack.pop() {
+        if depth > crate::limits::MAX_COMPOSED_DEPTH {
+            return Err(crate::limits::TooDeep {
+                what: "prim hierarchy of a file with composition arcs",
+                depth,
+                place: path.as_str().chars().take(200).collect(),
+                limit: crate::limits::MAX_COMPOSED_DEPTH,
+            }
+            .into());
+        }
+        let prim = stage.prim(path.clone());
+        // `over` and unspecified prims are not defined, `class` prims are
+        // abstract: neither they nor anything below them is in the region.
+        let specifier = prim
+            .specifier()
+            .map_err(|e| read_err(&path, format!("specifier: {e:#}")))?;
+        if specifier != Some(sdf::Specifier::Def) || !locally_active(stage, &prim)? {
+            continue;
+        }
+        let world = parent_world.and_then(|parent| {
+            let (local, reset) = local_transform(stage, &path)?;
+            Ok(if reset { local } else { parent * local })
+        });
+        let type_name = prim
+            .type_name()
+            .map_err(|e| read_err(&path, format!("{e:#}")))?;
+        push_children(&mut stack, &path, &world, depth)?;
+        if type_name.as_ref().map(|t| t.as_str()) == Some("Mesh") {
+            out.push(MeshVisit { path, world });
+        }
+    }
+    Ok(out)
+}
+
+/// The prim's own `active` opinion (the strongest one in its prim stack;
+/// unauthored is active). Its ancestors are known active by the walk.
+fn locally_active(stage: &Stage, prim: &openusd::usd::Prim) -> Result<bool, ImportError> {
+    let sites = prim.prim_stack().map_err(|e| ImportError::Read {
+        path: prim.path().as_str().to_owned(),
+        message: format!("prim stack: {e:#}"),
+    })?;
+    for (layer, spec) in sites {
+        let Some(layer) = stage.layer(&layer) else {
+            continue;
+        };
+        if let Ok(Some(v)) = layer.data().try_field(&spec, "active") {
+            if let Value::Bool(b) = v.as_ref() {
+                return Ok(*b);
+            }
+        }
+    }
+    Ok(true)
+}
+
 /// All imported meshes appended into one.
 pub fn combined(meshes: &[ImportedMesh]) -> TriMesh {
     let mut out = TriMesh::default();
@@ -138,12 +363,18 @@ pub fn combined(meshes: &[ImportedMesh]) -> TriMesh {
 
 /// Reads `upAxis` and `metersPerUnit`, with USD's fallbacks (Y, 0.01).
 pub fn stage_units(stage: &Stage) -> Result<StageUnits, ImportError> {
-    let meta = |key: &'static str| {
+    units_from(|key| {
         stage.stage_metadata(key).map_err(|e| ImportError::Read {
             path: "/".to_owned(),
             message: format!("{key}: {e:#}"),
         })
-    };
+    })
+}
+
+/// [`stage_units`] from a metadata getter.
+fn units_from(
+    meta: impl Fn(&'static str) -> Result<Option<Value>, ImportError>,
+) -> Result<StageUnits, ImportError> {
     let y_up = match meta("upAxis")? {
         None => true,
         Some(Value::Token(t)) if t.as_str() == "Y" => true,
@@ -192,13 +423,13 @@ fn ints(v: Option<Value>) -> Option<Vec<i64>> {
 }
 
 /// Reads one mesh prim as triangles in its local space.
-fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportError> {
+fn read_mesh(stage: &impl Attrs, p: &sdf::Path) -> Result<(TriMesh, usize), ImportError> {
     let bad = |message: String| ImportError::BadMesh {
         path: p.as_str().to_owned(),
         message,
     };
     let get = |name: &str| {
-        attr(stage, p, name).map_err(|message| ImportError::Read {
+        stage.attr(p, name).map_err(|message| ImportError::Read {
             path: p.as_str().to_owned(),
             message,
         })
@@ -226,8 +457,15 @@ fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportErr
         get("orientation")?,
         Some(Value::Token(t)) if t.as_str() == "leftHanded"
     );
-    let total: i64 = counts.iter().sum();
-    if counts.iter().any(|&c| c < 0) || total != indices.len() as i64 {
+    if u32::try_from(points.len()).is_err() {
+        return Err(bad(format!(
+            "{} points exceed 32-bit indices",
+            points.len()
+        )));
+    }
+    let total = counts.iter().try_fold(0i64, |acc, &c| acc.checked_add(c));
+    if counts.iter().any(|&c| c < 0) || total != Some(indices.len() as i64) {
+        let total = total.map_or("more than 2^63".to_owned(), |t| t.to_string());
         return Err(bad(format!(
             "faceVertexCounts add up to {total} but there are {} faceVertexIndices",
             indices.len()
@@ -239,7 +477,7 @@ fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportErr
     {
         return Err(bad(format!(
             "faceVertexIndices[{i}] = {} is out of range for {} points",
-            indices[i],
+            indices.get(i).copied().unwrap_or_default(),
             points.len()
         )));
     }
@@ -248,7 +486,9 @@ fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportErr
     let mut start = 0usize;
     for (face, &c) in counts.iter().enumerate() {
         let c = c as usize;
-        let poly: Vec<u32> = indices[start..start + c]
+        let poly: Vec<u32> = indices
+            .get(start..start + c)
+            .ok_or_else(|| bad(format!("face {face} runs past faceVertexIndices")))?
             .iter()
             .map(|&i| i as u32)
             .collect();
@@ -261,9 +501,10 @@ fn read_mesh(stage: &Stage, p: &sdf::Path) -> Result<(TriMesh, usize), ImportErr
         }
         polygons += 1;
         let before = triangles.len();
-        triangulate(&points, &poly, &mut triangles);
+        triangulate_checked(&points, &poly, &mut triangles)
+            .map_err(|e| bad(format!("face {face} {e}")))?;
         if left_handed {
-            for t in &mut triangles[before..] {
+            for t in triangles.iter_mut().skip(before) {
                 t.swap(1, 2);
             }
         }
@@ -278,13 +519,38 @@ fn short(v: &Value) -> String {
     s.chars().take(60).collect()
 }
 
+/// The most vertices of a concave polygon that ear clipping (cubic in the
+/// vertex count at worst) triangulates; a larger concave polygon is an
+/// error from [`read_mesh`] (and fanned by [`triangulate`]), so a hostile
+/// file cannot make the importer run for hours.
+pub const MAX_EAR_CLIP: usize = 1024;
+
 /// Appends the triangles of polygon `poly` (n-2 of them, winding kept).
+/// An index outside `points` counts as a point at NaN (the polygon is then
+/// fanned); the caller checks indices first. A concave polygon of more
+/// than [`MAX_EAR_CLIP`] vertices is fanned.
 pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
+    if triangulate_checked(points, poly, out).is_err() {
+        fan(poly, out);
+    }
+}
+
+// Indices into `poly`, `flat` and `rest` are taken modulo their lengths or
+// come from `rest`, whose entries are below `n`: in range by construction.
+#[allow(clippy::indexing_slicing)]
+fn triangulate_checked(
+    points: &[[f64; 3]],
+    poly: &[u32],
+    out: &mut Vec<[u32; 3]>,
+) -> Result<(), String> {
     let n = poly.len();
-    let pos = |i: u32| DVec3::from_array(points[i as usize]);
+    if n < 3 {
+        return Ok(());
+    }
+    let pos = |i: u32| DVec3::from_array(points.get(i as usize).copied().unwrap_or([f64::NAN; 3]));
     if n == 3 {
         out.push([poly[0], poly[1], poly[2]]);
-        return;
+        return Ok(());
     }
     // Newell normal: robust plane normal of a (possibly non-planar) polygon.
     let mut normal = DVec3::ZERO;
@@ -299,7 +565,7 @@ pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
     }
     let Some(normal) = normal.try_normalize() else {
         fan(poly, out);
-        return;
+        return Ok(());
     };
     let u = normal.any_orthonormal_vector();
     let v = normal.cross(u);
@@ -326,11 +592,16 @@ pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
         // (A concave quad folds along 0-2, but its signed area and volume
         // stay right.)
         fan(poly, out);
-        return;
+        return Ok(());
     }
     if !(0..n).any(reflex) {
         fan(poly, out);
-        return;
+        return Ok(());
+    }
+    if n > MAX_EAR_CLIP {
+        return Err(format!(
+            "has {n} vertices and is concave; the importer ear-clips concave polygons of up to {MAX_EAR_CLIP} (triangulate it in the tool that wrote the file)"
+        ));
     }
     // Ear clipping (counter-clockwise in the (u, v) frame by construction).
     let mut rest: Vec<usize> = (0..n).collect();
@@ -367,10 +638,15 @@ pub fn triangulate(points: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
     // Whatever is left (3 vertices, or a degenerate remainder) as a fan.
     let left: Vec<u32> = rest.iter().map(|&k| poly[k]).collect();
     fan(&left, out);
+    Ok(())
 }
 
 fn fan(poly: &[u32], out: &mut Vec<[u32; 3]>) {
-    for k in 1..poly.len().saturating_sub(1) {
-        out.push([poly[0], poly[k], poly[k + 1]]);
+    if let Some((&first, rest)) = poly.split_first() {
+        for pair in rest.windows(2) {
+            if let [b, c] = pair {
+                out.push([first, *b, *c]);
+            }
+        }
     }
 }

@@ -14,12 +14,20 @@
 //!
 //! The ops carry the mesh itself (every parameter explicit), so a document
 //! that imported a file replays without the file.
+//!
+//! A mesh that is closed but inside out (consistently wound so that its
+//! normals point inwards: a negative volume, as some exporters write a
+//! mirrored object) is flipped before it is used, and the caller is told
+//! which ([`Combined::flipped`]): flipping is what a user wants, refusing
+//! it helped nobody.
+// Reads outside data: no indexing that can panic (issue 22).
+#![deny(clippy::indexing_slicing)]
 
 use std::path::Path;
 
 use shapewright::doc::{Create, Edit, ObjectId, ObjectKind, Op, OpLog, OpOutcome};
 use shapewright::math::Transform;
-use shapewright::mesh::TriMesh;
+use shapewright::mesh::{validate, TriMesh};
 use shapewright::sculpt::{BrushShape, DistanceGrid, SculptBase, SculptCreate};
 use shapewright::sdf::{SdfCreate, SdfImportComponent};
 
@@ -45,9 +53,54 @@ pub enum ImportTarget {
     },
 }
 
-/// The meshes of `path` (filtered by `options.prefix`) as one mesh.
-pub fn import_combined(path: &Path, options: &ImportOptions) -> Result<TriMesh, ImportError> {
-    Ok(combined(&import_file(path, options)?))
+/// The meshes of a file as one, and which of them were turned right side out.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Combined {
+    /// All meshes appended.
+    pub mesh: TriMesh,
+    /// Notes on the meshes that were closed but inside out and were
+    /// flipped (prim path and volume), for the user.
+    pub flipped: Vec<String>,
+}
+
+/// The meshes of `path` (filtered by `options.prefix`) as one mesh, each
+/// closed inside-out mesh flipped (see the module doc).
+pub fn import_combined(path: &Path, options: &ImportOptions) -> Result<Combined, ImportError> {
+    let mut meshes = import_file(path, options)?;
+    let mut flipped = Vec::new();
+    for m in &mut meshes {
+        let volume = m.mesh.signed_volume();
+        if volume.is_nan() || volume >= 0.0 {
+            continue;
+        }
+        // Flip when that gives a valid closed mesh (validation counts a
+        // negative volume as a problem, so check the flipped one).
+        let mut turned = m.mesh.clone();
+        for t in &mut turned.triangles {
+            t.swap(1, 2);
+        }
+        if validate(&turned, &Default::default()).is_closed_manifold() {
+            turned.compute_normals();
+            m.mesh = turned;
+            flipped.push(format!(
+                "{} was inside out (closed, but its faces point inwards: volume {volume:.6}); flipped it",
+                m.path
+            ));
+        }
+    }
+    Ok(Combined {
+        mesh: combined(&meshes),
+        flipped,
+    })
+}
+
+/// What an import did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Imported {
+    /// The import op's outcome.
+    pub outcome: OpOutcome,
+    /// Meshes that were flipped right side out ([`Combined::flipped`]).
+    pub flipped: Vec<String>,
 }
 
 fn apply(log: &mut OpLog, op: Op) -> Result<OpOutcome, ImportError> {
@@ -86,14 +139,22 @@ fn volume_for(log: &mut OpLog) -> Result<ObjectId, ImportError> {
 
 /// Imports the meshes of `path` into `log` as `target`: applies the op
 /// (and an `sdf_create` first when a component needs a new volume) and
-/// returns the import op's outcome.
+/// returns the import op's outcome and the meshes it flipped.
 pub fn import_into(
     log: &mut OpLog,
     path: &Path,
     options: &ImportOptions,
     target: ImportTarget,
-) -> Result<OpOutcome, ImportError> {
-    let mesh = import_combined(path, options)?;
+) -> Result<Imported, ImportError> {
+    if let ImportTarget::Component { name, .. } = &target {
+        if name.trim().is_empty() {
+            return Err(ImportError::Apply {
+                op: "sdf_import_component",
+                message: "the component name is empty: give the component a name".to_owned(),
+            });
+        }
+    }
+    let Combined { mesh, flipped } = import_combined(path, options)?;
     let positions = mesh.positions;
     let triangles = mesh.triangles;
     let op = match target {
@@ -119,19 +180,21 @@ pub fn import_into(
             transform,
         })),
     };
-    apply(log, op)
+    let outcome = apply(log, op)?;
+    Ok(Imported { outcome, flipped })
 }
 
 /// A grid brush from the meshes of `path`: their signed distance sampled
 /// every `step` over their box grown by `padding`, in the file's (Z-up,
-/// converted) frame. The mesh must be closed and oriented.
+/// converted) frame. The mesh must be closed and oriented (an inside-out
+/// one is flipped; the notes say which).
 pub fn import_brush(
     path: &Path,
     options: &ImportOptions,
     step: f64,
     padding: f64,
-) -> Result<BrushShape, ImportError> {
-    let mesh = import_combined(path, options)?;
+) -> Result<(BrushShape, Vec<String>), ImportError> {
+    let Combined { mesh, flipped } = import_combined(path, options)?;
     let bad = |message: String| ImportError::BadMesh {
         path: path.display().to_string(),
         message,
@@ -148,5 +211,5 @@ pub fn import_brush(
     shape
         .validate()
         .map_err(|e| bad(format!("as a brush: {e}")))?;
-    Ok(shape)
+    Ok((shape, flipped))
 }

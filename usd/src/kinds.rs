@@ -4,18 +4,17 @@
 //! `shapewright:objectId`, `shapewright:kind`) holding a `Mesh` child named
 //! `Mesh` with its evaluated triangles, so any USD tool sees the model.
 //! Kinds with parametric parts add more children next to the mesh through
-//! [`extra_prims`]: generalized cylinders their spine and sections as
+//! [`crate::parametric::parts`]: generalized cylinders their spine and sections as
 //! `NurbsCurves` and their surface as a `NurbsPatch`, curve networks their
 //! curves and patches ([`crate::parametric`]). The match there is exhaustive on purpose: a new
 //! `ObjectKind` variant does not compile until it decides what it adds.
 
 use openusd::gf;
 use openusd::sdf::Value;
-use shapewright::doc::{Object, ObjectId, ObjectKind};
+use shapewright::doc::{Object, ObjectId};
 use shapewright::mesh::TriMesh;
 
 use crate::prims::{AttrOut, PrimOut};
-use crate::SaveError;
 
 /// Name of the object prim for `id`.
 pub fn object_prim_name(id: ObjectId) -> String {
@@ -25,13 +24,15 @@ pub fn object_prim_name(id: ObjectId) -> String {
 /// Name of the mesh child of every object prim.
 pub const MESH_PRIM: &str = "Mesh";
 
-/// The prim of object `id`: an Xform with the mesh and the kind's extras.
-pub fn object_prim(id: ObjectId, obj: &Object) -> Result<PrimOut, SaveError> {
+/// The prim of object `id`: an Xform with the mesh and the kind's extras,
+/// and what of the extras could not be made (the prim is written without
+/// them and lists them in `shapewright:unwritten`).
+pub fn object_prim(id: ObjectId, obj: &Object) -> (PrimOut, Vec<String>) {
     let mut p = PrimOut::new(object_prim_name(id), "Xform");
     p.attrs.push(AttrOut::custom(
         "shapewright:objectId",
         "int",
-        Value::Int(id.0 as i32),
+        Value::Int(i32::try_from(id.0).unwrap_or(i32::MAX)),
     ));
     p.attrs.push(AttrOut::custom(
         "shapewright:kind",
@@ -39,20 +40,30 @@ pub fn object_prim(id: ObjectId, obj: &Object) -> Result<PrimOut, SaveError> {
         Value::Token(obj.kind.name().into()),
     ));
     p.children.push(mesh_prim(MESH_PRIM, &obj.mesh));
-    p.children.extend(
-        extra_prims(&obj.kind).map_err(|e| SaveError::Author(format!("object {id}: {e}")))?,
-    );
-    Ok(p)
+    let extras = crate::parametric::parts(&obj.kind);
+    p.children
+        .extend(extras.parts.iter().map(crate::parametric::Part::prim));
+    if !extras.problems.is_empty() {
+        p.attrs.push(AttrOut::custom(
+            "shapewright:unwritten",
+            "string[]",
+            Value::StringVec(extras.problems.iter().map(|s| plain_text(s)).collect()),
+        ));
+    }
+    (p, extras.problems)
 }
 
-/// Prims a kind adds next to its mesh: the `NurbsCurves` and `NurbsPatch`
-/// prims of [`crate::parametric::parts`]. Solids, SDF volumes and sculpt
-/// meshes have none: their parameters are the snapshot's and the log's.
-pub fn extra_prims(kind: &ObjectKind) -> Result<Vec<PrimOut>, String> {
-    Ok(crate::parametric::parts(kind)?
-        .iter()
-        .map(crate::parametric::Part::prim)
-        .collect())
+/// `text` with no character that usda readers disagree on or that needs a
+/// triple-quoted string (backslashes, double quotes, line breaks).
+pub fn plain_text(text: &str) -> String {
+    text.chars()
+        .map(|c| match c {
+            '\\' => '/',
+            '"' => '\'',
+            c if c.is_control() => ' ',
+            c => c,
+        })
+        .collect()
 }
 
 /// Positions as USD stores them (`point3f`): each coordinate rounded to

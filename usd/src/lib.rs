@@ -40,14 +40,23 @@
 //!   ([`check`]); a full replay check is an option ([`LoadOptions`]).
 //! - **Writing uses `openusd`** (`=0.6.0`) to author the layer and emit usda;
 //!   its usdc writer is not accepted by Pixar's reader, so we write usda
-//!   only and read usda, usdc and usdz. Strings containing a backslash are
-//!   refused at save time, because openusd and Pixar read escapes
-//!   differently; no current op contains one.
+//!   only and read usda, usdc and usdz. An op or snapshot whose JSON holds
+//!   a backslash (a JSON escape: openusd keeps it, Pixar unescapes it) is
+//!   stored as `hex:` and its bytes' hex digits ([`save::encode_json`]), so
+//!   every document can be saved and both readers agree.
+//! - **A save never fails because of one object** ([`author`]): every
+//!   mesh, the log and the snapshot are always written; a parametric part
+//!   that cannot be made is left out and named. Patches of more than 4
+//!   sides are written as their mesh plus their boundary curves.
 //! - **Import** of meshes authored elsewhere ([`import`]) goes through
 //!   `openusd`'s composed `Stage` (references, payloads, instancing); the
 //!   xformOp stack is evaluated here ([`xform`]) so that unknown ops are
 //!   errors instead of silently ignored.
-//! - **Crash-safe saving** ([`atomic`]): temp file, fsync, rename, fsync dir.
+//! - **Crash-safe saving** ([`atomic`], through the workspace's one writer
+//!   `shapewright_atomic`): temp file, fsync, rename, fsync dir; temp files
+//!   of interrupted saves are removed by the next save.
+//! - **Input limits** ([`limits`]): nesting depth of usda text and of the
+//!   prim tree, checked before parsing so no file can overflow the stack.
 #![forbid(unsafe_code)]
 
 pub mod atomic;
@@ -57,19 +66,23 @@ mod error;
 pub mod import;
 pub mod import_op;
 pub mod kinds;
+pub mod limits;
 mod load;
 pub mod parametric;
 pub mod prims;
-mod save;
+pub mod save;
 pub mod xform;
 
-pub use atomic::{save_file, AutosaveSettings, Autosaver};
+pub use atomic::{save_file, AutosaveSettings, Autosaver, SaveReport};
 pub use check::{ConsistencyReport, Mismatch};
 pub use error::{ImportError, LoadError, SaveError};
 pub use import::{import_file, ImportOptions, ImportedMesh};
-pub use import_op::{import_brush, import_into, ImportTarget};
-pub use load::{load_file, load_from_data, load_from_str, read_layer, LoadOptions, Loaded};
-pub use save::{save_to_string, SaveOptions};
+pub use import_op::{import_brush, import_combined, import_into, Combined, ImportTarget, Imported};
+pub use load::{
+    load_file, load_from_bytes, load_from_data, load_from_str, read_layer, LoadOptions, Loaded,
+    SnapshotUse,
+};
+pub use save::{author, save_to_string, Authored, SaveOptions, Unwritten};
 
 /// Version of the file layout this build writes.
 pub const FORMAT_VERSION: i64 = 1;

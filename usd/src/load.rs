@@ -6,6 +6,8 @@
 //! in the session that saved it. Every load compares the stored meshes with
 //! the evaluated ones ([`crate::check`]); [`LoadOptions::verify_history`]
 //! also replays the whole history and compares it with the snapshot.
+// Reads outside data: no indexing that can panic (issue 22).
+#![deny(clippy::indexing_slicing)]
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;
@@ -17,6 +19,8 @@ use shapewright::doc::{Document, ObjectId, Op, OpLog, OP_FORMAT_VERSION};
 
 use crate::check::{compare, ConsistencyReport, Mismatch, StoredMesh};
 use crate::kinds::MESH_PRIM;
+use crate::limits;
+use crate::save::decode_json;
 use crate::{LoadError, FORMAT_VERSION, LOG_PRIM, OLDEST_FORMAT_VERSION, WORLD_PRIM};
 
 /// How to load.
@@ -41,15 +45,60 @@ pub struct Loaded {
     pub format_version: i64,
     /// `metersPerUnit` of the stage (1 when not authored).
     pub meters_per_unit: f64,
-    /// True when the file had no snapshot and the document was rebuilt by
-    /// replaying the history.
+    /// True when the document was rebuilt by replaying the history (the
+    /// file had no snapshot, or its snapshot was not trusted: see
+    /// [`Loaded::snapshot`]).
     pub replayed: bool,
+    /// What became of the file's snapshot.
+    pub snapshot: SnapshotUse,
+}
+
+/// What a load did with the file's snapshot of the document.
+///
+/// The log is the truth: a snapshot that does not parse, or that gives a
+/// different document than replaying the log, is never used; the document
+/// is then the replayed log's, and this says why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SnapshotUse {
+    /// The snapshot was used (and, when checked, agreed with the log).
+    Used,
+    /// The file has no snapshot; the log was replayed.
+    Absent,
+    /// The snapshot does not parse or does not fit the log; the log was
+    /// replayed instead.
+    Rejected {
+        /// Why.
+        reason: String,
+    },
+    /// The snapshot parses but replaying the log gives another document;
+    /// the log's document is used.
+    DisagreesWithLog,
+}
+
+impl SnapshotUse {
+    /// A sentence for a warning, or `None` when the snapshot was used or
+    /// simply absent.
+    pub fn warning(&self) -> Option<String> {
+        match self {
+            Self::Used | Self::Absent => None,
+            Self::Rejected { reason } => Some(format!(
+                "the file's snapshot of the document is unusable ({reason}); the document was rebuilt by replaying its op log"
+            )),
+            Self::DisagreesWithLog => Some(
+                "the file's snapshot of the document disagrees with its op log; the document was rebuilt by replaying the log (the log wins)"
+                    .to_owned(),
+            ),
+        }
+    }
 }
 
 /// Parses usda text and loads it.
 pub fn load_from_str(text: &str, options: LoadOptions) -> Result<Loaded, LoadError> {
-    let data = openusd::usda::parse(text).map_err(|e| LoadError::Parse(format!("{e:#}")))?;
-    load_from_data(&data, options)
+    limits::with_parser_stack(|| {
+        limits::check_usda_nesting(text)?;
+        let data = openusd::usda::parse(text).map_err(|e| LoadError::Parse(format!("{e:#}")))?;
+        load_from_data(&data, options)
+    })
 }
 
 /// Reads a usda, usdc or usdz file (by content, not by extension) and loads it.
@@ -58,11 +107,22 @@ pub fn load_file(path: &Path, options: LoadOptions) -> Result<Loaded, LoadError>
         path: path.display().to_string(),
         source,
     })?;
-    let data = read_layer(&bytes)?;
-    load_from_data(data.as_ref(), options)
+    load_from_bytes(&bytes, options)
+}
+
+/// Loads a usda, usdc or usdz layer from its bytes.
+pub fn load_from_bytes(bytes: &[u8], options: LoadOptions) -> Result<Loaded, LoadError> {
+    limits::with_parser_stack(|| {
+        let data = read_layer(bytes)?;
+        load_from_data(data.as_ref(), options)
+    })
 }
 
 /// Parses the bytes of a usda, usdc or usdz layer (usdz: its first layer).
+///
+/// Parsers recurse on nesting: call this on a thread with a large stack
+/// ([`limits::with_parser_stack`], as [`load_file`] does); usda text
+/// nested deeper than [`limits::MAX_NESTING`] is refused before parsing.
 pub fn read_layer(bytes: &[u8]) -> Result<Box<dyn AbstractData>, LoadError> {
     let parse = |e: anyhow::Error| LoadError::Parse(format!("{e:#}"));
     if bytes.starts_with(b"PXR-USDC") {
@@ -76,6 +136,7 @@ pub fn read_layer(bytes: &[u8]) -> Result<Box<dyn AbstractData>, LoadError> {
     } else {
         let text = std::str::from_utf8(bytes)
             .map_err(|e| LoadError::Parse(format!("usda text is not UTF-8: {e}")))?;
+        limits::check_usda_nesting(text)?;
         Ok(Box::new(openusd::usda::parse(text).map_err(parse)?))
     }
 }
@@ -183,10 +244,9 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
     })?;
     let mut ops = Vec::with_capacity(texts.len());
     for (index, t) in texts.iter().enumerate() {
-        let op: Op = serde_json::from_str(t).map_err(|e| LoadError::BadOp {
-            index,
-            message: e.to_string(),
-        })?;
+        let bad = |message: String| LoadError::BadOp { index, message };
+        let json = decode_json(t).ok_or_else(|| bad("bad hex encoding".to_owned()))?;
+        let op: Op = serde_json::from_str(&json).map_err(|e| bad(e.to_string()))?;
         ops.push(op);
     }
     if let Some(v) = attr_value(data, &log_path, "shapewright:opTypes") {
@@ -200,14 +260,15 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
                 problem: format!("{} entries for {} ops", types.len(), ops.len()),
             });
         }
-        if let Some(i) = (0..ops.len()).find(|&i| types[i] != ops[i].name()) {
+        if let Some((i, (t, op))) = types
+            .iter()
+            .zip(&ops)
+            .enumerate()
+            .find(|(_, (t, op))| t.as_str() != op.name())
+        {
             return Err(LoadError::BadAttribute {
                 name: "shapewright:opTypes",
-                problem: format!(
-                    "entry {i} says `{}` but op {i} is `{}`",
-                    types[i],
-                    ops[i].name()
-                ),
+                problem: format!("entry {i} says `{t}` but op {i} is `{}`", op.name()),
             });
         }
     }
@@ -225,38 +286,76 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
         problem: format!("negative ({cursor})"),
     })?;
 
-    let (log, replayed) = match attr_value(data, &log_path, "shapewright:snapshot") {
+    // The snapshot, if it parses and fits the log.
+    let from_snapshot = match attr_value(data, &log_path, "shapewright:snapshot") {
+        None => Err(SnapshotUse::Absent),
         Some(v) => {
-            let text = string(&v).ok_or_else(|| LoadError::BadAttribute {
-                name: "shapewright:snapshot",
-                problem: format!("not a string ({})", type_of(&v)),
-            })?;
-            let doc: Document =
-                serde_json::from_str(&text).map_err(|e| LoadError::BadSnapshot(e.to_string()))?;
-            (OpLog::from_snapshot(ops, cursor, doc)?, false)
+            let rejected = |reason: String| SnapshotUse::Rejected { reason };
+            string(&v)
+                .ok_or_else(|| rejected(format!("not a string ({})", type_of(&v))))
+                .and_then(|text| {
+                    let json =
+                        decode_json(&text).ok_or_else(|| rejected("bad hex encoding".into()))?;
+                    serde_json::from_str::<Document>(&json).map_err(|e| rejected(e.to_string()))
+                })
+                .and_then(|doc| {
+                    OpLog::from_snapshot(ops.clone(), cursor, doc)
+                        .map_err(|e| rejected(e.to_string()))
+                })
         }
-        None => (OpLog::replay(ops, cursor)?, true),
     };
-
     let (stored, extra) = stored_meshes(data, &root);
-    let mut report = compare(log.document(), &stored, extra);
-    report
-        .mismatches
-        .extend(crate::parametric::mismatches(data, log.document()));
-    if options.verify_history && !replayed {
-        report.history_checked = true;
-        match OpLog::replay(log.ops().to_vec(), cursor) {
-            Ok(r) if r.document().content_hash() == log.document().content_hash() => {}
-            Ok(_) => report.mismatches.push(Mismatch::History {
-                detail: format!(
-                    "replaying the {cursor} applied ops gives a different document than the snapshot"
-                ),
-            }),
-            Err(e) => report.mismatches.push(Mismatch::History {
-                detail: e.to_string(),
-            }),
+    let check = |doc: &Document| {
+        let mut r = compare(doc, &stored, extra.clone());
+        r.mismatches
+            .extend(crate::parametric::mismatches(data, doc));
+        r
+    };
+    let (log, snapshot) = match from_snapshot {
+        Ok(log) => (log, SnapshotUse::Used),
+        Err(why) => (OpLog::replay(ops.clone(), cursor)?, why),
+    };
+    let mut report = check(log.document());
+    let (log, snapshot, report) = if snapshot == SnapshotUse::Used
+        && (options.verify_history || !report.is_consistent())
+    {
+        // Something disagrees (or the caller asked): the log decides.
+        match OpLog::replay(ops, cursor) {
+            Ok(r) if r.document().content_hash() == log.document().content_hash() => {
+                report.history_checked = true;
+                (log, SnapshotUse::Used, report)
+            }
+            Ok(r) => {
+                let mut report = check(r.document());
+                report.history_checked = true;
+                report.mismatches.push(Mismatch::History {
+                    detail: format!(
+                        "replaying the {cursor} applied ops gives a different document than the snapshot; the log's document is used"
+                    ),
+                });
+                (r, SnapshotUse::DisagreesWithLog, report)
+            }
+            Err(e) if report.is_consistent() => {
+                // Only the check asked for failed: the snapshot agrees
+                // with the stored meshes; report the history.
+                report.history_checked = true;
+                report.mismatches.push(Mismatch::History {
+                    detail: e.to_string(),
+                });
+                (log, SnapshotUse::Used, report)
+            }
+            Err(e) => {
+                // Neither can be trusted: say which is which.
+                return Err(LoadError::Untrusted {
+                    mismatches: report.to_string(),
+                    replay: e.to_string(),
+                });
+            }
         }
-    }
+    } else {
+        (log, snapshot, report)
+    };
+    let replayed = snapshot != SnapshotUse::Used;
     if options.strict && !report.is_consistent() {
         return Err(LoadError::Inconsistent(report));
     }
@@ -273,6 +372,7 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
         format_version,
         meters_per_unit,
         replayed,
+        snapshot,
     })
 }
 

@@ -10,7 +10,8 @@
 //! - A curve network (paper 3 §5) gives `Curves` (its live curves, with
 //!   `shapewright:curveIndices` naming each one's index in the network)
 //!   and `Patch<k>` per patch, converted exactly to a bicubic NURBS surface
-//!   ([`crate::coons`]).
+//!   ([`crate::coons`]); a patch of more sides as `Patch<k>`, a `Mesh` of
+//!   its triangles, plus `Patch<k>_Boundary`, its pieces as curves.
 //!
 //! Authoring follows the UsdGeom schemas: `order = degree + 1`, `knots`
 //! concatenated per curve (`count + order` each), `ranges` the curves'
@@ -27,11 +28,14 @@
 //! attribute that differs (points beyond [`crate::check::POINT_ULPS`],
 //! anything else exactly) is a [`crate::Mismatch::Parametric`]. The log stays
 //! the truth; the prims are never read back into the document.
+// Reads outside data: no indexing that can panic (issue 22).
+#![deny(clippy::indexing_slicing)]
 
 use openusd::gf;
 use openusd::sdf::{self, AbstractData, Value};
 use shapewright::doc::{Document, ObjectKind};
 use shapewright::math::DVec3;
+use shapewright::mesh::TriMesh;
 use shapewright::nurbs::{euclidean, NurbsCurve, NurbsSurface};
 
 use crate::check::{max_point_deviation, Mismatch};
@@ -58,68 +62,118 @@ pub enum Part {
         /// The surface.
         surface: NurbsSurface,
     },
+    /// A `Mesh` prim: a patch that is not one NURBS surface (more than 4
+    /// sides), stored as its evaluated triangles next to its boundary.
+    Mesh {
+        /// Prim name.
+        name: String,
+        /// The triangles.
+        mesh: TriMesh,
+    },
+}
+
+/// The parametric parts of an object, and the ones that could not be made.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Parts {
+    /// The parts to write.
+    pub parts: Vec<Part>,
+    /// What could not be written, one line each (`part 2: ...`).
+    pub problems: Vec<String>,
 }
 
 /// The parametric parts of `kind` (none for solids, SDF volumes and
 /// sculpt meshes, whose data are the log's and the snapshot's only).
-pub fn parts(kind: &ObjectKind) -> Result<Vec<Part>, String> {
-    let mut out = Vec::new();
+///
+/// Never fails as a whole: a part that cannot be made is left out and
+/// named in [`Parts::problems`], so the object's other parts (and its
+/// mesh, and the other objects) are still written. A patch of more than 4
+/// sides, or one whose exact bicubic form cannot be made, is written as
+/// its mesh (`Patch<k>`, a `Mesh`) plus its boundary curves
+/// (`Patch<k>_Boundary`), which does not depend on how the styling module
+/// builds its inside.
+pub fn parts(kind: &ObjectKind) -> Parts {
+    let mut out = Parts::default();
     match kind {
         ObjectKind::Solid(_) | ObjectKind::SdfVolume(_) | ObjectKind::SculptMesh(_) => {}
         ObjectKind::GcAssembly(a) => {
             for (i, part) in a.parts.iter().enumerate() {
                 let gc = &part.gc;
-                let fail = |e: shapewright::gc::GcError| format!("part {i}: {e}");
-                let (sections, _) = gc.placed_sections().map_err(fail)?;
-                out.push(Part::Curves {
-                    name: format!("Part{i}_Spine"),
-                    curves: vec![gc.spine.curve.clone()],
-                    indices: None,
+                let made = gc.placed_sections().and_then(|(sections, _)| {
+                    Ok([
+                        Part::Curves {
+                            name: format!("Part{i}_Spine"),
+                            curves: vec![gc.spine.curve.clone()],
+                            indices: None,
+                        },
+                        Part::Curves {
+                            name: format!("Part{i}_Sections"),
+                            curves: sections,
+                            indices: None,
+                        },
+                        Part::Patch {
+                            name: format!("Part{i}_Surface"),
+                            surface: gc.surface()?,
+                        },
+                    ])
                 });
-                out.push(Part::Curves {
-                    name: format!("Part{i}_Sections"),
-                    curves: sections,
-                    indices: None,
-                });
-                out.push(Part::Patch {
-                    name: format!("Part{i}_Surface"),
-                    surface: gc.surface().map_err(fail)?,
-                });
+                match made {
+                    Ok(p) => out.parts.extend(p),
+                    Err(e) => out.problems.push(format!("part {i}: {e}")),
+                }
             }
         }
         ObjectKind::CurveNetwork(net) => {
             let mut curves = Vec::new();
             let mut indices = Vec::new();
             for (i, c) in net.curves.iter().enumerate() {
-                if let Some(c) = c {
-                    curves.push(c.to_nurbs().map_err(|e| format!("curve {i}: {e}"))?);
-                    indices.push(i32::try_from(i).map_err(|_| format!("curve index {i}"))?);
+                let Some(c) = c else { continue };
+                match (c.to_nurbs(), i32::try_from(i)) {
+                    (Ok(n), Ok(ix)) => {
+                        curves.push(n);
+                        indices.push(ix);
+                    }
+                    (Err(e), _) => out.problems.push(format!("curve {i}: {e}")),
+                    (_, Err(_)) => out.problems.push(format!("curve index {i} exceeds int")),
                 }
             }
             if !curves.is_empty() {
-                out.push(Part::Curves {
+                out.parts.push(Part::Curves {
                     name: "Curves".to_owned(),
                     curves,
                     indices: Some(indices),
                 });
             }
             for k in 0..net.patches.len() {
-                out.push(Part::Patch {
+                if let Ok(surface) = crate::coons::patch_surface(net, k) {
+                    out.parts.push(Part::Patch {
+                        name: format!("Patch{k}"),
+                        surface,
+                    });
+                    continue;
+                }
+                out.parts.push(Part::Mesh {
                     name: format!("Patch{k}"),
-                    surface: crate::coons::patch_surface(net, k)
-                        .map_err(|e| format!("patch {k}: {e}"))?,
+                    mesh: net.patch_mesh(k),
                 });
+                match crate::coons::patch_boundary(net, k) {
+                    Ok(curves) => out.parts.push(Part::Curves {
+                        name: format!("Patch{k}_Boundary"),
+                        curves,
+                        indices: None,
+                    }),
+                    Err(e) => out.problems.push(format!("patch {k} boundary: {e}")),
+                }
             }
         }
     }
-    Ok(out)
+    out
 }
 
 impl Part {
     /// The prim name.
     pub fn name(&self) -> &str {
         match self {
-            Self::Curves { name, .. } | Self::Patch { name, .. } => name,
+            Self::Curves { name, .. } | Self::Patch { name, .. } | Self::Mesh { name, .. } => name,
         }
     }
 
@@ -132,6 +186,7 @@ impl Part {
                 indices,
             } => curves_prim(name, curves, indices.as_deref()),
             Self::Patch { name, surface } => patch_prim(name, surface),
+            Self::Mesh { name, mesh } => crate::kinds::mesh_prim(name, mesh),
         }
     }
 }
@@ -145,9 +200,9 @@ pub fn extent(points: &[gf::Vec3f]) -> Value {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for p in points {
-        for (k, v) in [p.x, p.y, p.z].into_iter().enumerate() {
-            lo[k] = lo[k].min(v);
-            hi[k] = hi[k].max(v);
+        for ((l, h), v) in lo.iter_mut().zip(hi.iter_mut()).zip([p.x, p.y, p.z]) {
+            *l = l.min(v);
+            *h = h.max(v);
         }
     }
     if points.is_empty() {
@@ -251,7 +306,7 @@ pub fn patch_prim(name: &str, s: &NurbsSurface) -> PrimOut {
         ]);
     }
     let order = (0..s.n_v).flat_map(|j| (0..s.n_u).map(move |i| i * s.n_v + j));
-    push_points(&mut p.attrs, order.map(|k| &s.control[k]));
+    push_points(&mut p.attrs, order.filter_map(|k| s.control.get(k)));
     p
 }
 
@@ -276,14 +331,9 @@ pub fn mismatches(data: &dyn AbstractData, doc: &Document) -> Vec<Mismatch> {
                 detail,
             })
         };
-        let expected = match parts(&obj.kind) {
-            Ok(p) => p,
-            Err(e) => {
-                report("-", format!("the document's parametric data fail: {e}"));
-                continue;
-            }
-        };
-        for part in expected {
+        // The same document gives the same parts (and leaves out the same
+        // ones) as when it was saved.
+        for part in parts(&obj.kind).parts {
             let want = part.prim();
             let Ok(path) = obj_path.append_path(want.name.as_str()) else {
                 continue;

@@ -13,6 +13,8 @@
 //! last row, ops in `xformOpOrder` applied last-first); glam multiplies
 //! column vectors, so a USD matrix read row-major is glam's column-major
 //! transpose and the stack is `M = op0 · op1 · … · opN` (opN applies first).
+// Reads outside data: no indexing that can panic (issue 22).
+#![deny(clippy::indexing_slicing)]
 
 use openusd::sdf::{self, Value};
 use openusd::usd::{Stage, TimeCode};
@@ -22,12 +24,12 @@ use crate::ImportError;
 
 /// The local transform of the prim at `path` and whether its stack starts
 /// with `!resetXformStack!` (ignore the parents' transforms).
-pub fn local_transform(stage: &Stage, path: &sdf::Path) -> Result<(DMat4, bool), ImportError> {
+pub fn local_transform(stage: &impl Attrs, path: &sdf::Path) -> Result<(DMat4, bool), ImportError> {
     let read_err = |message: String| ImportError::Read {
         path: path.as_str().to_owned(),
         message,
     };
-    let order = match attr(stage, path, "xformOpOrder").map_err(read_err)? {
+    let order = match stage.attr(path, "xformOpOrder").map_err(read_err)? {
         None => return Ok((DMat4::IDENTITY, false)),
         Some(Value::TokenVec(v)) => v.iter().map(|t| t.as_str().to_owned()).collect(),
         Some(Value::StringVec(v)) => v,
@@ -58,7 +60,7 @@ pub fn local_transform(stage: &Stage, path: &sdf::Path) -> Result<(DMat4, bool),
             Some(rest) => (true, rest),
             None => (false, name.as_str()),
         };
-        let value = attr(stage, path, attr_name).map_err(read_err)?;
+        let value = stage.attr(path, attr_name).map_err(read_err)?;
         let op = op_matrix(path, attr_name, value)?;
         let op = if invert {
             if op.determinant().abs() < 1e-300 {
@@ -95,7 +97,51 @@ pub fn world_transform(stage: &Stage, path: &sdf::Path) -> Result<DMat4, ImportE
     Ok(m)
 }
 
-/// Value of `prim.name`: its default, else its earliest time sample.
+/// Where attribute values come from: a composed [`Stage`], or one layer
+/// without composition arcs ([`FlatLayer`]).
+pub trait Attrs {
+    /// Value of `prim.name`: its default, else its earliest time sample.
+    fn attr(&self, prim: &sdf::Path, name: &str) -> Result<Option<Value>, String>;
+}
+
+impl Attrs for Stage {
+    fn attr(&self, prim: &sdf::Path, name: &str) -> Result<Option<Value>, String> {
+        attr(self, prim, name)
+    }
+}
+
+/// One layer read as it is: right when it has no composition arcs (no
+/// references, payloads, inherits, specializes, variants or sublayers),
+/// where the composed stage is the layer itself.
+pub struct FlatLayer<'a>(pub &'a dyn openusd::sdf::AbstractData);
+
+impl Attrs for FlatLayer<'_> {
+    fn attr(&self, prim: &sdf::Path, name: &str) -> Result<Option<Value>, String> {
+        let p = prim
+            .append_property(name)
+            .map_err(|e| format!("bad attribute name `{name}`: {e}"))?;
+        let field = |key: &str| {
+            self.0
+                .try_field(&p, key)
+                .map_err(|e| format!("{name}: {e}"))
+                .map(|v| v.map(std::borrow::Cow::into_owned))
+        };
+        match field("default")? {
+            Some(Value::ValueBlock) => Ok(None),
+            Some(v) => Ok(Some(v)),
+            None => Ok(match field("timeSamples")? {
+                Some(Value::TimeSamples(samples)) => samples
+                    .into_iter()
+                    .min_by(|a, b| a.0.total_cmp(&b.0))
+                    .map(|(_, v)| v)
+                    .filter(|v| !matches!(v, Value::ValueBlock)),
+                _ => None,
+            }),
+        }
+    }
+}
+
+/// Value of `prim.name` on a stage: its default, else its earliest time sample.
 pub fn attr(stage: &Stage, prim: &sdf::Path, name: &str) -> Result<Option<Value>, String> {
     let p = prim
         .append_property(name)
@@ -187,7 +233,7 @@ fn op_matrix(path: &sdf::Path, name: &str, value: Option<Value>) -> Result<DMat4
             // rotateABC rotates about A first, then B, then C: M = Rc·Rb·Ra.
             let a = v3()?.to_array();
             let mut m = DMat4::IDENTITY;
-            for axis in kind["rotate".len()..].chars() {
+            for axis in kind.trim_start_matches("rotate").chars() {
                 let angle = match axis {
                     'X' => a[0],
                     'Y' => a[1],

@@ -6,9 +6,10 @@ mod common;
 
 use shapewright::doc::ObjectKind;
 use shapewright::math::DVec3;
+use shapewright::nurbs::segment;
 use shapewright::nurbs::uniform_samples as params;
 use shapewright::nurbs::{interpolate, ParamMethod};
-use shapewright_usd::coons::{patch_surface, segment};
+use shapewright_usd::coons::patch_surface;
 use shapewright_usd::parametric::{parts, Part};
 use shapewright_usd::{load_from_str, save_to_string, LoadOptions, Mismatch, SaveOptions};
 
@@ -84,8 +85,19 @@ fn every_gc_and_network_example_has_its_prims() {
                         ]
                     })
                     .collect(),
+                // 3- and 4-sided patches are one bicubic surface; more
+                // sides: the patch's mesh and its boundary curves.
                 ObjectKind::CurveNetwork(n) => std::iter::once("def NurbsCurves \"Curves\"".into())
-                    .chain((0..n.patches.len()).map(|k| format!("def NurbsPatch \"Patch{k}\"")))
+                    .chain(n.patches.iter().enumerate().flat_map(|(k, p)| {
+                        if p.pieces.len() <= 4 {
+                            vec![format!("def NurbsPatch \"Patch{k}\"")]
+                        } else {
+                            vec![
+                                format!("def Mesh \"Patch{k}\""),
+                                format!("def NurbsCurves \"Patch{k}_Boundary\""),
+                            ]
+                        }
+                    }))
                     .collect(),
                 _ => continue,
             };
@@ -106,7 +118,9 @@ fn every_gc_and_network_example_has_its_prims() {
             // Sections are the placed key sections; the surface passes
             // through each at its v (exact skinning).
             if let ObjectKind::GcAssembly(a) = &obj.kind {
-                let ps = parts(&obj.kind).unwrap();
+                let made = parts(&obj.kind);
+                assert!(made.problems.is_empty(), "{:?}", made.problems);
+                let ps = made.parts;
                 for (i, part) in a.parts.iter().enumerate() {
                     let Part::Curves { curves, .. } = &ps[3 * i + 1] else {
                         panic!("sections")

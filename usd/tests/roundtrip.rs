@@ -99,7 +99,11 @@ fn redo_tail_survives_and_new_op_drops_it() {
 
 #[test]
 fn stage_metadata_and_mesh_schema_are_authored() {
-    let log = common::run(&common::scripts()[0].1);
+    let (_, text) = common::scripts()
+        .into_iter()
+        .find(|(p, _)| p.ends_with("solids_basic.jsonl"))
+        .unwrap();
+    let log = common::run(&text);
     let usda = save_to_string(
         &log,
         &SaveOptions {

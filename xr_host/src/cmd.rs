@@ -1,12 +1,12 @@
 //! The command-line subcommands: thin wrappers that read files, call the
 //! core and write files.
 
-use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use shapewright::doc::{parse_script, run_script, OpLog};
-use shapewright::mesh::{self, MeshFormat, TriMesh, ValidationReport};
+use shapewright::mesh::{self, TriMesh, ValidationReport};
+pub use shapewright_xr::files::read_mesh;
 
 /// `apply SCRIPT --out FILE`.
 pub fn apply(script: &Path, out: &Path) -> Result<()> {
@@ -17,8 +17,9 @@ pub fn apply(script: &Path, out: &Path) -> Result<()> {
     run_script(&mut log, &lines).with_context(|| format!("in {}", script.display()))?;
     let doc = log.document();
     if crate::usd_cmd::is_usd(out) {
-        shapewright_usd::save_file(out, &log, &shapewright_usd::SaveOptions::default())
+        let saved = shapewright_usd::save_file(out, &log, &shapewright_usd::SaveOptions::default())
             .with_context(|| format!("saving {}", out.display()))?;
+        eprint!("{}", saved.warnings());
         let (ops, objects) = (log.cursor(), doc.len());
         println!(
             "{}: {ops} ops, {objects} objects -> {}",
@@ -49,42 +50,14 @@ pub fn info(file: &Path) -> Result<()> {
     let mesh = read_mesh(file)?;
     let report = mesh::validate(&mesh, &Default::default());
     print!("{}", format_report(file, &report));
+    print!("{}", shapewright_xr::files::interrupted_note(file));
     Ok(())
 }
 
-/// Writes `mesh` in the format named by `path`'s extension.
+/// Writes `mesh` in the format named by `path`'s extension, crash-safely
+/// ([`shapewright_xr::files`]).
 pub fn write_mesh(mesh: &TriMesh, path: &Path) -> Result<()> {
-    let Some(format) = MeshFormat::from_path(path) else {
-        bail!(
-            "cannot write {}: unknown extension (use .stl, .obj or .ply)",
-            path.display()
-        );
-    };
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
-    let file =
-        std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
-    let mut w = BufWriter::new(file);
-    format
-        .write(mesh, &mut w)
-        .and_then(|()| w.flush())
-        .with_context(|| format!("writing {}", path.display()))
-}
-
-/// Reads a mesh in the format named by `path`'s extension.
-pub fn read_mesh(path: &Path) -> Result<TriMesh> {
-    let Some(result) = MeshFormat::from_path(path)
-        .and_then(|f| std::fs::read(path).map(|bytes| f.read(&bytes)).transpose())
-    else {
-        bail!(
-            "cannot read {}: unknown extension (use .stl or .obj)",
-            path.display()
-        );
-    };
-    result
-        .with_context(|| format!("reading {}", path.display()))?
-        .with_context(|| format!("in {}", path.display()))
+    shapewright_xr::files::write_mesh(mesh, path).map(|_| ())
 }
 
 /// The report as `info` prints it.

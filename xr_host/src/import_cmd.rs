@@ -70,9 +70,11 @@ pub fn import(args: &ImportArgs) -> Result<()> {
         let Some(out) = &args.out else {
             bail!("--as brush needs --out BRUSH.json");
         };
-        let shape = import_brush(&args.file, &options, args.step, 2.0 * args.step)?;
-        std::fs::write(out, serde_json::to_string(&shape)?)
-            .with_context(|| format!("writing {}", out.display()))?;
+        let (shape, flipped) = import_brush(&args.file, &options, args.step, 2.0 * args.step)?;
+        for note in flipped {
+            eprintln!("note: {note}");
+        }
+        shapewright_xr::files::write_text(out, &serde_json::to_string(&shape)?)?;
         println!("{} -> brush {}", args.file.display(), out.display());
         return Ok(());
     }
@@ -92,9 +94,14 @@ pub fn import(args: &ImportArgs) -> Result<()> {
             transform: Transform::default(),
         },
     };
-    let outcome = import_into(&mut log, &args.file, &options, target)?;
-    save_file(into, &log, &SaveOptions::default())
+    let imported = import_into(&mut log, &args.file, &options, target)?;
+    for note in &imported.flipped {
+        eprintln!("note: {note}");
+    }
+    let outcome = imported.outcome;
+    let saved = save_file(into, &log, &SaveOptions::default())
         .with_context(|| format!("saving {}", into.display()))?;
+    eprint!("{}", saved.warnings());
     let name = log.ops().last().map_or("?", |op| op.name());
     println!(
         "{} -> {name}{} in {} ({} ops)",
@@ -114,6 +121,9 @@ fn open_or_new(path: &Path) -> Result<OpLog> {
     }
     let loaded = load_file(path, LoadOptions::default())
         .with_context(|| format!("loading {}", path.display()))?;
+    if let Some(w) = loaded.snapshot.warning() {
+        eprintln!("warning: {}: {w}", path.display());
+    }
     Ok(loaded.log)
 }
 

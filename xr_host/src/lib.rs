@@ -1,10 +1,11 @@
 //! `shapewright-xr` as a library: the Vulkan renderer ([`gfx`], the only
-//! module with `unsafe`), offscreen rendering to PNG ([`render`]), the
+//! module with `unsafe`), crash-safe file writes ([`files`]), offscreen rendering to PNG ([`render`]), the
 //! OpenXR host ([`xr`]), and the interaction step the frame loops and
 //! `replay` share ([`interaction`]). The binary's subcommands call into these.
 
 #![deny(unsafe_code)]
 
+pub mod files;
 #[allow(unsafe_code)]
 pub mod gfx;
 pub mod interaction;

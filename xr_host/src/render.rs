@@ -190,24 +190,25 @@ pub fn render_mesh(
     Ok(target.render(&cams, settings.background, &[draw], gpu_lines.as_ref())?)
 }
 
-/// Encodes `image` as an 8-bit RGBA PNG at `path` (parent folders created).
+/// Encodes `image` as an 8-bit RGBA PNG at `path` (parent folders
+/// created), crash-safely ([`crate::files`]).
 pub fn write_png(image: &RgbaImage, path: &Path) -> Result<(), RenderError> {
     let err = |message: String| RenderError::Png {
         path: path.display().to_string(),
         message,
     };
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| err(e.to_string()))?;
-    }
-    let file = std::fs::File::create(path).map_err(|e| err(e.to_string()))?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), image.width, image.height);
-    enc.set_color(png::ColorType::Rgba);
-    enc.set_depth(png::BitDepth::Eight);
-    enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-    let mut w = enc.write_header().map_err(|e| err(e.to_string()))?;
-    w.write_image_data(&image.pixels)
-        .map_err(|e| err(e.to_string()))?;
-    w.finish().map_err(|e| err(e.to_string()))
+    shapewright_atomic::write_with(path, |file| {
+        let mut enc = png::Encoder::new(file, image.width, image.height);
+        enc.set_color(png::ColorType::Rgba);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        let mut w = enc.write_header().map_err(std::io::Error::other)?;
+        w.write_image_data(&image.pixels)
+            .map_err(std::io::Error::other)?;
+        w.finish().map_err(std::io::Error::other)
+    })
+    .map(|_| ())
+    .map_err(|e| err(e.to_string()))
 }
 
 /// Renders `mesh` to a PNG at `path` with a fresh offscreen Vulkan context

@@ -223,12 +223,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
         out.flush().context("writing the record")?;
     }
     if let (Some(p), Some(t)) = (&args.trace, &sink.trace) {
-        std::fs::write(p, t.to_jsonl()).with_context(|| format!("writing {}", p.display()))?;
+        shapewright_xr::files::write_text(p, &t.to_jsonl())?;
     }
     let report = result?;
     if let Some(p) = &args.report {
-        std::fs::write(p, serde_json::to_string_pretty(&report)?)
-            .with_context(|| format!("writing {}", p.display()))?;
+        shapewright_xr::files::write_text(p, &serde_json::to_string_pretty(&report)?)?;
     }
     print_summary(&report);
     let unsaved = sink.interaction.unsaved_changes();

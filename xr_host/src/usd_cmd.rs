@@ -1,16 +1,19 @@
 //! `export` and `info` for Shapewright USD files (shapewright-usd).
 
 use std::fmt::Write as _;
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use shapewright::mesh::{validate, write_obj, write_ply, write_stl, TriMesh};
-use shapewright_usd::{load_file, LoadOptions};
+use shapewright::mesh::validate;
+use shapewright_usd::{load_file, LoadOptions, Mismatch};
 
 /// `export FILE.usda --stl/--obj/--ply OUT`: the document at the saved
 /// cursor, all objects in one mesh, to each requested format.
+///
+/// The log is the truth: a snapshot that does not parse or that disagrees
+/// with the log is replaced by the replayed log (the load does that and
+/// says so), and stored meshes that disagree with the document are only
+/// reported; what is exported is always the log's document.
 pub fn export(
     file: &Path,
     stl: Option<&Path>,
@@ -22,26 +25,33 @@ pub fn export(
     }
     let loaded = load_file(file, LoadOptions::default())
         .with_context(|| format!("loading {}", file.display()))?;
-    if !loaded.report.is_consistent() {
+    if let Some(w) = loaded.snapshot.warning() {
         eprintln!(
-            "warning: {}: geometry disagrees with the log; exporting the log's geometry:\n{}",
+            "warning: {}: {w}; exporting the log's document ({} ops)",
             file.display(),
+            loaded.log.cursor()
+        );
+    }
+    let stored_differ = loaded
+        .report
+        .mismatches
+        .iter()
+        .any(|m| !matches!(m, Mismatch::History { .. }));
+    if stored_differ {
+        eprintln!(
+            "warning: {}: the meshes stored in the file disagree with its op log; exporting the log's document ({}), not the stored meshes:\n{}",
+            file.display(),
+            if loaded.replayed {
+                "replayed"
+            } else {
+                "its snapshot, which agrees with the replayed log"
+            },
             loaded.report
         );
     }
     let mesh = loaded.log.document().combined_mesh();
-    type Writer = fn(&TriMesh, &mut BufWriter<File>) -> std::io::Result<()>;
-    let targets: [(Option<&Path>, Writer); 3] = [
-        (stl, |m, w| write_stl(m, w)),
-        (obj, |m, w| write_obj(m, w)),
-        (ply, |m, w| write_ply(m, w)),
-    ];
-    for (path, write) in targets {
-        let Some(path) = path else { continue };
-        let f = File::create(path).with_context(|| format!("creating {}", path.display()))?;
-        let mut w = BufWriter::new(f);
-        write(&mesh, &mut w).with_context(|| format!("writing {}", path.display()))?;
-        std::io::Write::flush(&mut w).with_context(|| format!("writing {}", path.display()))?;
+    for path in [stl, obj, ply].into_iter().flatten() {
+        shapewright_xr::files::write_mesh(&mesh, path)?;
     }
     Ok(())
 }
@@ -95,6 +105,10 @@ pub fn info(file: &Path) -> Result<String> {
         )?;
     }
     writeln!(s, "validation: {}", loaded.report)?;
+    if let Some(w) = loaded.snapshot.warning() {
+        writeln!(s, "snapshot: {w}")?;
+    }
+    s.push_str(&shapewright_xr::files::interrupted_note(file));
     Ok(s)
 }
 

@@ -181,14 +181,10 @@ impl Session {
         let mesh = py
             .detach(|| doc.printable_mesh())
             .map_err(|e| crate::error::OpRejected::new_err(e.to_string()))?;
-        py.detach(|| {
-            let mut w = std::io::BufWriter::new(std::fs::File::create(&path)?);
-            format.write(&mesh, &mut w)?;
-            std::io::Write::flush(&mut w)
-        })
-        .map_err(|e| {
-            pyo3::exceptions::PyOSError::new_err(format!("writing {}: {e}", path.display()))
-        })
+        // Crash-safe (temp file, fsync, rename): a failed export keeps the old file.
+        py.detach(|| shapewright_atomic::write_with(&path, |w| format.write(&mesh, w)))
+            .map(|_| ())
+            .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))
     }
 
     /// A hash of the document's content (ids, parameters, mesh bits).

@@ -19,6 +19,7 @@ fn usd_err(path: &std::path::Path, e: impl std::fmt::Display) -> PyErr {
 pub(crate) fn save_usd(py: Python<'_>, doc: &Session, path: PathBuf) -> PyResult<()> {
     let log = doc.log();
     py.detach(|| shapewright_usd::atomic::save_file(&path, log, &SaveOptions::default()))
+        .map(|_| ())
         .map_err(|e| usd_err(&path, e))
 }
 

@@ -44,6 +44,15 @@ pub enum MeshIoError {
         /// Byte offset of the float.
         offset: usize,
     },
+    /// A binary file's content is invalid (a count, an index or a layout
+    /// that cannot be), at a byte offset.
+    #[error("byte offset {offset}: {message}")]
+    BadData {
+        /// Byte offset where it was found.
+        offset: usize,
+        /// What is wrong.
+        message: String,
+    },
     /// The file holds no triangles.
     #[error("the file holds no triangles")]
     Empty,

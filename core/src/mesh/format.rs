@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::{read_obj, read_stl, write_obj, write_ply, write_stl, MeshIoError, TriMesh};
+use super::{read_obj, read_ply, read_stl, write_obj, write_ply, write_stl, MeshIoError, TriMesh};
 
 /// A mesh file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -13,7 +13,7 @@ pub enum MeshFormat {
     Stl,
     /// Wavefront OBJ.
     Obj,
-    /// Binary little-endian PLY (write only).
+    /// Binary little-endian PLY (ascii and big-endian PLY are read too).
     Ply,
 }
 
@@ -37,12 +37,12 @@ impl MeshFormat {
         }
     }
 
-    /// Reads a mesh in this format; `None` for write-only formats.
-    pub fn read(self, bytes: &[u8]) -> Option<Result<TriMesh, MeshIoError>> {
+    /// Reads a mesh in this format.
+    pub fn read(self, bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
         match self {
-            Self::Stl => Some(read_stl(bytes)),
-            Self::Obj => Some(read_obj(bytes)),
-            Self::Ply => None,
+            Self::Stl => read_stl(bytes),
+            Self::Obj => read_obj(bytes),
+            Self::Ply => read_ply(bytes),
         }
     }
 }

@@ -17,7 +17,7 @@ pub use boolean::{difference, union, BooleanError};
 pub use error::MeshIoError;
 pub use format::MeshFormat;
 pub use obj::{read_obj, write_obj};
-pub use ply::write_ply;
+pub use ply::{read_ply, write_ply};
 pub use stl::{read_stl, write_stl};
 pub use trimesh::TriMesh;
 pub use validate::{validate, ValidationReport, ValidationSettings};

@@ -1,5 +1,9 @@
 //! Wavefront OBJ: positions and faces. Polygons are fan-triangulated;
 //! texture coordinates, normals, groups and materials are ignored on read.
+//!
+//! The reader takes outside data: no indexing that can panic (checked by
+//! `clippy::indexing_slicing`); linear in the file's size.
+#![deny(clippy::indexing_slicing)]
 
 use std::io::Write;
 
@@ -66,7 +70,13 @@ pub fn read_obj(bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
                             vertex_count: n as usize,
                         });
                     }
-                    corners.push(resolved as u32);
+                    let Ok(resolved) = u32::try_from(resolved) else {
+                        return Err(MeshIoError::Syntax {
+                            line,
+                            message: "too many vertices for 32-bit indices".into(),
+                        });
+                    };
+                    corners.push(resolved);
                 }
                 if corners.len() < 3 {
                     return Err(MeshIoError::Syntax {
@@ -74,9 +84,12 @@ pub fn read_obj(bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
                         message: format!("face needs at least 3 corners, found {}", corners.len()),
                     });
                 }
-                for k in 1..corners.len() - 1 {
-                    mesh.triangles
-                        .push([corners[0], corners[k], corners[k + 1]]);
+                if let Some((&first, rest)) = corners.split_first() {
+                    for pair in rest.windows(2) {
+                        if let [b, c] = pair {
+                            mesh.triangles.push([first, *b, *c]);
+                        }
+                    }
                 }
             }
             _ => {}

@@ -1,5 +1,9 @@
 //! STL, binary and ASCII. Triangles carry their own corners, so reading
 //! welds bit-identical positions back into shared vertices.
+//!
+//! The reader takes outside data: no indexing that can panic (checked by
+//! `clippy::indexing_slicing`).
+#![deny(clippy::indexing_slicing)]
 
 use std::io::Write;
 
@@ -11,7 +15,9 @@ use super::{MeshIoError, TriMesh};
 pub fn write_stl(mesh: &TriMesh, w: &mut impl Write) -> std::io::Result<()> {
     let mut header = [0u8; 80];
     let tag = b"Shapewright binary STL";
-    header[..tag.len()].copy_from_slice(tag);
+    for (h, t) in header.iter_mut().zip(tag) {
+        *h = *t;
+    }
     w.write_all(&header)?;
     w.write_all(&(mesh.triangles.len() as u32).to_le_bytes())?;
     let mut buf = Vec::with_capacity(mesh.triangles.len() * 50);
@@ -30,6 +36,10 @@ pub fn write_stl(mesh: &TriMesh, w: &mut impl Write) -> std::io::Result<()> {
 
 /// Reads binary or ASCII STL. Binary files must be exactly as long as
 /// their triangle count says; any non-finite coordinate is rejected.
+///
+/// Linear in the file's size; allocations are bounded by it (a count in
+/// the header is checked against the bytes present before anything is
+/// reserved).
 pub fn read_stl(bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
     let looks_ascii = bytes.trim_ascii_start().starts_with(b"solid")
         && std::str::from_utf8(bytes).is_ok_and(|s| s.contains("facet"));
@@ -45,42 +55,47 @@ pub fn read_stl(bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
     Ok(mesh)
 }
 
+/// Bytes of one binary facet: normal, three corners, attribute count.
+const FACET: usize = 50;
+
 fn read_binary(bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
-    if bytes.len() < 84 {
-        return Err(MeshIoError::Truncated {
-            expected: 84,
-            actual: bytes.len(),
-        });
-    }
-    let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
+    let truncated = |expected: usize| MeshIoError::Truncated {
+        expected,
+        actual: bytes.len(),
+    };
+    let (Some(count), Some(body)) = (bytes.get(80..84), bytes.get(84..)) else {
+        return Err(truncated(84));
+    };
+    let count = u32::from_le_bytes(count.try_into().unwrap_or([0; 4])) as usize;
     let expected = count
-        .checked_mul(50)
+        .checked_mul(FACET)
         .and_then(|x| x.checked_add(84))
         .unwrap_or(usize::MAX);
     if bytes.len() < expected {
-        return Err(MeshIoError::Truncated {
-            expected,
-            actual: bytes.len(),
+        return Err(truncated(expected));
+    }
+    if count.saturating_mul(3) > u32::MAX as usize {
+        return Err(MeshIoError::BadData {
+            offset: 80,
+            message: format!("{count} triangles exceed the 32-bit vertex index range"),
         });
     }
     let mut mesh = TriMesh::default();
     mesh.positions.reserve(count * 3);
-    for t in 0..count {
-        let base = 84 + t * 50;
-        for k in 0..3 {
+    mesh.triangles.reserve(count);
+    for (t, facet) in body.chunks_exact(FACET).take(count).enumerate() {
+        // Skip the normal (12 bytes); three corners of three f32 each.
+        let corners = facet.get(12..48).unwrap_or_default();
+        for (k, corner) in corners.chunks_exact(12).enumerate() {
             let mut p = [0.0; 3];
-            for (j, slot) in p.iter_mut().enumerate() {
-                let off = base + 12 + k * 12 + j * 4;
-                let x = f32::from_le_bytes([
-                    bytes[off],
-                    bytes[off + 1],
-                    bytes[off + 2],
-                    bytes[off + 3],
-                ]);
+            for (j, (slot, x)) in p.iter_mut().zip(corner.chunks_exact(4)).enumerate() {
+                let x = f32::from_le_bytes(x.try_into().unwrap_or([0; 4]));
                 if !x.is_finite() {
-                    return Err(MeshIoError::NonFiniteAt { offset: off });
+                    return Err(MeshIoError::NonFiniteAt {
+                        offset: 84 + t * FACET + 12 + k * 12 + j * 4,
+                    });
                 }
-                *slot = x as f64;
+                *slot = f64::from(x);
             }
             mesh.positions.push(p);
         }
@@ -111,7 +126,12 @@ fn read_ascii(bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
                         message: format!("a facet needs 3 vertices, found {pending}"),
                     });
                 }
-                let i = (mesh.positions.len() - 3) as u32;
+                let Ok(i) = u32::try_from(mesh.positions.len() - 3) else {
+                    return Err(MeshIoError::Syntax {
+                        line,
+                        message: "too many vertices for 32-bit indices".into(),
+                    });
+                };
                 mesh.triangles.push([i, i + 1, i + 2]);
                 pending = 0;
             }
@@ -128,6 +148,7 @@ fn read_ascii(bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
 }
 
 #[cfg(test)]
+#[allow(clippy::indexing_slicing)]
 mod tests {
     use super::*;
     use crate::mesh::test_meshes::tetra;

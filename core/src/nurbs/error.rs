@@ -54,4 +54,29 @@ pub enum NurbsError {
         /// Number of parameters.
         params: usize,
     },
+    /// A segment `[lo, hi]` was asked for outside the curve's domain
+    /// `[a, b]`, or with `lo >= hi`.
+    #[error("segment [{lo}, {hi}] is not inside the domain [{a}, {b}] (or is empty)")]
+    SegmentOutside {
+        /// Start asked for.
+        lo: f64,
+        /// End asked for.
+        hi: f64,
+        /// Domain start.
+        a: f64,
+        /// Domain end.
+        b: f64,
+    },
+    /// A Coons patch cannot be written as one polynomial bicubic surface
+    /// (a rational side, a side above cubic, a side not on `[0, 1]`).
+    #[error("not a polynomial bicubic patch: {0}")]
+    NotBicubic(&'static str),
+    /// A displacement grid is not `n × n` with `n >= 4`.
+    #[error("a displacement grid of {points} points is not {n}×{n} (n >= 4)")]
+    DisplacementGrid {
+        /// Points per side expected.
+        n: usize,
+        /// Points given.
+        points: usize,
+    },
 }

@@ -23,6 +23,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
 
 pub mod basis;
+mod coons;
 mod curve;
 mod error;
 mod interp;
@@ -36,6 +37,7 @@ pub use basis::{
     averaged_knots, basis_funs, clamped_uniform_knots, ders_basis_funs, find_span,
     knot_multiplicities, periodic_uniform_knots,
 };
+pub use coons::{coons_bicubic, knot_union, segment, CoonsSides};
 pub use curve::{euclidean, homogeneous, NurbsCurve};
 pub use error::NurbsError;
 pub use interp::{
