@@ -355,7 +355,9 @@ fn run_session<Gx: Graphics>(
             }
         }
         let mut delivered = None;
-        if based && reads_input(life.state) {
+        // No input after an exit request: a limit means exactly that many
+        // frames, and a stop means no new edits while the session winds down.
+        if based && reads_input(life.state) && !life.exit_requested {
             let t0 = Instant::now();
             // In a paced run, the packet's tag is read before anything else.
             let tag = match pacer.as_deref_mut() {

@@ -512,9 +512,11 @@ pub(crate) unsafe extern "system" fn suggest_interaction_profile_bindings(
                     return Err(sys::Result::ERROR_HANDLE_INVALID);
                 }
                 let path = i.path(*p).ok_or(sys::Result::ERROR_PATH_INVALID)?;
-                if !(path.starts_with("/user/hand/left/input/")
-                    || path.starts_with("/user/hand/right/input/"))
-                {
+                let ok = ["/user/hand/left/", "/user/hand/right/"].iter().any(|u| {
+                    path.strip_prefix(u)
+                        .is_some_and(|r| r.starts_with("input/") || r.starts_with("output/"))
+                });
+                if !ok {
                     return Err(sys::Result::ERROR_PATH_UNSUPPORTED);
                 }
             }

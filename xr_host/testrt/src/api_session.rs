@@ -405,10 +405,13 @@ fn component(hand: &ScriptHand, comp: &str) -> Option<Value> {
         | "input/select/click"
         | "input/select/value"
         | "input/pinch_ext/value" => Value::Float(hand.select),
-        "input/squeeze/value" | "input/squeeze/click" | "input/grasp_ext/value" => {
+        "input/squeeze/value"
+        | "input/squeeze/click"
+        | "input/squeeze/force"
+        | "input/grasp_ext/value" => {
             Value::Float(hand.squeeze)
         }
-        "input/menu/click" => Value::Bool(hand.menu),
+        "input/menu/click" | "input/thumbstick/click" => Value::Bool(hand.menu),
         "input/b/click" | "input/y/click" => Value::Bool(hand.secondary),
         "input/a/click" | "input/x/click" | "input/trackpad/click" => Value::Bool(hand.primary),
         "input/thumbstick/x" | "input/trackpad/x" => Value::Float(hand.stick[0]),
