@@ -236,6 +236,7 @@ pub fn hand_sample(poses: &[Pose; JOINT_COUNT], jitter: f64, rng: &mut Rng) -> H
     HandSample {
         active: true,
         joints,
+        source: Default::default(),
     }
 }
 

@@ -58,7 +58,10 @@ mod trace;
 mod trace_fixture;
 
 pub use bimanual::{two_hand_scale, HandleBar, ModelFrame, OrientGrab, MIN_BAR, SCALE_RANGE};
-pub use bindings::{ActionItem, ActionMap, ActionType, AxisRegion, Binding, ACTIONS, PROFILES};
+pub use bindings::{
+    profile_named, ActionItem, ActionMap, ActionType, AxisRegion, Binding, Profile, ACTIONS,
+    PROFILES,
+};
 pub use brush_tool::{BrushPreset, BrushTool, BrushToolSettings};
 pub use controller_hand::{controller_gesture, controller_hand, point_tip_offset};
 pub use csg_tool::{CsgTool, CsgToolSettings, SceneOperate};
@@ -78,7 +81,8 @@ pub use handmodel::{
 };
 pub use input::{
     Controller, ControllerButtons, ControllerSample, Frame, Hand, HandJoints, HandSample,
-    InputFrame, Joint, JointSample, Pose, Sanitizer, SanitizerSettings, JOINT_COUNT,
+    HandSource, InputFrame, Joint, JointSample, Pose, Sanitizer, SanitizerSettings, SanitizerStats,
+    JOINT_COUNT,
 };
 pub use object_tool::{ObjectTool, ObjectToolSettings};
 pub use pick::{pick, ray_mesh, ray_triangle, Hit, Ray};

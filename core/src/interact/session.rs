@@ -86,6 +86,11 @@ impl Session {
         self.last_frame.as_ref()
     }
 
+    /// What the input sanitizer accepted and dropped so far.
+    pub fn input_stats(&self) -> super::input::SanitizerStats {
+        self.sanitizer.stats()
+    }
+
     /// The model placement.
     pub fn model(&self) -> &Similarity {
         &self.model
