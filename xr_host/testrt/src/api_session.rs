@@ -408,9 +408,7 @@ fn component(hand: &ScriptHand, comp: &str) -> Option<Value> {
         "input/squeeze/value"
         | "input/squeeze/click"
         | "input/squeeze/force"
-        | "input/grasp_ext/value" => {
-            Value::Float(hand.squeeze)
-        }
+        | "input/grasp_ext/value" => Value::Float(hand.squeeze),
         "input/menu/click" | "input/thumbstick/click" => Value::Bool(hand.menu),
         "input/b/click" | "input/y/click" => Value::Bool(hand.secondary),
         "input/a/click" | "input/x/click" | "input/trackpad/click" => Value::Bool(hand.primary),

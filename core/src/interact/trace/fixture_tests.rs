@@ -7,7 +7,8 @@ use crate::doc::{parse_script, run_script, ObjectId, Op, OpLog, ScriptCommand};
 use crate::math::{DQuat, DVec3};
 use crate::mesh;
 
-use super::{replay, Button, Hand, ModelPlacement, Pose, Puppet, Trace};
+use crate::interact::testkit::{Button, Puppet};
+use crate::interact::{replay, Hand, ModelPlacement, Pose, Trace};
 
 const R: Hand = Hand::Right;
 const L: Hand = Hand::Left;
@@ -180,7 +181,7 @@ fn checked_in_trace_matches_the_puppet_and_replays() {
 
 #[test]
 fn bad_traces_are_refused_with_reasons() {
-    use super::TraceError;
+    use crate::interact::TraceError;
     assert_eq!(Trace::from_jsonl(""), Err(TraceError::Empty));
     let mut t = primitives_session();
     t.frames.truncate(2);

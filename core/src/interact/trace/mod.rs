@@ -13,16 +13,18 @@
 //! [`OpLog`], applying each command as it is produced (tools read the
 //! document, e.g. to pick), and returns the commands and the log.
 
+#[cfg(test)]
+mod fixture_tests;
+
 use serde::{Deserialize, Serialize};
 
 use crate::doc::{LogError, OpLog, ScriptCommand};
 use crate::math::{DQuat, DVec3};
 
-use super::input::InputFrame;
-use super::object_tool::ObjectTool;
-use super::session::Session;
-use super::similarity::Similarity;
-use super::tool::{apply_command, Tool};
+use crate::interact::gesture::similarity::Similarity;
+use crate::interact::input::InputFrame;
+use crate::interact::session::Session;
+use crate::interact::tools::{apply_command, tool_named, UnknownTool};
 
 /// The `format` field of every trace header.
 pub const TRACE_FORMAT: &str = "shapewright-trace";
@@ -122,8 +124,8 @@ pub enum TraceError {
     #[error("trace header: model placement must be finite with a positive scale")]
     Model,
     /// The header names a tool this build does not have.
-    #[error("trace header: unknown tool `{0}` (known: object, gc, csg, curve, sculpt)")]
-    UnknownTool(String),
+    #[error("trace header: {0}")]
+    UnknownTool(#[from] UnknownTool),
 }
 
 impl Trace {
@@ -184,22 +186,6 @@ pub struct Replay {
     /// Commands the log refused: (index into `commands`, why). A refused
     /// command changes nothing.
     pub rejected: Vec<(usize, LogError)>,
-}
-
-/// The names [`tool_named`] knows: the object tool, the hand-gesture GC
-/// tool (paper 1), and the controller tools of papers 2, 3 and 4.
-pub const TOOL_NAMES: [&str; 5] = ["object", "gc", "csg", "curve", "sculpt"];
-
-/// The tool a header names.
-pub fn tool_named(name: &str) -> Result<Box<dyn Tool>, TraceError> {
-    match name {
-        "object" => Ok(Box::new(ObjectTool::default())),
-        "curve" => Ok(Box::new(super::curve_tool::CurveNetworkTool::default())),
-        "csg" => Ok(Box::new(super::csg_tool::CsgTool::default())),
-        "sculpt" => Ok(Box::new(super::brush_tool::BrushTool::default())),
-        "gc" => Ok(Box::new(super::gc_tool::GcTool::default())),
-        other => Err(TraceError::UnknownTool(other.to_string())),
-    }
 }
 
 /// Replays `trace` through a fresh session onto an empty log.

@@ -11,22 +11,22 @@
 
 use crate::math::{DMat3, DQuat, DVec3};
 
-use super::super::controller_hand::point_tip_offset;
-use super::super::gesture::GestureLabel;
-use super::super::handmodel::{hand_pose, HandParams, Rng};
-use super::super::input::{Hand, Joint, Pose};
-use super::super::puppet::{Button, Puppet};
-use super::super::similarity::Similarity;
-use super::super::trace::{ModelPlacement, Trace};
+use crate::interact::gesture::controller_hand::point_tip_offset;
+use crate::interact::gesture::handmodel::{hand_pose, HandParams, Rng};
+use crate::interact::gesture::similarity::Similarity;
+use crate::interact::gesture::GestureLabel;
+use crate::interact::input::{Hand, Joint, Pose};
+use crate::interact::testkit::puppet::{Button, Puppet};
+use crate::interact::trace::{ModelPlacement, Trace};
 
 const FPS: f64 = 25.0;
 const R: Hand = Hand::Right;
 
 /// A right-hand puppet working in model coordinates: a tracked hand, or a
 /// controller whose buttons stand for the gestures (see
-/// [`super::super::controller_hand`]).
-pub(super) struct Rig {
-    pub(super) p: Puppet,
+/// [`crate::interact::gesture::controller_hand`]).
+pub(crate) struct Rig {
+    pub(crate) p: Puppet,
     place: ModelPlacement,
     model: Similarity,
     /// Current ray orientation: the hand ray (or the aim) along its -Z.
@@ -65,12 +65,12 @@ fn look_along(dir: DVec3) -> DQuat {
 }
 
 impl Rig {
-    pub(super) fn new(place: ModelPlacement) -> Rig {
+    pub(crate) fn new(place: ModelPlacement) -> Rig {
         Self::start(place, false)
     }
 
     /// The same puppet holding a controller.
-    pub(super) fn with_controller(place: ModelPlacement) -> Rig {
+    pub(crate) fn with_controller(place: ModelPlacement) -> Rig {
         Self::start(place, true)
     }
 
@@ -106,11 +106,11 @@ impl Rig {
         }
     }
 
-    pub(super) fn w(&self, m: DVec3) -> DVec3 {
+    pub(crate) fn w(&self, m: DVec3) -> DVec3 {
         self.model.apply(m)
     }
 
-    pub(super) fn wrist(&self) -> Pose {
+    pub(crate) fn wrist(&self) -> Pose {
         let q = self.q * DQuat::from_rotation_arc(ray_local(), DVec3::NEG_Z);
         Pose::new(self.palm - q * local(GestureLabel::Open, Joint::Palm), q)
     }
@@ -122,7 +122,7 @@ impl Rig {
     }
 
     /// OPEN hand `from` (model offset) of `target`, aiming at it.
-    pub(super) fn aim(&mut self, target: DVec3, from: DVec3, secs: f64) -> &mut Self {
+    pub(crate) fn aim(&mut self, target: DVec3, from: DVec3, secs: f64) -> &mut Self {
         let (t, o) = (self.w(target), self.w(target + from));
         self.q = look_along(t - o);
         self.palm = o;
@@ -131,7 +131,7 @@ impl Rig {
 
     /// Changes the gesture over `secs`: the hand blends its pose; the
     /// controller presses the gesture's buttons (then holds still).
-    pub(super) fn gesture(&mut self, g: GestureLabel, secs: f64) -> &mut Self {
+    pub(crate) fn gesture(&mut self, g: GestureLabel, secs: f64) -> &mut Self {
         if !self.controller {
             self.p.gesture(R, g, secs);
             return self;
@@ -150,19 +150,19 @@ impl Rig {
         self
     }
 
-    pub(super) fn wait(&mut self, secs: f64) -> &mut Self {
+    pub(crate) fn wait(&mut self, secs: f64) -> &mut Self {
         self.p.wait(secs);
         self
     }
 
     /// Moves the palm by `d` (model space), keeping the orientation.
-    pub(super) fn drag(&mut self, d: DVec3, secs: f64) -> &mut Self {
+    pub(crate) fn drag(&mut self, d: DVec3, secs: f64) -> &mut Self {
         self.palm += self.model.apply_dir(d);
         self.go(secs)
     }
 
     /// Puts the POINT index tip at `m` (model).
-    pub(super) fn pen_to(&mut self, m: DVec3, secs: f64) -> &mut Self {
+    pub(crate) fn pen_to(&mut self, m: DVec3, secs: f64) -> &mut Self {
         let offset = if self.controller {
             self.q * point_tip_offset(R)
         } else {
@@ -176,7 +176,7 @@ impl Rig {
 
     /// Sketches through `pts` (model), one frame per point, with POINT,
     /// ending with OPEN.
-    pub(super) fn stroke(&mut self, pts: &[DVec3]) -> &mut Self {
+    pub(crate) fn stroke(&mut self, pts: &[DVec3]) -> &mut Self {
         self.pen_to(pts[0], 0.4);
         self.gesture(GestureLabel::Point, 0.15).wait(0.1);
         for p in &pts[1..] {
@@ -186,7 +186,7 @@ impl Rig {
     }
 
     /// OPEN → `g` on `target` (aimed `from`), then back to OPEN.
-    pub(super) fn select(&mut self, target: DVec3, from: DVec3, g: GestureLabel) -> &mut Self {
+    pub(crate) fn select(&mut self, target: DVec3, from: DVec3, g: GestureLabel) -> &mut Self {
         self.aim(target, from, 0.4)
             .wait(0.25)
             .gesture(g, 0.15)
@@ -194,7 +194,7 @@ impl Rig {
     }
 
     /// A FIST drag of `target` by `d` (model space).
-    pub(super) fn fist_drag(&mut self, target: DVec3, from: DVec3, d: DVec3) -> &mut Self {
+    pub(crate) fn fist_drag(&mut self, target: DVec3, from: DVec3, d: DVec3) -> &mut Self {
         self.select(target, from, GestureLabel::Fist)
             .drag(d, 0.6)
             .wait(0.25)
@@ -203,14 +203,14 @@ impl Rig {
     }
 
     /// An open PINCH on `target`.
-    pub(super) fn pinch(&mut self, target: DVec3, from: DVec3) -> &mut Self {
+    pub(crate) fn pinch(&mut self, target: DVec3, from: DVec3) -> &mut Self {
         self.select(target, from, GestureLabel::PinchOpen)
             .wait(0.3)
             .gesture(GestureLabel::Open, 0.15)
             .wait(0.1)
     }
 
-    pub(super) fn trace(&self, note: &str) -> Trace {
+    pub(crate) fn trace(&self, note: &str) -> Trace {
         let mut t = self.p.trace(self.place, note);
         t.header.tool = "gc".to_string();
         t
@@ -219,7 +219,7 @@ impl Rig {
 
 /// A closed loop of `n` points: an ellipse with radii `a`, `b` in the
 /// plane spanned by `u`, `v` about `c`.
-pub(super) fn loop_points(c: DVec3, u: DVec3, v: DVec3, a: f64, b: f64, n: usize) -> Vec<DVec3> {
+pub(crate) fn loop_points(c: DVec3, u: DVec3, v: DVec3, a: f64, b: f64, n: usize) -> Vec<DVec3> {
     (0..=n)
         .map(|i| {
             let t = std::f64::consts::TAU * i as f64 / n as f64;
@@ -229,7 +229,7 @@ pub(super) fn loop_points(c: DVec3, u: DVec3, v: DVec3, a: f64, b: f64, n: usize
 }
 
 /// A polyline through `pts`, `per` points per segment.
-pub(super) fn path(pts: &[DVec3], per: usize) -> Vec<DVec3> {
+pub(crate) fn path(pts: &[DVec3], per: usize) -> Vec<DVec3> {
     let mut out = vec![pts[0]];
     for w in pts.windows(2) {
         for k in 1..=per {
@@ -241,7 +241,7 @@ pub(super) fn path(pts: &[DVec3], per: usize) -> Vec<DVec3> {
 
 /// Creates a part: select `start` (aimed `from`), sketch the section loop
 /// `section`, then the spine `spine`.
-pub(super) fn create(r: &mut Rig, start: DVec3, from: DVec3, section: &[DVec3], spine: &[DVec3]) {
+pub(crate) fn create(r: &mut Rig, start: DVec3, from: DVec3, section: &[DVec3], spine: &[DVec3]) {
     r.select(start, from, GestureLabel::Point)
         .gesture(GestureLabel::Open, 0.15)
         .stroke(section)
@@ -249,12 +249,12 @@ pub(super) fn create(r: &mut Rig, start: DVec3, from: DVec3, section: &[DVec3], 
 }
 
 /// A point on a body of revolution about the model z axis.
-pub(super) fn ring(radius: f64, angle_deg: f64, z: f64) -> DVec3 {
+pub(crate) fn ring(radius: f64, angle_deg: f64, z: f64) -> DVec3 {
     let a = angle_deg.to_radians();
     DVec3::new(radius * a.cos(), radius * a.sin(), z)
 }
 
-pub(super) fn outward(angle_deg: f64, dist: f64, up: f64) -> DVec3 {
+pub(crate) fn outward(angle_deg: f64, dist: f64, up: f64) -> DVec3 {
     ring(dist, angle_deg, up)
 }
 

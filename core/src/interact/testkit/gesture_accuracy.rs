@@ -2,17 +2,17 @@
 //! model (the numbers the issue asks for are printed; run with
 //! `--nocapture` to see them).
 
-use super::gesture::{score_sequence, GestureClassifier, GestureSettings};
-use super::handmodel::{
+use crate::interact::gesture::handmodel::{
     hand_pose, hand_sample, labelled_sequence, HandParams, Rng, SequenceSettings,
 };
-use super::input::{Hand, Pose, Sanitizer};
-use super::{Gesture, GestureLabel};
+use crate::interact::gesture::{score_sequence, GestureClassifier, GestureSettings};
+use crate::interact::input::{Hand, Pose, Sanitizer};
+use crate::interact::{Gesture, GestureLabel};
 use crate::math::{DQuat, DVec3};
 
 #[test]
 fn per_frame_accuracy_and_no_spurious_transitions() {
-    let mut total = super::gesture::GestureScore::default();
+    let mut total = crate::interact::gesture::GestureScore::default();
     for seed in 1..=3 {
         let seq = labelled_sequence(&SequenceSettings {
             seed,
@@ -63,8 +63,8 @@ fn heavier_jitter_still_holds_steady() {
     assert!(s.accuracy() >= 0.97, "{s:?}");
 }
 
-fn frame_with(p: &HandParams, wrist: Pose, t: f64, rng: &mut Rng) -> super::InputFrame {
-    super::InputFrame {
+fn frame_with(p: &HandParams, wrist: Pose, t: f64, rng: &mut Rng) -> crate::interact::InputFrame {
+    crate::interact::InputFrame {
         time: t,
         head: Some(Pose::new(DVec3::new(0.0, 1.6, 0.0), DQuat::IDENTITY)),
         hands: [

@@ -33,8 +33,8 @@ use crate::gc::GcAssembly;
 use crate::math::{DVec3, Frame};
 use crate::nurbs::NurbsSurface;
 
-use super::super::pick::{pick, Ray};
 use super::GcToolSettings;
+use crate::interact::tools::pick::{pick, Ray};
 
 /// What a ray selects (model space).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -9,9 +9,10 @@ use crate::sdf::{Component, CsgOp, ScaleAxis};
 use crate::sdf::{SdfAddOperand, SdfCreate};
 use crate::solid::SolidShape;
 
-use super::{
-    apply_command, BrushTool, BrushToolSettings, Button, CsgTool, Hand, ModelPlacement, Pose,
-    Preview, Puppet, Session, Similarity, Tool,
+use crate::interact::testkit::{Button, Puppet};
+use crate::interact::{
+    apply_command, BrushTool, BrushToolSettings, CsgTool, Hand, ModelPlacement, Pose, Preview,
+    Session, Similarity, Tool,
 };
 
 const R: Hand = Hand::Right;
@@ -193,7 +194,7 @@ fn csg_select_copy_delete_update_and_undo() {
         .click(R, Button::Secondary);
     let (cmds, _) = drive(Box::new(CsgTool::default()), &mut log, &p);
     assert_eq!(
-        super::ctl_traces::names(&cmds),
+        crate::interact::testkit::ctl_traces::names(&cmds),
         [
             "sdf_copy_operand",
             "sdf_cancel_operand",
@@ -377,11 +378,35 @@ fn brush_orienting_hand_turns_and_scales_model_and_brush() {
 
 #[test]
 fn tools_are_named_in_traces() {
-    for name in super::TOOL_NAMES {
-        assert_eq!(super::tool_named(name).unwrap().name(), name);
+    for name in crate::interact::TOOL_NAMES {
+        assert_eq!(
+            crate::interact::tools::tool_named(name).unwrap().name(),
+            name
+        );
     }
-    let e = super::tool_named("nope").err().expect("unknown");
-    for name in super::TOOL_NAMES {
+    let e = crate::interact::tools::tool_named("nope")
+        .err()
+        .expect("unknown");
+    for name in crate::interact::TOOL_NAMES {
         assert!(e.to_string().contains(name), "{e}");
     }
+}
+
+#[test]
+fn csg_menu_lists_library_components_by_name() {
+    // The menu names its library entries explicitly: each must exist, once.
+    let mut seen = std::collections::BTreeSet::new();
+    for name in super::csg_tool::MENU_LIBRARY {
+        assert!(
+            crate::sdf::library::starter_mesh(name).is_ok(),
+            "menu entry {name} is not in the library"
+        );
+        assert!(seen.insert(*name), "menu entry {name} listed twice");
+    }
+    let menu = crate::interact::CsgToolSettings::default().components;
+    assert_eq!(
+        menu.len(),
+        7 + super::csg_tool::MENU_LIBRARY.len(),
+        "seven primitives, then the listed library components"
+    );
 }

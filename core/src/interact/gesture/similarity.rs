@@ -3,7 +3,7 @@
 
 use crate::math::{DAffine3, DQuat, DVec3, Transform};
 
-use super::input::Pose;
+use crate::interact::input::Pose;
 
 /// `p -> translate + rotate * (scale * p)`.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -7,7 +7,7 @@
 //! user path, a threshold and axis regions. The OpenXR host creates its
 //! actions and suggested bindings from [`ActionMap::default_map`]; the
 //! Blender add-on reads the same map as JSON (`to_json`) and registers it
-//! through `XrActionMaps`. Hosts then fill [`super::ControllerButtons`] by
+//! through `XrActionMaps`. Hosts then fill [`crate::interact::ControllerButtons`] by
 //! action name. Profiles and component paths are those of the OpenXR 1.1
 //! specification and its extensions; where Blender binds an action, the
 //! same component is used here (e.g. the simple controller grabs with
@@ -35,7 +35,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::input::Hand;
+use crate::interact::input::Hand;
 
 /// The kind of value an action reports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -87,7 +87,7 @@ pub struct Binding {
 /// One action and its bindings.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ActionItem {
-    /// The action's name (a field of [`super::ControllerButtons`], or a pose).
+    /// The action's name (a field of [`crate::interact::ControllerButtons`], or a pose).
     pub name: String,
     /// Its value type.
     #[serde(rename = "type")]

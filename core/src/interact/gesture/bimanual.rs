@@ -16,8 +16,8 @@
 
 use crate::math::{DQuat, DVec3};
 
-use super::input::Pose;
-use super::similarity::Similarity;
+use crate::interact::gesture::similarity::Similarity;
+use crate::interact::input::Pose;
 
 /// The clamp of two-hand scaling ratios (paper 2, Eq. 1).
 pub const SCALE_RANGE: (f64, f64) = (0.4, 4.0);

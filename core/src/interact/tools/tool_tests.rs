@@ -8,9 +8,10 @@ use crate::doc::{
 use crate::math::{DQuat, DVec3, Transform};
 use crate::solid::SolidShape;
 
-use super::{
-    apply_command, replay, Button, GestureLabel, Hand, ModelPlacement, ObjectTool, Pose, Puppet,
-    Session, Similarity, Trace,
+use crate::interact::testkit::{Button, Puppet};
+use crate::interact::{
+    apply_command, replay, GestureLabel, Hand, ModelPlacement, ObjectTool, Pose, Session,
+    Similarity, Trace,
 };
 
 const R: Hand = Hand::Right;

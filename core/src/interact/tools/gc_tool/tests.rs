@@ -8,13 +8,14 @@ use crate::gc::{Profile, Resolution, ShapeType};
 use crate::math::DVec3;
 use crate::mesh::{validate, ValidationSettings};
 
-use super::super::gesture::GestureLabel;
-use super::super::input::{Hand, InputFrame, Joint, Pose};
-use super::super::session::Session;
-use super::super::tool::apply_command;
-use super::super::trace::{replay, ModelPlacement, Trace};
-use super::traces::{create, loop_points, outward, path, ring, Rig};
-use super::{mug_trace, teapot_trace, GcTool};
+use super::GcTool;
+use crate::interact::gesture::GestureLabel;
+use crate::interact::input::{Hand, InputFrame, Joint, Pose};
+use crate::interact::session::Session;
+use crate::interact::testkit::gc_traces::{create, loop_points, outward, path, ring, Rig};
+use crate::interact::testkit::{mug_trace, teapot_trace};
+use crate::interact::tools::apply_command;
+use crate::interact::trace::{replay, ModelPlacement, Trace};
 
 /// A cylinder r = 5 cm, 12 cm tall, 4 sections at z = 0, 4, 8, 12 cm.
 fn body() -> Op {

@@ -36,11 +36,11 @@ use crate::sculpt::{
     BrushShape, Falloff, SculptBase, SculptCreate, SculptStroke, StrokeSample, StrokeSettings, Warp,
 };
 
-use super::bimanual::{ModelFrame, OrientGrab};
-use super::ctl_input::{cycle, remember, CtlInput, Flick};
-use super::input::{Hand, Pose};
-use super::similarity::Similarity;
-use super::tool::{BrushPreview, Preview, Tool, ToolContext};
+use crate::interact::gesture::bimanual::{ModelFrame, OrientGrab};
+use crate::interact::gesture::similarity::Similarity;
+use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
+use crate::interact::input::{Hand, Pose};
+use crate::interact::tools::{BrushPreview, Preview, Tool, ToolContext};
 
 /// A named brush of the preset menu; sizes in world metres.
 #[derive(Clone, Debug, PartialEq)]

@@ -10,9 +10,10 @@ use crate::mesh;
 use crate::styling::select::CurveTool as TableTool;
 use crate::styling::CurveNetwork;
 
-use super::{
-    apply_command, replay, Button, CurveMode, CurveNetworkTool, Hand, ModelPlacement, Pose, Puppet,
-    Session, Similarity, Trace,
+use crate::interact::testkit::{Button, Puppet};
+use crate::interact::{
+    apply_command, replay, CurveMode, CurveNetworkTool, Hand, ModelPlacement, Pose, Session,
+    Similarity, Trace,
 };
 
 const R: Hand = Hand::Right;

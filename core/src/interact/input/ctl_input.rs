@@ -1,10 +1,10 @@
-//! Controller input shared by the controller tools ([`super::CsgTool`],
-//! [`super::BrushTool`]): one hand's buttons and poses per frame, press
+//! Controller input shared by the controller tools ([`crate::interact::CsgTool`],
+//! [`crate::interact::BrushTool`]): one hand's buttons and poses per frame, press
 //! edges, and stick flicks (undo / redo, cycling a list).
 
-use super::input::{Hand, Pose};
-use super::pick::Ray;
-use super::tool::ToolContext;
+use crate::interact::input::{Hand, Pose};
+use crate::interact::tools::pick::Ray;
+use crate::interact::tools::ToolContext;
 
 /// One controller's input this frame (all released when absent).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

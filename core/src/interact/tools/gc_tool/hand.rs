@@ -12,11 +12,11 @@
 
 use crate::math::DVec3;
 
-use super::super::gesture::{Gesture, GestureState};
-use super::super::input::{Hand, Joint};
-use super::super::pick::Ray;
-use super::super::tool::ToolContext;
 use super::GcToolSettings;
+use crate::interact::gesture::{Gesture, GestureState};
+use crate::interact::input::{Hand, Joint};
+use crate::interact::tools::pick::Ray;
+use crate::interact::tools::ToolContext;
 
 /// One hand this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]

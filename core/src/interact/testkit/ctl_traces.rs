@@ -11,8 +11,8 @@ use crate::math::{DQuat, DVec3};
 use crate::mesh::{self, TriMesh};
 use crate::sdf::{CsgOp, ScaleAxis};
 
-use super::bimanual::ModelFrame;
-use super::{replay, Button, Hand, ModelPlacement, Pose, Puppet, Replay, Trace};
+use crate::interact::gesture::bimanual::ModelFrame;
+use crate::interact::{replay, Button, Hand, ModelPlacement, Pose, Puppet, Replay, Trace};
 
 const R: Hand = Hand::Right;
 const L: Hand = Hand::Left;
@@ -359,7 +359,7 @@ fn bust_strokes() -> Vec<BustStroke> {
 /// both hands scale it 1.95× (brush sized up by three 1.25× steps to
 /// match) for the face and ears.
 pub(crate) fn bust() -> Trace {
-    let presets = super::BrushToolSettings::default().presets.len();
+    let presets = crate::interact::BrushToolSettings::default().presets.len();
     let mut view = desk();
     let rest = Pose::new(DVec3::new(0.3, 1.0, -0.2), DQuat::IDENTITY);
     let hold = Pose::new(DVec3::new(-0.25, 0.8, -0.5), DQuat::IDENTITY);
@@ -380,7 +380,7 @@ pub(crate) fn bust() -> Trace {
                 hold.position + DVec3::new(0.128, 0.0, 0.0),
                 hold.position + DVec3::new(0.25, 0.0, 0.0),
             );
-            let mut g = super::OrientGrab::new(hold, view);
+            let mut g = crate::interact::OrientGrab::new(hold, view);
             p.move_to(L, hold, 0.4)
                 .set(L, Button::Grab, true)
                 .move_to(L, turned, 0.5)

@@ -35,7 +35,7 @@
 //! next frame (at most one command per frame). The planes are taken at the
 //! press and held for the stroke, so a wobbling hand does not bend it.
 //!
-//! Bad input during a stroke (as [`super::ObjectTool`]): NaN poses never
+//! Bad input during a stroke (as [`crate::interact::ObjectTool`]): NaN poses never
 //! reach the tool (the sanitizer drops them; the frame adds no sample);
 //! tracking lost freezes the stroke and cancels it (nothing emitted) after
 //! [`CurveToolSettings::grace`] seconds; a teleport commits the stroke as
@@ -56,8 +56,8 @@ use crate::styling::{
     CurveSmooth,
 };
 
-use super::input::{Hand, Pose};
-use super::tool::{Preview, PreviewRay, Tool, ToolContext};
+use crate::interact::input::{Hand, Pose};
+use crate::interact::tools::{Preview, PreviewRay, Tool, ToolContext};
 
 /// Settings of the curve tool. Lengths are metres in the world.
 #[derive(Clone, Debug, PartialEq)]

@@ -7,10 +7,10 @@
 
 use crate::math::{DQuat, DVec3};
 
-use super::gesture::GestureLabel;
-use super::handmodel::{hand_pose, hand_sample, HandParams, Rng};
-use super::input::{ControllerButtons, ControllerSample, Hand, InputFrame, Pose};
-use super::trace::{ModelPlacement, Trace, TraceHeader, TRACE_FORMAT, TRACE_VERSION};
+use crate::interact::gesture::handmodel::{hand_pose, hand_sample, HandParams, Rng};
+use crate::interact::gesture::GestureLabel;
+use crate::interact::input::{ControllerButtons, ControllerSample, Hand, InputFrame, Pose};
+use crate::interact::trace::{ModelPlacement, Trace, TraceHeader, TRACE_FORMAT, TRACE_VERSION};
 
 /// A controller button of the puppet.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -23,13 +23,16 @@
 //! `XR_EXT_hand_tracking`. When a hand sample and valid controller buttons
 //! arrive together, the buttons are the user's intent, so the sanitizer
 //! drops the hand and tools that read hands make one from the buttons
-//! ([`super::controller_hand`]), unless the runtime said the joints come
+//! ([`crate::interact::gesture::controller_hand`]), unless the runtime said the joints come
 //! from optical tracking ([`HandSource::Optical`], from
 //! `XR_EXT_hand_tracking_data_source`).
 //!
 //! Traces store non-finite numbers (a faulty runtime's NaN) as the strings
 //! `"NaN"`, `"inf"` and `"-inf"`, since JSON has no such numbers; finite
 //! numbers are written exactly as before (shortest round-trip form).
+
+pub(crate) mod bindings;
+pub(crate) mod ctl_input;
 
 use serde::{Deserialize, Serialize};
 
@@ -280,7 +283,7 @@ pub struct HandSample {
 }
 
 /// Raw controller buttons and axes, named by the actions of
-/// [`super::bindings`] (hosts fill them through the binding map).
+/// [`crate::interact::input::bindings`] (hosts fill them through the binding map).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct ControllerButtons {

@@ -22,12 +22,17 @@
 //! - A lost hand outputs [`Gesture::None`] at once (no debounce: tools must
 //!   stop acting on a hand they cannot see).
 
+pub(crate) mod bimanual;
+pub(crate) mod controller_hand;
+pub(crate) mod handmodel;
+pub(crate) mod similarity;
+
 use serde::{Deserialize, Serialize};
 
 use crate::math::DVec3;
 
-use super::handmodel::FLEX_MAX;
-use super::input::{HandJoints, Joint, Pose};
+use crate::interact::gesture::handmodel::FLEX_MAX;
+use crate::interact::input::{HandJoints, Joint, Pose};
 
 /// A classified hand gesture.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -381,71 +386,4 @@ impl GestureClassifier {
             }
         }
     }
-}
-
-/// Accuracy of a classifier on a labelled sequence.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct GestureScore {
-    /// Labelled (held-pose) frames.
-    pub frames: usize,
-    /// Of those, frames whose output matched the label.
-    pub correct: usize,
-    /// Output changes inside held poses after the output first matched
-    /// the label (each is a spurious transition).
-    pub spurious: usize,
-    /// Held poses whose label was never output.
-    pub missed_segments: usize,
-}
-
-impl GestureScore {
-    /// `correct / frames`.
-    pub fn accuracy(&self) -> f64 {
-        self.correct as f64 / self.frames.max(1) as f64
-    }
-}
-
-/// Runs a fresh classifier over `seq` (through the sanitizer) and scores it.
-pub fn score_sequence(
-    seq: &[super::handmodel::LabelledFrame],
-    settings: GestureSettings,
-) -> GestureScore {
-    use super::input::{Hand, Sanitizer};
-    let mut san = Sanitizer::default();
-    let mut clf = GestureClassifier::new(settings);
-    let mut score = GestureScore::default();
-    // (segment, reached label, last output)
-    let mut seg_state: Option<(usize, bool, Option<GestureLabel>)> = None;
-    for lf in seq {
-        let Some(frame) = san.accept(&lf.frame) else {
-            continue;
-        };
-        let st = clf.update(frame.time, frame.hand(Hand::Right), frame.head.as_ref());
-        let out = st.label();
-        let Some(label) = lf.label else {
-            continue;
-        };
-        score.frames += 1;
-        if out == Some(label) {
-            score.correct += 1;
-        }
-        match &mut seg_state {
-            Some((seg, reached, last)) if *seg == lf.segment => {
-                if *reached && out != *last {
-                    score.spurious += 1;
-                }
-                *reached |= out == Some(label);
-                *last = out;
-            }
-            _ => {
-                if let Some((_, false, _)) = seg_state {
-                    score.missed_segments += 1;
-                }
-                seg_state = Some((lf.segment, out == Some(label), out));
-            }
-        }
-    }
-    if let Some((_, false, _)) = seg_state {
-        score.missed_segments += 1;
-    }
-    score
 }

@@ -1,6 +1,6 @@
 //! The paper-1 hand-gesture tool (gc-assembly §4, Figure 10): create,
 //! edit and manipulate generalized-cylinder assemblies with OPEN, FIST,
-//! POINT and PINCH, and the recorded mug and teapot traces.
+//! POINT and PINCH.
 //!
 //! - `settings`: thresholds and timings.
 //! - `hand`: one hand's gesture, filtered ray, palm and pen.
@@ -8,7 +8,9 @@
 //! - `create`: sketch planes and the ops of creating and replacing.
 //! - `edit`: the ops of drags, holds and pinches.
 //! - `tool`: the state machine ([`GcTool`]).
-//! - `traces`: the puppet scripts of `tests/data/{mug,teapot}.trace.jsonl`.
+//!
+//! The puppet scripts of `tests/data/{mug,teapot}.trace.jsonl` are in
+//! [`crate::interact::testkit`].
 
 mod create;
 mod edit;
@@ -18,9 +20,7 @@ mod target;
 #[cfg(test)]
 mod tests;
 mod tool;
-mod traces;
 
 pub use settings::GcToolSettings;
 pub use target::GcTarget;
 pub use tool::{GcPreview, GcTool};
-pub use traces::{mug_controller_trace, mug_trace, teapot_controller_trace, teapot_trace};

@@ -4,8 +4,21 @@
 //! per frame.
 //!
 //! Tools see the document read-only through a [`ToolContext`]; the
-//! [`super::Session`] applies their commands to the log. Commands are the
+//! [`crate::interact::Session`] applies their commands to the log. Commands are the
 //! doc module's [`ScriptCommand`], so a session's output is an op script.
+
+pub(crate) mod brush_tool;
+pub(crate) mod csg_tool;
+#[cfg(test)]
+mod ctl_tool_tests;
+pub(crate) mod curve_tool;
+#[cfg(test)]
+mod curve_tool_tests;
+pub(crate) mod gc_tool;
+pub(crate) mod object_tool;
+pub(crate) mod pick;
+#[cfg(test)]
+mod tool_tests;
 
 use std::sync::Arc;
 
@@ -14,9 +27,9 @@ use crate::math::{DVec3, Transform};
 use crate::mesh::TriMesh;
 use crate::solid::SolidShape;
 
-use super::gesture::GestureState;
-use super::input::Frame;
-use super::similarity::Similarity;
+use crate::interact::gesture::similarity::Similarity;
+use crate::interact::gesture::GestureState;
+use crate::interact::input::Frame;
 
 /// What a tool sees each frame.
 pub struct ToolContext<'a> {
@@ -71,7 +84,7 @@ pub struct Preview {
     /// The shape the next placement will create.
     pub placing: Option<SolidShape>,
     /// The curve tool's state: selected tool, pointed curve point, planes.
-    pub curve: Option<super::curve_tool::CurvePreview>,
+    pub curve: Option<crate::interact::tools::curve_tool::CurvePreview>,
     /// The pending SDF operand under a ray (index in the tool's volume).
     pub highlighted_operand: Option<usize>,
     /// The selected pending SDF operand.
@@ -88,7 +101,7 @@ pub struct Preview {
     /// SceneOperate operation, menu component and scale axis).
     pub mode: String,
     /// State of the generalized-cylinder tool.
-    pub gc: super::gc_tool::GcPreview,
+    pub gc: crate::interact::tools::gc_tool::GcPreview,
 }
 
 /// A pending SDF operand shown at a placement the document does not have
@@ -142,7 +155,7 @@ pub trait Tool {
     fn preview(&self) -> &Preview;
     /// Whether the tool reads tracked hands (their gestures): then a hand
     /// the runtime does not track is made from its controller
-    /// ([`super::controller_hand`]).
+    /// ([`crate::interact::gesture::controller_hand`]).
     fn uses_hands(&self) -> bool {
         false
     }
@@ -156,3 +169,26 @@ pub fn apply_command(log: &mut OpLog, cmd: &ScriptCommand) -> Result<(), LogErro
         ScriptCommand::Redo => log.redo(),
     }
 }
+
+// The tool registry: every tool a host or a trace can name, in one place.
+
+/// The names [`tool_named`] knows: the object tool, the hand-gesture GC
+/// tool (paper 1), and the controller tools of papers 2, 3 and 4.
+pub const TOOL_NAMES: [&str; 5] = ["object", "gc", "csg", "curve", "sculpt"];
+
+/// The tool called `name` (a trace header's or a host's choice).
+pub fn tool_named(name: &str) -> Result<Box<dyn Tool>, UnknownTool> {
+    match name {
+        "object" => Ok(Box::new(object_tool::ObjectTool::default())),
+        "curve" => Ok(Box::new(curve_tool::CurveNetworkTool::default())),
+        "csg" => Ok(Box::new(csg_tool::CsgTool::default())),
+        "sculpt" => Ok(Box::new(brush_tool::BrushTool::default())),
+        "gc" => Ok(Box::new(gc_tool::GcTool::default())),
+        other => Err(UnknownTool(other.to_string())),
+    }
+}
+
+/// A tool name this build does not have.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown tool `{0}` (known: object, gc, csg, curve, sculpt)")]
+pub struct UnknownTool(pub String);

@@ -36,12 +36,12 @@ use crate::doc::{AddSolid, Delete, Duplicate, ObjectId, Op, ScriptCommand, SetTr
 use crate::math::{DVec3, Transform};
 use crate::solid::SolidShape;
 
-use super::bimanual::HandleBar;
-use super::gesture::Gesture;
-use super::input::{Hand, Joint, Pose};
-use super::pick::{pick, Ray};
-use super::similarity::Similarity;
-use super::tool::{MovingPreview, Preview, PreviewRay, Tool, ToolContext};
+use crate::interact::gesture::bimanual::HandleBar;
+use crate::interact::gesture::similarity::Similarity;
+use crate::interact::gesture::Gesture;
+use crate::interact::input::{Hand, Joint, Pose};
+use crate::interact::tools::pick::{pick, Ray};
+use crate::interact::tools::{MovingPreview, Preview, PreviewRay, Tool, ToolContext};
 
 /// Settings of the object tool.
 #[derive(Clone, Debug, PartialEq)]

@@ -45,17 +45,17 @@ use crate::math::DVec3;
 use crate::mesh::TriMesh;
 use crate::sketch::SketchPlane;
 
-use super::super::bimanual::HandleBar;
-use super::super::gesture::Gesture;
-use super::super::input::{Hand, Joint, Pose};
-use super::super::pick::Ray;
-use super::super::similarity::Similarity;
-use super::super::tool::{Preview, PreviewRay, Tool, ToolContext};
 use super::create::{create_op, replace_op, replace_plane, section_profile, Start};
 use super::edit::{drag_op, end_of, hold_op, pinch_shape, shape_op};
 use super::hand::{HandFilter, HandIn};
 use super::target::{GcTarget, GeoCache};
 use super::GcToolSettings;
+use crate::interact::gesture::bimanual::HandleBar;
+use crate::interact::gesture::similarity::Similarity;
+use crate::interact::gesture::Gesture;
+use crate::interact::input::{Hand, Joint, Pose};
+use crate::interact::tools::pick::Ray;
+use crate::interact::tools::{Preview, PreviewRay, Tool, ToolContext};
 
 /// GC-specific preview state (part of [`Preview`]).
 #[derive(Clone, Debug, Default, PartialEq)]

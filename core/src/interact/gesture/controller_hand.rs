@@ -19,13 +19,15 @@
 //! classifier then reads it like any tracked hand, with the same debounce;
 //! nothing downstream knows the difference. A synthesized hand is used only
 //! for a hand the runtime does not track, and only when the active tool
-//! asks for hands ([`super::Tool::uses_hands`]).
+//! asks for hands ([`crate::interact::Tool::uses_hands`]).
 
 use crate::math::{DQuat, DVec3};
 
-use super::gesture::GestureLabel;
-use super::handmodel::{hand_pose, HandParams, Rng};
-use super::input::{Controller, ControllerButtons, Hand, HandJoints, Joint, Pose, JOINT_COUNT};
+use crate::interact::gesture::handmodel::{hand_pose, HandParams, Rng};
+use crate::interact::gesture::GestureLabel;
+use crate::interact::input::{
+    Controller, ControllerButtons, Hand, HandJoints, Joint, Pose, JOINT_COUNT,
+};
 
 /// The widest pinch gap (trigger released), metres.
 const MAX_PINCH_GAP: f64 = 0.06;

@@ -2,7 +2,7 @@
 //! over the `sdf_*` ops.
 //!
 //! The paper's eight modes on two 6-DOF controllers, adapted to the action
-//! map of [`super::ActionMap`] (either hand works, as in the paper, except
+//! map of [`crate::interact::ActionMap`] (either hand works, as in the paper, except
 //! where noted):
 //!
 //! | paper mode      | action                      | op                          |
@@ -43,7 +43,6 @@
 
 use crate::doc::{Create, Delete, Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
 use crate::math::{DAffine3, DVec3, Transform};
-use crate::sdf::library::STARTER_NAMES;
 use crate::sdf::placement::two_hand_ratio;
 use crate::sdf::volume::DEFAULT_STEP;
 use crate::sdf::{Component, CsgOp, ScaleAxis, SdfVolume};
@@ -53,11 +52,11 @@ use crate::sdf::{
 };
 use crate::solid::SolidShape;
 
-use super::ctl_input::{cycle, remember, CtlInput, Flick};
-use super::input::{Hand, Pose};
-use super::pick::{pick, Ray};
-use super::similarity::Similarity;
-use super::tool::{OperandPreview, Preview, PreviewRay, Tool, ToolContext};
+use crate::interact::gesture::similarity::Similarity;
+use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
+use crate::interact::input::{Hand, Pose};
+use crate::interact::tools::pick::{pick, Ray};
+use crate::interact::tools::{OperandPreview, Preview, PreviewRay, Tool, ToolContext};
 
 /// A SceneOperate choice (paper 2 §4.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -109,6 +108,27 @@ pub struct CsgToolSettings {
     pub double_click: f64,
 }
 
+/// The library components on the tool's menu after its primitives, in
+/// menu order: listed here, so a component added to the library never
+/// shifts the menu (a test checks every name is in the library).
+pub const MENU_LIBRARY: &[&str] = &[
+    "chair_seat",
+    "chair_back",
+    "chair_leg",
+    "chair_leg_square",
+    "chair_armrest",
+    "chair_crossbar",
+    "cup_body",
+    "cup_hollow",
+    "cup_handle",
+    "cup_saucer",
+    "cup_rim",
+    "blob",
+    "bean",
+    "mushroom",
+    "snowman",
+];
+
 impl Default for CsgToolSettings {
     fn default() -> Self {
         let solid = |shape| Component::Solid { shape };
@@ -134,7 +154,7 @@ impl Default for CsgToolSettings {
                 length: 0.06,
             }),
         ];
-        components.extend(STARTER_NAMES.iter().skip(7).map(|n| Component::Library {
+        components.extend(MENU_LIBRARY.iter().map(|n| Component::Library {
             name: (*n).to_string(),
         }));
         Self {
