@@ -61,8 +61,8 @@ pub use tools::gc_tool::{GcPreview, GcTarget, GcTool, GcToolSettings};
 pub use tools::object_tool::{ObjectTool, ObjectToolSettings};
 pub use tools::pick::{pick, ray_mesh, ray_triangle, Hit, Ray};
 pub use tools::{
-    apply_command, tool_named, BrushPreview, MovingPreview, OperandPreview, Preview, PreviewRay,
-    Tool, ToolContext, UnknownTool, TOOL_NAMES,
+    apply_command, tool_named, BrushPreview, CsgPreview, MovingPreview, OperandPreview, Preview,
+    PreviewRay, Tool, ToolContext, ToolPreview, UnknownTool, TOOL_NAMES,
 };
 pub use trace::{
     replay, ModelPlacement, Replay, Trace, TraceError, TraceHeader, TRACE_FORMAT, TRACE_VERSION,

@@ -441,7 +441,7 @@ impl Tool for BrushTool {
                 .map(|p| DVec3::from_array(p.position))
                 .collect()
         });
-        self.preview.brush = d.grip.filter(|_| d.tracked).map(|g| BrushPreview {
+        *self.preview.brush_mut() = d.grip.filter(|_| d.tracked).map(|g| BrushPreview {
             position: g.position,
             radius: self.world_radius(),
             pressure: d.select,

@@ -428,7 +428,7 @@ impl CsgTool {
             Some(Target::Volume) => vol.map(|(id, _)| id),
             _ => highlighted_object,
         };
-        self.preview.highlighted_operand = match hover {
+        self.preview.csg_mut().highlighted_operand = match hover {
             Some(Target::Operand(k)) => Some(k),
             _ => None,
         };
@@ -626,7 +626,7 @@ impl CsgTool {
         if !now.tracked || now.grip.is_none() {
             let since = *d.lost_since.get_or_insert(cx.frame.time);
             if cx.frame.time - since > self.settings.grace {
-                self.preview.moving_operand = None;
+                self.preview.csg_mut().moving_operand = None;
                 return None;
             }
             self.drag = Some(d);
@@ -663,7 +663,7 @@ impl CsgTool {
         if !now.grab {
             return self.commit_drag(&d);
         }
-        self.preview.moving_operand = Some(OperandPreview {
+        self.preview.csg_mut().moving_operand = Some(OperandPreview {
             volume: d.volume,
             index: d.index,
             transform: d.transform(),
@@ -674,7 +674,7 @@ impl CsgTool {
     }
 
     fn commit_drag(&mut self, d: &OperandDrag) -> Option<ScriptCommand> {
-        self.preview.moving_operand = None;
+        self.preview.csg_mut().moving_operand = None;
         let t = d.transform();
         if t.validate().is_err() || t == d.base {
             return None;
@@ -696,7 +696,7 @@ impl CsgTool {
         if inputs.iter().any(|i| !i.tracked || i.grip.is_none()) {
             let since = *s.lost_since.get_or_insert(cx.frame.time);
             if cx.frame.time - since > self.settings.grace {
-                self.preview.moving_operand = None;
+                self.preview.csg_mut().moving_operand = None;
                 return None;
             }
             self.scale = Some(s);
@@ -729,7 +729,7 @@ impl CsgTool {
             self.axis = s.axis;
             self.update_mode();
         }
-        self.preview.moving_operand = Some(OperandPreview {
+        self.preview.csg_mut().moving_operand = Some(OperandPreview {
             volume: s.volume,
             index: s.index,
             transform: s.transform(),
@@ -740,7 +740,7 @@ impl CsgTool {
     }
 
     fn commit_scale(&mut self, s: &ScaleGesture) -> Option<ScriptCommand> {
-        self.preview.moving_operand = None;
+        self.preview.csg_mut().moving_operand = None;
         if s.transform() == s.base {
             return None;
         }
@@ -781,7 +781,7 @@ impl Tool for CsgTool {
             Some(Target::Volume) => self.volume,
             _ => None,
         };
-        self.preview.selected_operand = match self.selected {
+        self.preview.csg_mut().selected_operand = match self.selected {
             Some(Target::Operand(k)) => Some(k),
             _ => None,
         };
@@ -792,7 +792,7 @@ impl Tool for CsgTool {
     fn cancel(&mut self) {
         self.drag = None;
         self.scale = None;
-        self.preview.moving_operand = None;
+        self.preview.csg_mut().moving_operand = None;
     }
 
     fn preview(&self) -> &Preview {

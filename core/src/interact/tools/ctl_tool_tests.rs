@@ -98,9 +98,17 @@ fn csg_drag_is_one_op_with_nan_frames_ignored() {
     assert!((DVec3::from_array(t.translate) - DVec3::new(0.1, 0.0, 0.0)).length() < 1e-6);
     // The moving operand was previewed during the drag, and the grabbed
     // operand was highlighted before it.
-    assert!(previews.iter().any(|p| p.moving_operand.is_some()));
-    assert!(previews.iter().any(|p| p.highlighted_operand == Some(0)));
-    assert!(previews.last().unwrap().moving_operand.is_none());
+    assert!(previews
+        .iter()
+        .any(|p| p.csg().is_some_and(|c| c.moving_operand.is_some())));
+    assert!(previews
+        .iter()
+        .any(|p| p.csg().is_some_and(|c| c.highlighted_operand == Some(0))));
+    assert!(previews
+        .last()
+        .unwrap()
+        .csg()
+        .is_none_or(|c| c.moving_operand.is_none()));
 }
 
 #[test]
@@ -169,7 +177,8 @@ fn csg_two_hand_scale_is_clamped_and_per_axis() {
     // Hands 4 cm apart -> 1 m: the ratio is clamped to 4.
     assert_eq!(operand_transform(&log).scale, [1.0, 4.0, 1.0]);
     assert!(previews.iter().any(|p| p
-        .moving_operand
+        .csg()
+        .and_then(|c| c.moving_operand)
         .is_some_and(|m| m.transform.scale == [1.0, 4.0, 1.0])));
 }
 

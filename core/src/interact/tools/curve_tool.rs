@@ -57,7 +57,7 @@ use crate::styling::{
 };
 
 use crate::interact::input::{Hand, Pose};
-use crate::interact::tools::{Preview, PreviewRay, Tool, ToolContext};
+use crate::interact::tools::{Preview, PreviewRay, Tool, ToolContext, ToolPreview};
 
 /// Settings of the curve tool. Lengths are metres in the world.
 #[derive(Clone, Debug, PartialEq)]
@@ -281,7 +281,7 @@ impl CurveNetworkTool {
         Self {
             settings,
             preview: Preview {
-                curve: Some(CurvePreview::default()),
+                tool: ToolPreview::Curve(CurvePreview::default()),
                 ..Preview::default()
             },
             prev: [Pen::default(); 2],
@@ -297,7 +297,7 @@ impl CurveNetworkTool {
     }
 
     fn cp(&mut self) -> &mut CurvePreview {
-        self.preview.curve.get_or_insert_with(CurvePreview::default)
+        self.preview.curve_mut()
     }
 
     /// The pen tip and direction in model space.

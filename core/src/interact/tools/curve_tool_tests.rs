@@ -319,7 +319,7 @@ fn pointer_pose_chooses_the_table1_tool_in_the_preview() {
         let mut p = with_line();
         p.move_to(R, pen(tip, dir), 0.2);
         let mut last = None;
-        let (cmds, _) = run(&p, |s| last = s.preview().curve.clone());
+        let (cmds, _) = run(&p, |s| last = s.preview().curve().cloned());
         assert_eq!(names(&cmds), ["curve_network_create", "curve_draw"]);
         let cp = last.unwrap();
         assert_eq!(cp.mode, Some(want), "{tip} {dir}");
@@ -350,7 +350,7 @@ fn held_tools_emit_one_op_with_their_path() {
     }
     let mut seen_path = 0;
     let (cmds, log) = run(&p, |s| {
-        let cp = s.preview().curve.as_ref().unwrap();
+        let cp = s.preview().curve().unwrap();
         seen_path = seen_path.max(cp.path.len());
         assert!(s.preview().rays[1].is_some());
     });
@@ -486,7 +486,7 @@ fn bad_input_nan_teleport_and_lost_tracking() {
     finish(&mut p);
     p.nan_frame(R).nan_frame(L).wait(0.1);
     let (cmds, _) = run(&p, |s| {
-        let cp = s.preview().curve.as_ref().unwrap();
+        let cp = s.preview().curve().unwrap();
         assert!(cp.tip.is_none_or(|t| t.is_finite()));
         assert!(s.preview().sketch.iter().all(|q| q.is_finite()));
     });
@@ -530,7 +530,7 @@ fn bad_input_nan_teleport_and_lost_tracking() {
     p.lose_tracking(R, 0.1);
     finish(&mut p);
     let mut frozen = false;
-    let (cmds, _) = run(&p, |s| frozen |= s.preview().curve.as_ref().unwrap().frozen);
+    let (cmds, _) = run(&p, |s| frozen |= s.preview().curve().unwrap().frozen);
     assert!(frozen);
     assert_eq!(names(&cmds), ["curve_network_create", "curve_draw"]);
 }

@@ -81,18 +81,6 @@ pub struct Preview {
     pub moving: Option<MovingPreview>,
     /// The sketch in progress (model space), for sketching tools.
     pub sketch: Vec<DVec3>,
-    /// The shape the next placement will create.
-    pub placing: Option<SolidShape>,
-    /// The curve tool's state: selected tool, pointed curve point, planes.
-    pub curve: Option<crate::interact::tools::curve_tool::CurvePreview>,
-    /// The pending SDF operand under a ray (index in the tool's volume).
-    pub highlighted_operand: Option<usize>,
-    /// The selected pending SDF operand.
-    pub selected_operand: Option<usize>,
-    /// The SDF operand being dragged or scaled, where it would go now.
-    pub moving_operand: Option<OperandPreview>,
-    /// The sculpt brush (world space).
-    pub brush: Option<BrushPreview>,
     /// The model placement the tool shows the document with (model to
     /// stage), when the tool moves the view (the sculpt tool's orienting
     /// hand); `None`: the session's placement.
@@ -100,8 +88,37 @@ pub struct Preview {
     /// The tool's current choices, for a status line (e.g. the CSG tool's
     /// SceneOperate operation, menu component and scale axis).
     pub mode: String,
-    /// State of the generalized-cylinder tool.
-    pub gc: crate::interact::tools::gc_tool::GcPreview,
+    /// What only the active tool shows.
+    pub tool: ToolPreview,
+}
+
+/// The part of a [`Preview`] only one tool has: hosts match on it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum ToolPreview {
+    /// Nothing tool-specific.
+    #[default]
+    None,
+    /// The object tool: the shape the next placement will create.
+    Placing(Option<SolidShape>),
+    /// The CSG tool's pending operands.
+    Csg(CsgPreview),
+    /// The curve tool: selected tool, pointed curve point, planes.
+    Curve(crate::interact::tools::curve_tool::CurvePreview),
+    /// The sculpt brush (world space), while a controller holds it.
+    Brush(Option<BrushPreview>),
+    /// The generalized-cylinder tool's state.
+    Gc(crate::interact::tools::gc_tool::GcPreview),
+}
+
+/// The CSG tool's pending SDF operands to show.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CsgPreview {
+    /// The pending SDF operand under a ray (index in the tool's volume).
+    pub highlighted_operand: Option<usize>,
+    /// The selected pending SDF operand.
+    pub selected_operand: Option<usize>,
+    /// The SDF operand being dragged or scaled, where it would go now.
+    pub moving_operand: Option<OperandPreview>,
 }
 
 /// A pending SDF operand shown at a placement the document does not have
@@ -129,7 +146,42 @@ pub struct BrushPreview {
     pub stroking: bool,
 }
 
+/// Accessors of one variant: `x()` reads it if the tool shows it, `x_mut()`
+/// makes it the tool's variant (keeping it if it already is).
+macro_rules! tool_preview {
+    ($get:ident, $get_mut:ident, $variant:ident, $t:ty) => {
+        #[doc = concat!("The `", stringify!($variant), "` part, if the tool shows it.")]
+        pub fn $get(&self) -> Option<&$t> {
+            match &self.tool {
+                ToolPreview::$variant(x) => Some(x),
+                _ => None,
+            }
+        }
+        #[doc = concat!("The `", stringify!($variant), "` part, made the tool's if it was not.")]
+        pub fn $get_mut(&mut self) -> &mut $t {
+            if !matches!(self.tool, ToolPreview::$variant(_)) {
+                self.tool = ToolPreview::$variant(Default::default());
+            }
+            match &mut self.tool {
+                ToolPreview::$variant(x) => x,
+                _ => unreachable!("set just above"),
+            }
+        }
+    };
+}
+
 impl Preview {
+    tool_preview!(placing, placing_mut, Placing, Option<SolidShape>);
+    tool_preview!(csg, csg_mut, Csg, CsgPreview);
+    tool_preview!(
+        curve,
+        curve_mut,
+        Curve,
+        crate::interact::tools::curve_tool::CurvePreview
+    );
+    tool_preview!(brush, brush_mut, Brush, Option<BrushPreview>);
+    tool_preview!(gc, gc_mut, Gc, crate::interact::tools::gc_tool::GcPreview);
+
     /// The mesh to draw for the object being dragged (model space), its
     /// document mesh moved by the drag.
     pub fn preview_mesh(&self, doc: &Document) -> Option<Arc<TriMesh>> {

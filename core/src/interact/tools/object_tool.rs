@@ -41,7 +41,7 @@ use crate::interact::gesture::similarity::Similarity;
 use crate::interact::gesture::Gesture;
 use crate::interact::input::{Hand, Joint, Pose};
 use crate::interact::tools::pick::{pick, Ray};
-use crate::interact::tools::{MovingPreview, Preview, PreviewRay, Tool, ToolContext};
+use crate::interact::tools::{MovingPreview, Preview, PreviewRay, Tool, ToolContext, ToolPreview};
 
 /// Settings of the object tool.
 #[derive(Clone, Debug, PartialEq)]
@@ -229,7 +229,7 @@ impl ObjectTool {
         Self {
             settings,
             preview: Preview {
-                placing,
+                tool: ToolPreview::Placing(placing),
                 ..Preview::default()
             },
             prev: [HandInput::default(); 2],
@@ -296,13 +296,15 @@ impl ObjectTool {
             }
             if now.menu && !was.menu && !self.settings.palette.is_empty() {
                 self.palette_index = (self.palette_index + 1) % self.settings.palette.len();
-                self.preview.placing = Some(self.settings.palette[self.palette_index]);
+                *self.preview.placing_mut() = Some(self.settings.palette[self.palette_index]);
             }
             if now.primary && !was.primary {
                 if let Some(id) = self.preview.selected {
                     return Some(ScriptCommand::Op(Op::Duplicate(Duplicate { id })));
                 }
-                if let (Some(grip), Some(shape)) = (now.grip, self.preview.placing) {
+                if let (Some(grip), Some(shape)) =
+                    (now.grip, self.preview.placing().copied().flatten())
+                {
                     let at = to_model.apply(grip.position);
                     return Some(ScriptCommand::Op(Op::AddSolid(AddSolid {
                         shape,

@@ -331,7 +331,12 @@ fn bimanual_fist_in_empty_space_scales_the_view_without_an_op() {
         assert!(session.step(f, log.document()).is_none());
     }
     assert_eq!(log.document().content_hash(), before);
-    let view = session.preview().gc.view.expect("a view change");
+    let view = session
+        .preview()
+        .gc()
+        .expect("the GC tool's preview")
+        .view
+        .expect("a view change");
     assert!(view.scale > 1.2, "scale {}", view.scale);
 }
 

@@ -244,13 +244,13 @@ impl GcTool {
                 hit: target.part().is_some(),
             });
             self.preview.highlighted = target.part().map(|p| p.0);
-            self.preview.gc.target = Some(target);
+            self.preview.gc_mut().target = Some(target);
             self.last_target = Some(target);
             self.open_time = t;
             return self.holding(t, palm, target);
         }
         self.hold = None;
-        self.preview.gc.hold = 0.0;
+        self.preview.gc_mut().hold = 0.0;
         if h.gesture == self.prev || t - self.open_time > self.settings.transition {
             return None;
         }
@@ -323,7 +323,7 @@ impl GcTool {
         hold.target = target;
         let progress = ((t - hold.since) / s.hold).clamp(0.0, 1.0);
         let holdable = hold_op(&hold.target).is_some();
-        self.preview.gc.hold = if holdable && !hold.fired {
+        self.preview.gc_mut().hold = if holdable && !hold.fired {
             progress
         } else {
             0.0
@@ -452,7 +452,7 @@ impl GcTool {
         let s = &self.settings;
         if h.teleported || h.gesture != Gesture::Fist {
             // Released (or jumped): commit the last good motion.
-            self.preview.gc.mesh = None;
+            self.preview.gc_mut().mesh = None;
             if d.motion.length() * self.model(cx).scale < s.min_drag {
                 return None;
             }
@@ -491,16 +491,16 @@ impl GcTool {
                 ))));
             }
         }
-        self.preview.gc.hold = if d.may_instance {
+        self.preview.gc_mut().hold = if d.may_instance {
             ((t - d.started) / s.hold).clamp(0.0, 1.0)
         } else {
             0.0
         };
         if t - self.mesh_time >= 0.1 {
             self.mesh_time = t;
-            self.preview.gc.mesh = self.preview_mesh(&d);
+            self.preview.gc_mut().mesh = self.preview_mesh(&d);
         }
-        self.preview.gc.target = Some(d.target);
+        self.preview.gc_mut().target = Some(d.target);
         self.state = State::Drag(d);
         None
     }
@@ -626,12 +626,12 @@ impl Tool for GcTool {
         let h = hands[1];
         self.preview.rays = [None, None];
         if !matches!(self.state, State::Idle) {
-            self.preview.gc.target = None;
+            self.preview.gc_mut().target = None;
         }
         let t = cx.frame.time;
         let out = if !h.tracked() {
             self.hold = None;
-            self.preview.gc.hold = 0.0;
+            self.preview.gc_mut().hold = 0.0;
             let since = *self.lost_since.get_or_insert(t);
             if t - since > s.grace {
                 self.cancel();
@@ -659,7 +659,7 @@ impl Tool for GcTool {
         self.prev = Gesture::None;
         self.open_time = f64::NEG_INFINITY;
         self.last_target = None;
-        self.preview.gc.mesh = None;
+        self.preview.gc_mut().mesh = None;
     }
 
     fn preview(&self) -> &Preview {
