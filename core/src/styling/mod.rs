@@ -10,7 +10,9 @@
 //! - [`tools`]: curve smoother, sharpener, puller (§3).
 //! - [`surface`]: surface smoother, sharpener, puller on uniform bicubic
 //!   B-splines with a fixed boundary (§4).
-//! - [`network`]: curve networks, junctions, loops and patches (§5).
+//! - [`network`]: the curve network object (§5), split by idea into
+//!   [`junction`] (weaving curves in, keeping them connected, §5.1),
+//!   [`loops`] (pieces and loops, §5.2) and [`patch`] (patches, §5.3).
 //! - [`ngon`]: n-sided patches (5..=8 sides) split into quads around a centre.
 //! - [`select`]: tool selection from the pointer pose (§6, Table 1).
 //! - [`ops`]: the `curve_*` / `surface_*` ops and the `CurveNetwork` kind.
@@ -27,9 +29,12 @@
 pub mod curve;
 pub mod energy;
 mod error;
+pub mod junction;
+pub mod loops;
 pub mod network;
 pub mod ngon;
 pub mod ops;
+pub mod patch;
 pub mod select;
 pub mod solver;
 pub mod surface;

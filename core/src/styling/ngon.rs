@@ -20,7 +20,8 @@
 use crate::math::DVec3;
 use crate::mesh::TriMesh;
 
-use super::network::{grid_triangles, CurveNetwork, Piece};
+use super::network::{CurveNetwork, Piece};
+use super::patch::grid_triangles;
 use super::StylingError;
 
 /// The largest loop (in pieces) that can be filled.
