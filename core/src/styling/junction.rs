@@ -115,43 +115,76 @@ pub fn closest_approaches(
     let d = |i: usize, j: usize| p1[i].1.distance(p2[j].1);
     let mut out: Vec<(f64, f64, f64)> = Vec::new();
     let coarse = 4.0 * tol + 2.0 * ((b1 - a1) / m1 as f64).max((b2 - a2) / m2 as f64) * 0.0;
+    // Blocks of samples whose bounding boxes are farther apart than the
+    // threshold hold no candidate pair: skipping them keeps the search
+    // near-linear in the samples (it visits the remaining pairs in the
+    // same order, so the result is the same).
+    let thr = coarse.max(tol * 4.0);
+    let boxes = |p: &[(f64, DVec3)]| -> Vec<(DVec3, DVec3)> {
+        p.chunks(BLOCK)
+            .map(|c| {
+                c.iter().fold((c[0].1, c[0].1), |(lo, hi), (_, q)| {
+                    (lo.min(*q), hi.max(*q))
+                })
+            })
+            .collect()
+    };
+    let (boxes1, boxes2) = (boxes(&p1), boxes(&p2));
+    let near = |a: &(DVec3, DVec3), b: &(DVec3, DVec3)| {
+        let gap = (a.0 - b.1).max(b.0 - a.1).max(DVec3::ZERO);
+        !(gap.length() > thr * (1.0 + 1e-9))
+    };
     for i in 0..=m1 {
-        for j in 0..=m2 {
-            let dij = d(i, j);
-            if dij > coarse.max(tol * 4.0) {
+        let bi = &boxes1[i / BLOCK];
+        for (bj, box2) in boxes2.iter().enumerate() {
+            if !near(bi, box2) {
                 continue;
             }
-            let mut local = true;
-            'n: for di in -1i64..=1 {
-                for dj in -1i64..=1 {
-                    let (ii, jj) = (i as i64 + di, j as i64 + dj);
-                    if (di, dj) == (0, 0) || ii < 0 || jj < 0 || ii > m1 as i64 || jj > m2 as i64 {
-                        continue;
-                    }
-                    let o = d(ii as usize, jj as usize);
-                    if o < dij || (o == dij && (di, dj) < (0, 0)) {
-                        local = false;
-                        break 'n;
+            for j in bj * BLOCK..((bj + 1) * BLOCK).min(m2 + 1) {
+                let dij = d(i, j);
+                if dij > coarse.max(tol * 4.0) {
+                    continue;
+                }
+                let mut local = true;
+                'n: for di in -1i64..=1 {
+                    for dj in -1i64..=1 {
+                        let (ii, jj) = (i as i64 + di, j as i64 + dj);
+                        if (di, dj) == (0, 0)
+                            || ii < 0
+                            || jj < 0
+                            || ii > m1 as i64
+                            || jj > m2 as i64
+                        {
+                            continue;
+                        }
+                        let o = d(ii as usize, jj as usize);
+                        if o < dij || (o == dij && (di, dj) < (0, 0)) {
+                            local = false;
+                            break 'n;
+                        }
                     }
                 }
-            }
-            if !local {
-                continue;
-            }
-            // Refine by alternating projection.
-            let (mut t1, mut t2) = (p1[i].0, p2[j].0);
-            for _ in 0..30 {
-                t2 = project(other, new.point(t1), t2);
-                t1 = project(new, other.point(t2), t1);
-            }
-            let dist = new.point(t1).distance(other.point(t2));
-            if dist <= tol && !out.iter().any(|h| (h.0 - t1).abs() < 1e-6 * (b1 - a1)) {
-                out.push((t1, t2, dist));
+                if !local {
+                    continue;
+                }
+                // Refine by alternating projection.
+                let (mut t1, mut t2) = (p1[i].0, p2[j].0);
+                for _ in 0..30 {
+                    t2 = project(other, new.point(t1), t2);
+                    t1 = project(new, other.point(t2), t1);
+                }
+                let dist = new.point(t1).distance(other.point(t2));
+                if dist <= tol && !out.iter().any(|h| (h.0 - t1).abs() < 1e-6 * (b1 - a1)) {
+                    out.push((t1, t2, dist));
+                }
             }
         }
     }
     out
 }
+
+/// Samples per bounding box in [`closest_approaches`].
+const BLOCK: usize = 16;
 
 /// Newton projection of `p` onto `c` from `t`.
 fn project(c: &SplineCurve, p: DVec3, mut t: f64) -> f64 {

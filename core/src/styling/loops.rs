@@ -10,6 +10,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::budget::Budget;
 use super::network::CurveNetwork;
 use super::ngon::MAX_SIDES;
 use super::patch::Patch;
@@ -75,14 +76,27 @@ impl CurveNetwork {
     }
 
     /// Chordless loops of 3 to [`MAX_SIDES`] pieces not yet filled, each
-    /// as pieces head to tail, in a deterministic order.
+    /// as pieces head to tail, in a deterministic order; none when the
+    /// search would exceed the default [`Budget`] (see
+    /// [`CurveNetwork::try_find_loops`]).
     pub fn find_loops(&self) -> Vec<Vec<Piece>> {
+        self.try_find_loops(&Budget::default()).unwrap_or_default()
+    }
+
+    /// [`CurveNetwork::find_loops`], refusing a search that would extend
+    /// more than `budget.max_loop_search` partial loops. Partial loops with
+    /// a chord are not extended (a chordless cycle has no chord in any of
+    /// its sub-paths), which keeps the search small on real nets.
+    pub fn try_find_loops(&self, budget: &Budget) -> Result<Vec<Vec<Piece>>, StylingError> {
         let pieces = self.pieces();
-        let connected = |a: usize, b: usize| {
-            pieces
-                .iter()
-                .any(|p| (p.from == a && p.to == b) || (p.from == b && p.to == a))
-        };
+        let mut edges: Vec<(usize, usize)> = pieces
+            .iter()
+            .map(|p| (p.from.min(p.to), p.from.max(p.to)))
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        let connected = |a: usize, b: usize| edges.binary_search(&(a.min(b), a.max(b))).is_ok();
+        let mut work: u64 = 0;
         let step = |p: &Piece, at: usize| -> Option<Piece> {
             if p.from == at {
                 Some(*p)
@@ -125,6 +139,18 @@ impl CurveNetwork {
                     if revisit {
                         continue;
                     }
+                    if next.to != start && path[1..].iter().any(|q| connected(q.from, next.to)) {
+                        continue;
+                    }
+                    work += 1;
+                    if work > budget.max_loop_search {
+                        return Err(StylingError::OverBudget {
+                            parameter: "curve network",
+                            what: "partial loops searched",
+                            estimate: work as f64,
+                            limit: budget.max_loop_search as f64,
+                        });
+                    }
                     let mut ids2 = ids.clone();
                     ids2.push(e);
                     let mut path2 = path.clone();
@@ -133,11 +159,11 @@ impl CurveNetwork {
                 }
             }
         }
-        found
+        Ok(found
             .into_iter()
             .map(|(_, p)| p)
             .filter(|l| self.filled_by(l).is_none())
-            .collect()
+            .collect())
     }
 
     fn filled_by(&self, lp: &[Piece]) -> Option<usize> {
@@ -199,11 +225,7 @@ impl CurveNetwork {
         if same_dir {
             pieces = pieces.iter().rev().map(|p| p.reversed()).collect();
         }
-        let n = if pieces.len() > 4 {
-            0
-        } else {
-            self.surface_n as usize
-        };
+        let n = self.surface_n as usize;
         self.patches.push(Patch {
             pieces,
             disp: vec![[0.0; 3]; n * n],
@@ -227,7 +249,7 @@ impl CurveNetwork {
     /// a piece that already borders two patches is skipped.
     pub fn fill_all(&mut self) -> Result<Vec<usize>, StylingError> {
         let tier = |l: &Vec<Piece>| l.len().max(4);
-        let mut loops = self.find_loops();
+        let mut loops = self.try_find_loops(&Budget::default())?;
         loops.sort_by_key(tier);
         let mut out = Vec::new();
         while !loops.is_empty() {

@@ -3,6 +3,7 @@
 //! SPEC.md §3).
 //!
 //! - [`curve`]: cubic B-spline curves from tracked samples (§5.1).
+//! - [`budget`]: limits on the memory and work an op may ask for.
 //! - [`energy`]: bend, stretch, attractor and shape-preserving energies as
 //!   sparse quadratic forms (§2.2).
 //! - [`solver`]: the constrained minimization (eq. 6-7) with faer's sparse
@@ -13,7 +14,8 @@
 //! - [`network`]: the curve network object (§5), split by idea into
 //!   [`junction`] (weaving curves in, keeping them connected, §5.1),
 //!   [`loops`] (pieces and loops, §5.2) and [`patch`] (patches, §5.3).
-//! - [`ngon`]: n-sided patches (5..=8 sides) split into quads around a centre.
+//! - [`ngon`]: n-sided patches (5..=16 sides), transfinite and smooth
+//!   inside, over the polygon domain of [`polygon`] (derivatives by [`jet`]).
 //! - [`select`]: tool selection from the pointer pose (§6, Table 1).
 //! - [`ops`]: the `curve_*` / `surface_*` ops and the `CurveNetwork` kind.
 //!
@@ -26,21 +28,25 @@
 // the assembly code.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
 
+pub mod budget;
 pub mod curve;
 pub mod energy;
 mod error;
+pub mod jet;
 pub mod junction;
 pub mod loops;
 pub mod network;
 pub mod ngon;
 pub mod ops;
 pub mod patch;
+pub mod polygon;
 pub mod select;
 pub mod solver;
 pub mod surface;
 pub mod tools;
 
-pub use curve::{fit_curve, FitMode, SplineCurve};
+pub use budget::Budget;
+pub use curve::{fit_curve, fit_curve_within, FitMode, SplineCurve};
 pub use error::StylingError;
 pub use network::{CurveNetwork, Node, Patch, Piece};
 
@@ -48,5 +54,7 @@ pub use network::{CurveNetwork, Node, Patch, Piece};
 mod tests;
 #[cfg(test)]
 mod tests_net;
+#[cfg(test)]
+mod tests_ngon;
 #[cfg(test)]
 mod tests_props;

@@ -214,7 +214,7 @@ pub fn apply_sharpen(doc: &mut Document, op: &CurveSharpen) -> Result<OpOutcome,
     op.limits.validate()?;
     let path = check_path(&op.path)?;
     let mut s = CurveSession::new(net.curve(op.curve)?.clone())?;
-    let (frames, _stop): (usize, Option<StopReason>) = s.sharpen(&op.params, &op.limits, &path);
+    let (frames, _stop): (usize, Option<StopReason>) = s.sharpen(&op.params, &op.limits, &path)?;
     let work = (s.curve.n() * frames.max(1)) as u64;
     net.set_curve(op.curve, s.curve)?;
     store(doc, op.id, net, work)
@@ -260,15 +260,7 @@ fn patch_system(
     k: usize,
     w: &SurfaceWeights,
 ) -> Result<SurfaceSystem, StylingError> {
-    if k >= net.patches.len() {
-        return Err(StylingError::NoPatch(k));
-    }
-    if net.patches[k].pieces.len() > 4 {
-        return Err(StylingError::NotQuad(k));
-    }
-    let n = net.surface_n as usize;
-    let base = |u: f64, v: f64| net.coons(k, u, v);
-    SurfaceSystem::new(n, n, w, Some(&base))
+    net.surface_system(k, w)
 }
 
 /// `surface_smooth` and `surface_sharpen`.
@@ -314,7 +306,7 @@ pub fn apply_surface_pull(doc: &mut Document, op: &SurfacePull) -> Result<OpOutc
         return Err(StylingError::BadParameter("u0 and v0 must be in [0, 1]").into());
     }
     let mut sys = patch_system(&net, op.patch, &op.weights)?;
-    let base0 = net.coons(op.patch, op.u0, op.v0)[0];
+    let base0 = net.patch_base_point(op.patch, op.u0, op.v0)?;
     let targets: Vec<DVec3> = path;
     let d = sys.pull(
         &net.patches[op.patch].disp,

@@ -11,20 +11,23 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::math::DVec3;
+use crate::math::{DVec2, DVec3};
 use crate::mesh::TriMesh;
 
 use super::loops::Piece;
 use super::network::CurveNetwork;
-use super::surface::{eval_grid, BaseDerivs};
+use super::polygon::NgonDomain;
+use super::surface::{eval_grid, BaseDerivs, SurfaceSystem, SurfaceWeights};
+use super::StylingError;
 
 /// A surface filling a loop.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Patch {
-    /// The loop, 3 to 8 pieces head to tail.
+    /// The loop, 3 to [`super::ngon::MAX_SIDES`] pieces head to tail.
     pub pieces: Vec<Piece>,
-    /// Displacement control points (`n × n`, boundary zero; empty for
-    /// loops of more than 4 pieces).
+    /// Displacement control points (`surface_n × surface_n`, row `i`
+    /// along `u`): boundary zero on 3- and 4-sided patches; weighted by
+    /// the domain's weight function on n-sided ones ([`super::ngon`]).
     pub disp: Vec<[f64; 3]>,
 }
 
@@ -91,10 +94,54 @@ impl CurveNetwork {
         [s, su, sv, suu, suv, svv]
     }
 
-    /// Point of patch `k` at `(u, v)`: Coons base plus displacement.
+    /// Point of patch `k` at `(u, v)`: base plus displacement. For 3- and
+    /// 4-sided patches `(u, v) ∈ [0, 1]²` are the Coons parameters; for
+    /// n-sided ones, a point of the regular n-gon inscribed in the unit
+    /// square ([`NgonDomain::regular`]; `(½, ½)` is the centre either way).
     pub fn patch_point(&self, k: usize, u: f64, v: f64) -> DVec3 {
+        if self.patches[k].pieces.len() > 4 {
+            return self.ngon_point(k, DVec2::new(u, v));
+        }
         let n = self.surface_n as usize;
         self.coons(k, u, v)[0] + eval_grid(n, n, &self.patches[k].disp, u, v)
+    }
+
+    /// The base surface (without displacement) of patch `k` at `(u, v)`
+    /// (parameters as in [`CurveNetwork::patch_point`]).
+    pub fn patch_base_point(&self, k: usize, u: f64, v: f64) -> Result<DVec3, StylingError> {
+        let sides = self.patch(k)?.pieces.len();
+        Ok(if sides > 4 {
+            let dom = NgonDomain::regular(sides);
+            self.ngon_base(k, &dom, DVec2::new(u, v)).v
+        } else {
+            self.coons(k, u, v)[0]
+        })
+    }
+
+    /// Patch `k`, or [`StylingError::NoPatch`].
+    pub fn patch(&self, k: usize) -> Result<&Patch, StylingError> {
+        self.patches.get(k).ok_or(StylingError::NoPatch(k))
+    }
+
+    /// The surface tools' energy of patch `k` (paper §4) with the weights
+    /// `w`, on any patch: the Coons base and its bicubic displacement on 3-
+    /// and 4-sided patches, the transfinite base and its weighted
+    /// displacement on n-sided ones.
+    pub fn surface_system(
+        &self,
+        k: usize,
+        w: &SurfaceWeights,
+    ) -> Result<SurfaceSystem, StylingError> {
+        let sides = self.patch(k)?.pieces.len();
+        let n = self.surface_n as usize;
+        if sides > 4 {
+            let dom = NgonDomain::regular(sides);
+            let base = |p: DVec2| self.ngon_base(k, &dom, p);
+            SurfaceSystem::on_ngon(n, &dom, w, &base)
+        } else {
+            let base = |u: f64, v: f64| self.coons(k, u, v);
+            SurfaceSystem::new(n, n, w, Some(&base))
+        }
     }
 
     /// Canonical sample `i` of `m` along a piece (shared by both patches

@@ -173,7 +173,7 @@ fn sharpener_raises_energy_and_stops_safely() {
         wp2: 5e-5,
         ..smooth_params()
     };
-    let (frames, stop) = s.sharpen(&gentle, &limits, &vec![q; 5000]);
+    let (frames, stop) = s.sharpen(&gentle, &limits, &vec![q; 5000]).unwrap();
     let e = s.curve.bend_energy();
     eprintln!(
         "sharpener: {frames} frames, stop {stop:?}, bend {:.4} -> {e:.4}",
@@ -205,7 +205,7 @@ fn sharpener_raises_energy_and_stops_safely() {
         wb: 1e-3,
         ..smooth_params()
     };
-    let (frames, stop) = s.sharpen(&wild, &limits, &vec![q; 50]);
+    let (frames, stop) = s.sharpen(&wild, &limits, &vec![q; 50]).unwrap();
     assert!(matches!(
         stop,
         Some(StopReason::StepTooLarge | StopReason::Unstable | StopReason::EnergyGrowth)
