@@ -55,6 +55,8 @@ mod tests;
 #[cfg(test)]
 mod tests_net;
 #[cfg(test)]
+mod tests_budget;
+#[cfg(test)]
 mod tests_ngon;
 #[cfg(test)]
 mod tests_props;
