@@ -9,6 +9,7 @@
 //! - [`solver`]: the constrained minimization (eq. 6-7) with faer's sparse
 //!   LDLᵀ, constraints by elimination, factorization reused across frames.
 //! - [`tools`]: curve smoother, sharpener, puller (§3).
+//! - [`attract`]: point, line, plane and curve attractors as a tool (§2.2).
 //! - [`surface`]: surface smoother, sharpener, puller on uniform bicubic
 //!   B-splines with a fixed boundary (§4).
 //! - [`network`]: the curve network object (§5), split by idea into
@@ -28,6 +29,7 @@
 // the assembly code.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
 
+pub mod attract;
 pub mod budget;
 pub mod curve;
 pub mod energy;
@@ -53,9 +55,11 @@ pub use network::{CurveNetwork, Node, Patch, Piece};
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
-mod tests_net;
+mod tests_attract;
 #[cfg(test)]
 mod tests_budget;
+#[cfg(test)]
+mod tests_net;
 #[cfg(test)]
 mod tests_ngon;
 #[cfg(test)]

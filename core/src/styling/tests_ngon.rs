@@ -166,7 +166,10 @@ fn multisided_loops_fill_smooth_closed_and_on_their_curves() {
                         normal(p).angle_between(n0).to_degrees()
                     })
                     .fold(0.0, f64::max);
-                assert!(turn > 5.0, "{n}: the cap's normals turn only {turn} degrees");
+                assert!(
+                    turn > 5.0,
+                    "{n}: the cap's normals turn only {turn} degrees"
+                );
             }
         }
         let m = net.mesh();

@@ -197,11 +197,15 @@ impl CurveSession {
         self.solver.refactor_count
     }
 
-    fn system(&self) -> CurveSystem {
+    pub(crate) fn system(&self) -> CurveSystem {
         CurveSystem::new(&self.curve, self.solver.pattern().clone())
     }
 
-    fn solve(&mut self, sys: &CurveSystem, fixed: &[bool]) -> Result<Vec<[f64; 3]>, StylingError> {
+    pub(crate) fn solve(
+        &mut self,
+        sys: &CurveSystem,
+        fixed: &[bool],
+    ) -> Result<Vec<[f64; 3]>, StylingError> {
         self.solver.factor(&sys.values, fixed)?;
         let x = self.solver.solve(&sys.rhs, &flatten(&self.curve.ctrl), 1)?;
         Ok(unflatten(&x))
