@@ -10,6 +10,7 @@
 //!   LDLᵀ, constraints by elimination, factorization reused across frames.
 //! - [`tools`]: curve smoother, sharpener, puller (§3).
 //! - [`attract`]: point, line, plane and curve attractors as a tool (§2.2).
+//! - [`frame`]: the modeling frame held by the non-dominant hand (§5.4).
 //! - [`surface`]: surface smoother, sharpener, puller on uniform bicubic
 //!   B-splines with a fixed boundary (§4).
 //! - [`network`]: the curve network object (§5), split by idea into
@@ -34,6 +35,7 @@ pub mod budget;
 pub mod curve;
 pub mod energy;
 mod error;
+pub mod frame;
 pub mod jet;
 pub mod junction;
 pub mod loops;
@@ -58,6 +60,8 @@ mod tests;
 mod tests_attract;
 #[cfg(test)]
 mod tests_budget;
+#[cfg(test)]
+mod tests_frame;
 #[cfg(test)]
 mod tests_net;
 #[cfg(test)]
