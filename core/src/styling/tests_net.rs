@@ -343,3 +343,97 @@ fn ops_replay_bit_identical_and_bad_input_changes_nothing() {
     assert_eq!(e, LogError::Op(OpError::Styling(StylingError::NoCurve(5))));
     assert_eq!(log.document().content_hash(), h2);
 }
+
+/// The network of the single curve-network object in `log`.
+fn net_of(log: &OpLog) -> CurveNetwork {
+    match &log.document().objects().next().unwrap().1.kind {
+        crate::doc::ObjectKind::CurveNetwork(n) => n.clone(),
+        _ => unreachable!(),
+    }
+}
+
+/// `surface_sharpen` as an op (issue 18 found no test of it): on a quad
+/// and on a pentagon it moves the patch away from its minimal-energy shape
+/// by exactly `w_q = min(f^frames, wq_max)`, raises the energy, keeps the
+/// boundary and the closed mesh, replays bit for bit, and refuses an `f`
+/// that would smooth.
+#[test]
+fn surface_sharpen_op_on_quads_and_pentagons() {
+    let mut log = OpLog::new();
+    log.apply(op(
+        r#"{"op":"curve_network_create","resolution":8,"surface_n":6}"#,
+    ))
+    .unwrap();
+    let net = super::tests_ngon::prism(5, 0.1, 0.12, 0.01, 8);
+    // Redraw the prism's curves through the ops (same samples).
+    for c in net.curves.iter().flatten() {
+        let pts: Vec<[f64; 3]> = c.polyline(13).iter().map(|p| p.to_array()).collect();
+        let s = serde_json::to_string(&pts).unwrap();
+        log.apply(op(&format!(
+            r#"{{"op":"curve_draw","id":1,"samples":{s},"fit":{{"mode":"interpolate"}},"resample":null,"snap_tol":0.001}}"#
+        )))
+        .unwrap();
+    }
+    log.apply(op(r#"{"op":"curve_fill_auto","id":1}"#)).unwrap();
+    let sides: Vec<usize> = net_of(&log)
+        .patches
+        .iter()
+        .map(|p| p.pieces.len())
+        .collect();
+    assert_eq!(sides, [4, 4, 4, 4, 4, 5, 5]);
+    let w = SurfaceWeights { wb: 1.0, ws: 0.0 };
+    for k in [0usize, 6] {
+        // Pull first, so that the patch is away from its minimal shape.
+        let c = net_of(&log).patch_point(k, 0.5, 0.5);
+        let target = (c + DVec3::new(0.01, 0.0, 0.03)).to_array();
+        log.apply(op(&format!(
+            r#"{{"op":"surface_pull","id":1,"patch":{k},"weights":{{"wb":1.0,"ws":0.0}},"wpp":1000.0,"u0":0.5,"v0":0.5,"path":[{}]}}"#,
+            serde_json::to_string(&target).unwrap()
+        )))
+        .unwrap();
+        let before = net_of(&log);
+        let mut sys = before.surface_system(k, &w).unwrap();
+        let d0 = before.patches[k].disp.clone();
+        let dmin = sys.minimal(&d0).unwrap();
+        let gap = |d: &[[f64; 3]]| {
+            d.iter()
+                .zip(&dmin)
+                .map(|(a, b)| DVec3::from_array(*a).distance(DVec3::from_array(*b)))
+                .fold(0.0, f64::max)
+        };
+        log.apply(op(&format!(
+            r#"{{"op":"surface_sharpen","id":1,"patch":{k},"weights":{{"wb":1.0,"ws":0.0}},"f":1.3,"wq_max":2.0,"path":[[0,0,0],[0,0,0],[0,0,0]]}}"#
+        )))
+        .unwrap();
+        let after = net_of(&log);
+        let d1 = &after.patches[k].disp;
+        assert!(
+            (gap(d1) - 2.0 * gap(&d0)).abs() < 1e-9,
+            "patch {k}: {} vs 2 × {}",
+            gap(d1),
+            gap(&d0)
+        );
+        assert!(
+            sys.energy(d1) > sys.energy(&d0),
+            "patch {k}: energy did not rise"
+        );
+        assert!(super::tests_ngon::boundary_gap(&after) < 1e-9);
+        let m = log.document().objects().next().unwrap().1.mesh.clone();
+        assert!(validate(&m, &Default::default()).is_closed_manifold());
+    }
+    let hash = log.document().content_hash();
+    let replayed = OpLog::replay(log.ops().to_vec(), log.len()).unwrap();
+    assert_eq!(replayed.document().content_hash(), hash);
+    // f <= 1 would smooth: refused, nothing changes.
+    let e = log
+        .apply(op(r#"{"op":"surface_sharpen","id":1,"patch":6,"weights":{"wb":1.0,"ws":0.0},"f":0.9,"wq_max":2.0,"path":[[0,0,0]]}"#))
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            LogError::Op(OpError::Styling(StylingError::BadParameter(_)))
+        ),
+        "{e:?}"
+    );
+    assert_eq!(log.document().content_hash(), hash);
+}
