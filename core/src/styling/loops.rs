@@ -17,7 +17,7 @@ use super::patch::Patch;
 use super::StylingError;
 
 /// A span of one curve between two of its consecutive nodes, directed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Piece {
     /// Curve index.

@@ -19,7 +19,8 @@
 //! - [`ngon`]: n-sided patches (5..=16 sides), transfinite and smooth
 //!   inside, over the polygon domain of [`polygon`] (derivatives by [`jet`]).
 //! - [`select`]: tool selection from the pointer pose (§6, Table 1).
-//! - [`ops`]: the `curve_*` / `surface_*` ops and the `CurveNetwork` kind.
+//! - [`edits`]: the `curve_*` / `surface_*` ops' payloads and how each
+//!   changes a [`CurveNetwork`].
 //!
 //! Choices: B-spline basis, interpolation and approximation come from
 //! `core::nurbs`; the sparse factorization is faer's (no own sparse code).
@@ -33,6 +34,7 @@
 pub mod attract;
 pub mod budget;
 pub mod curve;
+pub mod edits;
 pub mod energy;
 mod error;
 pub mod frame;
@@ -41,7 +43,6 @@ pub mod junction;
 pub mod loops;
 pub mod network;
 pub mod ngon;
-pub mod ops;
 pub mod patch;
 pub mod polygon;
 pub mod select;
@@ -51,6 +52,11 @@ pub mod tools;
 
 pub use budget::Budget;
 pub use curve::{fit_curve, fit_curve_within, FitMode, SplineCurve};
+pub use edits::{
+    CurveDelete, CurveDraw, CurveFillAuto, CurveFillLoop, CurveId, CurveNetworkCreate, CurvePull,
+    CurveSharpen, CurveSmooth, PatchId, SurfaceEquilibrium, SurfacePull, SurfaceSharpen,
+    SurfaceSmooth,
+};
 pub use error::StylingError;
 pub use network::{CurveNetwork, Node, Patch, Piece};
 
