@@ -36,23 +36,26 @@ use serde::{Deserialize, Serialize};
 use crate::math::{DMat3, DVec3};
 
 use super::curve::SplineCurve;
+use super::edits::CurveId;
 use super::energy::Weight;
 use super::network::CurveNetwork;
 use super::tools::{fixed_outside, CurveSession};
 use super::StylingError;
 
 /// What a curve is attracted to.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Attractor {
     /// A point `p`.
     Point {
         /// The point (model units).
+        #[schemars(extend("x-unit" = "m"))]
         p: [f64; 3],
     },
     /// The line through `a` along `dir` (non-zero).
     Line {
         /// A point of the line.
+        #[schemars(extend("x-unit" = "m"))]
         a: [f64; 3],
         /// Its direction (any length > 0).
         dir: [f64; 3],
@@ -60,30 +63,35 @@ pub enum Attractor {
     /// The plane through `a` with normal `normal` (non-zero).
     Plane {
         /// A point of the plane.
+        #[schemars(extend("x-unit" = "m"))]
         a: [f64; 3],
         /// Its normal (any length > 0).
         normal: [f64; 3],
     },
     /// Another curve of the same network (its nearest points).
     Curve {
-        /// The attracting curve's index.
-        curve: usize,
+        /// The attracting curve (another curve of the network).
+        curve: CurveId,
     },
 }
 
 /// Weights of an attractor application.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AttractParams {
     /// Attractor weight `w_e` (eq. 5), in `(0, 1e6]`.
+    #[schemars(extend("exclusiveMinimum" = 0.0), range(max = 1e6))]
     pub weight: f64,
     /// Position shape preservation `w_p0` (eq. 13), in `(0, 1e6]`.
+    #[schemars(extend("exclusiveMinimum" = 0.0), range(max = 1e6))]
     pub wp0: f64,
     /// Tangent shape preservation `w_p1` (eq. 14), in `[0, 1e6]`.
+    #[schemars(range(min = 0.0, max = 1e6))]
     pub wp1: f64,
     /// Sharpness of the gaussian around the pointed parameter (eq. 19,
     /// over the normalized parameter), in `[0, 1e4]`; 0 attracts the whole
     /// curve.
+    #[schemars(range(min = 0.0, max = 1e4))]
     pub alpha: f64,
     /// Keep the curve's end points where they are.
     pub keep_ends: bool,
@@ -320,7 +328,7 @@ impl CurveNetwork {
                 finite(a, "attractor plane point")?,
                 unit(normal, "attractor plane normal must be non-zero")?,
             ),
-            Attractor::Curve { curve: o } => {
+            Attractor::Curve { curve: CurveId(o) } => {
                 if o == curve {
                     return Err(StylingError::BadParameter(
                         "a curve cannot attract itself: pick another curve",

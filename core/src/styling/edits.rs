@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::math::DVec3;
 
+use super::attract::{AttractParams, Attractor};
 use super::curve::{fit_curve, FitMode};
 use super::network::{CurveNetwork, Piece};
 use super::surface::SurfaceWeights;
@@ -123,6 +124,30 @@ pub struct CurvePull {
     /// Pointer tip per frame (the first picks the point).
     #[schemars(extend("x-unit" = "m"))]
     pub path: Vec<[f64; 3]>,
+}
+
+/// Attractor held on a curve (paper §2.2 eq. 5, §3.3): the curve, or its
+/// part around the pointer, is drawn towards a point, a line, a plane or
+/// another curve of the network for `frames` frames; the network's other
+/// curves follow at their junctions, patches keep their boundaries.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveAttract {
+    /// The attracted curve.
+    pub curve: CurveId,
+    /// What it is drawn towards.
+    pub attractor: Attractor,
+    /// Weights and locality.
+    pub params: AttractParams,
+    /// Pointer tip: the curve point nearest it centres the gaussian of a
+    /// local attraction (`params.alpha > 0`, then required; ignored with
+    /// `alpha = 0`).
+    #[schemars(extend("x-unit" = "m"))]
+    pub at: Option<[f64; 3]>,
+    /// Frames the tool is held (1..=100000); each frame moves the curve
+    /// `weight / (weight + wp0)` of the way for a uniform attraction.
+    #[schemars(range(min = 1, max = 100000))]
+    pub frames: u32,
 }
 
 /// Delete a curve (and the patches using it).
@@ -256,6 +281,15 @@ impl CurvePull {
         let work = (s.curve.n() * path.len()) as u64;
         net.set_curve(self.curve.0, s.curve)?;
         Ok(work)
+    }
+}
+
+impl CurveAttract {
+    /// Runs the attractor for `frames` frames.
+    pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
+        let frames = self.frames as usize;
+        net.attract(self.curve.0, &self.params, &self.attractor, self.at, frames)?;
+        Ok((net.curve(self.curve.0)?.n() * frames.max(1)) as u64)
     }
 }
 

@@ -50,12 +50,13 @@ pub mod solver;
 pub mod surface;
 pub mod tools;
 
+pub use attract::{AttractParams, Attractor};
 pub use budget::Budget;
 pub use curve::{fit_curve, fit_curve_within, FitMode, SplineCurve};
 pub use edits::{
-    CurveDelete, CurveDraw, CurveFillAuto, CurveFillLoop, CurveId, CurveNetworkCreate, CurvePull,
-    CurveSharpen, CurveSmooth, PatchId, SurfaceEquilibrium, SurfacePull, SurfaceSharpen,
-    SurfaceSmooth,
+    CurveAttract, CurveDelete, CurveDraw, CurveFillAuto, CurveFillLoop, CurveId,
+    CurveNetworkCreate, CurvePull, CurveSharpen, CurveSmooth, PatchId, SurfaceEquilibrium,
+    SurfacePull, SurfaceSharpen, SurfaceSmooth,
 };
 pub use error::StylingError;
 pub use network::{CurveNetwork, Node, Patch, Piece};

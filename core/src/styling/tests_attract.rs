@@ -191,12 +191,32 @@ fn network_attractors_keep_junctions_and_check_their_input() {
     assert!(super::tests_ngon::boundary_gap(&net) < 1e-9);
     // Another curve as attractor; a curve cannot attract itself.
     let mut n2 = before.clone();
-    n2.attract(0, &uniform(1.0), &Attractor::Curve { curve: 1 }, None, 2)
-        .unwrap();
+    n2.attract(
+        0,
+        &uniform(1.0),
+        &Attractor::Curve {
+            curve: super::CurveId(1),
+        },
+        None,
+        2,
+    )
+    .unwrap();
     assert!(n2.junction_gap() < 1e-9);
     let bad = [
-        (Attractor::Curve { curve: 0 }, uniform(1.0), None),
-        (Attractor::Curve { curve: 99 }, uniform(1.0), None),
+        (
+            Attractor::Curve {
+                curve: super::CurveId(0),
+            },
+            uniform(1.0),
+            None,
+        ),
+        (
+            Attractor::Curve {
+                curve: super::CurveId(99),
+            },
+            uniform(1.0),
+            None,
+        ),
         (
             Attractor::Line {
                 a: [0.0; 3],
