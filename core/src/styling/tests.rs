@@ -149,8 +149,9 @@ fn energies_match_direct_integrals() {
     let (ca, cb) = c.domain();
     let y = |t: f64| other.point(oa + (ob - oa) * (t - ca) / (cb - ca));
     type Dist<'a> = Box<dyn Fn(DVec3, f64) -> f64 + 'a>;
+    type AddTerm<'a> = Box<dyn Fn(&mut CurveSystem) + 'a>;
     for weight in [Weight::Uniform, Weight::gaussian(0.4, 30.0)] {
-        let cases: Vec<(&str, Box<dyn Fn(&mut CurveSystem)>, Dist)> = vec![
+        let cases: Vec<(&str, AddTerm, Dist)> = vec![
             (
                 "plane",
                 Box::new(move |s| s.add_plane_attractor(2.0, weight, a, n)),
