@@ -16,7 +16,7 @@ mod test_meshes;
 mod trimesh;
 mod validate;
 
-pub use boolean::{difference, union, BooleanError};
+pub use boolean::{difference, manifold_accepts, snap, union, union_snapped, BooleanError};
 pub use error::MeshIoError;
 pub use format::MeshFormat;
 pub use obj::{read_obj, write_obj};
@@ -25,4 +25,6 @@ pub use precision::{at_precision, Precision};
 pub use selfx::{self_intersections, SelfIntersections, MAX_EXACT_COORDINATE};
 pub use stl::{read_stl, write_stl};
 pub use trimesh::TriMesh;
-pub use validate::{validate, ValidationReport, ValidationSettings, LISTED_PAIRS};
+pub use validate::{
+    problem_triangles, validate, ValidationReport, ValidationSettings, LISTED_PAIRS,
+};

@@ -305,8 +305,87 @@ pub fn validate(mesh: &TriMesh, settings: &ValidationSettings) -> ValidationRepo
     r
 }
 
+/// Indices of the triangles that make `report` fail: non-finite or out of
+/// range corners, degenerate, on a boundary, non-manifold or misoriented
+/// edge, at a pinched vertex, or in an intersecting pair. Sorted. For
+/// naming the objects at fault (through `tri_source`); not a fast path.
+pub fn problem_triangles(mesh: &TriMesh, report: &ValidationReport) -> Vec<u32> {
+    let n = mesh.positions.len();
+    let mut bad = vec![false; mesh.triangles.len()];
+    let diag2 = report.bbox.map_or(0.0, |[lo, hi]| {
+        (DVec3::from_array(hi) - DVec3::from_array(lo)).length_squared()
+    });
+    let area_tol = ValidationSettings::default().degenerate_area_rel * diag2;
+    let mut vertex_bad = vec![false; n];
+    for (v, p) in mesh.positions.iter().enumerate() {
+        vertex_bad[v] = p.iter().any(|x| !x.is_finite());
+    }
+    let mut edges: Vec<(u32, u32, bool, usize)> = Vec::new();
+    let mut tris = Vec::new();
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        if tri
+            .iter()
+            .any(|&i| i as usize >= n || vertex_bad[i as usize])
+        {
+            bad[t] = true;
+            continue;
+        }
+        tris.push(*tri);
+        let [a, b, c] = tri.map(|i| DVec3::from_array(mesh.positions[i as usize]));
+        if tri[0] == tri[1]
+            || tri[1] == tri[2]
+            || tri[0] == tri[2]
+            || 0.5 * (b - a).cross(c - a).length() <= area_tol
+        {
+            bad[t] = true;
+        }
+        for k in 0..3 {
+            let (x, y) = (tri[k], tri[(k + 1) % 3]);
+            if x != y {
+                edges.push((x.min(y), x.max(y), x < y, t));
+            }
+        }
+    }
+    edges.sort_unstable();
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i;
+        let mut fwd = 0;
+        while j < edges.len() && edges[j].0 == edges[i].0 && edges[j].1 == edges[i].1 {
+            fwd += edges[j].2 as usize;
+            j += 1;
+        }
+        if j - i != 2 || fwd != 1 {
+            for e in &edges[i..j] {
+                bad[e.3] = true;
+            }
+        }
+        i = j;
+    }
+    if report.non_manifold_vertices > 0 {
+        let pinched = pinched_vertices(n, &tris);
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            if tri.iter().any(|&v| (v as usize) < n && pinched[v as usize]) {
+                bad[t] = true;
+            }
+        }
+    }
+    if report.self_intersecting_pairs.unwrap_or(0) > 0 {
+        for (a, b) in self_intersections(mesh).pairs {
+            bad[a as usize] = true;
+            bad[b as usize] = true;
+        }
+    }
+    (0..bad.len() as u32).filter(|&t| bad[t as usize]).collect()
+}
+
 /// Counts vertices whose incident triangles do not form one connected fan.
 fn count_pinched_vertices(n: usize, tris: &[[u32; 3]]) -> usize {
+    pinched_vertices(n, tris).iter().filter(|&&p| p).count()
+}
+
+/// Per vertex: its incident triangles form more than one fan.
+fn pinched_vertices(n: usize, tris: &[[u32; 3]]) -> Vec<bool> {
     // CSR of (vertex -> (next, prev) around that vertex).
     let mut start = vec![0u32; n + 1];
     for t in tris {
@@ -326,7 +405,7 @@ fn count_pinched_vertices(n: usize, tris: &[[u32; 3]]) -> usize {
             fill[v] += 1;
         }
     }
-    let mut pinched = 0;
+    let mut pinched = vec![false; n];
     let mut nodes: Vec<u32> = Vec::new();
     let mut parent: Vec<usize> = Vec::new();
     for v in 0..n {
@@ -358,7 +437,7 @@ fn count_pinched_vertices(n: usize, tris: &[[u32; 3]]) -> usize {
             .filter(|&i| find(&mut parent, i) == i)
             .count();
         if roots > 1 {
-            pinched += 1;
+            pinched[v] = true;
         }
     }
     pinched
