@@ -81,6 +81,9 @@ pub fn print_summary(p: &Printable) -> String {
             Treatment::Skipped { .. } => {
                 s += &format!("; {} skipped (nothing to print)", part.label)
             }
+            Treatment::Identical { to } => {
+                s += &format!("; {} identical to #{to} (printed once)", part.label)
+            }
             Treatment::Solid => {}
         }
     }

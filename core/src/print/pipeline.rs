@@ -64,10 +64,19 @@ pub fn printable(parts: &[PrintPart], settings: &PrintSettings) -> Result<Printa
     let mut reports = Vec::with_capacity(parts.len());
     let mut ready = Vec::with_capacity(parts.len());
     for part in parts {
-        let (treatment, mesh) = prepare(part, settings)?;
+        let (mut treatment, mesh) = prepare(part, settings)?;
         if let Some(mut mesh) = mesh {
-            mesh.set_source(part.id);
-            ready.push(Ready { id: part.id, mesh });
+            // A part duplicated in place adds nothing to the union, and
+            // uniting exactly coincident surfaces is Manifold's hardest case.
+            let same = ready.iter().find(|r: &&Ready| {
+                r.mesh.positions == mesh.positions && r.mesh.triangles == mesh.triangles
+            });
+            if let Some(r) = same {
+                treatment = Treatment::Identical { to: r.id };
+            } else {
+                mesh.set_source(part.id);
+                ready.push(Ready { id: part.id, mesh });
+            }
         }
         reports.push(PartReport {
             id: part.id,

@@ -28,6 +28,12 @@ pub enum Treatment {
         /// Wall thickness (model units).
         thickness: f64,
     },
+    /// Left out of the union: its (prepared) mesh is bit-identical to an
+    /// earlier object's, so it prints as that one does.
+    Identical {
+        /// The earlier object's id.
+        to: u32,
+    },
     /// Left out: it has nothing to print (e.g. a curve network with no
     /// patches yet).
     Skipped {
@@ -108,6 +114,9 @@ impl fmt::Display for PartReport {
                 thickness * 1e3
             ),
             Treatment::Skipped { reason } => write!(f, "{}: skipped ({reason})", self.label),
+            Treatment::Identical { to } => {
+                write!(f, "{}: identical to #{to}, printed once", self.label)
+            }
         }
     }
 }
