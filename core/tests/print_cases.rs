@@ -110,18 +110,27 @@ fn two_table_copies_print_as_one_table() {
     let table = data("table.jsonl");
     let one = print(run(&table).document()).unwrap();
     assert_prints(&one);
-    let log = run(&format!("{table}\n{table}"));
+    // The second copy's ops name object 2.
+    let copy = table.replace("\"id\": 1", "\"id\": 2");
+    let log = run(&format!("{table}\n{copy}"));
     assert_eq!(log.document().len(), 2);
     let two = print(log.document()).unwrap();
+    assert_eq!(
+        two.report.parts[1].treatment,
+        Treatment::Identical { to: 1 }
+    );
     assert_prints(&two);
     let (v1, v2) = (
         one.report.checks.signed_volume,
         two.report.checks.signed_volume,
     );
     assert!((v2 - v1).abs() / v1 < 1e-7, "{v1} vs {v2}");
-    // The table, duplicated in place by the generic op, too.
+    // The table, duplicated in place by the generic op, too; and the
+    // script run twice as it is (the second copy's legs join the first
+    // table in place, beside a bare top).
     let log = run(&format!("{table}\n{{\"op\":\"duplicate\",\"id\":1}}"));
     assert_prints(&print(log.document()).unwrap());
+    assert_prints(&print(run(&format!("{table}\n{table}")).document()).unwrap());
 }
 
 #[test]

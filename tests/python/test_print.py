@@ -99,7 +99,8 @@ def test_duplicated_mug_moved_a_micrometre(host_bin: Path, tmp_path: Path) -> No
 
 def test_two_table_copies(host_bin: Path, tmp_path: Path) -> None:
     table = (DATA / "table.jsonl").read_text()
-    r, out = apply(host_bin, tmp_path, "tables", table + "\n" + table)
+    # The second copy's ops name object 2.
+    r, out = apply(host_bin, tmp_path, "tables", table + "\n" + table.replace('"id": 1', '"id": 2'))
     assert r.returncode == 0, r.stderr
     assert "identical to #1" in r.stdout, r.stdout
     m = assert_printable(host_bin, out)
