@@ -1,5 +1,6 @@
 //! The printable path on the cases issue 17 names: a duplicated mug moved by
-//! 1e-6, two table copies, an `inf` radius (3.4e38 once Blender has it), a
+//! 1e-6, two table copies, an `inf` radius (3.4e38 once Blender has it;
+//! refused by the op door check, and at export if it got in another way), a
 //! snapshot coordinate of 1e39, the empty document, an open network beside
 //! a closed part, a folded sculpt; plus touching and identical parts.
 //!
@@ -11,13 +12,16 @@
 
 use std::path::Path;
 
-use shapewright::doc::{parse_script, run_script, Document, OpLog};
+use shapewright::doc::{
+    parse_script, run_script, AddSolid, Document, LogError, Op, OpError, OpLog,
+};
 use shapewright::mesh::{
     manifold_accepts, read_stl, validate, write_stl, TriMesh, ValidationSettings,
 };
 use shapewright::print::{
     print_document, ClosedSurfaces, PrintError, PrintSettings, Printable, Treatment,
 };
+use shapewright::solid::SolidShape;
 
 fn data(name: &str) -> String {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -135,12 +139,37 @@ fn two_table_copies_print_as_one_table() {
 
 #[test]
 fn infinite_and_absurd_radii_are_refused_naming_the_object() {
+    // Through an op: the door check (`doc::schema::check_op`) refuses the
+    // value with the field's name before anything is applied.
+    for radius in [f64::INFINITY, f64::NAN, 3.4e38, 1e300, 2e6] {
+        let mut log =
+            run("{\"op\":\"add_solid\",\"shape\":{\"kind\":\"box\",\"size\":[0.1,0.1,0.1]}}");
+        let e = log
+            .apply(Op::AddSolid(AddSolid {
+                shape: SolidShape::Sphere { radius },
+                segments: 16,
+                transform: Default::default(),
+            }))
+            .unwrap_err();
+        match &e {
+            LogError::Op(OpError::BadField { op, field, .. }) => {
+                assert_eq!((*op, field.as_str()), ("add_solid", "shape.radius"), "{e}");
+            }
+            other => panic!("{radius}: expected BadField, got {other}"),
+        }
+        assert_eq!(log.document().len(), 1, "{radius}: nothing applied");
+        assert_prints(&print(log.document()).unwrap());
+    }
+    // A document that got the value another way (a deserialized snapshot,
+    // an older log) is still refused at export, naming the object.
     for radius in ["3.4e38", "1e300", "2e6"] {
-        let log = run(&format!(
-            "{{\"op\":\"add_solid\",\"shape\":{{\"kind\":\"box\",\"size\":[0.1,0.1,0.1]}}}}\n\
-             {{\"op\":\"add_solid\",\"shape\":{{\"kind\":\"sphere\",\"radius\":{radius}}}}}"
-        ));
-        let e = refused(print(log.document()));
+        let json = format!(
+            r#"{{"last_id":2,"objects":[
+            {{"id":1,"kind":{{"kind":"solid","shape":{{"kind":"box","size":[0.1,0.1,0.1]}},"segments":16,"transform":{{}}}}}},
+            {{"id":2,"kind":{{"kind":"solid","shape":{{"kind":"sphere","radius":{radius}}},"segments":16,"transform":{{}}}}}}]}}"#
+        );
+        let doc: Document = serde_json::from_str(&json).unwrap();
+        let e = refused(print(&doc));
         assert!(matches!(e, PrintError::OutOfRange { .. }), "{radius}: {e}");
         assert!(e.to_string().contains("object #2 solid"), "{e}");
     }
