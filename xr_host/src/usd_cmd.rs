@@ -1,16 +1,17 @@
 //! `export` and `info` for Shapewright USD files (shapewright-usd).
 
 use std::fmt::Write as _;
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use shapewright::mesh::{validate, write_obj, write_ply, write_stl, TriMesh};
+use shapewright::mesh::validate;
+use shapewright::print::{print_document, PrintSettings};
 use shapewright_usd::{load_file, LoadOptions};
 
-/// `export FILE.usda --stl/--obj/--ply OUT`: the document at the saved
-/// cursor, all objects in one mesh, to each requested format.
+/// `export FILE.usda --stl/--obj/--ply OUT`: the printable model of the
+/// document at the saved cursor (the union of every object, open surfaces
+/// thickened, validated at each format's precision), to each requested
+/// format. Nothing is written when it is not printable.
 pub fn export(
     file: &Path,
     stl: Option<&Path>,
@@ -29,19 +30,22 @@ pub fn export(
             loaded.report
         );
     }
-    let mesh = loaded.log.document().combined_mesh();
-    type Writer = fn(&TriMesh, &mut BufWriter<File>) -> std::io::Result<()>;
-    let targets: [(Option<&Path>, Writer); 3] = [
-        (stl, |m, w| write_stl(m, w)),
-        (obj, |m, w| write_obj(m, w)),
-        (ply, |m, w| write_ply(m, w)),
-    ];
-    for (path, write) in targets {
-        let Some(path) = path else { continue };
-        let f = File::create(path).with_context(|| format!("creating {}", path.display()))?;
-        let mut w = BufWriter::new(f);
-        write(&mesh, &mut w).with_context(|| format!("writing {}", path.display()))?;
-        std::io::Write::flush(&mut w).with_context(|| format!("writing {}", path.display()))?;
+    let doc = loaded.log.document();
+    // Every target is checked before any is written.
+    let mut printed = Vec::new();
+    for path in [stl, obj, ply].into_iter().flatten() {
+        let p = crate::cmd::print_for(doc, path)
+            .with_context(|| format!("exporting {}", file.display()))?;
+        printed.push((path, p));
+    }
+    for (path, p) in &printed {
+        crate::cmd::write_mesh(&p.mesh, path)?;
+        println!(
+            "{} -> {} ({})",
+            file.display(),
+            path.display(),
+            crate::cmd::print_summary(p)
+        );
     }
     Ok(())
 }
@@ -77,6 +81,14 @@ pub fn info(file: &Path) -> Result<String> {
     writeln!(s, "objects: {}", doc.len())?;
     for (id, obj) in doc.objects() {
         let r = validate(&obj.mesh, &Default::default());
+        let verdict = if r.is_printable() {
+            format!(
+                "closed manifold, genus {}",
+                r.genus.map_or("?".to_owned(), |g| g.to_string())
+            )
+        } else {
+            format!("problems: {}", r.problems())
+        };
         writeln!(
             s,
             "  {id} {}: {} vertices, {} triangles, volume {:.6}, {}",
@@ -84,17 +96,20 @@ pub fn info(file: &Path) -> Result<String> {
             r.vertex_count,
             r.triangle_count,
             r.signed_volume,
-            if r.is_closed_manifold() {
-                format!(
-                    "closed manifold, genus {}",
-                    r.genus.map_or("?".to_owned(), |g| g.to_string())
-                )
-            } else {
-                format!("problems: {}", r.problems())
-            }
+            verdict
         )?;
     }
     writeln!(s, "validation: {}", loaded.report)?;
+    match print_document(doc, &PrintSettings::default()) {
+        Ok(p) => {
+            writeln!(
+                s,
+                "printable: yes, as STL ({})",
+                crate::cmd::print_summary(&p)
+            )?;
+        }
+        Err(e) => writeln!(s, "printable: NO: {e}")?,
+    }
     Ok(s)
 }
 
