@@ -16,7 +16,7 @@
 use std::sync::{Arc, RwLock};
 
 use super::dense::DenseSdf;
-use crate::doc::ContentHasher;
+use crate::hash::ContentHasher;
 
 /// Version of the blob format and of the SDF computation; bump it when
 /// either changes so that old blobs are regenerated.

@@ -52,6 +52,9 @@ pub enum SdfError {
         /// The budget.
         budget_mib: u64,
     },
+    /// A user component needs a name to be picked by.
+    #[error("the component name is empty; give the imported component a name")]
+    EmptyComponentName,
     /// `sdf_update` with no pending operand.
     #[error("nothing to update: the volume has no pending operands")]
     NothingPending,

@@ -19,7 +19,7 @@ use super::dense::DenseSdf;
 use super::mc::extract_dense;
 use super::mesh_sdf::component_sdf;
 use super::SdfError;
-use crate::doc::ContentHasher;
+use crate::hash::ContentHasher;
 use crate::math::DVec3;
 use crate::mesh::TriMesh;
 use crate::solid::{tessellate, SolidShape};
