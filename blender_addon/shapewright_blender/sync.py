@@ -26,9 +26,7 @@ KIND_PROP = "shapewright_kind"
 OWNER_PROP = "shapewright_owner"
 PART_PROP = "shapewright_parametric"
 
-# Blender's curve attribute values (`CurveType::CURVE_TYPE_NURBS`,
-# `KnotsMode::NURBS_KNOT_MODE_ENDPOINT_BEZIER`).
-CURVE_TYPE_NURBS = 3
+# Blender's knot mode value `KnotsMode::NURBS_KNOT_MODE_ENDPOINT_BEZIER`.
 KNOTS_ENDPOINT_BEZIER = 3
 
 
@@ -144,7 +142,9 @@ def curves_data(name: str, curves: list[dict]) -> bpy.types.Curves:
         a = attrs.get(aname) or attrs.new(aname, dtype, domain)
         a.data.foreach_set("value", np.asarray(values))
 
-    attr("curve_type", "INT8", "CURVE", np.full(len(curves), CURVE_TYPE_NURBS, dtype=np.int8))
+    # Through the API, not the `curve_type` attribute: Blender caches the
+    # count of each type, and a stale count crashes its evaluation.
+    cd.set_types(type="NURBS")
     attr("nurbs_order", "INT8", "CURVE", np.array([c["order"] for c in curves], dtype=np.int8))
     attr("knots_mode", "INT8", "CURVE", np.full(len(curves), KNOTS_ENDPOINT_BEZIER, dtype=np.int8))
     weights = np.array([w for c in curves for w in c["bezier_weights"]], dtype=np.float32)
