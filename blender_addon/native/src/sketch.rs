@@ -41,7 +41,7 @@ fn plan_items(d: &Bound<'_, PyDict>, plan: &SectionPlan) -> PyResult<()> {
     Ok(())
 }
 
-fn assembly<'a>(doc: &'a Session, id: u32) -> PyResult<&'a GcAssembly> {
+fn assembly(doc: &Session, id: u32) -> PyResult<&GcAssembly> {
     let obj = doc
         .log()
         .document()
