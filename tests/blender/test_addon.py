@@ -31,6 +31,8 @@ import pytest
         "sketch_edits",
         "conventions",
         "export_job",
+        # issue 15: the op table agrees with the core's op schema
+        "op_schema",
     ],
 )
 def test_scenario(scenario: str, run_scenario: Callable[..., str]) -> None:
