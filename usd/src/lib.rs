@@ -48,6 +48,10 @@
 //!   xformOp stack is evaluated here ([`xform`]) so that unknown ops are
 //!   errors instead of silently ignored.
 //! - **Crash-safe saving** ([`atomic`]): temp file, fsync, rename, fsync dir.
+//! - **Other hosts' layouts** ([`layout`]): a stage Blender's exporter
+//!   wrote with the add-on's hook keeps the log and the objects under
+//!   Blender's root prim, with Blender's names; loading finds the log prim
+//!   and the object prims (by `shapewright:objectId`) wherever they are.
 #![forbid(unsafe_code)]
 
 pub mod atomic;
@@ -57,6 +61,7 @@ mod error;
 pub mod import;
 pub mod import_op;
 pub mod kinds;
+pub mod layout;
 mod load;
 pub mod parametric;
 pub mod prims;

@@ -28,14 +28,15 @@
 //! anything else exactly) is a [`crate::Mismatch::Parametric`]. The log stays
 //! the truth; the prims are never read back into the document.
 
+use std::collections::BTreeMap;
+
 use openusd::gf;
 use openusd::sdf::{self, AbstractData, Value};
-use shapewright::doc::{Document, ObjectKind};
+use shapewright::doc::{Document, ObjectId, ObjectKind};
 use shapewright::math::DVec3;
 use shapewright::nurbs::{euclidean, NurbsCurve, NurbsSurface};
 
 use crate::check::{max_point_deviation, Mismatch};
-use crate::kinds::object_prim_name;
 use crate::load::attr_value;
 use crate::prims::{AttrOut, PrimOut};
 
@@ -255,20 +256,19 @@ pub fn patch_prim(name: &str, s: &NurbsSurface) -> PrimOut {
     p
 }
 
-/// Compares the parametric prims stored under each object's prim with the
-/// ones the document gives.
-pub fn mismatches(data: &dyn AbstractData, doc: &Document) -> Vec<Mismatch> {
+/// Compares the parametric prims stored under each object's prim (`prims`,
+/// found by [`crate::layout::object_prims`]) with the ones the document
+/// gives.
+pub fn mismatches(
+    data: &dyn AbstractData,
+    doc: &Document,
+    prims: &BTreeMap<ObjectId, sdf::Path>,
+) -> Vec<Mismatch> {
     let mut out = Vec::new();
-    let Ok(world) = sdf::Path::abs_root().append_path(crate::WORLD_PRIM) else {
-        return out;
-    };
     for (id, obj) in doc.objects() {
-        let Ok(obj_path) = world.append_path(object_prim_name(id).as_str()) else {
-            continue;
-        };
-        if !data.has_spec(&obj_path) {
+        let Some(obj_path) = prims.get(&id) else {
             continue; // already a MissingMesh
-        }
+        };
         let mut report = |prim: &str, detail: String| {
             out.push(Mismatch::Parametric {
                 id,
