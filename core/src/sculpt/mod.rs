@@ -10,6 +10,8 @@
 //! - [`warp`]: weight functions (§4.3) and warp operators (§4.4).
 //! - [`grid`]: a uniform hash grid of vertices, updated incrementally.
 //! - [`stroke`]: strokes applied frame by frame by a [`Sculptor`] (§4.1).
+//! - [`render`]: the changed-region API: slot-indexed render buffers a
+//!   host updates each frame from what the frame changed (§5.2).
 //! - [`base`]: base meshes (geodesic sphere, box, slab).
 //! - [`ops`]: the `sculpt_mesh` object kind and the `sculpt_create` and
 //!   `sculpt_stroke` ops.
@@ -49,6 +51,7 @@ pub mod grid;
 pub mod halfedge;
 pub mod mesh_brush;
 pub mod ops;
+pub mod render;
 pub mod stroke;
 pub mod warp;
 
@@ -57,9 +60,12 @@ pub use error::SculptError;
 pub use halfedge::{FaceId, HalfEdgeId, HalfEdgeMesh, VertId};
 pub use mesh_brush::{MeshBrush, MeshSource};
 pub use ops::{SculptBase, SculptCreate, SculptMesh, SculptStroke};
-pub use stroke::{FrameInput, FrameStats, Sculptor, StrokeSample, StrokeSettings};
+pub use render::{DirtySlots, RenderBuffers};
+pub use stroke::{FrameInput, FrameStats, Sculptor, StrokeFrames, StrokeSample, StrokeSettings};
 pub use warp::{Falloff, Warp};
 
+#[cfg(test)]
+mod live_tests;
 #[cfg(test)]
 mod mesh_brush_tests;
 #[cfg(test)]

@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 use super::brush::{check_finite, positive, BrushPose, BrushShape};
 use super::grid::VertexGrid;
 use super::halfedge::{FaceId, HalfEdgeMesh, VertId};
+use super::render::{to_ranges, vertex_normal, DirtySlots, RenderBuffers};
 use super::warp::{DragIncrement, Falloff, Warp};
 use super::SculptError;
 
@@ -159,6 +160,13 @@ pub struct Sculptor {
     face_stamp: u32,
     region: Vec<VertId>,
     queue: Vec<FaceId>,
+    /// Vertices moved, created or re-linked since the last `sync_render`
+    /// (each once), with their stamp per slot.
+    changed: Vec<VertId>,
+    changed_mark: Vec<u32>,
+    change_stamp: u32,
+    /// Faces removed since the last `sync_render`.
+    removed_faces: Vec<FaceId>,
 }
 
 impl Sculptor {
@@ -193,6 +201,10 @@ impl Sculptor {
             moves: Vec::new(),
             region: Vec::new(),
             queue: Vec::new(),
+            changed: Vec::new(),
+            changed_mark: marks(),
+            change_stamp: 1,
+            removed_faces: Vec::new(),
         }
     }
 
@@ -236,6 +248,84 @@ impl Sculptor {
         if reshaped && self.frame_mark[i] != self.frame_stamp {
             self.frame_mark[i] = self.frame_stamp;
             self.region.push(v);
+        }
+    }
+
+    /// Records that `v` moved, appeared or changed its neighbours, for the
+    /// next [`Self::sync_render`].
+    #[inline]
+    fn note_changed(&mut self, v: VertId) {
+        let i = v.0 as usize;
+        if i >= self.changed_mark.len() {
+            self.changed_mark.resize(i + 1, 0);
+        }
+        if self.changed_mark[i] != self.change_stamp {
+            self.changed_mark[i] = self.change_stamp;
+            self.changed.push(v);
+        }
+    }
+
+    /// Brings `out` (built by [`RenderBuffers::from_mesh`] from this
+    /// sculptor's mesh) up to date with every frame applied since the last
+    /// call, touching only what changed: positions of moved and new
+    /// vertices, normals of those and their neighbours, corners of the
+    /// faces around them and of removed faces. Returns the slot ranges
+    /// rewritten, for the host to upload (see [`super::render`]).
+    pub fn sync_render(&mut self, out: &mut RenderBuffers) -> DirtySlots {
+        let capacity_grew = out.fit(&self.mesh);
+        // Normals change at changed vertices and their neighbours; mark
+        // those with the next stamp so each is written once (stamps stay
+        // below u32::MAX - 2, so `next` never wraps).
+        let next = self.change_stamp + 1;
+        let mut verts: Vec<u32> = Vec::with_capacity(self.changed.len() * 3);
+        let mut faces: Vec<u32> = Vec::with_capacity(self.changed.len() * 2);
+        let fstamp = self.next_face_stamp();
+        for i in 0..self.changed.len() {
+            let v = self.changed[i];
+            if !self.mesh.vert_alive(v) {
+                continue;
+            }
+            let mesh = &self.mesh;
+            let marks = &mut self.changed_mark;
+            let fmarks = &mut self.face_mark;
+            let mut visit = |w: VertId| {
+                let slot = &mut marks[w.0 as usize];
+                if *slot != next {
+                    *slot = next;
+                    verts.push(w.0);
+                }
+            };
+            visit(v);
+            mesh.for_each_out(v, |h| {
+                visit(mesh.to(h));
+                let f = h.face();
+                if fmarks[f.0 as usize] != fstamp {
+                    fmarks[f.0 as usize] = fstamp;
+                    faces.push(f.0);
+                }
+            });
+        }
+        for &w in &verts {
+            let w = VertId(w);
+            out.write_vertex(&self.mesh, w, vertex_normal(&self.mesh, w));
+        }
+        for f in self.removed_faces.drain(..) {
+            faces.push(f.0);
+        }
+        for &f in &faces {
+            out.write_face(&self.mesh, FaceId(f));
+        }
+        self.changed.clear();
+        // Both stamps are now used; the next round starts after them.
+        self.change_stamp = next + 1;
+        if self.change_stamp >= u32::MAX - 2 {
+            self.changed_mark.fill(0);
+            self.change_stamp = 1;
+        }
+        DirtySlots {
+            vertices: to_ranges(&mut verts),
+            triangles: to_ranges(&mut faces),
+            capacity_grew,
         }
     }
 
@@ -388,6 +478,7 @@ impl Sculptor {
         for &(v, _, _, _) in &moves {
             let x = self.mesh.position(v);
             self.grid.update(v, x);
+            self.note_changed(v);
         }
         self.moves = moves;
         if stats.moved > 0 {
@@ -517,6 +608,7 @@ impl Sculptor {
             for &(m, _) in &created {
                 self.grid.insert(m, self.mesh.position(m));
                 self.mark(m, true);
+                self.note_changed(m);
                 self.mesh.for_each_out(m, |h| queue.push(h.face()));
             }
         }
@@ -553,7 +645,10 @@ impl Sculptor {
                     let Some(h) = self.mesh.find_half_edge(keep, gone) else {
                         continue;
                     };
+                    let gone_faces = [h.face(), self.mesh.twin(h).face()];
                     if self.mesh.try_collapse(h, p, max2) {
+                        self.removed_faces.extend(gone_faces);
+                        self.note_changed(keep);
                         self.grid.remove(gone);
                         self.grid.update(keep, p);
                         if self.in_stroke(keep) {
@@ -572,6 +667,67 @@ impl Sculptor {
     }
 }
 
+/// A stroke applied one sample at a time: exactly the frames
+/// [`run_stroke`] applies for the whole path, so a host can sculpt live
+/// (one call per kept sample, then [`Sculptor::sync_render`]) and the
+/// `sculpt_stroke` op it commits at the end replays to the same bits.
+#[derive(Clone, Debug)]
+pub struct StrokeFrames<'a> {
+    shape: &'a BrushShape,
+    settings: &'a StrokeSettings,
+    model_scale: f64,
+    prev: Option<BrushPose>,
+    total: FrameStats,
+}
+
+impl<'a> StrokeFrames<'a> {
+    /// Starts a stroke on `sculptor` (see [`Sculptor::begin_stroke`]) with
+    /// brush `shape` (a mesh brush already resolved to a grid), `settings`
+    /// and the model's uniform scale.
+    pub fn begin(
+        sculptor: &mut Sculptor,
+        shape: &'a BrushShape,
+        settings: &'a StrokeSettings,
+        model_scale: f64,
+    ) -> Self {
+        sculptor.begin_stroke();
+        Self {
+            shape,
+            settings,
+            model_scale,
+            prev: None,
+            total: FrameStats::default(),
+        }
+    }
+
+    /// Applies the frame of the next sample (model-space pose, pressure).
+    pub fn frame(&mut self, sculptor: &mut Sculptor, pose: BrushPose, pressure: f64) -> FrameStats {
+        let size = self.settings.brush_size() / self.model_scale;
+        let prev = self.prev.unwrap_or(pose);
+        self.prev = Some(pose);
+        let s = sculptor.apply_frame(&FrameInput {
+            shape: self.shape,
+            prev,
+            pose,
+            pressure,
+            influence: self.settings.influence / self.model_scale,
+            falloff: self.settings.falloff,
+            warp: self.settings.warp,
+            max_len: self.settings.max_edge_rel * size,
+            min_len: self.settings.min_edge_rel * size,
+        });
+        self.total.moved += s.moved;
+        self.total.splits += s.splits;
+        self.total.collapses += s.collapses;
+        s
+    }
+
+    /// What the stroke did so far.
+    pub fn total(&self) -> FrameStats {
+        self.total
+    }
+}
+
 /// Applies a whole stroke of model-space poses and pressures.
 pub fn run_stroke(
     sculptor: &mut Sculptor,
@@ -580,25 +736,9 @@ pub fn run_stroke(
     model_scale: f64,
     poses: &[(BrushPose, f64)],
 ) -> FrameStats {
-    sculptor.begin_stroke();
-    let size = settings.brush_size() / model_scale;
-    let mut total = FrameStats::default();
-    for (i, &(pose, pressure)) in poses.iter().enumerate() {
-        let prev = if i == 0 { pose } else { poses[i - 1].0 };
-        let s = sculptor.apply_frame(&FrameInput {
-            shape,
-            prev,
-            pose,
-            pressure,
-            influence: settings.influence / model_scale,
-            falloff: settings.falloff,
-            warp: settings.warp,
-            max_len: settings.max_edge_rel * size,
-            min_len: settings.min_edge_rel * size,
-        });
-        total.moved += s.moved;
-        total.splits += s.splits;
-        total.collapses += s.collapses;
+    let mut frames = StrokeFrames::begin(sculptor, shape, settings, model_scale);
+    for &(pose, pressure) in poses {
+        frames.frame(sculptor, pose, pressure);
     }
-    total
+    frames.total()
 }
