@@ -135,3 +135,53 @@ fn idle_frames_upload_nothing() {
     assert!(!d.capacity_grew);
     assert_eq!(sc.sync_render(&mut buffers), Default::default());
 }
+
+/// Frames large enough for every parallel pass (thousands of reached
+/// vertices, splits and collapses) give the same bits on one and on two
+/// threads.
+#[test]
+fn large_frames_give_the_same_bits_on_one_and_two_threads() {
+    let base =
+        super::HalfEdgeMesh::from_trimesh(&super::base::geodesic_sphere(1.0, 80), "base").unwrap();
+    let mut s = settings(BrushShape::Sphere { radius: 0.4 }, 0.3, Warp::Drag);
+    // Edges of the 80-frequency sphere are about 0.013.
+    s.max_edge_rel = 0.022 / 0.4;
+    s.min_edge_rel = 0.009 / 0.4;
+    let poses: Vec<(super::BrushPose, f64)> = (0..6)
+        .map(|i| {
+            let t = i as f64 * 0.03;
+            (
+                super::BrushPose {
+                    position: DVec3::new(t, 0.2 * t, 1.1 + t),
+                    rotation: DQuat::from_rotation_x(t),
+                    scale: 1.0,
+                },
+                1.0,
+            )
+        })
+        .collect();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut sc = Sculptor::new(base.clone(), 0.2);
+            let mut buffers = RenderBuffers::from_mesh(sc.mesh());
+            let mut frames = StrokeFrames::begin(&mut sc, &s.brush, &s, 1.0);
+            let mut dirty = Vec::new();
+            for &(pose, pressure) in &poses {
+                frames.frame(&mut sc, pose, pressure);
+                dirty.push(sc.sync_render(&mut buffers));
+            }
+            (frames.total(), sc.into_mesh(), buffers, dirty)
+        })
+    };
+    let (stats, one, buf1, dirty1) = run(1);
+    let (_, two, buf2, dirty2) = run(2);
+    assert!(stats.moved > 6 * super::par::PAR_MIN, "{stats:?}");
+    assert!(stats.splits > 0 && stats.collapses > 0, "{stats:?}");
+    assert!(one == two, "meshes differ between 1 and 2 threads");
+    assert!(buf1 == buf2 && dirty1 == dirty2);
+    one.check().unwrap();
+}

@@ -37,6 +37,7 @@ use std::ops::Range;
 use glam::DVec3;
 
 use super::halfedge::{FaceId, HalfEdgeMesh, VertId};
+use super::par::sort_by_u32;
 
 /// Slot-indexed render buffers of a half-edge surface (f32, flat arrays
 /// that go to Vulkan, numpy or Blender without conversion loops).
@@ -145,8 +146,8 @@ impl RenderBuffers {
 
 /// Sorts `ids`, drops repeats and merges them into ranges of consecutive
 /// slots.
-pub(crate) fn to_ranges(ids: &mut Vec<u32>) -> Vec<Range<u32>> {
-    ids.sort_unstable();
+pub(crate) fn to_ranges(ids: &mut Vec<u32>, scratch: &mut Vec<u32>) -> Vec<Range<u32>> {
+    sort_by_u32(ids, scratch, |&i| i);
     ids.dedup();
     let mut out: Vec<Range<u32>> = Vec::new();
     for &i in ids.iter() {
