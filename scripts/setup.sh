@@ -24,6 +24,14 @@ if [ "${#apt_pkgs[@]}" -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${apt_pkgs[@]}"
 fi
 
+# xr: the OpenXR core validation layer; the Monado integration tests run
+# one session under it (Monado itself is built by scripts/monado.sh).
+if ! dpkg -s openxr-layer-corevalidation >/dev/null 2>&1; then
+  sudo_cmd=""; [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq openxr-layer-corevalidation
+fi
+
 # Python venv.
 if [ ! -x .venv/bin/python ]; then
   python3 -m venv .venv

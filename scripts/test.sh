@@ -12,6 +12,12 @@ echo "== cargo fmt"
 cargo fmt --all -- --check
 echo "== cargo clippy"
 cargo clippy --workspace --all-targets -q -- -D warnings
+# xr: Monado, the real OpenXR runtime xr_host/tests/monado.rs runs the host
+# against (built once into target/monado, cached with the target; then a
+# one-second check).
+echo "== monado"
+SHAPEWRIGHT_MONADO_MANIFEST="$(bash scripts/monado.sh)"
+export SHAPEWRIGHT_MONADO_MANIFEST
 echo "== cargo test"
 cargo test --workspace -q
 echo "== ruff"

@@ -1,12 +1,31 @@
 """One history for Blender and the core.
 
 The core `Session` of each scene is kept in memory; the scene stores the
-op log and the cursor. After any Blender undo, redo or file load, the
-session is reconciled with what the scene now says:
+op log, the cursor and a generation counter `gen` (a new value for every
+recorded change). After any Blender undo, redo or file load, the session
+is reconciled with what the scene now says:
 - if the scene's ops are a prefix of the session's (an undo), the session
   only moves its cursor, keeping its redo tail;
 - otherwise (a reopened file, another history) it is rebuilt by replay.
 Then the Blender meshes are synced.
+
+Undo past the load point. Blender's undo history starts at the state a
+file was opened in (or an import brought a document in): the *base*.
+Blender cannot step before it, but the log can. At the base, undo and redo
+move the log's cursor *in place*: the scene's log changes while Blender's
+base step still holds the state it was loaded with, so the new state is
+remembered as the base's *override*, and whenever Blender's undo or redo
+returns to a state of the base (same `gen`), the override is put back.
+Blender's own undo steps stay untouched, so Ctrl-Z, the panel's Undo and
+`{"op": "undo"}` never disagree about where the log is:
+- `undo_step` / `redo_step` (the panel's buttons and Ctrl-Z / Ctrl-Shift-Z
+  through the add-on's key map) use Blender's undo, except at the base,
+  where they move the log in place;
+- `{"op": "undo"}` / `{"op": "redo"}` lines (`shapewright.apply_op`,
+  scripts, VR undo) are log steps recorded like any op, as in `.jsonl`.
+A redo at the base first walks the log back up to the loaded state, then
+continues into Blender's redo steps, unless an op was recorded at the
+overridden base (then Blender's redo steps follow from the override).
 
 Besides the .blend, the log is saved as USD (`NAME.shapewright.usda`, the
 core's usda with ops, cursor and snapshot) after every save, and restored
@@ -15,11 +34,17 @@ by the OpenXR host) or the scene has no log. A timer autosaves the log to
 `NAME.shapewright.autosave.usda` (or the temp dir for an unsaved file)
 whenever it changed; Blender timers keep running while our modal
 operators run, which is when Blender skips its own autosave.
+
+The History panel's validation is computed on a worker thread (the core
+releases the GIL) on a snapshot of the session, cached by the scene's log
+state, and only recomputed when that changes.
 """
 
 from __future__ import annotations
 
 import os
+import threading
+from dataclasses import dataclass
 from pathlib import Path
 
 import bpy
@@ -29,6 +54,23 @@ from bpy.app.handlers import persistent
 from . import sync
 
 _sessions: dict[str, sw.Session] = {}
+
+
+@dataclass
+class Base:
+    """The state Blender's undo history starts at, for one scene."""
+
+    gen: int
+    ops: str
+    cursor: int
+    override: tuple[str, int] | None = None
+    # True once an op was recorded on the overridden base: Blender's redo
+    # steps then follow from the override, not from the loaded state.
+    redo_follows_override: bool = False
+
+
+_bases: dict[str, Base] = {}
+_gen_seen = 0
 
 
 def session(scene: bpy.types.Scene) -> sw.Session:
@@ -43,30 +85,144 @@ def session(scene: bpy.types.Scene) -> sw.Session:
     return s
 
 
-def record(scene: bpy.types.Scene, s: sw.Session) -> None:
-    """Stores the session's log and cursor in the scene and syncs meshes."""
-    scene.shapewright.ops = s.ops_jsonl()
-    scene.shapewright.cursor = s.cursor
+def _next_gen(scene: bpy.types.Scene) -> int:
+    global _gen_seen
+    _gen_seen = max(_gen_seen, scene.shapewright.gen) + 1
+    return _gen_seen
+
+
+def record(scene: bpy.types.Scene, s: sw.Session, in_place: bool = False) -> None:
+    """Stores the session's log and cursor in the scene and syncs meshes.
+    `in_place` (only at the base) keeps the base's generation and makes
+    the new state the base's override."""
+    props = scene.shapewright
+    base = _bases.get(scene.name)
+    if in_place and base is not None:
+        base.override = (s.ops_jsonl(), s.cursor)
+        if base.override == (base.ops, base.cursor):
+            base.override = None
+        base.redo_follows_override = False
+    else:
+        if base is not None and props.gen == base.gen and base.override is not None:
+            base.redo_follows_override = True
+        props.gen = _next_gen(scene)
+    props.ops = s.ops_jsonl()
+    props.cursor = s.cursor
     sync.sync_scene(scene, s)
 
 
 def apply(scene: bpy.types.Scene, op: dict) -> int | None:
-    """Applies one op to the scene's session; raises sw.ShapewrightError
-    (with nothing changed) if the core refuses it."""
+    """Applies one op (or an undo/redo line) to the scene's session;
+    raises sw.ShapewrightError (with nothing changed) if the core refuses
+    it. Returns the id the op created, if any."""
+    finish_pending(scene)
     s = session(scene)
     created = sw.apply(s, op)
     record(scene, s)
     return created
 
 
+def finish_pending(scene: bpy.types.Scene) -> None:
+    """Finishes an import whose object work is still pending (Blender runs
+    the timer that does it only after the import, in its event loop)."""
+    if scene.shapewright.import_fixup:
+        from . import usd_hook
+
+        usd_hook.finish_import(scene)
+
+
+def mark_base(scene: bpy.types.Scene) -> None:
+    """The scene's current state is where Blender's undo history starts
+    (after a file load or a Shapewright import)."""
+    props = scene.shapewright
+    _bases[scene.name] = Base(gen=props.gen, ops=props.ops, cursor=props.cursor)
+
+
+def at_base(scene: bpy.types.Scene) -> bool:
+    base = _bases.get(scene.name)
+    return base is not None and scene.shapewright.gen == base.gen
+
+
+def _blender_can(kind: str) -> bool:
+    op = bpy.ops.ed.undo if kind == "undo" else bpy.ops.ed.redo
+    try:
+        return bool(op.poll())
+    except RuntimeError:
+        return False
+
+
+def undo_step(context) -> str:
+    """One undo, as the panel's Undo and Ctrl-Z do it. Returns what moved:
+    `blender` (Blender's undo), `log` (the log, at the base) or `nothing`."""
+    scene = context.scene
+    finish_pending(scene)
+    bottom = not _blender_can("undo")
+    if not bottom and not at_base(scene):
+        bpy.ops.ed.undo()
+        return "blender"
+    s = session(scene) if scene.shapewright.ops else None
+    if s is not None and s.can_undo:
+        if bottom and not at_base(scene):
+            mark_base(scene)  # e.g. a file opened before the add-on was enabled
+        s.undo()
+        record(scene, s, in_place=True)
+        return "log"
+    if not bottom:
+        bpy.ops.ed.undo()  # the log is at its start: undo what brought it in
+        return "blender"
+    return "nothing"
+
+
+def redo_step(context) -> str:
+    """One redo, as the panel's Redo and Ctrl-Shift-Z do it (see the
+    module doc). Returns `blender`, `log` or `nothing`."""
+    scene = context.scene
+    finish_pending(scene)
+    props = scene.shapewright
+    base = _bases.get(scene.name)
+    s = session(scene) if props.ops else None
+    if at_base(scene) and base is not None and base.override is not None and s is not None:
+        below_loaded = not base.redo_follows_override
+        if (below_loaded or not _blender_can("redo")) and s.can_redo:
+            s.redo()
+            record(scene, s, in_place=True)
+            return "log"
+    if _blender_can("redo"):
+        bpy.ops.ed.redo()
+        return "blender"
+    if s is not None and s.can_redo:
+        s.redo()
+        if at_base(scene) or not _blender_can("undo"):
+            if not at_base(scene):
+                mark_base(scene)
+            record(scene, s, in_place=True)
+        else:
+            record(scene, s)
+            bpy.ops.ed.undo_push(message="Shapewright: redo")
+        return "log"
+    return "nothing"
+
+
 def forget() -> None:
     """Drops every in-memory session (e.g. before loading a file)."""
     _sessions.clear()
+    _bases.clear()
+    _validation.clear()
 
 
 def reconcile_all() -> None:
+    from . import usd_hook
+
     for scene in bpy.data.scenes:
-        if scene.shapewright.ops or scene.name in _sessions:
+        base = _bases.get(scene.name)
+        props = scene.shapewright
+        if base is not None and base.override is not None and props.gen == base.gen:
+            ops, cursor = base.override
+            if (props.ops, props.cursor) != (ops, cursor):
+                props.ops, props.cursor = ops, cursor
+        if props.import_fixup:
+            usd_hook.finish_import(scene)  # an import's undo step came back
+        elif props.ops or scene.name in _sessions:
             sync.sync_scene(scene, session(scene))
 
 
@@ -137,6 +293,68 @@ def autosave_tick() -> float:
     return AUTOSAVE_SECONDS
 
 
+# The History panel's validation: computed off the UI thread, cached by
+# the log state it was computed for.
+_validation: dict[str, tuple[tuple, dict | None]] = {}
+_validating: dict[str, threading.Thread] = {}
+validations_run = 0  # how many validations ran (tests check the cache)
+
+
+def _log_key(scene: bpy.types.Scene) -> tuple:
+    # `gen` changes with every recorded log; in place (at the base) only
+    # the cursor moves. No hashing of the (possibly long) log per redraw.
+    props = scene.shapewright
+    return (props.gen, props.cursor, len(props.ops))
+
+
+def _tag_redraw() -> None:
+    wm = bpy.context.window_manager
+    for window in wm.windows if wm else ():
+        for area in window.screen.areas:
+            if area.type == "VIEW_3D":
+                area.tag_redraw()
+
+
+def _poll_validation() -> float | None:
+    if any(t.is_alive() for t in _validating.values()):
+        return 0.2
+    _validating.clear()
+    _tag_redraw()
+    return None
+
+
+def validation(scene: bpy.types.Scene, wait: bool = False) -> dict | None:
+    """The validation report of the scene's model, or None while it is
+    being computed (a redraw follows). Recomputed only when the log or
+    its cursor changed. `wait` blocks until it is known (scripts, tests)."""
+    key = _log_key(scene)
+    cached = _validation.get(scene.name)
+    if cached is not None and cached[0] == key and cached[1] is not None:
+        return cached[1]
+    name = scene.name
+    thread = _validating.get(name)
+    if thread is None or not thread.is_alive() or (cached and cached[0] != key):
+        snap = session(scene).snapshot()
+
+        def work() -> None:
+            global validations_run
+            report = snap.validate()
+            validations_run += 1
+            if _validation.get(name, (None,))[0] == key:
+                _validation[name] = (key, report)
+
+        _validation[name] = (key, None)
+        thread = threading.Thread(target=work, name="shapewright-validate", daemon=True)
+        _validating[name] = thread
+        thread.start()
+        if not bpy.app.timers.is_registered(_poll_validation):
+            bpy.app.timers.register(_poll_validation, first_interval=0.2)
+    if wait:
+        thread.join()
+        return _validation[name][1]
+    return None
+
+
 @persistent
 def _on_load_post(*_args) -> None:
     reconcile_all()
@@ -145,6 +363,9 @@ def _on_load_post(*_args) -> None:
             restore_from_usd(bpy.context.scene, bpy.data.filepath)
         except (sw.ShapewrightError, OSError) as e:
             print(f"Shapewright: not restored from USD: {e}")
+    for scene in bpy.data.scenes:
+        if scene.shapewright.ops:
+            mark_base(scene)
 
 
 @persistent
@@ -179,4 +400,6 @@ def unregister() -> None:
             lst.remove(fn)
     if bpy.app.timers.is_registered(autosave_tick):
         bpy.app.timers.unregister(autosave_tick)
+    if bpy.app.timers.is_registered(_poll_validation):
+        bpy.app.timers.unregister(_poll_validation)
     forget()

@@ -10,8 +10,15 @@ Field kinds:
 - ``int``, ``float``, ``bool``, ``vec3``, ``enum``: plain properties.
 - ``json``: a nested value given as JSON text (defaults are the values the
   example scripts use).
-- ``points``: a polyline as JSON ``[[x, y, z], ...]``; empty means the
-  scene's last desktop or VR sketch (see `sketch.py`).
+- ``points``: a polyline as JSON ``[[x, y, z], ...]`` (a sketch: the
+  Sketch operator passes it, scripts may). Never remembered: an operator
+  without points does what its other fields say (e.g. a straight
+  cylinder at ``location``), or asks for a sketch when it needs one.
+
+Sketched GC ops go through the core's sketch pipeline (`shapewright`'s
+`sketch_spine`, `child_from_stroke`, `replace_spine_from_stroke`,
+`match_section`: the same RDP and template matching as the headset), so a
+sketched spine gets as many key sections as its curve needs.
 """
 
 from __future__ import annotations
@@ -21,6 +28,8 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
+
+import shapewright as sw
 
 IDENTITY_ROT = [0.0, 0.0, 0.0, 1.0]
 
@@ -32,6 +41,7 @@ class Field:
     default: Any = None
     items: tuple[str, ...] = ()
     label: str = ""
+    doc: str = ""
 
 
 @dataclass(frozen=True)
@@ -44,6 +54,13 @@ class OpSpec:
     build: Callable[[dict], dict] | None = None
     sketch: str = ""  # the field a sketch fills ("points" fields), if any
     extra: dict = field(default_factory=dict)
+    # For ops built from a sketch with the core's help: (values, session)
+    # -> one op dict or a list of op dicts applied as one step.
+    build_with: Callable[[dict, Any], dict | list[dict]] | None = None
+    # The core kind of the object the op edits (None: it creates one).
+    target_kind: str | None = None
+    # Points are required (the op has nothing to do without a sketch).
+    needs_points: bool = False
 
 
 PROFILE_TEMPLATES = ("circle", "ellipse", "polygon", "rectangle")
@@ -110,6 +127,13 @@ TEMPLATE_FIELDS = (
     Field("size_b", "float", 0.03, label="Height / ry"),
     Field("sides", "int", 6),
 )
+# A child's section: handle- and spout-sized by default.
+CHILD_TEMPLATE_FIELDS = (
+    Field("template", "enum", "circle", PROFILE_TEMPLATES),
+    Field("size_a", "float", 0.008, label="Radius / width"),
+    Field("size_b", "float", 0.005, label="Height / ry"),
+    Field("sides", "int", 6),
+)
 SHAPE_TYPE_FIELDS = (
     Field("shape_type", "enum", "solid", ("solid", "shell", "container")),
     Field("thickness", "float", 0.004),
@@ -129,10 +153,12 @@ GC_PART = (Field("id", "target", -1), Field("part", "int", 0))
 SMOOTH_PARAMS = {"wb": 1e-06, "ws": 0.0, "wp0": 1.0, "wp1": 0.0, "wp2": 0.0, "alpha": 20.0}
 SHARPEN_PARAMS = {"wb": 2e-06, "ws": 0.0, "wp0": 1.0, "wp1": 0.0, "wp2": 3e-06, "alpha": 30.0}
 SURFACE_WEIGHTS = {"wb": 1.0, "ws": 0.0}
+# A local default: a 2 cm brush whose weights fall to 0 at 5 cm from it
+# (a 0.3 m brush with 0.7 m influence used to drag a whole sphere).
 STROKE_SETTINGS = {
-    "brush": {"kind": "sphere", "radius": 0.3},
+    "brush": {"kind": "sphere", "radius": 0.02},
     "brush_scale": 1.0,
-    "influence": 0.7,
+    "influence": 0.05,
     "falloff": "smooth",
     "warp": {"kind": "drag"},
     "max_edge_rel": 0.1,
@@ -140,35 +166,91 @@ STROKE_SETTINGS = {
 }
 
 
-def _gc_create(v: dict) -> dict:
-    spine = v["points"] or [
-        list(v["location"]),
-        [v["location"][0], v["location"][1], v["location"][2] + v["length"]],
-    ]
+def sections_at(p: dict, params: list[float]) -> list[dict]:
+    return [{"profile": p, "v": t, "scale": 1.0, "twist": 0.0} for t in params]
+
+
+def x_hint(normal) -> list[float]:
+    """Any direction not parallel to `normal` (a sketch plane's x axis)."""
+    n = [float(x) for x in normal]
+    return [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 * math.sqrt(sum(x * x for x in n) or 1.0) else [0.0, 1.0, 0.0]
+
+
+def _gc_create(v: dict, _s=None) -> dict:
+    p = profile(v)
+    normal = list(v["plane_normal"])
+    if v["points"]:
+        radius = sw.profile_radius(json.dumps(p))
+        sk = sw.sketch_spine(v["points"], v["points"][0], normal, x_hint(normal), radius)
+        spine, normal, params = sk["points"], sk["plane_normal"], sk["params"]
+    else:
+        loc = list(v["location"])
+        spine = [loc, [loc[0], loc[1], loc[2] + v["length"]]]
+        params = [0.0, 1.0]
     return {
         "op": "gc_create",
         "spine": spine,
-        "plane_normal": list(v["plane_normal"]),
-        "sections": sections(v),
+        "plane_normal": normal,
+        "sections": sections_at(p, params),
         "shape": shape_type(v),
         "resolution": {"u": v["res_u"], "v": v["res_v"]},
     }
 
 
-def _gc_add_child(v: dict) -> dict:
-    return {
+def _gc_add_child(v: dict, s) -> dict:
+    p = profile(v)
+    common = {
         "op": "gc_add_child",
         "id": v["id"],
-        "parent": v["parent"],
-        "at": list(v["at"]),
         "tolerance": 1e-4,
-        "spine": [[-0.004, 0.0], [v["length"], 0.0]],
-        "end": v["end"],
-        "end_tolerance": 1e-4,
-        "sections": sections(v),
-        "shape": {"type": "solid"},
+        "shape": shape_type(v),
         "resolution": {"u": 96, "v": 64},
     }
+    if v["points"]:
+        radius = sw.profile_radius(json.dumps(p))
+        c = sw.child_from_stroke(s, v["id"], v["points"], radius, v["end"])
+        return {
+            **common,
+            "parent": c["parent"],
+            "at": c["at"],
+            "spine": c["spine"],
+            "end": c["end"],
+            "end_tolerance": c["end_tolerance"],
+            "sections": sections_at(p, c["params"]),
+        }
+    return {
+        **common,
+        "parent": v["parent"],
+        "at": list(v["at"]),
+        "spine": [[-0.004, 0.0], [v["length"], 0.0]],
+        "end": "parent" if v["end"] == "parent" else "free",
+        "end_tolerance": 1e-4,
+        "sections": sections(v),
+    }
+
+
+def _gc_replace_spine(v: dict, s) -> list[dict]:
+    """Key sections first where the new spine needs them (they keep the
+    current shape), then the spine, moved to start where it started."""
+    r = sw.replace_spine_from_stroke(s, v["id"], v["part"], v["points"])
+    part = {"id": v["id"], "part": v["part"]}
+    ops = [{"op": "gc_insert_section", **part, "v": t} for t in r["insert_at"]]
+    ops.append({"op": "gc_replace_spine", **part, "points": r["points"], "plane_normal": r["plane_normal"]})
+    return ops
+
+
+MIN_TEMPLATE_SCORE = 0.7  # as the headset's GC tool (GcToolSettings)
+
+
+def _gc_replace_section(v: dict, _s=None) -> dict:
+    out = {"op": "gc_replace_section", "id": v["id"], "part": v["part"], "section": v["section"]}
+    if v["points"]:
+        normal = list(v["plane_normal"])
+        m = sw.match_section(v["points"], v["points"][0], normal, x_hint(normal))
+        out["profile"] = json.loads(m["profile"] if m["score"] >= MIN_TEMPLATE_SCORE else m["sketch"])
+    else:
+        out["profile"] = profile(v)
+    return out
 
 
 def _part_move(op: str) -> Callable[[dict], dict]:
@@ -249,10 +331,7 @@ def _vec_op(op: str, key: str) -> Callable[[dict], dict]:
 
 def _section_op(op: str) -> Callable[[dict], dict]:
     def build(v: dict) -> dict:
-        out = {"op": op, "id": v["id"], "part": v["part"], "section": v["section"]}
-        if op == "gc_replace_section":
-            out["profile"] = profile(v)
-        return out
+        return {"op": op, "id": v["id"], "part": v["part"], "section": v["section"]}
 
     return build
 
@@ -274,6 +353,8 @@ def path_tool(op: str, label: str, element: str, params: tuple[Field, ...]) -> O
         (Field("id", "target", -1), Field(element, "int", 0), *params, Field("points", "points", "")),
         _vec_op(op, "path"),
         sketch="points",
+        target_kind="curve_network",
+        needs_points=True,
     )
 
 
@@ -294,8 +375,8 @@ SPECS: tuple[OpSpec, ...] = (
             Field("res_u", "int", 96),
             Field("res_v", "int", 64),
         ),
-        _gc_create,
         sketch="points",
+        build_with=_gc_create,
     ),
     OpSpec(
         "gc_bend",
@@ -308,9 +389,12 @@ SPECS: tuple[OpSpec, ...] = (
         "gc_replace_spine",
         "Replace Spine",
         "gc",
-        "Replace the spine by a sketched curve",
-        (*GC_PART, Field("points", "points", ""), Field("plane_normal", "vec3", (0.0, 1.0, 0.0))),
+        "Replace the spine by a sketched curve (in the part's spine plane, starting where it started)",
+        (*GC_PART, Field("points", "points", "")),
         sketch="points",
+        build_with=_gc_replace_spine,
+        target_kind="gc_assembly",
+        needs_points=True,
     ),
     OpSpec(
         "gc_resize",
@@ -337,9 +421,17 @@ SPECS: tuple[OpSpec, ...] = (
         "gc_replace_section",
         "Replace Section",
         "gc",
-        "Replace a key section by a template",
-        (*GC_PART, Field("section", "int", 0), *TEMPLATE_FIELDS),
-        _section_op("gc_replace_section"),
+        "Replace a key section by a template, or by the template a sketched loop matches",
+        (
+            *GC_PART,
+            Field("section", "int", 0),
+            *TEMPLATE_FIELDS,
+            Field("points", "points", ""),
+            Field("plane_normal", "vec3", (0.0, 0.0, 1.0)),
+        ),
+        sketch="points",
+        build_with=_gc_replace_section,
+        target_kind="gc_assembly",
     ),
     OpSpec(
         "gc_delete_section",
@@ -368,16 +460,21 @@ SPECS: tuple[OpSpec, ...] = (
         "gc_add_child",
         "Add Child",
         "gc",
-        "Add a child cylinder starting on a part's surface",
+        "Add a child cylinder starting on a part's surface: sketched from the part (a handle when the "
+        "stroke ends on it, else a spout), or a straight stub at a point",
         (
             Field("id", "target", -1),
+            Field("points", "points", ""),
             Field("parent", "int", 0),
             Field("at", "vec3", (0.0, 0.0, 0.0)),
             Field("length", "float", 0.1),
-            Field("end", "enum", "free", ("free", "parent")),
-            *TEMPLATE_FIELDS,
+            Field("end", "enum", "auto", ("auto", "free", "parent")),
+            *CHILD_TEMPLATE_FIELDS,
+            *SHAPE_TYPE_FIELDS,
         ),
-        _gc_add_child,
+        sketch="points",
+        build_with=_gc_add_child,
+        target_kind="gc_assembly",
     ),
     OpSpec(
         "gc_copy",
@@ -500,6 +597,8 @@ SPECS: tuple[OpSpec, ...] = (
         ),
         _curve_draw,
         sketch="points",
+        target_kind="curve_network",
+        needs_points=True,
     ),
     path_tool("curve_smooth", "Smooth Curve", "curve", (Field("params", "json", SMOOTH_PARAMS),)),
     path_tool(
@@ -577,10 +676,25 @@ SPECS: tuple[OpSpec, ...] = (
         ),
         _sculpt_stroke,
         sketch="points",
+        target_kind="sculpt_mesh",
+        needs_points=True,
     ),
 )
 
 BY_OP = {s.op: s for s in SPECS}
+# The core kind each category's edits act on.
+CATEGORY_KIND = {"gc": "gc_assembly", "csg": "sdf_volume", "curve": "curve_network", "sculpt": "sculpt_mesh"}
+
+
+def kind_of(spec: OpSpec) -> str | None:
+    """The core kind of the object `spec` edits (None: it creates one)."""
+    if spec.target_kind is not None:
+        return spec.target_kind
+    if any(f.kind == "target" for f in spec.fields):
+        return CATEGORY_KIND.get(spec.category)
+    return None
+
+
 CATEGORIES = (
     ("gc", "Generalized Cylinders"),
     ("csg", "CSG"),
@@ -589,9 +703,12 @@ CATEGORIES = (
 )
 
 
-def build_op(spec: OpSpec, values: dict) -> dict:
-    """The op dict of `spec` from flat property values (json/points fields
-    already decoded)."""
+def build_op(spec: OpSpec, values: dict, s=None) -> dict | list[dict]:
+    """The op dict (or, for composite edits, the op dicts) of `spec` from
+    flat property values (json/points fields already decoded); `s` is the
+    scene's session, for ops built with the core's sketch functions."""
+    if spec.build_with is not None:
+        return spec.build_with(values, s)
     if spec.build is not None:
         return spec.build(values)
     out = {"op": spec.op}

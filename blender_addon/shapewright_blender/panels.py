@@ -1,6 +1,8 @@
 """Sidebar panels (3D View > Sidebar > Shapewright): solids and object
 edits, one sub-panel per geometry system listing the typed operators of
-`op_table`, the desktop sketch tool, and history/output."""
+`op_table`, the desktop sketch tool, and history/output. Buttons are
+shown where they apply: a system's edits only when the active object is
+of its kind (its "new" operator always)."""
 
 from __future__ import annotations
 
@@ -17,6 +19,15 @@ class _Sidebar:
 
 class _SubPanel(_Sidebar):
     bl_parent_id = "VIEW3D_PT_shapewright"
+
+
+KIND_LABELS = {
+    "solid": "Solid",
+    "gc_assembly": "Generalized cylinders",
+    "sdf_volume": "CSG volume",
+    "curve_network": "Curve network",
+    "sculpt_mesh": "Sculpt",
+}
 
 
 class VIEW3D_PT_shapewright(_Sidebar, bpy.types.Panel):
@@ -38,12 +49,14 @@ class VIEW3D_PT_shapewright(_Sidebar, bpy.types.Panel):
         ):
             grid.operator("shapewright.add_solid", text=label).shape = key
         obj = context.active_object
+        kind = sync.kind_of(obj)
         box = layout.box()
-        if obj is not None and sync.ID_PROP in obj:
-            box.label(text=f"Object #{obj[sync.ID_PROP]}")
-            box.operator("shapewright.edit_solid")
-            box.operator("shapewright.move")
-            box.operator("shapewright.commit_transform")
+        if kind is not None:
+            box.label(text=f"{KIND_LABELS.get(kind, kind)} #{obj[sync.ID_PROP]}")
+            if kind == "solid":
+                box.operator("shapewright.edit_solid")
+                box.operator("shapewright.move")
+                box.operator("shapewright.commit_transform")
             row = box.row(align=True)
             row.operator("shapewright.duplicate")
             row.operator("shapewright.delete")
@@ -54,6 +67,13 @@ class VIEW3D_PT_shapewright(_Sidebar, bpy.types.Panel):
         row.operator("shapewright.apply_op", icon="CONSOLE")
 
 
+def sketch_targets(context) -> list[op_table.OpSpec]:
+    """The sketch-driven ops that apply now: those that create, and the
+    edits of the active object's kind."""
+    kind = sync.kind_of(context.active_object)
+    return [s for s in op_table.SPECS if s.sketch and op_table.kind_of(s) in (None, kind)]
+
+
 class VIEW3D_PT_shapewright_sketch(_SubPanel, bpy.types.Panel):
     bl_label = "Sketch"
 
@@ -61,19 +81,23 @@ class VIEW3D_PT_shapewright_sketch(_SubPanel, bpy.types.Panel):
         layout = self.layout
         layout.label(text="Left-drag on a plane, then the op runs:")
         grid = layout.grid_flow(columns=2, align=True)
-        for spec in op_table.SPECS:
-            if spec.sketch:
-                grid.operator("shapewright.sketch", text=spec.label, icon="GREASEPENCIL").target = spec.op
-        n = len(context.scene.shapewright.sketch) and context.scene.shapewright.sketch.count("],")
-        layout.label(text=f"Last sketch: {n + 1 if n else 0} points")
+        for spec in sketch_targets(context):
+            grid.operator("shapewright.sketch", text=spec.label, icon="GREASEPENCIL").target = spec.op
 
 
 def _category_panel(key: str, title: str) -> type:
+    kind = op_table.CATEGORY_KIND[key]
+
     def draw(self, context):
         col = self.layout.column(align=True)
+        active = sync.kind_of(context.active_object) == kind
         for spec in op_table.SPECS:
-            if spec.category == key:
+            if spec.category != key:
+                continue
+            if op_table.kind_of(spec) is None or active:
                 col.operator(f"shapewright.{spec.op}")
+        if not active:
+            col.label(text=f"Select a {KIND_LABELS[kind].lower()} to edit it")
 
     return type(
         f"VIEW3D_PT_shapewright_{key}",
@@ -95,12 +119,16 @@ class VIEW3D_PT_shapewright_history(_SubPanel, bpy.types.Panel):
         row.operator("shapewright.redo", icon="LOOP_FORWARDS")
         layout.operator("shapewright.export_mesh", icon="EXPORT")
         layout.operator("shapewright.render_png", icon="RENDER_STILL")
+        layout.prop(props, "show_parametric")
         layout.prop(props, "xr_tool")
         if props.ops:
-            report = history.session(context.scene).validate()
-            layout.label(
-                text="Printable" if report["closed_manifold"] else f"Not printable: {report['problems']}"
-            )
+            report = history.validation(context.scene)
+            if report is None:
+                layout.label(text="Checking printability…", icon="TIME")
+            elif report["closed_manifold"]:
+                layout.label(text="Printable", icon="CHECKMARK")
+            else:
+                layout.label(text=f"Not printable: {report['problems']}", icon="ERROR")
 
 
 classes = (

@@ -1,11 +1,11 @@
-"""Scene properties: the op log (JSON lines) and its cursor. Both are part
-of Blender's undo state and of the saved .blend."""
+"""Scene properties: the op log (JSON lines), its cursor and a generation
+counter. All are part of Blender's undo state and of the saved .blend."""
 
 from __future__ import annotations
 
 import bpy
 import shapewright as sw
-from bpy.props import EnumProperty, IntProperty, PointerProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, IntProperty, PointerProperty, StringProperty
 
 _TOOL_LABELS = {
     "object": "Objects",
@@ -27,6 +27,14 @@ _TOOL_HELP = {
 _TOOL_ITEMS = [(t, _TOOL_LABELS.get(t, t.title()), _TOOL_HELP.get(t, "")) for t in sw.tool_names()]
 
 
+def _parametric_toggled(props, context) -> None:
+    from . import history
+
+    scene = props.id_data
+    if props.ops:
+        history.sync.sync_scene(scene, history.session(scene))
+
+
 class ShapewrightSceneProps(bpy.types.PropertyGroup):
     ops: StringProperty(
         name="Op log",
@@ -34,6 +42,27 @@ class ShapewrightSceneProps(bpy.types.PropertyGroup):
         default="",
     )
     cursor: IntProperty(name="Cursor", description="How many ops are applied", default=0, min=0)
+    gen: IntProperty(
+        name="Generation",
+        description="Changes with every recorded change of the log (history.py tells undo steps apart by it)",
+        default=0,
+        options={"HIDDEN"},
+    )
+    import_fixup: StringProperty(
+        name="Import fix-up",
+        description="Objects a USD import made, to adopt and to drop once Blender's importer is done (JSON)",
+        default="",
+        options={"HIDDEN"},
+    )
+    show_parametric: BoolProperty(
+        name="Show parametric parts",
+        description=(
+            "Show the spines, key sections and skins of generalized cylinders and the curves and "
+            "patches of curve networks as Blender curves and meshes (exact NURBS, kept up to date)"
+        ),
+        default=False,
+        update=_parametric_toggled,
+    )
     sketch: StringProperty(
         name="Sketch",
         description="The last desktop or VR sketch, JSON [[x, y, z], ...] (world space)",

@@ -5,10 +5,13 @@ headset.
 `SHAPEWRIGHT_OT_sketch` is modal: while the left button is held, each mouse
 position is cast from the view onto the sketch plane (through the 3D
 cursor; XY, XZ, YZ or facing the view) and kept when it is at least
-`spacing` from the last kept point. On release the points become the
-scene's sketch and the target op's typed operator runs on them, as one
-undo step. The points are also an operator property, so `execute` replays
-the same sketch (redo panel, scripts, tests) without a mouse.
+`spacing` from the last kept point. On release the target op's typed
+operator runs on the points (and on the plane's normal, for ops that
+take one), as one undo step; the core does the rest (RDP, template
+matching, section placement: the headset's pipeline). The points are
+also an operator property, so `execute` replays the same sketch (redo
+panel, scripts, tests) without a mouse. The scene keeps the last sketch
+for display only; no operator reads it back.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ from __future__ import annotations
 import json
 
 import bpy
-from bpy.props import EnumProperty, FloatProperty, StringProperty
+from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, StringProperty
 from mathutils import Vector, geometry
 
 from . import draw, op_table
@@ -70,10 +73,36 @@ class SHAPEWRIGHT_OT_sketch(bpy.types.Operator):
     bl_label = "Sketch on Plane"
     bl_options = {"REGISTER", "UNDO"}
 
-    target: EnumProperty(name="Target", items=TARGETS, default="curve_draw")
-    plane: EnumProperty(name="Plane", items=PLANES, default="XY")
-    spacing: FloatProperty(name="Spacing", default=0.005, min=1e-5, subtype="DISTANCE")
-    points: StringProperty(name="Points", default="", description="The sketch, JSON [[x, y, z], ...]")
+    target: EnumProperty(
+        name="Target", description="The op the sketch drives", items=TARGETS, default="curve_draw"
+    )
+    plane: EnumProperty(name="Plane", description="The plane the mouse draws on", items=PLANES, default="XY")
+    spacing: FloatProperty(
+        name="Spacing",
+        description="Distance between kept samples (m)",
+        default=0.005,
+        min=1e-5,
+        subtype="DISTANCE",
+    )
+    points: StringProperty(
+        name="Points",
+        default="",
+        description="The sketch, JSON [[x, y, z], ...]",
+        options={"SKIP_SAVE"},
+    )
+    options: StringProperty(
+        name="Op options",
+        description='Other fields of the target op, JSON {"name": value, ...} (e.g. {"size_a": 0.006})',
+        default="",
+        options={"SKIP_SAVE"},
+    )
+    normal: FloatVectorProperty(
+        name="Plane normal",
+        description="Normal of the plane the sketch was drawn on (set by the mouse sketch)",
+        default=(0.0, 0.0, 1.0),
+        size=3,
+        options={"SKIP_SAVE"},
+    )
 
     def execute(self, context):
         try:
@@ -86,8 +115,19 @@ class SHAPEWRIGHT_OT_sketch(bpy.types.Operator):
             return {"CANCELLED"}
         context.scene.shapewright.sketch = json.dumps(pts)
         run = getattr(bpy.ops.shapewright, self.target)
+        spec = op_table.BY_OP[self.target]
         try:
-            return run("EXEC_DEFAULT", points="")
+            extra = json.loads(self.options or "{}")
+        except json.JSONDecodeError as e:
+            self.report({"ERROR"}, f"options are not JSON: {e}")
+            return {"CANCELLED"}
+        if not isinstance(extra, dict):
+            self.report({"ERROR"}, "options must be a JSON object")
+            return {"CANCELLED"}
+        if any(f.name == "plane_normal" for f in spec.fields):
+            extra.setdefault("plane_normal", tuple(self.normal))
+        try:
+            return run("EXEC_DEFAULT", points=json.dumps(pts), **extra)
         except RuntimeError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
@@ -98,6 +138,11 @@ class SHAPEWRIGHT_OT_sketch(bpy.types.Operator):
             return {"CANCELLED"}
         self._stroke = Stroke(self.spacing)
         self._drawing = False
+        if self.plane != "VIEW":
+            self.normal = NORMALS[self.plane]
+        else:
+            rv3d = context.region_data
+            self.normal = tuple(plane_normal("VIEW", rv3d.view_rotation @ Vector((0.0, 0.0, -1.0))))
         draw.set_sketch([])
         context.window_manager.modal_handler_add(self)
         context.workspace.status_text_set(

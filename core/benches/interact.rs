@@ -6,10 +6,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use shapewright::doc::{AddSolid, Op, OpLog};
-use shapewright::interact::{
-    labelled_sequence, pick, replay, GestureClassifier, Hand, Ray, Sanitizer, SequenceSettings,
-    Trace,
-};
+use shapewright::interact::testkit::{labelled_sequence, SequenceSettings};
+use shapewright::interact::{pick, replay, GestureClassifier, Hand, Ray, Sanitizer, Trace};
 use shapewright::math::{DVec3, Transform};
 use shapewright::solid::SolidShape;
 

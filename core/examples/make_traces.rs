@@ -11,7 +11,8 @@
 use std::path::PathBuf;
 
 use shapewright::doc::ScriptCommand;
-use shapewright::interact::{mug_trace, replay, teapot_controller_trace, teapot_trace};
+use shapewright::interact::replay;
+use shapewright::interact::testkit::{mug_trace, teapot_controller_trace, teapot_trace};
 use shapewright::mesh::{validate, ValidationSettings};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -43,13 +43,15 @@ fn bumpy(n: usize) -> Vec<[f64; 3]> {
     d
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+/// Quartiles `[p25, p50, p75]` of a sample of times.
+fn quartiles(mut v: Vec<f64>) -> [f64; 3] {
     v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
+    let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+    [at(0.25), at(0.5), at(0.75)]
 }
 
-fn time<T>(reps: usize, mut f: impl FnMut() -> T) -> f64 {
-    median(
+fn time<T>(reps: usize, mut f: impl FnMut() -> T) -> [f64; 3] {
+    quartiles(
         (0..reps)
             .map(|_| {
                 let t = Instant::now();
@@ -90,21 +92,23 @@ fn report(
     k: usize,
     x: &[f64],
     symbolic_s: f64,
-    factor_s: f64,
-    solve_s: f64,
+    factor_s: [f64; 3],
+    solve_s: [f64; 3],
 ) -> std::io::Result<()> {
     let p = solver.pattern();
     write_mtx(&out.join(format!("{name}.mtx")), p, solver.reduced())?;
     let b = p.mul(solver.reduced(), x, k);
     write_dense(&out.join(format!("{name}_rhs.mtx")), p.n(), k, &b)?;
     write_dense(&out.join(format!("{name}_x.mtx")), p.n(), k, x)?;
+    let ms = |q: [f64; 3]| format!("[{:.5},{:.5},{:.5}]", q[0] * 1e3, q[1] * 1e3, q[2] * 1e3);
     println!(
-        "{{\"name\":\"{name}\",\"n\":{},\"nnz_lower\":{},\"rhs\":{k},\"symbolic_ms\":{:.4},\"factor_ms\":{:.4},\"solve_ms\":{:.4}}}",
+        "{{\"name\":\"{name}\",\"n\":{},\"nnz_lower\":{},\"rhs\":{k},\"symbolic_ms\":{:.4},\"factor_ms\":{},\"solve_ms\":{},\"factor\":\"{}\"}}",
         p.n(),
         p.nnz(),
         symbolic_s * 1e3,
-        factor_s * 1e3,
-        solve_s * 1e3
+        ms(factor_s),
+        ms(solve_s),
+        solver.describe()
     );
     Ok(())
 }
@@ -119,7 +123,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for n in [50usize, 200, 1000] {
         let c = helix(n);
         let reps = if n > 500 { 15 } else { 40 };
-        let symbolic_s = time(reps, || FixedSolver::new(curve_pattern(n)).map(|_| ()));
+        let symbolic_s = time(reps, || FixedSolver::new(curve_pattern(n)).map(|_| ()))[1];
         let mut sys = CurveSystem::new(&c, curve_pattern(n));
         let w = Weight::gaussian(0.5, 8.0);
         sys.add_bend(1e-7, w);
@@ -134,7 +138,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             s.factor(&sys.values, &fixed)?;
             v.push(t.elapsed().as_secs_f64());
         }
-        let factor_s = median(v);
+        let factor_s = quartiles(v);
         solver.factor(&sys.values, &fixed)?;
         let e = flatten(&c.ctrl);
         let x = solver.solve(&sys.rhs, &e, 1)?;
@@ -164,7 +168,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             sys.solver.factor(&sys.a, &sys.fixed)?;
             v.push(t.elapsed().as_secs_f64());
         }
-        let factor_s = median(v);
+        let factor_s = quartiles(v);
         // One smoother frame: rhs = wq (A d0) with wq = 0.9 (g = 0 here).
         let x0 = sys.columns(&d0);
         let ad = sys.solver.pattern().mul(&sys.a, &x0, 3);

@@ -19,6 +19,7 @@ pub mod interact;
 pub mod math;
 pub mod mesh;
 pub mod nurbs;
+pub mod print;
 pub mod sculpt;
 pub mod sdf;
 pub mod sketch;

@@ -57,6 +57,11 @@
 //!   of interrupted saves are removed by the next save.
 //! - **Input limits** ([`limits`]): nesting depth of usda text and of the
 //!   prim tree, checked before parsing so no file can overflow the stack.
+//! - **Crash-safe saving** ([`atomic`]): temp file, fsync, rename, fsync dir.
+//! - **Other hosts' layouts** ([`layout`]): a stage Blender's exporter
+//!   wrote with the add-on's hook keeps the log and the objects under
+//!   Blender's root prim, with Blender's names; loading finds the log prim
+//!   and the object prims (by `shapewright:objectId`) wherever they are.
 #![forbid(unsafe_code)]
 
 pub mod atomic;
@@ -66,6 +71,7 @@ mod error;
 pub mod import;
 pub mod import_op;
 pub mod kinds;
+pub mod layout;
 pub mod limits;
 mod load;
 pub mod parametric;

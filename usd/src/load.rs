@@ -18,10 +18,9 @@ use openusd::sdf::{self, AbstractData, Value};
 use shapewright::doc::{Document, ObjectId, Op, OpLog, OP_FORMAT_VERSION};
 
 use crate::check::{compare, ConsistencyReport, Mismatch, StoredMesh};
-use crate::kinds::MESH_PRIM;
 use crate::limits;
 use crate::save::decode_json;
-use crate::{LoadError, FORMAT_VERSION, LOG_PRIM, OLDEST_FORMAT_VERSION, WORLD_PRIM};
+use crate::{LoadError, FORMAT_VERSION, OLDEST_FORMAT_VERSION};
 
 /// How to load.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -141,7 +140,11 @@ pub fn read_layer(bytes: &[u8]) -> Result<Box<dyn AbstractData>, LoadError> {
     }
 }
 
-fn field<'a>(data: &'a dyn AbstractData, path: &sdf::Path, name: &str) -> Option<Cow<'a, Value>> {
+pub(crate) fn field<'a>(
+    data: &'a dyn AbstractData,
+    path: &sdf::Path,
+    name: &str,
+) -> Option<Cow<'a, Value>> {
     data.try_field(path, name).ok().flatten()
 }
 
@@ -154,7 +157,7 @@ pub(crate) fn attr_value<'a>(
     field(data, &p, "default")
 }
 
-fn as_int(v: &Value) -> Option<i64> {
+pub(crate) fn as_int(v: &Value) -> Option<i64> {
     match v {
         Value::Int(i) => Some(i64::from(*i)),
         Value::Int64(i) => Some(*i),
@@ -217,12 +220,7 @@ fn check_version(
 /// Loads from a parsed layer.
 pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<Loaded, LoadError> {
     let root = sdf::Path::abs_root();
-    let log_path = root
-        .append_path(LOG_PRIM)
-        .map_err(|e| LoadError::Parse(e.to_string()))?;
-    if !data.has_spec(&log_path) {
-        return Err(LoadError::NotShapewright);
-    }
+    let log_path = crate::layout::find_log(data).ok_or(LoadError::NotShapewright)?;
     let format_version = log_int(data, &log_path, "shapewright:formatVersion")?;
     check_version(
         "file format",
@@ -304,11 +302,14 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
                 })
         }
     };
-    let (stored, extra) = stored_meshes(data, &root);
+    // Object prims wherever the stage keeps them (ours, or under
+    // Blender's root prim with Blender's names).
+    let prims = crate::layout::object_prims(data);
+    let stored = stored_meshes(data, &prims.objects);
     let check = |doc: &Document| {
-        let mut r = compare(doc, &stored, extra.clone());
+        let mut r = compare(doc, &stored, prims.extra.clone());
         r.mismatches
-            .extend(crate::parametric::mismatches(data, doc));
+            .extend(crate::parametric::mismatches(data, doc, &prims.objects));
         r
     };
     let (log, snapshot) = match from_snapshot {
@@ -376,36 +377,20 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
     })
 }
 
-fn children(data: &dyn AbstractData, path: &sdf::Path) -> Vec<String> {
+pub(crate) fn children(data: &dyn AbstractData, path: &sdf::Path) -> Vec<String> {
     field(data, path, "primChildren")
         .and_then(|v| strings(&v))
         .unwrap_or_default()
 }
 
-/// The meshes under `/World` by object id, and object prims without a
-/// usable id.
+/// The stored mesh of each object prim that has one.
 fn stored_meshes(
     data: &dyn AbstractData,
-    root: &sdf::Path,
-) -> (BTreeMap<ObjectId, StoredMesh>, Vec<String>) {
+    objects: &BTreeMap<ObjectId, sdf::Path>,
+) -> BTreeMap<ObjectId, StoredMesh> {
     let mut out = BTreeMap::new();
-    let mut extra = Vec::new();
-    let Ok(world) = root.append_path(WORLD_PRIM) else {
-        return (out, extra);
-    };
-    for name in children(data, &world) {
-        let Ok(obj) = world.append_path(name.as_str()) else {
-            continue;
-        };
-        let id = attr_value(data, &obj, "shapewright:objectId")
-            .and_then(|v| as_int(&v))
-            .and_then(|i| u32::try_from(i).ok())
-            .map(ObjectId);
-        let Some(id) = id.filter(|id| !out.contains_key(id)) else {
-            extra.push(obj.as_str().to_owned());
-            continue;
-        };
-        let Ok(mesh) = obj.append_path(MESH_PRIM) else {
+    for (id, obj) in objects {
+        let Some(mesh) = crate::layout::mesh_of(data, obj) else {
             continue;
         };
         let ints = |name: &str| match attr_value(data, &mesh, name).as_deref() {
@@ -416,11 +401,8 @@ fn stored_meshes(
             Some(Value::Vec3fVec(v)) => v.clone(),
             _ => Vec::new(),
         };
-        if !data.has_spec(&mesh) {
-            continue;
-        }
         out.insert(
-            id,
+            *id,
             StoredMesh {
                 points,
                 counts: ints("faceVertexCounts"),
@@ -428,5 +410,5 @@ fn stored_meshes(
             },
         );
     }
-    (out, extra)
+    out
 }

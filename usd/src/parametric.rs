@@ -31,15 +31,16 @@
 // Reads outside data: no indexing that can panic (issue 22).
 #![deny(clippy::indexing_slicing)]
 
+use std::collections::BTreeMap;
+
 use openusd::gf;
 use openusd::sdf::{self, AbstractData, Value};
-use shapewright::doc::{Document, ObjectKind};
+use shapewright::doc::{Document, ObjectId, ObjectKind};
 use shapewright::math::DVec3;
 use shapewright::mesh::TriMesh;
 use shapewright::nurbs::{euclidean, NurbsCurve, NurbsSurface};
 
 use crate::check::{max_point_deviation, Mismatch};
-use crate::kinds::object_prim_name;
 use crate::load::attr_value;
 use crate::prims::{AttrOut, PrimOut};
 
@@ -310,20 +311,19 @@ pub fn patch_prim(name: &str, s: &NurbsSurface) -> PrimOut {
     p
 }
 
-/// Compares the parametric prims stored under each object's prim with the
-/// ones the document gives.
-pub fn mismatches(data: &dyn AbstractData, doc: &Document) -> Vec<Mismatch> {
+/// Compares the parametric prims stored under each object's prim (`prims`,
+/// found by [`crate::layout::object_prims`]) with the ones the document
+/// gives.
+pub fn mismatches(
+    data: &dyn AbstractData,
+    doc: &Document,
+    prims: &BTreeMap<ObjectId, sdf::Path>,
+) -> Vec<Mismatch> {
     let mut out = Vec::new();
-    let Ok(world) = sdf::Path::abs_root().append_path(crate::WORLD_PRIM) else {
-        return out;
-    };
     for (id, obj) in doc.objects() {
-        let Ok(obj_path) = world.append_path(object_prim_name(id).as_str()) else {
-            continue;
-        };
-        if !data.has_spec(&obj_path) {
+        let Some(obj_path) = prims.get(&id) else {
             continue; // already a MissingMesh
-        }
+        };
         let mut report = |prim: &str, detail: String| {
             out.push(Mismatch::Parametric {
                 id,

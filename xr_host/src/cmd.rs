@@ -3,9 +3,10 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result};
-use shapewright::doc::{parse_script, run_script, OpLog};
-use shapewright::mesh::{self, TriMesh, ValidationReport};
+use anyhow::{bail, Context, Result};
+use shapewright::doc::{parse_script, run_script, Document, OpLog};
+use shapewright::mesh::{self, MeshFormat, Precision, TriMesh, ValidationReport};
+use shapewright::print::{print_document, PrintSettings, Printable};
 pub use shapewright_xr::files::read_mesh;
 
 /// `apply SCRIPT --out FILE`.
@@ -28,21 +29,66 @@ pub fn apply(script: &Path, out: &Path) -> Result<()> {
         );
         return Ok(());
     }
-    let mesh = doc
-        .printable_mesh()
-        .context("building the printable union")?;
-    write_mesh(&mesh, out)?;
-    let report = mesh::validate(&mesh, &Default::default());
+    let printed = print_for(doc, out)?;
+    write_mesh(&printed.mesh, out)?;
     println!(
-        "{}: {} ops, {} objects -> {} ({} triangles, {})",
+        "{}: {} ops, {} objects -> {} ({})",
         script.display(),
         log.cursor(),
         doc.len(),
         out.display(),
-        mesh.triangle_count(),
-        report.problems()
+        print_summary(&printed)
     );
     Ok(())
+}
+
+/// The printable model of `doc` for the mesh file `out` (validated at the
+/// precision of its format), or an error naming the object(s) and why,
+/// before anything is written.
+pub fn print_for(doc: &Document, out: &Path) -> Result<Printable> {
+    let Some(format) = MeshFormat::from_path(out) else {
+        bail!(
+            "cannot write {}: unknown extension (use .stl, .obj or .ply)",
+            out.display()
+        );
+    };
+    let settings = PrintSettings::for_precision(Precision::of_format(format));
+    let printed =
+        print_document(doc, &settings).with_context(|| format!("{} not written", out.display()))?;
+    for part in printed.report.skipped() {
+        eprintln!("shapewright-xr: note: {part} has nothing to print yet and was left out");
+    }
+    Ok(printed)
+}
+
+/// `N triangles, printable closed 2-manifold at float32; #3
+/// curve_network thickened to 2 mm`.
+pub fn print_summary(p: &Printable) -> String {
+    use shapewright::print::Treatment;
+    let r = &p.report;
+    let mut s = format!(
+        "{} triangles, printable closed 2-manifold at {}",
+        p.mesh.triangle_count(),
+        r.precision.name()
+    );
+    for part in &r.parts {
+        match &part.treatment {
+            Treatment::Thickened { thickness, .. } => {
+                s += &format!("; {} thickened to {} mm", part.label, thickness * 1e3)
+            }
+            Treatment::Hollowed { thickness } => {
+                s += &format!("; {} hollowed to {} mm", part.label, thickness * 1e3)
+            }
+            Treatment::Skipped { .. } => {
+                s += &format!("; {} skipped (nothing to print)", part.label)
+            }
+            Treatment::Identical { to } => {
+                s += &format!("; {} identical to #{to} (printed once)", part.label)
+            }
+            Treatment::Solid => {}
+        }
+    }
+    s
 }
 
 /// `info FILE`.
@@ -71,10 +117,28 @@ pub fn format_report(file: &Path, r: &ValidationReport) -> String {
     let genus = r
         .genus
         .map_or("n/a (not a closed manifold)".to_string(), |g| g.to_string());
+    let checks: String = r
+        .checks()
+        .iter()
+        .map(|(name, ok)| format!("  [{}] {name}\n", if *ok { "ok" } else { "FAIL" }))
+        .collect();
+    let pairs = match r.self_intersecting_pairs {
+        Some(0) => String::new(),
+        Some(n) => format!(
+            "self-intersections:   {n} triangle pairs, e.g. {}\n",
+            r.intersecting_examples
+                .iter()
+                .map(|(a, b)| format!("({a}, {b})"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        ),
+        None => "self-intersections:   not checked (coordinates out of range)\n".into(),
+    };
     format!(
         "file:                 {}\n\
          printable:            {}\n\
          problems:             {}\n\
+         checks:\n{checks}{pairs}\
          vertices:             {} ({} referenced)\n\
          triangles:            {}\n\
          edges:                {}\n\
@@ -85,8 +149,8 @@ pub fn format_report(file: &Path, r: &ValidationReport) -> String {
          surface area:         {:.6}\n\
          bounding box:         {}\n",
         file.display(),
-        if r.is_closed_manifold() {
-            "yes (closed oriented 2-manifold)"
+        if r.is_printable() {
+            "yes (closed, oriented, embedded 2-manifold)"
         } else {
             "NO"
         },

@@ -20,8 +20,15 @@
 //! works) every N changes or T seconds, and [`Interaction::save_now`] is
 //! called on session loss, instance loss and exit; it saves after every
 //! command produced before it, so no acknowledged op is lost. A failed
-//! save is reported (stderr and [`InteractionStats::save_errors`]) and
-//! retried at the next trigger; it never stops the session.
+//! save is reported (stderr, [`InteractionStats::save_errors`], and a red
+//! message in the headset until a save succeeds) and retried at the next
+//! trigger; it never stops the session, and the file on disk keeps the
+//! last good save (the autosaver replaces it atomically), so a failure
+//! loses at most the ops since then.
+//!
+//! Haptics: a short pulse on the hand(s) that made a command when its
+//! commit lands (the hands holding a button in the frame that produced
+//! it, else both), and a tick when a ray starts pointing at something.
 //!
 //! Tools come from [`interact::tool_named`], so every tool the core
 //! registers is available to `--tool` without a list here.
@@ -34,12 +41,14 @@ use std::time::{Duration, Instant};
 
 use glam::{DMat4, Mat4};
 use shapewright::doc::{Document, OpLog, ScriptCommand};
-use shapewright::interact::{self, apply_command, tool_named, Session, Similarity, TraceError};
+use shapewright::interact::{
+    self, apply_command, tool_named, SanitizerStats, Session, Similarity, TraceError,
+};
 use shapewright::mesh::TriMesh;
 use shapewright_usd::Autosaver;
 
-use crate::gfx::LineVertex;
-use crate::xr::{FrameSink, InputFrame, LifecycleEvent};
+use crate::gfx::{LineVertex, Scene};
+use crate::xr::{FrameSink, Haptic, LifecycleEvent, Notice};
 
 /// Why an [`Interaction`] could not start.
 #[derive(Debug, thiserror::Error)]
@@ -50,22 +59,6 @@ pub enum InteractionError {
     /// The operating system refused the commit thread.
     #[error("could not start the commit thread: {0}")]
     Thread(#[from] std::io::Error),
-}
-
-/// What the renderer draws for the document and the active tool.
-#[derive(Clone, Debug, Default)]
-pub struct Scene {
-    /// Bumped whenever [`Scene::document`] changes (re-upload then).
-    pub version: u64,
-    /// All objects of the document in one mesh (model space, normals set);
-    /// None when the document is empty.
-    pub document: Option<Arc<TriMesh>>,
-    /// World (stage) from model.
-    pub model_to_world: Mat4,
-    /// The object being dragged, where it would land (model space).
-    pub preview: Option<Arc<TriMesh>>,
-    /// Rays and the sketch in progress (world space), as segment pairs.
-    pub lines: Vec<LineVertex>,
 }
 
 /// Counters of an interaction run.
@@ -83,6 +76,8 @@ pub struct InteractionStats {
     pub saves: usize,
     /// Saves that failed (the message of each).
     pub save_errors: Vec<String>,
+    /// Haptic pulses asked for.
+    pub haptics: u64,
 }
 
 /// The state the commit thread owns (the frame thread locks it only to
@@ -92,15 +87,26 @@ struct Shared {
     autosave: Option<Autosaver>,
     saves: usize,
     save_errors: Vec<String>,
+    /// The last save failed with this (cleared by the next good save).
+    failing: Option<String>,
 }
 
 impl Shared {
     fn note_save(&mut self, r: Result<usize, shapewright_usd::SaveError>) {
         match r {
-            Ok(n) => self.saves += n,
+            Ok(n) => {
+                self.saves += n;
+                if n > 0 {
+                    self.failing = None;
+                }
+            }
             Err(e) => {
-                eprintln!("shapewright-xr: autosave failed (will retry): {e}");
+                let unsaved = self.autosave.as_ref().map_or(0, Autosaver::unsaved_changes);
+                eprintln!(
+                    "shapewright-xr: autosave failed (will retry; {unsaved} changes since the last good save are not on disk yet): {e}"
+                );
                 self.save_errors.push(e.to_string());
+                self.failing = Some(e.to_string());
             }
         }
     }
@@ -227,10 +233,14 @@ pub struct Interaction {
     jobs: Option<Sender<Job>>,
     done: Receiver<Committed>,
     worker: Option<JoinHandle<()>>,
-    /// Commands handed to the commit thread and not yet reported back.
-    pending: usize,
+    /// Commands handed to the commit thread and not yet reported back,
+    /// with the hands that made each.
+    pending: std::collections::VecDeque<[bool; 2]>,
     scene: Scene,
     stats: InteractionStats,
+    haptics: Vec<Haptic>,
+    /// Whether each ray hit something last frame.
+    ray_hit: [bool; 2],
 }
 
 const RAY_COLORS: [[f32; 3]; 2] = [[0.3, 0.6, 1.0], [1.0, 0.5, 0.2]];
@@ -250,7 +260,7 @@ impl Interaction {
         log: OpLog,
         autosave: Option<Autosaver>,
     ) -> Result<Self, InteractionError> {
-        let session = Session::new(tool_named(tool)?, model);
+        let session = Session::new(tool_named(tool).map_err(TraceError::from)?, model);
         let doc = log.document().clone();
         let scene = Scene {
             version: 1,
@@ -263,6 +273,7 @@ impl Interaction {
             autosave,
             saves: 0,
             save_errors: Vec::new(),
+            failing: None,
         }));
         let (jobs, jobs_rx) = mpsc::channel();
         let (done_tx, done) = mpsc::channel();
@@ -277,10 +288,32 @@ impl Interaction {
             jobs: Some(jobs),
             done,
             worker: Some(worker),
-            pending: 0,
+            pending: Default::default(),
             scene,
             stats: InteractionStats::default(),
+            haptics: Vec::new(),
+            ray_hit: [false; 2],
         })
+    }
+
+    /// The hands that hold a button in the session's last frame (both
+    /// when none does, or when no controller is there).
+    fn acting_hands(&self) -> [bool; 2] {
+        let held = |h: usize| {
+            self.session
+                .last_frame()
+                .and_then(|f| f.controllers[h].as_ref())
+                .and_then(|c| c.buttons)
+                .is_some_and(|b| {
+                    b.select > 0.5 || b.grab > 0.5 || b.primary || b.secondary || b.menu
+                })
+        };
+        let hands = [held(0), held(1)];
+        if hands == [false, false] {
+            [true, true]
+        } else {
+            hands
+        }
     }
 
     /// One frame: take in finished commits, step the session against the
@@ -295,9 +328,27 @@ impl Interaction {
         if let Some(c) = &cmd {
             self.stats.commands += 1;
             self.send(Job::Apply(c.clone()));
-            self.pending += 1;
+            let hands = self.acting_hands();
+            self.pending.push_back(hands);
         }
         self.update_preview();
+        // A tick when a ray starts pointing at something.
+        let hits = self
+            .session
+            .preview()
+            .rays
+            .clone()
+            .map(|r| r.is_some_and(|r| r.hit));
+        for (h, (&now, was)) in hits.iter().zip(&mut self.ray_hit).enumerate() {
+            if now && !*was {
+                self.haptics.push(Haptic {
+                    hand: h,
+                    amplitude: 0.2,
+                    millis: 10,
+                });
+            }
+            *was = now;
+        }
         cmd
     }
 
@@ -313,7 +364,7 @@ impl Interaction {
     }
 
     fn take(&mut self, c: Committed) {
-        self.pending = self.pending.saturating_sub(1);
+        let hands = self.pending.pop_front().unwrap_or([true, true]);
         self.stats.commit_ms.push(c.ms);
         match c.error {
             Some(e) => self.stats.rejected.push(e),
@@ -321,6 +372,13 @@ impl Interaction {
                 self.doc = c.doc;
                 self.scene.document = c.mesh;
                 self.scene.version += 1;
+                for (h, _) in hands.iter().enumerate().filter(|(_, &on)| on) {
+                    self.haptics.push(Haptic {
+                        hand: h,
+                        amplitude: 0.6,
+                        millis: 30,
+                    });
+                }
             }
         }
     }
@@ -328,7 +386,7 @@ impl Interaction {
     /// Waits until every command produced so far is applied, and takes in
     /// the results.
     pub fn flush(&mut self) {
-        if self.pending == 0 {
+        if self.pending.is_empty() {
             return;
         }
         let (tx, rx) = mpsc::channel();
@@ -413,6 +471,11 @@ impl Interaction {
         }
     }
 
+    /// The error of the last save, if it failed (cleared by a good save).
+    pub fn save_failing(&self) -> Option<String> {
+        lock(&self.shared).failing.clone()
+    }
+
     /// The session (preview, gestures).
     pub fn session(&self) -> &Session {
         &self.session
@@ -431,8 +494,8 @@ impl Drop for Interaction {
 }
 
 impl FrameSink for Interaction {
-    fn frame(&mut self, frame: &InputFrame) {
-        self.step(&frame.to_interact());
+    fn frame(&mut self, frame: &interact::InputFrame) {
+        self.step(frame);
     }
 
     fn lifecycle(&mut self, event: &LifecycleEvent) {
@@ -447,6 +510,66 @@ impl FrameSink for Interaction {
     fn scene(&self) -> Option<&Scene> {
         Some(&self.scene)
     }
+
+    fn take_haptics(&mut self) -> Vec<Haptic> {
+        self.stats.haptics += self.haptics.len() as u64;
+        std::mem::take(&mut self.haptics)
+    }
+
+    fn notices(&self) -> Vec<Notice> {
+        self.save_failing()
+            .map(|e| Notice {
+                text: format!("AUTOSAVE FAILED, RETRYING:\n{}", wrap(&e, 48)),
+                warning: true,
+            })
+            .into_iter()
+            .collect()
+    }
+
+    fn input_stats(&self) -> Option<SanitizerStats> {
+        Some(self.session.input_stats())
+    }
+
+    fn settle(&mut self) {
+        self.flush();
+    }
+
+    fn progress(&self) -> (u64, u64) {
+        (lock(&self.shared).log.len() as u64, self.stats.commands)
+    }
+}
+
+/// `text` broken into lines of at most `width` characters, at spaces where
+/// possible (at most four lines; the rest is cut with "...").
+fn wrap(text: &str, width: usize) -> String {
+    let mut lines: Vec<String> = Vec::new();
+    let mut cur = String::new();
+    for word in text.split_whitespace() {
+        let mut word = word.to_string();
+        while word.chars().count() > width {
+            let head: String = word.chars().take(width).collect();
+            word = word.chars().skip(width).collect();
+            if !cur.is_empty() {
+                lines.push(std::mem::take(&mut cur));
+            }
+            lines.push(head);
+        }
+        if !cur.is_empty() && cur.chars().count() + 1 + word.chars().count() > width {
+            lines.push(std::mem::take(&mut cur));
+        }
+        if !cur.is_empty() {
+            cur.push(' ');
+        }
+        cur.push_str(&word);
+    }
+    if !cur.is_empty() {
+        lines.push(cur);
+    }
+    if lines.len() > 4 {
+        lines.truncate(4);
+        lines[3].push_str(" ...");
+    }
+    lines.join("\n")
 }
 
 #[cfg(test)]
@@ -529,7 +652,7 @@ mod tests {
     fn unknown_tools_are_typed_errors() {
         let e = Interaction::new("nope", Similarity::IDENTITY, OpLog::new(), None).err();
         assert!(
-            matches!(e, Some(InteractionError::Tool(TraceError::UnknownTool(t))) if t == "nope")
+            matches!(e, Some(InteractionError::Tool(TraceError::UnknownTool(t))) if t.0 == "nope")
         );
     }
 
@@ -582,5 +705,70 @@ mod tests {
         }
         assert!(log.document().is_empty());
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn commits_pulse_the_hands_that_made_them() {
+        let trace = fixture();
+        let model = trace.header.model.similarity().unwrap();
+        let mut it = Interaction::new(&trace.header.tool, model, OpLog::new(), None).unwrap();
+        let mut pulses = Vec::new();
+        for f in &trace.frames {
+            it.step(f);
+            it.flush();
+            pulses.extend(it.take_haptics());
+        }
+        let commits = it.stats().commands as usize - it.stats().rejected.len();
+        let strong: Vec<_> = pulses.iter().filter(|p| p.amplitude > 0.5).collect();
+        assert!(commits >= 3, "{commits}");
+        // At least one pulse per landed commit, on a real hand.
+        assert!(strong.len() >= commits, "{} < {commits}", strong.len());
+        assert!(strong.iter().all(|p| p.hand < 2 && p.millis > 0));
+        // Ticks when a ray starts pointing at something.
+        assert!(pulses.iter().any(|p| p.amplitude < 0.5));
+        assert_eq!(it.stats().haptics as usize, pulses.len());
+    }
+
+    #[test]
+    fn a_failing_save_shows_in_the_headset_until_a_save_succeeds() {
+        let dir = std::env::temp_dir().join(format!("sw_xr_notice_{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("s.usda");
+        // The atomic save's temporary file is blocked by a directory.
+        let blocker = dir.join(format!(".s.usda.{}.tmp", std::process::id()));
+        std::fs::create_dir(&blocker).unwrap();
+        let trace = fixture();
+        let model = trace.header.model.similarity().unwrap();
+        let saver = Autosaver::new(&path, AutosaveSettings::default(), SaveOptions::default());
+        let mut it = Interaction::new("object", model, OpLog::new(), Some(saver)).unwrap();
+        let mut k = 0;
+        while it.log().is_empty() {
+            it.step(&trace.frames[k]);
+            k += 1;
+        }
+        assert!(!it.save_now());
+        let notes = it.notices();
+        assert_eq!(notes.len(), 1);
+        assert!(notes[0].warning && notes[0].text.starts_with("AUTOSAVE FAILED"));
+        assert!(!it.stats().save_errors.is_empty());
+        std::fs::remove_dir(&blocker).unwrap();
+        assert!(it.save_now());
+        assert!(it.notices().is_empty());
+        let loaded = load_file(&path, LoadOptions::default()).unwrap();
+        assert_eq!(loaded.log.len(), it.log().len());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn wrapped_messages_fit_the_width() {
+        let w = wrap(
+            "cannot author the USD layer: object #1: patch 4 has 6 sides and more words",
+            20,
+        );
+        assert!(w.lines().all(|l| l.chars().count() <= 20), "{w}");
+        assert!(w.starts_with("cannot author the"));
+        assert_eq!(wrap(&"x".repeat(50), 20).lines().count(), 3);
+        assert!(wrap(&"word ".repeat(100), 10).ends_with("..."));
     }
 }

@@ -11,7 +11,8 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use shapewright::doc::OpLog;
 use shapewright::interact::Trace;
-use shapewright::mesh;
+use shapewright::mesh::{MeshFormat, Precision};
+use shapewright::print::{print_document, PrintSettings};
 use shapewright_xr::interaction::Interaction;
 use shapewright_xr::render::{render_mesh_png, RenderSettings};
 use shapewright_xr::xr::quantile;
@@ -73,35 +74,48 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
     let log = it.log();
     let log = &*log;
     let doc = log.document();
-    // The printable model: the boolean union of all objects (closed when
-    // every object is); an empty document gives an empty mesh.
-    let mut m = if doc.is_empty() {
-        Default::default()
-    } else {
-        doc.printable_mesh()
-            .context("building the printable union of the objects")?
-    };
-    m.compute_normals();
+    // The printable model (one path for every exit: union, open surfaces
+    // thickened, checked at float32), needed for mesh outputs and the
+    // summary; an unprintable document fails a mesh output with the reason
+    // but still renders (the objects as they are) and saves its USD.
+    let wants_mesh = args.stl.is_some()
+        || args
+            .out
+            .as_ref()
+            .is_some_and(|o| !crate::usd_cmd::is_usd(o));
+    let printed = print_document(doc, &PrintSettings::default());
     let mut written: Vec<String> = Vec::new();
     if let Some(out) = &args.out {
         if crate::usd_cmd::is_usd(out) {
             shapewright_usd::save_file(out, log, &shapewright_usd::SaveOptions::default())
                 .with_context(|| format!("saving {}", out.display()))?;
-        } else {
-            write_mesh(&m, out)?;
+            written.push(out.display().to_string());
         }
-        written.push(out.display().to_string());
     }
-    if let Some(stl) = &args.stl {
-        write_mesh(&m, stl)?;
-        written.push(stl.display().to_string());
+    if wants_mesh {
+        for path in [args.out.as_ref(), args.stl.as_ref()].into_iter().flatten() {
+            if crate::usd_cmd::is_usd(path) {
+                continue;
+            }
+            // STL and PLY are float32, as `printed` was checked; OBJ is not.
+            let is_f32 = MeshFormat::from_path(path)
+                .is_some_and(|f| Precision::of_format(f) == Precision::F32);
+            match &printed {
+                Ok(p) if is_f32 => write_mesh(&p.mesh, path)?,
+                _ => write_mesh(&crate::cmd::print_for(doc, path)?.mesh, path)?,
+            }
+            written.push(path.display().to_string());
+        }
     }
     if let Some(png) = &args.png {
+        let m = match &printed {
+            Ok(p) => p.mesh.clone(),
+            Err(_) => doc.combined_mesh(),
+        };
         render_mesh_png(&m, png, &RenderSettings::default())
             .with_context(|| format!("rendering {}", png.display()))?;
         written.push(png.display().to_string());
     }
-    let r = mesh::validate(&m, &Default::default());
     let p50 = quantile(&frame_ms, 0.5).unwrap_or(f64::NAN);
     let p99 = quantile(&frame_ms, 0.99).unwrap_or(f64::NAN);
     let commit_max = stats.commit_ms.iter().copied().fold(0.0, f64::max);
@@ -120,16 +134,14 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
     );
     println!("ops        {} (cursor {})", log.len(), log.cursor());
     println!("objects    {}", doc.len());
-    println!(
-        "mesh       {} triangles, {}, volume {:.6}",
-        r.triangle_count,
-        if r.is_closed_manifold() {
-            "closed 2-manifold".to_string()
-        } else {
-            format!("NOT closed: {}", r.problems())
-        },
-        r.signed_volume
-    );
+    match &printed {
+        Ok(p) => println!(
+            "mesh       {}, volume {:.6}",
+            crate::cmd::print_summary(p),
+            p.report.checks.signed_volume
+        ),
+        Err(e) => println!("mesh       NOT printable: {e}"),
+    }
     println!("frame time {p50:.3} ms p50, {p99:.3} ms p99 (input + interaction + preview; budget 11.1 ms)");
     println!(
         "commits    {commit_p50:.1} ms p50, {commit_max:.1} ms max (op + document mesh, off the frame thread)"

@@ -3,20 +3,33 @@
 //! rays; headless: input only). Every input frame steps the interaction
 //! core ([`Interaction`]: session, tool, op log, autosave); `--record`
 //! also writes each frame and lifecycle event as a JSON line, `--trace`
-//! the frames as a trace that `replay` plays back.
+//! the frames as a trace that `replay` plays back (its fps is the rate the
+//! input really came at).
+//!
+//! **A clean end, always.** SIGINT and SIGTERM set a flag the frame loop
+//! reads: it calls xrRequestExitSession and runs the normal STOPPING /
+//! EXITING path, then this command saves, flushes `--record` and writes
+//! `--trace` and `--report`, and exits 0. A second signal exits at once
+//! (status 130 / 143) without running destructors; the autosave file then
+//! holds the last completed save (saves replace the file atomically).
 
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 use std::time::Duration;
 
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use shapewright::doc::OpLog;
-use shapewright::interact::{ModelPlacement, Trace, TraceHeader, TRACE_FORMAT, TRACE_VERSION};
+use shapewright::interact::{
+    InputFrame, ModelPlacement, SanitizerStats, Trace, TraceHeader, TRACE_FORMAT, TRACE_VERSION,
+};
 use shapewright_usd::{load_file, AutosaveSettings, Autosaver, LoadOptions, SaveOptions};
-use shapewright_xr::interaction::{Interaction, Scene};
+use shapewright_xr::gfx::Scene;
+use shapewright_xr::interaction::Interaction;
 use shapewright_xr::xr::{
-    run_headless, run_headset, FrameSink, InputFrame, LifecycleEvent, RunConfig, RunReport,
+    run_headless, run_headset, FrameSink, Haptic, LifecycleEvent, Notice, RunConfig, RunReport,
 };
 
 /// Arguments of `run`.
@@ -66,6 +79,16 @@ pub struct RunArgs {
     /// Write the input frames as a trace (.trace.jsonl) for `replay`.
     #[arg(long)]
     pub trace: Option<PathBuf>,
+    /// Pace the run by a client on this Unix socket: one tool step per
+    /// request, at the request's time, through the runtime's input (for
+    /// deterministic runs against a real runtime; see `xr::pace`).
+    #[arg(long)]
+    pub pace: Option<PathBuf>,
+    /// Behave as an OpenXR 1.0 application: API 1.0 and only the mode's
+    /// extensions plus hand tracking (for validation layers built for 1.0,
+    /// such as Debian 12's openxr-layer-corevalidation).
+    #[arg(long)]
+    pub openxr_1_0: bool,
 }
 
 #[derive(Serialize)]
@@ -103,19 +126,70 @@ struct RunSink {
 impl FrameSink for RunSink {
     fn frame(&mut self, frame: &InputFrame) {
         self.record.write(&Line::Frame(frame));
-        let raw = frame.to_interact();
-        self.interaction.step(&raw);
+        self.interaction.step(frame);
         if let Some(t) = &mut self.trace {
-            t.frames.push(raw);
+            t.frames.push(frame.clone());
         }
     }
     fn lifecycle(&mut self, event: &LifecycleEvent) {
         self.record.write(&Line::Lifecycle(event));
+        match event {
+            LifecycleEvent::ProfileBound { hand, profile } => println!(
+                "profile bound: {hand} -> {}",
+                profile.as_deref().unwrap_or("nothing")
+            ),
+            LifecycleEvent::ExitRequested(why) => {
+                println!("ending the session: {why}")
+            }
+            _ => {}
+        }
         self.interaction.lifecycle(event);
     }
     fn scene(&self) -> Option<&Scene> {
         Some(self.interaction.scene())
     }
+    fn take_haptics(&mut self) -> Vec<Haptic> {
+        self.interaction.take_haptics()
+    }
+    fn notices(&self) -> Vec<Notice> {
+        self.interaction.notices()
+    }
+    fn input_stats(&self) -> Option<SanitizerStats> {
+        self.interaction.input_stats()
+    }
+    fn settle(&mut self) {
+        self.interaction.settle();
+    }
+    fn progress(&self) -> (u64, u64) {
+        self.interaction.progress()
+    }
+}
+
+/// The rate input really came at: 1 / the median step between frame
+/// times (None with fewer than two increasing times).
+fn input_fps(frames: &[InputFrame]) -> Option<f64> {
+    let mut dts: Vec<f64> = frames
+        .windows(2)
+        .map(|w| w[1].time - w[0].time)
+        .filter(|d| d.is_finite() && *d > 0.0)
+        .collect();
+    dts.sort_by(f64::total_cmp);
+    let m = *dts.get(dts.len() / 2)?;
+    Some(1.0 / m)
+}
+
+/// SIGINT / SIGTERM: the first sets `stop`, a second exits at once.
+fn install_signals(stop: &Arc<AtomicBool>) -> Result<()> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    for sig in [SIGINT, SIGTERM] {
+        // Registered first, so it sees the flag as it was before this
+        // signal: set means a second signal, which exits with 128 + sig.
+        signal_hook::flag::register_conditional_shutdown(sig, 128 + sig, Arc::clone(stop))
+            .context("installing the signal handlers")?;
+        signal_hook::flag::register(sig, Arc::clone(stop))
+            .context("installing the signal handlers")?;
+    }
+    Ok(())
 }
 
 /// `v` units of `unit` seconds, if `v` is a positive number.
@@ -137,11 +211,16 @@ pub fn run(args: &RunArgs) -> Result<()> {
     if args.autosave_ops == 0 {
         bail!("--autosave-ops must be at least 1");
     }
+    let stop = Arc::new(AtomicBool::new(false));
+    install_signals(&stop)?;
     let cfg = RunConfig {
         max_frames: args.frames,
         max_duration,
         frame_period,
         recreate_lost_sessions: !args.no_recreate,
+        stop: Some(stop),
+        pace: args.pace.clone(),
+        openxr_1_0: args.openxr_1_0,
         ..Default::default()
     };
     let log = match &args.open {
@@ -187,6 +266,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         Trace::new(TraceHeader {
             format: TRACE_FORMAT.into(),
             version: TRACE_VERSION,
+            // Replaced by the measured input rate when the trace is written.
             fps: 1.0 / frame_period.as_secs_f64(),
             model: placement,
             tool: args.tool.clone(),
@@ -222,13 +302,17 @@ pub fn run(args: &RunArgs) -> Result<()> {
     if let Some(mut out) = sink.record.out.take() {
         out.flush().context("writing the record")?;
     }
-    if let (Some(p), Some(t)) = (&args.trace, &sink.trace) {
+    if let (Some(p), Some(t)) = (&args.trace, &mut sink.trace) {
+        if let Some(fps) = input_fps(&t.frames) {
+            t.header.fps = fps;
+        }
         shapewright_xr::files::write_text(p, &t.to_jsonl())?;
     }
     let report = result?;
     if let Some(p) = &args.report {
         shapewright_xr::files::write_text(p, &serde_json::to_string_pretty(&report)?)?;
     }
+    print_runtime(&report);
     print_summary(&report);
     let unsaved = sink.interaction.unsaved_changes();
     let st = sink.interaction.stats();
@@ -255,6 +339,78 @@ pub fn run(args: &RunArgs) -> Result<()> {
         bail!("changes are not saved to {}: {e}", save_path.display());
     }
     Ok(())
+}
+
+/// What the runtime is: name and version, system, spaces, bound profiles,
+/// hands, input devices.
+fn print_runtime(r: &RunReport) {
+    let rt = &r.runtime;
+    println!(
+        "runtime: {} {} (OpenXR {}) | system: {}",
+        rt.name, rt.version, rt.api_version, rt.system
+    );
+    println!(
+        "spaces: base {} (LOCAL lowered by {:.3} m{}); offered {}",
+        if r.spaces.base.is_empty() {
+            "not established"
+        } else {
+            &r.spaces.base
+        },
+        r.spaces.floor_offset_m,
+        if r.spaces.base == "local_floor" {
+            ": the runtime's LOCAL_FLOOR, not lowered"
+        } else {
+            ""
+        },
+        r.spaces.offered.join(", ")
+    );
+    let bound = |p: &Option<String>| p.clone().unwrap_or_else(|| "nothing".into());
+    println!(
+        "profiles bound: left {} | right {} (suggested for {} profiles)",
+        bound(&r.profiles_bound[0]),
+        bound(&r.profiles_bound[1]),
+        r.profiles.len()
+    );
+    let hand = |h: &Option<String>| h.clone().unwrap_or_else(|| "not tracked".into());
+    println!(
+        "hands: XR_EXT_hand_tracking {}, system {} track hands{} | left {} | right {}",
+        if rt.hand_tracking_offered {
+            "offered"
+        } else {
+            "not offered"
+        },
+        if rt.hand_tracking_supported {
+            "can"
+        } else {
+            "cannot"
+        },
+        if rt.hand_data_source && rt.hand_tracking_supported {
+            ", data source reported"
+        } else {
+            ""
+        },
+        hand(&r.hands_tracked[0]),
+        hand(&r.hands_tracked[1])
+    );
+    if !r.input_device {
+        println!(
+            "input: no input device (no controller, no tracked hand): no tool could be driven"
+        );
+    }
+    println!(
+        "rates: input {:.1} Hz, display {:.1} Hz ({} frames submitted){}",
+        r.input_hz,
+        r.display_hz,
+        r.display_frames,
+        if r.pace_steps > 0 {
+            format!(
+                " | paced: {} steps, {} frames waited for the runtime",
+                r.pace_steps, r.pace_waits
+            )
+        } else {
+            String::new()
+        }
+    );
 }
 
 fn print_summary(r: &RunReport) {

@@ -5,10 +5,13 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use shapewright::mesh::validate;
+use shapewright::print::{print_document, PrintSettings};
 use shapewright_usd::{load_file, LoadOptions, Mismatch};
 
-/// `export FILE.usda --stl/--obj/--ply OUT`: the document at the saved
-/// cursor, all objects in one mesh, to each requested format.
+/// `export FILE.usda --stl/--obj/--ply OUT`: the printable model of the
+/// document at the saved cursor (the union of every object, open surfaces
+/// thickened, validated at each format's precision), to each requested
+/// format. Nothing is written when it is not printable.
 ///
 /// The log is the truth: a snapshot that does not parse or that disagrees
 /// with the log is replaced by the replayed log (the load does that and
@@ -49,9 +52,22 @@ pub fn export(
             loaded.report
         );
     }
-    let mesh = loaded.log.document().combined_mesh();
+    let doc = loaded.log.document();
+    // Every target is checked before any is written.
+    let mut printed = Vec::new();
     for path in [stl, obj, ply].into_iter().flatten() {
-        shapewright_xr::files::write_mesh(&mesh, path)?;
+        let p = crate::cmd::print_for(doc, path)
+            .with_context(|| format!("exporting {}", file.display()))?;
+        printed.push((path, p));
+    }
+    for (path, p) in &printed {
+        crate::cmd::write_mesh(&p.mesh, path)?;
+        println!(
+            "{} -> {} ({})",
+            file.display(),
+            path.display(),
+            crate::cmd::print_summary(p)
+        );
     }
     Ok(())
 }
@@ -87,6 +103,14 @@ pub fn info(file: &Path) -> Result<String> {
     writeln!(s, "objects: {}", doc.len())?;
     for (id, obj) in doc.objects() {
         let r = validate(&obj.mesh, &Default::default());
+        let verdict = if r.is_printable() {
+            format!(
+                "closed manifold, genus {}",
+                r.genus.map_or("?".to_owned(), |g| g.to_string())
+            )
+        } else {
+            format!("problems: {}", r.problems())
+        };
         writeln!(
             s,
             "  {id} {}: {} vertices, {} triangles, volume {:.6}, {}",
@@ -94,14 +118,7 @@ pub fn info(file: &Path) -> Result<String> {
             r.vertex_count,
             r.triangle_count,
             r.signed_volume,
-            if r.is_closed_manifold() {
-                format!(
-                    "closed manifold, genus {}",
-                    r.genus.map_or("?".to_owned(), |g| g.to_string())
-                )
-            } else {
-                format!("problems: {}", r.problems())
-            }
+            verdict
         )?;
     }
     writeln!(s, "validation: {}", loaded.report)?;
@@ -109,6 +126,16 @@ pub fn info(file: &Path) -> Result<String> {
         writeln!(s, "snapshot: {w}")?;
     }
     s.push_str(&shapewright_xr::files::interrupted_note(file));
+    match print_document(doc, &PrintSettings::default()) {
+        Ok(p) => {
+            writeln!(
+                s,
+                "printable: yes, as STL ({})",
+                crate::cmd::print_summary(&p)
+            )?;
+        }
+        Err(e) => writeln!(s, "printable: NO: {e}")?,
+    }
     Ok(s)
 }
 

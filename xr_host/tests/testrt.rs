@@ -6,9 +6,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use shapewright::interact::{self, replay, Trace};
+use shapewright::interact::{self, replay, InputFrame, Trace};
 use shapewright_usd::{load_file, LoadOptions};
-use shapewright_xr::xr::{InputFrame, LifecycleEvent, RunReport};
+use shapewright_xr::xr::{LifecycleEvent, RunReport};
 use shapewright_xr_testrt::script::{
     Fault, FaultAt, FrameStats, Keyframe, Script, ScriptHand, ScriptPose, SENTINEL,
 };
@@ -172,26 +172,52 @@ fn states(r: &Run) -> Vec<String> {
         .collect()
 }
 
-/// No scripted sentinel (a pose read without VALID bits) and no NaN in
-/// any delivered pose.
+/// No scripted sentinel (a pose read without VALID bits) in any pose the
+/// host marked valid, and every untracked pose written as the identity:
+/// the runtime's undefined contents never reach the core.
 fn assert_clean(frames: &[InputFrame]) {
     let mut poses = Vec::new();
     for f in frames {
         poses.extend(f.head);
-        for h in &f.hands {
-            poses.extend(h.grip);
-            poses.extend(h.aim);
-            poses.extend(h.joints.iter().flatten().copied());
+        for c in f.controllers.iter().flatten() {
+            for (p, valid) in [(c.grip, c.grip_valid), (c.aim, c.aim_valid)] {
+                if valid {
+                    poses.push(p);
+                } else {
+                    assert_eq!(p, interact::Pose::IDENTITY);
+                }
+            }
+        }
+        for h in f.hands.iter().flatten() {
+            for j in &h.joints {
+                if j.valid {
+                    poses.push(j.pose);
+                } else {
+                    assert_eq!(j.pose, interact::Pose::IDENTITY);
+                }
+            }
         }
     }
     for p in poses {
         assert!(
-            p.position.iter().all(|c| c.is_finite() && *c != SENTINEL),
+            p.position
+                .to_array()
+                .iter()
+                .all(|c| *c as f32 != SENTINEL || !c.is_finite()),
             "{p:?}"
         );
-        let n: f32 = p.orientation.iter().map(|c| c * c).sum();
-        assert!((n - 1.0).abs() < 1e-4, "{p:?}");
     }
+}
+
+/// Frame times strictly increase and are positive.
+fn assert_times_increase(frames: &[InputFrame]) {
+    assert!(frames
+        .windows(2)
+        .all(|w| w[1].time > w[0].time && w[0].time > 0.0));
+}
+
+fn v3(p: &interact::Pose) -> [f32; 3] {
+    p.position.to_array().map(|x| x as f32)
 }
 
 fn base_script() -> Script {
@@ -239,33 +265,47 @@ fn session_reaches_focused_and_scripted_input_reaches_the_sink() {
             "EXITING"
         ]
     );
-    assert_eq!(rep.exit_reason, "exit requested by the host");
+    assert_eq!(
+        rep.exit_reason,
+        "exit requested by the host: the frame limit was reached"
+    );
     assert_eq!(r.frames.len(), 12);
     assert_eq!(rep.frames, 12);
     assert_eq!(rep.poses_dropped, 0);
-    for (k, f) in r.frames.iter().enumerate() {
-        assert_eq!(f.index, k as u64);
-        assert_eq!(f.head.unwrap().position, [0.0, 1.6, 0.0]);
-        let [left, right] = &f.hands;
-        assert_eq!(left.grip.unwrap().position, [-0.2, 1.2, -0.3]);
-        assert_eq!(right.aim.unwrap().position, [0.2, 1.2, -0.35]);
-        assert_eq!(right.select, 0.7);
-        assert_eq!(right.squeeze, 0.25);
-        assert!(right.primary && !right.menu);
-        assert_eq!(left.select, 0.0);
+    for f in &r.frames {
+        // LOCAL_FLOOR: the script's floor-level coordinates, unchanged.
+        assert_eq!(v3(&f.head.unwrap()), [0.0, 1.6, 0.0]);
+        let [left, right] = &f.controllers;
+        let (left, right) = (left.unwrap(), right.unwrap());
+        assert_eq!(v3(&left.grip), [-0.2, 1.2, -0.3]);
+        assert_eq!(v3(&right.aim), [0.2, 1.2, -0.35]);
+        assert_eq!(right.buttons.select, f64::from(0.7f32));
+        assert_eq!(right.buttons.grab, 0.25);
+        assert!(right.buttons.primary && !right.buttons.menu);
+        assert_eq!(left.buttons.select, 0.0);
         // 26 joints laid out 1 cm apart along +X from the wrist.
-        assert_eq!(right.joints.len(), 26);
-        let j25 = right.joints[25].unwrap().position;
+        let hand = f.hands[1].as_ref().unwrap();
+        let j25 = v3(&hand.joints[25].pose);
         assert!((j25[0] - 0.45).abs() < 1e-5 && j25[1] == 1.1);
-        assert!(left.joints.is_empty(), "left hand tracker inactive");
+        assert!(f.hands[0].is_none(), "left hand tracker inactive");
     }
     // Time comes from xrConvertTimespecTimeToTimeKHR: positive, increasing.
-    assert!(r
-        .frames
-        .windows(2)
-        .all(|w| w[1].time_ns > w[0].time_ns && w[0].time_ns > 0));
-    // All five controller profiles were accepted (hand interaction is not offered).
+    assert_times_increase(&r.frames);
+    // All five controller profiles were accepted (hand interaction is not
+    // offered, the 1.1 and vendor profiles not available).
     assert_eq!(rep.profiles.len(), 5, "{:?}", rep.profiles);
+    let touch = "/interaction_profiles/oculus/touch_controller";
+    assert_eq!(rep.profiles_bound, [Some(touch.into()), Some(touch.into())]);
+    assert_eq!(rep.spaces.base, "local_floor");
+    assert_eq!(rep.runtime.api_version, "1.0", "the 1.1 request fell back");
+    assert!(rep.runtime.hand_tracking_supported);
+    assert!(
+        r.stdout.contains(
+            "profile bound: /user/hand/left -> /interaction_profiles/oculus/touch_controller"
+        ),
+        "{}",
+        r.stdout
+    );
     assert_clean(&r.frames);
 }
 
@@ -293,21 +333,28 @@ fn invalid_poses_never_reach_the_sink() {
     let r = run_host("invalid", &s, &["--frames", "10"]);
     assert_eq!(r.code, Some(0), "{}", r.stderr);
     assert_eq!(r.frames.len(), 10);
-    for f in &r.frames {
-        let bad = (3..7).contains(&f.index);
-        assert_eq!(f.head.is_none(), bad, "head at {}", f.index);
-        assert_eq!(f.hands[1].grip.is_none(), bad, "grip at {}", f.index);
-        assert_eq!(f.hands[0].aim.is_none(), bad, "aim at {}", f.index);
-        let missing: Vec<usize> = (0..26)
-            .filter(|&j| f.hands[1].joints[j].is_none())
-            .collect();
+    for (k, f) in r.frames.iter().enumerate() {
+        let bad = (3..7).contains(&k);
+        // The host passes what the runtime said: the head untracked, the
+        // NaN grip marked valid (the core's sanitizer drops it), the zero
+        // quaternion marked valid, the three joints untracked.
+        assert_eq!(f.head.is_none(), bad, "head at {k}");
+        let right = f.controllers[1].unwrap();
+        assert!(right.grip_valid);
+        assert_eq!(right.grip.position.x.is_nan(), bad, "grip at {k}");
+        let left = f.controllers[0].unwrap();
+        assert_eq!(left.aim.orientation.length() == 0.0, bad, "aim at {k}");
+        let hand = f.hands[1].as_ref().unwrap();
+        let missing: Vec<usize> = (0..26).filter(|&j| !hand.joints[j].valid).collect();
         assert_eq!(missing, if bad { vec![0, 5, 25] } else { vec![] });
     }
     let rep = r.report.clone().unwrap();
-    // 4 frames x (head + NaN grip + zero-quaternion aim); the runtime
-    // reports the zero quaternion as valid, the host still rejects it.
+    // 4 frames x (untracked head + NaN grip + zero-quaternion aim), all
+    // counted by the one sanitizer; the runtime reports the zero quaternion
+    // as valid, the sanitizer still rejects it.
     assert_eq!(rep.poses_dropped, 12);
-    assert_eq!(rep.joints_dropped, 12);
+    let input = rep.input.unwrap();
+    assert_eq!((input.poses_untracked, input.poses_rejected), (4, 8));
     assert_clean(&r.frames);
 }
 
@@ -336,12 +383,11 @@ fn loss_pending_recreates_the_session() {
     );
     // Frames keep counting across the new session; none are duplicated.
     assert_eq!(r.frames.len(), 15);
-    assert!(r
-        .frames
-        .iter()
-        .enumerate()
-        .all(|(k, f)| f.index == k as u64));
-    assert_eq!(rep.exit_reason, "exit requested by the host");
+    assert_times_increase(&r.frames);
+    assert_eq!(
+        rep.exit_reason,
+        "exit requested by the host: the frame limit was reached"
+    );
     assert_clean(&r.frames);
 }
 
@@ -381,11 +427,7 @@ fn instance_loss_is_retried() {
     assert_eq!(rep.sessions_created, 2);
     assert!(r.events.contains(&LifecycleEvent::InstanceLost));
     assert_eq!(r.frames.len(), 12);
-    assert!(r
-        .frames
-        .iter()
-        .enumerate()
-        .all(|(k, f)| f.index == k as u64));
+    assert_times_increase(&r.frames);
     assert_clean(&r.frames);
 }
 
@@ -414,7 +456,94 @@ fn without_hand_tracking_controllers_still_work() {
     assert!(r
         .frames
         .iter()
-        .all(|f| f.hands[1].joints.is_empty() && f.hands[1].grip.is_some()));
+        .all(|f| f.hands[1].is_none() && f.controllers[1].is_some_and(|c| c.grip_valid)));
+}
+
+/// Issue 16, item 1: a runtime that offers XR_EXT_hand_tracking on a
+/// system that cannot track hands (Monado's `simulated`, most PC
+/// headsets). The host asks the system, creates no tracker, and runs on
+/// controllers.
+#[test]
+fn a_system_without_hand_tracking_gets_no_tracker_and_runs() {
+    let mut s = base_script();
+    s.hands_supported = false;
+    let r = run_host("nohandsys", &s, &["--frames", "5"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let rep = r.report.unwrap();
+    assert!(rep.runtime.hand_tracking_offered && !rep.runtime.hand_tracking_supported);
+    assert_eq!(rep.hands_tracked, [None, None]);
+    assert_eq!(r.frames.len(), 5);
+    assert!(r.frames.iter().all(|f| f.hands == [None, None]));
+    assert!(
+        r.stdout.contains("system cannot track hands"),
+        "{}",
+        r.stdout
+    );
+}
+
+/// XR_EXT_hand_tracking_data_source: the host reports where joints come
+/// from and passes it to the core, whose sanitizer lets buttons win over
+/// controller-derived joints and keeps optical ones.
+#[test]
+fn hand_data_sources_are_reported_and_passed_on() {
+    for (source, overridden) in [("controller", true), ("unobstructed", false)] {
+        let mut s = base_script();
+        s.hand_source = Some(source.into());
+        let r = run_host(&format!("source_{source}"), &s, &["--frames", "5"]);
+        assert_eq!(r.code, Some(0), "{}", r.stderr);
+        let rep = r.report.unwrap();
+        assert!(rep.runtime.hand_data_source);
+        let name = if overridden { "controller" } else { "optical" };
+        assert_eq!(rep.hands_tracked[1].as_deref(), Some(name));
+        let input = rep.input.unwrap();
+        assert_eq!(
+            input.hands_overridden > 0,
+            overridden,
+            "{source}: {input:?}"
+        );
+        let want = if overridden {
+            interact::HandSource::Controller
+        } else {
+            interact::HandSource::Optical
+        };
+        assert!(r
+            .frames
+            .iter()
+            .all(|f| f.hands[1].as_ref().unwrap().source == want));
+    }
+}
+
+/// Issue 16, item 2: LOCAL's origin is at eye height on real runtimes.
+/// Whatever base space the runtime allows (LOCAL_FLOOR; LOCAL lowered by
+/// the height measured in STAGE; LOCAL lowered by an assumed 1.6 m), the
+/// tools see floor-level coordinates and build the same model.
+#[test]
+fn the_model_lands_at_floor_level_whichever_space_the_runtime_gives() {
+    let trace = fixture_trace();
+    let n = trace.frames.len().to_string();
+    let want = replay(&trace).unwrap();
+    for (name, local_floor, stage, base) in [
+        ("sp_floor", true, true, "local_floor"),
+        ("sp_measured", false, true, "local_measured"),
+        ("sp_assumed", false, false, "local_assumed"),
+    ] {
+        let mut s = script_from_trace(&trace);
+        s.local_floor = local_floor;
+        s.stage = stage;
+        let m = run_model(name, &s, &["--frames", &n]);
+        assert_eq!(m.run.code, Some(0), "{name}: {}", m.run.stderr);
+        let rep = m.run.report.clone().unwrap();
+        assert_eq!(rep.spaces.base, base, "{name}");
+        let expect_offset = if base == "local_floor" { 0.0 } else { 1.6 };
+        assert!(
+            (rep.spaces.floor_offset_m - expect_offset).abs() < 1e-6,
+            "{rep:?}"
+        );
+        let saved = m.saved.unwrap();
+        let names = |ops: &[shapewright::doc::Op]| ops.iter().map(|o| o.name()).collect::<Vec<_>>();
+        assert_eq!(names(saved.log.ops()), names(want.log.ops()), "{name}");
+        assert_same_model(saved.log.document(), want.log.document(), 1e-4);
+    }
 }
 
 #[test]
@@ -545,7 +674,6 @@ fn headset_recreates_the_session_and_swapchain_after_loss_pending() {
 fn headset_pixels_show_the_model_where_the_eye_sees_it() {
     let mut s = base_script();
     s.vulkan = true;
-    s.keyframes[0].head = Some(pose([0.0, 0.0, 0.0]));
     s.capture_path = Some("capture.bin".into());
     let (r, _) = run_host_mode("headsetpixels", &s, &[], &["--frames", "4"]);
     assert_eq!(r.code, Some(0), "{}", r.stderr);
@@ -563,9 +691,10 @@ fn headset_pixels_show_the_model_where_the_eye_sees_it() {
     for (x, y) in [(w - 1, h - 1), (w / 2, h / 2), (0, h / 2)] {
         assert_eq!(px(x, y), bg, "({x},{y}) should be background");
     }
-    // The model (bounding radius 25 cm) sits 0.7 m ahead, 0.3 m below the
-    // eye: with ±45° views its center projects 0.3/0.7 of the half height
-    // below the image center, shifted by the half-IPD for the left eye.
+    // The model (bounding radius 25 cm) sits 0.7 m ahead of the user, 1.3 m
+    // above the floor, so 0.3 m below the 1.6 m eye: with ±45° views its
+    // center projects 0.3/0.7 of the half height below the image center,
+    // shifted by the half-IPD for the left eye.
     let (cx, cy) = (128.0 + 128.0 * 0.032 / 0.7, 128.0 + 128.0 * 0.3 / 0.7);
     let mut hits = 0;
     for dy in -6..=6 {
@@ -760,7 +889,7 @@ fn scripted_controllers_build_the_model_the_trace_replay_builds() {
 /// of the same input builds.
 #[test]
 fn the_gc_tool_runs_on_controllers_through_the_loader() {
-    let trace = interact::mug_controller_trace();
+    let trace = interact::testkit::mug_controller_trace();
     let n = trace.frames.len().to_string();
     let period = format!("{}", 1e3 / trace.header.fps);
     let m = run_tool(

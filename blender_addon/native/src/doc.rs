@@ -2,8 +2,8 @@
 
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use shapewright::doc::{parse_script, run_script, ObjectId, Op, OpLog, OP_NAMES};
-use shapewright::mesh::{validate, MeshFormat};
+use shapewright::doc::{parse_script, run_script, ObjectId, Op, OpLog, ScriptCommand, OP_NAMES};
+use shapewright::mesh::validate;
 
 use crate::error::{log_err, op_err, script_err, ParseError};
 use crate::mesh::{buffers, report_dict};
@@ -53,6 +53,38 @@ impl Session {
             .map_err(|e| ParseError::new_err(format!("op {op_json}: {e}")))?;
         let out = py.detach(|| self.0.apply(op)).map_err(log_err)?;
         Ok(out.created.map(|id| id.0))
+    }
+
+    /// Applies one script line: an op, or `{"op":"undo"}` / `{"op":"redo"}`
+    /// as in `.jsonl` files (the core's script grammar, so errors name the
+    /// field and the reason). Returns the id an op created, if any.
+    fn apply_line(&mut self, py: Python<'_>, line: &str) -> PyResult<Option<u32>> {
+        let command = parse_line(line)?;
+        let log = &mut self.0;
+        py.detach(|| match &command {
+            ScriptCommand::Op(op) => log.apply(op.clone()).map(|o| o.created.map(|id| id.0)),
+            ScriptCommand::Undo => log.undo().map(|()| None),
+            ScriptCommand::Redo => log.redo().map(|()| None),
+        })
+        .map_err(log_err)
+    }
+
+    /// A copy of the session sharing its meshes (cheap): background jobs
+    /// work on it while the session keeps changing.
+    fn snapshot(&self) -> Self {
+        Self(self.0.clone())
+    }
+
+    /// An object's kind: `solid`, `gc_assembly`, `sdf_volume`,
+    /// `curve_network` or `sculpt_mesh`.
+    fn object_kind(&self, id: u32) -> PyResult<&'static str> {
+        Ok(self
+            .0
+            .document()
+            .get(ObjectId(id))
+            .map_err(op_err)?
+            .kind
+            .name())
     }
 
     /// Runs a script (JSON lines, with undo/redo lines) on the session.
@@ -169,27 +201,39 @@ impl Session {
     }
 
     /// Writes the printable union of all objects to `path` (.stl, .obj or
-    /// .ply).
-    fn export_mesh(&self, py: Python<'_>, path: std::path::PathBuf) -> PyResult<()> {
-        let format = MeshFormat::from_path(&path).ok_or_else(|| {
-            ParseError::new_err(format!(
-                "{}: unknown extension (use .stl, .obj or .ply)",
-                path.display()
-            ))
-        })?;
-        let doc = self.0.document();
-        let mesh = py
-            .detach(|| doc.printable_mesh())
-            .map_err(|e| crate::error::OpRejected::new_err(e.to_string()))?;
-        // Crash-safe (temp file, fsync, rename): a failed export keeps the old file.
-        py.detach(|| shapewright_atomic::write_with(&path, |w| format.write(&mesh, w)))
-            .map(|_| ())
-            .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))
+    /// .ply); refuses (writing nothing) an empty result or one that is not
+    /// a closed 2-manifold at the file's precision. Returns `{"path",
+    /// "triangles", "volume"}`. For long exports use `ExportJob`.
+    fn export_mesh<'py>(
+        &self,
+        py: Python<'py>,
+        path: std::path::PathBuf,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        crate::jobs::export_now(py, self.0.document(), &path)
     }
 
     /// A hash of the document's content (ids, parameters, mesh bits).
     fn content_hash(&self) -> u64 {
         self.0.document().content_hash()
+    }
+}
+
+/// One script line as a command. The core's script grammar reads a `"v"`
+/// key as the op format version, which collides with the ops whose own
+/// field is `v` (`gc_insert_section`, `gc_shift`): the line is first read
+/// as an op with all its fields, and only when that fails by the grammar
+/// (which also gives the clearer messages: unknown op names, versions).
+fn parse_line(line: &str) -> PyResult<ScriptCommand> {
+    if let Ok(op) = serde_json::from_str::<Op>(line) {
+        return Ok(ScriptCommand::Op(op));
+    }
+    let lines = parse_script(line).map_err(script_err)?;
+    match lines.as_slice() {
+        [one] => Ok(one.command.clone()),
+        other => Err(ParseError::new_err(format!(
+            "expected one op line, got {} commands",
+            other.len()
+        ))),
     }
 }
 

@@ -7,8 +7,11 @@
 mod doc;
 mod error;
 mod interact;
+mod jobs;
 mod mesh;
+mod parametric;
 mod sdf;
+mod sketch;
 mod usd;
 
 use pyo3::prelude::*;
@@ -31,6 +34,16 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(usd::save_usd, m)?)?;
     m.add_function(wrap_pyfunction!(sdf::library_names, m)?)?;
     m.add_function(wrap_pyfunction!(usd::load_usd, m)?)?;
+    m.add_function(wrap_pyfunction!(usd::import_usd, m)?)?;
+    m.add_function(wrap_pyfunction!(usd::import_usd_text, m)?)?;
+    m.add_function(wrap_pyfunction!(usd::usd_text, m)?)?;
+    m.add_class::<jobs::ExportJob>()?;
+    m.add_function(wrap_pyfunction!(parametric::parametric_parts, m)?)?;
+    m.add_function(wrap_pyfunction!(sketch::sketch_spine, m)?)?;
+    m.add_function(wrap_pyfunction!(sketch::child_from_stroke, m)?)?;
+    m.add_function(wrap_pyfunction!(sketch::replace_spine_from_stroke, m)?)?;
+    m.add_function(wrap_pyfunction!(sketch::match_section, m)?)?;
+    m.add_function(wrap_pyfunction!(sketch::profile_radius, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::validate_buffers, m)?)?;
     m.add_function(wrap_pyfunction!(doc::op_names, m)?)?;
     m.add_function(wrap_pyfunction!(doc::op_schema_json, m)?)?;

@@ -67,7 +67,8 @@ pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
 /// cleaned mesh is kept only when it validates as a closed 2-manifold
 /// without degenerate triangles, otherwise the union is returned as is.
 fn collapse_slivers(mesh: TriMesh) -> TriMesh {
-    let settings = Default::default();
+    // Topology only: this runs on every GC commit (print checks the rest).
+    let settings = crate::mesh::ValidationSettings::topology_only();
     let report = validate(&mesh, &settings);
     if report.degenerate_triangles == 0 {
         return mesh;

@@ -7,89 +7,63 @@
 //! [`crate::doc::ScriptCommand`] per frame — an op when a gesture completes,
 //! never one per frame — plus [`Preview`] state to render meanwhile.
 //!
-//! - `input`: per-frame input types and the sanitizing layer.
-//! - `gesture`: the hand gesture classifier (paper 1, §4).
-//! - `controller_hand`: hands made from controllers (buttons choose the
-//!   gesture), for the hand-gesture tool where no hand is tracked.
-//! - `handmodel`: a kinematic hand model, the classifier's labelled test set.
-//! - `bimanual`: handle bar, two-hand scaling, one hand orienting the model.
-//! - `bindings`: controller bindings as data (Blender's layout).
-//! - `similarity`, `pick`: hand motions on placements; ray picking.
-//! - `tool`, `object_tool`, `session`: the tool framework and the object
-//!   tool (select, place, grab, move, rotate, scale, delete, copy, undo).
-//! - `trace`, `puppet`: recorded input traces, their replay, and the
-//!   scripted puppet that makes them.
-//!
-//! - `csg_tool`, `brush_tool` (with `ctl_input`): the controller tools of
-//!   paper 2 (SDF CSG) and paper 4 (warp-brush sculpting).
+//! By stage, in the order a frame flows through them:
+//! - [`input`]: per-frame input types, the one sanitizer (hosts use these
+//!   types directly), controller bindings as data, controller button edges.
+//! - [`gesture`]: the hand gesture classifier (paper 1, §4), the kinematic
+//!   hand model, hands made from controllers, two-hand manipulation
+//!   (handle bar, scaling, orienting grab) and hand motions as similarities.
+//! - [`tools`]: the [`Tool`] trait, the tool registry ([`tool_named`],
+//!   [`TOOL_NAMES`]), ray picking and one module per tool: object, the
+//!   paper-1 GC tool, the paper-2 CSG, paper-3 curve and paper-4 brush tools.
+//! - [`trace`]: recorded input traces and their replay.
+//! - `session`: one frame through the stages (sanitize, classify, run the
+//!   active tool).
+//! - `testkit` (feature `testkit`): the scripted puppet, labelled hand
+//!   sequences and the puppet scripts of the checked-in traces.
 //!
 //! The geometry systems' tools (generalized cylinders, SDF CSG, curve
 //! styling, sculpting) plug in as further [`Tool`]s.
 
-mod bimanual;
-mod bindings;
-mod brush_tool;
-mod controller_hand;
-mod csg_tool;
-mod ctl_input;
-#[cfg(test)]
-mod ctl_tool_tests;
-#[cfg(test)]
-mod ctl_traces;
-mod curve_tool;
-#[cfg(test)]
-mod curve_tool_tests;
-mod gc_tool;
-mod gesture;
-#[cfg(test)]
-mod gesture_accuracy;
-mod handmodel;
-mod input;
-mod object_tool;
-mod pick;
-mod puppet;
+pub mod gesture;
+pub mod input;
 mod session;
-mod similarity;
-mod tool;
-#[cfg(test)]
-mod tool_tests;
-mod trace;
-#[cfg(test)]
-mod trace_fixture;
+#[cfg(any(test, feature = "testkit"))]
+pub mod testkit;
+pub mod tools;
+pub mod trace;
 
-pub use bimanual::{two_hand_scale, HandleBar, ModelFrame, OrientGrab, MIN_BAR, SCALE_RANGE};
-pub use bindings::{ActionItem, ActionMap, ActionType, AxisRegion, Binding, ACTIONS, PROFILES};
-pub use brush_tool::{BrushPreset, BrushTool, BrushToolSettings};
-pub use controller_hand::{controller_gesture, controller_hand, point_tip_offset};
-pub use csg_tool::{CsgTool, CsgToolSettings, SceneOperate};
-pub use curve_tool::{
-    CurveMode, CurveNetworkTool, CurvePreview, CurveTarget, CurveToolSettings, DrawPlane,
+pub use gesture::bimanual::{
+    two_hand_scale, HandleBar, ModelFrame, OrientGrab, MIN_BAR, SCALE_RANGE,
 };
-pub use gc_tool::{
-    mug_controller_trace, mug_trace, teapot_controller_trace, teapot_trace, GcPreview, GcTarget,
-    GcTool, GcToolSettings,
-};
+pub use gesture::controller_hand::{controller_gesture, controller_hand, point_tip_offset};
+pub use gesture::handmodel::{hand_pose, HandParams, Rng};
+pub use gesture::similarity::Similarity;
 pub use gesture::{
-    score_sequence, Gesture, GestureClassifier, GestureLabel, GestureScore, GestureSettings,
-    GestureState, HandFeatures,
+    Gesture, GestureClassifier, GestureLabel, GestureSettings, GestureState, HandFeatures,
 };
-pub use handmodel::{
-    hand_pose, hand_sample, labelled_sequence, HandParams, LabelledFrame, Rng, SequenceSettings,
+pub use input::bindings::{
+    profile_named, ActionItem, ActionMap, ActionType, AxisRegion, Binding, Profile, ACTIONS,
+    PROFILES,
 };
 pub use input::{
     Controller, ControllerButtons, ControllerSample, Frame, Hand, HandJoints, HandSample,
-    InputFrame, Joint, JointSample, Pose, Sanitizer, SanitizerSettings, JOINT_COUNT,
+    HandSource, InputFrame, Joint, JointSample, Pose, Sanitizer, SanitizerSettings, SanitizerStats,
+    JOINT_COUNT,
 };
-pub use object_tool::{ObjectTool, ObjectToolSettings};
-pub use pick::{pick, ray_mesh, ray_triangle, Hit, Ray};
-pub use puppet::{Button, Puppet};
 pub use session::Session;
-pub use similarity::Similarity;
-pub use tool::{
-    apply_command, BrushPreview, MovingPreview, OperandPreview, Preview, PreviewRay, Tool,
-    ToolContext,
+pub use tools::brush_tool::{BrushPreset, BrushTool, BrushToolSettings};
+pub use tools::csg_tool::{CsgTool, CsgToolSettings, SceneOperate};
+pub use tools::curve_tool::{
+    CurveMode, CurveNetworkTool, CurvePreview, CurveTarget, CurveToolSettings, DrawPlane,
+};
+pub use tools::gc_tool::{GcPreview, GcTarget, GcTool, GcToolSettings};
+pub use tools::object_tool::{ObjectTool, ObjectToolSettings};
+pub use tools::pick::{pick, ray_mesh, ray_triangle, Hit, Ray};
+pub use tools::{
+    apply_command, tool_named, BrushPreview, CsgPreview, MovingPreview, OperandPreview, Preview,
+    PreviewRay, Tool, ToolContext, ToolPreview, UnknownTool, TOOL_NAMES,
 };
 pub use trace::{
-    replay, tool_named, ModelPlacement, Replay, Trace, TraceError, TraceHeader, TOOL_NAMES,
-    TRACE_FORMAT, TRACE_VERSION,
+    replay, ModelPlacement, Replay, Trace, TraceError, TraceHeader, TRACE_FORMAT, TRACE_VERSION,
 };

@@ -1,15 +1,15 @@
 //! [`Session`]: the per-frame driver both hosts run — sanitizer, one
 //! gesture classifier per hand, and the active tool. For a tool that reads
 //! hands, an untracked hand with a controller is made from the controller
-//! ([`super::controller_hand`]).
+//! ([`crate::interact::gesture::controller_hand`]).
 
 use crate::doc::{Document, ScriptCommand};
 
-use super::controller_hand::controller_hand;
-use super::gesture::{GestureClassifier, GestureState};
-use super::input::{Frame, Hand, InputFrame, Sanitizer};
-use super::similarity::Similarity;
-use super::tool::{Preview, Tool, ToolContext};
+use crate::interact::gesture::controller_hand::controller_hand;
+use crate::interact::gesture::similarity::Similarity;
+use crate::interact::gesture::{GestureClassifier, GestureState};
+use crate::interact::input::{Frame, Hand, InputFrame, Sanitizer};
+use crate::interact::tools::{Preview, Tool, ToolContext};
 
 /// Raw frames in, at most one command per frame out.
 pub struct Session {
@@ -84,6 +84,11 @@ impl Session {
     /// The last accepted frame.
     pub fn last_frame(&self) -> Option<&Frame> {
         self.last_frame.as_ref()
+    }
+
+    /// What the input sanitizer accepted and dropped so far.
+    pub fn input_stats(&self) -> crate::interact::input::SanitizerStats {
+        self.sanitizer.stats()
     }
 
     /// The model placement.

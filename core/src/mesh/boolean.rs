@@ -7,6 +7,13 @@
 //! `status()` is checked, and indices are validated before import because
 //! `MeshGL::merge` panics on out-of-range indices. Single-threaded (the
 //! crate's `parallel` feature is off), which keeps results deterministic.
+//!
+//! [`union_snapped`] and [`snap`] give Manifold a tolerance: imported with
+//! `MeshGL::tolerance = t`, a mesh's epsilon becomes `t`, so Manifold's own
+//! clean-up (short-edge collapse, degenerate-triangle swaps) removes every
+//! edge shorter than `t` and every sliver thinner than it, keeping the
+//! result a closed 2-manifold. The printable path uses it to remove the
+//! features that rounding to float32 would collapse or fold.
 
 use manifold_rust::manifold::Manifold;
 use manifold_rust::types::{Error as ManifoldStatus, MeshGLP, OpType};
@@ -43,26 +50,53 @@ pub enum BooleanError {
 /// source is the `tri_source` of the operand triangle it came from (or the
 /// operand index when the operand has no sources).
 pub fn union(meshes: &[&TriMesh]) -> Result<TriMesh, BooleanError> {
+    union_snapped(meshes, 0.0)
+}
+
+/// The union of closed meshes, with every edge shorter than `tolerance`
+/// collapsed and every sliver thinner than it removed (see the module
+/// doc); `0.0` is Manifold's own precision (1e-12 of the box). Sources as
+/// for [`union`].
+pub fn union_snapped(meshes: &[&TriMesh], tolerance: f64) -> Result<TriMesh, BooleanError> {
     let mut manifolds = Vec::with_capacity(meshes.len());
     for (index, m) in meshes.iter().enumerate() {
         if m.triangles.is_empty() {
             continue;
         }
         let source = m.tri_source.first().copied().unwrap_or(index as u32);
-        manifolds.push(import(index, m, source)?);
+        manifolds.push(import_tol(index, m, source, tolerance)?);
     }
     if manifolds.is_empty() {
         return Ok(TriMesh::default());
     }
-    let result = if manifolds.len() == 1 {
+    let mut result = if manifolds.len() == 1 {
         manifolds.pop().unwrap_or_default()
     } else {
         Manifold::batch_boolean(&manifolds, OpType::Add)
     };
+    if tolerance > 0.0 {
+        result = result.simplify(0.0);
+    }
     if result.status() != ManifoldStatus::NoError {
         return Err(BooleanError::Failed(format!("{:?}", result.status())));
     }
     Ok(export(&result))
+}
+
+/// A closed mesh re-imported at `tolerance` (edges shorter than it
+/// collapsed, slivers thinner than it swapped away), sources kept per run.
+pub fn snap(mesh: &TriMesh, tolerance: f64) -> Result<TriMesh, BooleanError> {
+    let mf = import_runs(0, mesh, tolerance)?.simplify(0.0);
+    if mf.status() != ManifoldStatus::NoError {
+        return Err(BooleanError::Failed(format!("{:?}", mf.status())));
+    }
+    Ok(export(&mf))
+}
+
+/// True when Manifold accepts `mesh` as a closed 2-manifold (what
+/// `manifold3d.Manifold(mesh).status()` says of the same buffers).
+pub fn manifold_accepts(mesh: &TriMesh) -> bool {
+    import_tol(0, mesh, 0, 0.0).is_ok()
 }
 
 /// `a` minus the union of `cutters` (closed meshes), as one closed mesh;
@@ -90,6 +124,36 @@ pub fn difference(a: &TriMesh, cutters: &[&TriMesh]) -> Result<TriMesh, BooleanE
 /// Imports `m`, tagging its triangles with `source` as their original id
 /// (our ids, not Manifold's global counter, so output is deterministic).
 fn import(index: usize, m: &TriMesh, source: u32) -> Result<Manifold, BooleanError> {
+    import_tol(index, m, source, 0.0)
+}
+
+fn import_tol(
+    index: usize,
+    m: &TriMesh,
+    source: u32,
+    tolerance: f64,
+) -> Result<Manifold, BooleanError> {
+    let sources = vec![source; m.triangles.len()];
+    import_with(index, m, &sources, tolerance)
+}
+
+/// Imports a mesh whose triangles carry their own sources (one run per
+/// maximal stretch of equal sources; Manifold keeps runs by original id).
+fn import_runs(index: usize, m: &TriMesh, tolerance: f64) -> Result<Manifold, BooleanError> {
+    let sources = if m.tri_source.len() == m.triangles.len() {
+        m.tri_source.clone()
+    } else {
+        vec![index as u32; m.triangles.len()]
+    };
+    import_with(index, m, &sources, tolerance)
+}
+
+fn import_with(
+    index: usize,
+    m: &TriMesh,
+    sources: &[u32],
+    tolerance: f64,
+) -> Result<Manifold, BooleanError> {
     let n = m.positions.len();
     if let Some(t) = m
         .triangles
@@ -107,12 +171,31 @@ fn import(index: usize, m: &TriMesh, source: u32) -> Result<Manifold, BooleanErr
             reason: "a vertex coordinate is not finite".into(),
         });
     }
+    // Triangles sorted by source (stable), one run per source.
+    let mut order: Vec<usize> = (0..m.triangles.len()).collect();
+    order.sort_by_key(|&t| sources[t]);
+    let mut run_index = vec![0u64];
+    let mut run_original_id = Vec::new();
+    for (k, &t) in order.iter().enumerate() {
+        if k == 0 || sources[t] != sources[order[k - 1]] {
+            if k > 0 {
+                run_index.push(3 * k as u64);
+            }
+            run_original_id.push(sources[t]);
+        }
+    }
+    run_index.push(3 * order.len() as u64);
     let gl = MeshGLP::<f64, u64> {
         num_prop: 3,
         vert_properties: m.positions.iter().flatten().copied().collect(),
-        tri_verts: m.triangles.iter().flatten().map(|&i| i as u64).collect(),
-        run_index: vec![0, 3 * m.triangles.len() as u64],
-        run_original_id: vec![source],
+        tri_verts: order
+            .iter()
+            .flat_map(|&t| m.triangles[t])
+            .map(|i| i as u64)
+            .collect(),
+        run_index,
+        run_original_id,
+        tolerance,
         ..Default::default()
     };
     let mf = Manifold::from_mesh_gl64(&gl);

@@ -1,23 +1,30 @@
 //! Triangle meshes: the flat buffer every border uses, validation of the
-//! closed 2-manifold invariants, booleans (the printable union), and
-//! OBJ / STL / PLY files.
+//! closed 2-manifold invariants (with an exact self-intersection search and
+//! checks at the precision a file stores), booleans (the printable union),
+//! and OBJ / STL / PLY files.
 
 mod boolean;
 mod error;
 mod format;
 mod obj;
 mod ply;
+mod precision;
+mod selfx;
 mod stl;
 #[cfg(test)]
 mod test_meshes;
 mod trimesh;
 mod validate;
 
-pub use boolean::{difference, union, BooleanError};
+pub use boolean::{difference, manifold_accepts, snap, union, union_snapped, BooleanError};
 pub use error::MeshIoError;
 pub use format::MeshFormat;
 pub use obj::{read_obj, write_obj};
 pub use ply::{read_ply, write_ply};
+pub use precision::{at_precision, Precision};
+pub use selfx::{self_intersections, SelfIntersections, MAX_EXACT_COORDINATE};
 pub use stl::{read_stl, write_stl};
 pub use trimesh::TriMesh;
-pub use validate::{validate, ValidationReport, ValidationSettings};
+pub use validate::{
+    problem_triangles, validate, ValidationReport, ValidationSettings, LISTED_PAIRS,
+};

@@ -11,6 +11,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::halfedge::{HalfEdgeMesh, VertId, INVALID};
+use super::par::sort_by_u32;
 
 /// Vertex ids bucketed by cell.
 #[derive(Clone, Debug)]
@@ -95,9 +96,10 @@ impl VertexGrid {
         }
     }
 
-    /// Appends to `out` (then sorts it) every vertex whose cell meets the
-    /// box `[lo, hi]`; a superset of the vertices inside the box.
-    pub fn query(&self, lo: DVec3, hi: DVec3, out: &mut Vec<VertId>) {
+    /// Fills `out` with every vertex whose cell meets the box `[lo, hi]`
+    /// (a superset of the vertices inside the box), sorted by id so the
+    /// result never depends on bucket order; `scratch` is sorting space.
+    pub fn query(&self, lo: DVec3, hi: DVec3, out: &mut Vec<VertId>, scratch: &mut Vec<VertId>) {
         out.clear();
         let a = self.key(lo);
         let b = self.key(hi);
@@ -122,6 +124,6 @@ impl VertexGrid {
                 }
             }
         }
-        out.sort_unstable();
+        sort_by_u32(out, scratch, |v| v.0);
     }
 }

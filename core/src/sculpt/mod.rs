@@ -9,7 +9,12 @@
 //!   a document object, the sculpted one included) via `core::sdf`.
 //! - [`warp`]: weight functions (§4.3) and warp operators (§4.4).
 //! - [`grid`]: a uniform hash grid of vertices, updated incrementally.
-//! - [`stroke`]: strokes applied frame by frame by a [`Sculptor`] (§4.1).
+//! - [`sculptor`]: the [`Sculptor`], one frame at a time (§4.1, §4.4);
+//!   its region's adaptation is in `region_adapt` (§5.3), its parallel
+//!   passes in `par`.
+//! - [`stroke`]: strokes as whole paths or sample by sample (§4.1).
+//! - [`render`]: the changed-region API: slot-indexed render buffers a
+//!   host updates each frame from what the frame changed (§5.2).
 //! - [`base`]: base meshes (geodesic sphere, box, slab).
 //! - [`object`]: the `sculpt_mesh` object kind and the payloads of the
 //!   `sculpt_create` and `sculpt_stroke` ops.
@@ -49,6 +54,10 @@ pub mod grid;
 pub mod halfedge;
 pub mod mesh_brush;
 pub mod object;
+mod par;
+mod region_adapt;
+pub mod render;
+pub mod sculptor;
 pub mod stroke;
 pub mod warp;
 
@@ -57,9 +66,12 @@ pub use error::SculptError;
 pub use halfedge::{FaceId, HalfEdgeId, HalfEdgeMesh, VertId};
 pub use mesh_brush::{MeshBrush, MeshSource};
 pub use object::{model_scale, SculptBase, SculptCreate, SculptMesh, SculptStroke};
-pub use stroke::{FrameInput, FrameStats, Sculptor, StrokeSample, StrokeSettings};
+pub use render::{DirtySlots, RenderBuffers};
+pub use stroke::{FrameInput, FrameStats, Sculptor, StrokeFrames, StrokeSample, StrokeSettings};
 pub use warp::{Falloff, Warp};
 
+#[cfg(test)]
+mod live_tests;
 #[cfg(test)]
 mod mesh_brush_tests;
 #[cfg(test)]

@@ -1,5 +1,7 @@
 //! Errors of the sketch pipeline.
 
+use crate::assembly::AssemblyError;
+use crate::gc::GcError;
 use crate::nurbs::NurbsError;
 
 /// Why a stroke could not be used.
@@ -33,7 +35,50 @@ pub enum SketchError {
         /// Its value.
         value: f64,
     },
+    /// The spine bends more tightly than the section is wide: the inner
+    /// side of the tube would pass through itself. Sketch a wider curve or
+    /// use a smaller section.
+    #[error("the sketch bends with a radius of {:.1} mm at {:.0}% of its length, tighter than the section's radius of {:.1} mm: the tube would fold into itself; sketch a wider curve or a smaller section", bend_radius * 1e3, at * 1e2, radius * 1e3)]
+    TooTight {
+        /// Smallest radius of curvature of the spine (model units).
+        bend_radius: f64,
+        /// Largest radius of the sections (model units).
+        radius: f64,
+        /// Where, as a fraction of the spine's parameter range.
+        at: f64,
+    },
+    /// Even `max` key sections leave the tube farther than the tolerance
+    /// from the sketch (a stroke with very sharp wiggles): smooth the
+    /// stroke or raise the tolerance.
+    #[error("{max} key sections still leave the tube {:.2} mm from the sketch (tolerance {:.2} mm); draw a smoother stroke", error * 1e3, tolerance * 1e3)]
+    TooManySections {
+        /// The most sections allowed.
+        max: usize,
+        /// The deviation left.
+        error: f64,
+        /// The tolerance asked for.
+        tolerance: f64,
+    },
+    /// The stroke ends too far from the part it should attach to.
+    #[error("the stroke {which} {:.1} mm from the nearest part's surface (at most {:.1} mm): {hint}", distance * 1e3, tolerance * 1e3)]
+    OffPart {
+        /// `starts` or `ends`.
+        which: &'static str,
+        /// Distance to the nearest part surface (model units).
+        distance: f64,
+        /// Largest distance accepted.
+        tolerance: f64,
+        /// What to do.
+        hint: &'static str,
+    },
     /// Curve fitting failed.
     #[error(transparent)]
     Nurbs(#[from] NurbsError),
+    /// The spine the stroke makes is not a valid GC spine (or its parent
+    /// part's surface could not be evaluated).
+    #[error(transparent)]
+    Spine(#[from] GcError),
+    /// The parent's surface has no usable frame where the stroke starts.
+    #[error(transparent)]
+    Attach(#[from] AssemblyError),
 }

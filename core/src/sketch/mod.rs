@@ -5,16 +5,29 @@
 //! ([`match_section`]); open spine strokes are fitted by a least-squares
 //! cubic NURBS to a tolerance ([`fit_spine_stroke`]). Degenerate strokes
 //! (too few points, zero length, self-intersecting section loops, NaN)
-//! get a typed [`SketchError`].
+//! get a typed [`SketchError`]. [`section_params`] decides how many key
+//! sections a sketched spine needs (from the skin's error, which curvature
+//! drives), and [`child_from_stroke`] / [`replace_spine_from_stroke`] turn
+//! strokes into the values of assembly edits.
 
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod attach;
 mod error;
+mod sections;
 mod spine;
 mod stroke;
 mod template;
 
+pub use attach::{
+    child_from_stroke, profile_radius, replace_spine_from_stroke, ChildSettings, ChildSketch,
+    EndChoice, SpineReplacement, SINK,
+};
 pub use error::SketchError;
+pub use sections::{
+    section_params, sketch_spine, spine_points, stroke_deviation, SectionPlan, SectionSettings,
+    SketchedSpine, CHECKS_PER_INTERVAL, CURVATURE_SAMPLES,
+};
 pub use spine::{fit_spine_stroke, SpineFit, SPINE_SAMPLES};
 pub use stroke::{
     closed_loop_self_intersects, length, project_stroke, rdp, rdp_closed, resample, SketchPlane,
@@ -23,3 +36,5 @@ pub use template::{match_section, match_section_stroke, SectionMatch, MATCH_SAMP
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_sections;

@@ -8,13 +8,16 @@
 //! spacing removes that before fitting), then either interpolated
 //! (chord-length parameters, `nurbs::interpolate`) or approximated to a
 //! tolerance (`nurbs::approximate_to_tolerance`). Basis functions come from
-//! `core::nurbs`.
+//! `core::nurbs`. The number of points to fit is checked against a
+//! [`Budget`] before resampling allocates them (issue 22: a far sample or a
+//! tiny spacing once asked for terabytes).
 
 use serde::{Deserialize, Serialize};
 
 use crate::math::DVec3;
 use crate::nurbs::{self, basis_funs, ders_basis_funs, find_span, ParamMethod};
 
+use super::budget::Budget;
 use super::StylingError;
 
 /// A clamped cubic B-spline curve.
@@ -225,16 +228,37 @@ pub fn check_samples(samples: &[[f64; 3]]) -> Result<Vec<DVec3>, StylingError> {
     Ok(pts)
 }
 
+/// The number of points [`resample`] makes of a polyline of length
+/// `total` at spacing `h` (an `f64`, so that an absurd request is seen
+/// before anything is allocated: infinite or NaN when `total / h` is).
+pub fn resample_count(total: f64, h: f64) -> f64 {
+    (total / h).round().max(3.0) + 1.0
+}
+
 /// Resamples a polyline at equal arc-length spacing `h` (at least 4
-/// points; the end points are kept).
-pub fn resample(points: &[DVec3], h: f64) -> Vec<DVec3> {
+/// points; the end points are kept), refusing more than `max_points`
+/// points with [`StylingError::OverBudget`] before allocating them.
+pub fn resample(points: &[DVec3], h: f64, max_points: usize) -> Result<Vec<DVec3>, StylingError> {
+    if points.len() < 2 {
+        return Err(StylingError::TooFewSamples(points.len()));
+    }
     let mut cum = vec![0.0];
     for w in points.windows(2) {
         let l = cum[cum.len() - 1] + w[0].distance(w[1]);
         cum.push(l);
     }
     let total = cum[cum.len() - 1];
-    let count = ((total / h).round() as usize).max(3) + 1;
+    let estimate = resample_count(total, h);
+    if !(estimate <= max_points as f64) {
+        return Err(StylingError::OverBudget {
+            parameter: "resample",
+            what: "the number of points to fit (stroke length / spacing + 1)",
+            estimate,
+            limit: max_points as f64,
+        });
+    }
+    // Exact: `estimate` is a whole number no larger than `max_points`.
+    let count = estimate as usize;
     let mut out = Vec::with_capacity(count);
     let mut seg = 0;
     for i in 0..count {
@@ -248,21 +272,38 @@ pub fn resample(points: &[DVec3], h: f64) -> Vec<DVec3> {
     }
     out[0] = points[0];
     out[count - 1] = points[points.len() - 1];
-    out
+    Ok(out)
 }
 
 /// A cubic curve from tracked samples: checked, resampled at spacing
-/// `resample_h` if given, then interpolated or approximated.
+/// `resample_h` if given, then interpolated or approximated, within the
+/// default [`Budget`].
 pub fn fit_curve(
     samples: &[[f64; 3]],
     mode: FitMode,
     resample_h: Option<f64>,
 ) -> Result<SplineCurve, StylingError> {
+    fit_curve_within(samples, mode, resample_h, &Budget::default())
+}
+
+/// [`fit_curve`] within `budget`: samples far from the origin, and more
+/// points to fit than the budget allows (counted before resampling
+/// allocates them), are typed errors.
+pub fn fit_curve_within(
+    samples: &[[f64; 3]],
+    mode: FitMode,
+    resample_h: Option<f64>,
+    budget: &Budget,
+) -> Result<SplineCurve, StylingError> {
     let pts = check_samples(samples)?;
+    budget.check_extent("samples", &pts)?;
     let pts = match resample_h {
-        Some(h) if h.is_finite() && h > 0.0 => resample(&pts, h),
+        Some(h) if h.is_finite() && h > 0.0 => resample(&pts, h, budget.max_fit_points)?,
         Some(_) => return Err(StylingError::BadParameter("resample spacing must be > 0")),
-        None => pts,
+        None => {
+            budget.check_fit_points("samples", pts.len() as f64)?;
+            pts
+        }
     };
     let c = match mode {
         FitMode::Interpolate => nurbs::interpolate(&pts, DEGREE, ParamMethod::ChordLength)?,

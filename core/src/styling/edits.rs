@@ -11,9 +11,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::math::DVec3;
 
+use super::attract::{AttractParams, Attractor};
 use super::curve::{fit_curve, FitMode};
 use super::network::{CurveNetwork, Piece};
-use super::surface::{SurfaceSystem, SurfaceWeights};
+use super::surface::SurfaceWeights;
 use super::tools::{check_path, CurveSession, PullParams, SharpenLimits, SmoothParams, StopReason};
 use super::StylingError;
 
@@ -125,6 +126,30 @@ pub struct CurvePull {
     pub path: Vec<[f64; 3]>,
 }
 
+/// Attractor held on a curve (paper §2.2 eq. 5, §3.3): the curve, or its
+/// part around the pointer, is drawn towards a point, a line, a plane or
+/// another curve of the network for `frames` frames; the network's other
+/// curves follow at their junctions, patches keep their boundaries.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveAttract {
+    /// The attracted curve.
+    pub curve: CurveId,
+    /// What it is drawn towards.
+    pub attractor: Attractor,
+    /// Weights and locality.
+    pub params: AttractParams,
+    /// Pointer tip: the curve point nearest it centres the gaussian of a
+    /// local attraction (`params.alpha > 0`, then required; ignored with
+    /// `alpha = 0`).
+    #[schemars(extend("x-unit" = "m"))]
+    pub at: Option<[f64; 3]>,
+    /// Frames the tool is held (1..=100000); each frame moves the curve
+    /// `weight / (weight + wp0)` of the way for a uniform attraction.
+    #[schemars(range(min = 1, max = 100000))]
+    pub frames: u32,
+}
+
 /// Delete a curve (and the patches using it).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -137,7 +162,7 @@ pub struct CurveDelete {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CurveFillLoop {
-    /// 3 to 8 pieces head to tail.
+    /// 3 to 16 pieces (`ngon::MAX_SIDES`) head to tail.
     pub pieces: Vec<Piece>,
 }
 
@@ -237,7 +262,7 @@ impl CurveSharpen {
         let path = check_path(&self.path)?;
         let mut s = CurveSession::new(net.curve(self.curve.0)?.clone())?;
         let (frames, _stop): (usize, Option<StopReason>) =
-            s.sharpen(&self.params, &self.limits, &path);
+            s.sharpen(&self.params, &self.limits, &path)?;
         let work = (s.curve.n() * frames.max(1)) as u64;
         net.set_curve(self.curve.0, s.curve)?;
         Ok(work)
@@ -256,6 +281,15 @@ impl CurvePull {
         let work = (s.curve.n() * path.len()) as u64;
         net.set_curve(self.curve.0, s.curve)?;
         Ok(work)
+    }
+}
+
+impl CurveAttract {
+    /// Runs the attractor for `frames` frames.
+    pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
+        let frames = self.frames as usize;
+        net.attract(self.curve.0, &self.params, &self.attractor, self.at, frames)?;
+        Ok((net.curve(self.curve.0)?.n() * frames.max(1)) as u64)
     }
 }
 
@@ -283,22 +317,6 @@ impl CurveFillAuto {
     }
 }
 
-fn patch_system(
-    net: &CurveNetwork,
-    k: usize,
-    w: &SurfaceWeights,
-) -> Result<SurfaceSystem, StylingError> {
-    if k >= net.patches.len() {
-        return Err(StylingError::NoPatch(k));
-    }
-    if net.patches[k].pieces.len() > 4 {
-        return Err(StylingError::NotQuad(k));
-    }
-    let n = net.surface_n as usize;
-    let base = |u: f64, v: f64| net.coons(k, u, v);
-    SurfaceSystem::new(n, n, w, Some(&base))
-}
-
 impl SurfaceEquilibrium {
     /// The smoother (`sharpen = false`) or sharpener along the path.
     pub fn apply_to(&self, net: &mut CurveNetwork, sharpen: bool) -> Result<u64, StylingError> {
@@ -317,7 +335,7 @@ impl SurfaceEquilibrium {
             return Err(StylingError::BadParameter("wq_max must be in [1, 100]"));
         }
         let k = self.patch.0;
-        let mut sys = patch_system(net, k, &self.weights)?;
+        let mut sys = net.surface_system(k, &self.weights)?;
         let (d, _wq) =
             sys.equilibrium_frames(&net.patches[k].disp, self.f, path.len(), self.wq_max)?;
         let work = (d.len() * path.len()) as u64;
@@ -334,8 +352,8 @@ impl SurfacePull {
             return Err(StylingError::BadParameter("u0 and v0 must be in [0, 1]"));
         }
         let k = self.patch.0;
-        let mut sys = patch_system(net, k, &self.weights)?;
-        let base0 = net.coons(k, self.u0, self.v0)[0];
+        let mut sys = net.surface_system(k, &self.weights)?;
+        let base0 = net.patch_base_point(k, self.u0, self.v0)?;
         let targets: Vec<DVec3> = path;
         let d = sys.pull(
             &net.patches[k].disp,

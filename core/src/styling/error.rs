@@ -32,21 +32,31 @@ pub enum StylingError {
     /// The picked curve pieces do not form a closed loop.
     #[error("the picked pieces do not form a closed loop: {0}")]
     LoopNotClosed(String),
-    /// Only loops of 3 to 8 pieces can be filled.
-    #[error("a loop of {0} pieces cannot be filled (3 to 8 supported)")]
+    /// Only loops of 3 to [`super::ngon::MAX_SIDES`] pieces can be filled.
+    #[error("a loop of {0} pieces cannot be filled (3 to 16 supported)")]
     LoopSize(usize),
     /// n-sided patches (n > 4) need an even mesh resolution.
     #[error("loops of more than 4 pieces need an even network resolution (it is {0})")]
     OddResolution(u32),
-    /// The surface tools work on 3- and 4-sided patches only.
-    #[error("patch {0} has more than 4 sides; surface tools need a 3- or 4-sided patch")]
-    NotQuad(usize),
     /// The loop is already filled.
     #[error("this loop is already filled by patch {0}")]
     AlreadyFilled(usize),
     /// Junction constraints on one curve are too close to each other to hold.
     #[error("junction constraints on curve {0} are degenerate")]
     DegenerateJunctions(usize),
+    /// An input asks for more memory or work than the budget allows
+    /// ([`super::budget::Budget`]): reduce the parameter named.
+    #[error("{parameter}: {what} would be {estimate:e}, over the limit of {limit:e}")]
+    OverBudget {
+        /// The op parameter that sized the request.
+        parameter: &'static str,
+        /// What was estimated.
+        what: &'static str,
+        /// The estimate (may be infinite).
+        estimate: f64,
+        /// The budget's limit.
+        limit: f64,
+    },
     /// The sparse solver failed.
     #[error("solver: {0}")]
     Solver(String),

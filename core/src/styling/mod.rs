@@ -3,15 +3,21 @@
 //! SPEC.md §3).
 //!
 //! - [`curve`]: cubic B-spline curves from tracked samples (§5.1).
+//! - [`budget`]: limits on the memory and work an op may ask for.
 //! - [`energy`]: bend, stretch, attractor and shape-preserving energies as
 //!   sparse quadratic forms (§2.2).
 //! - [`solver`]: the constrained minimization (eq. 6-7) with faer's sparse
 //!   LDLᵀ, constraints by elimination, factorization reused across frames.
 //! - [`tools`]: curve smoother, sharpener, puller (§3).
+//! - [`attract`]: point, line, plane and curve attractors as a tool (§2.2).
+//! - [`frame`]: the modeling frame held by the non-dominant hand (§5.4).
 //! - [`surface`]: surface smoother, sharpener, puller on uniform bicubic
 //!   B-splines with a fixed boundary (§4).
-//! - [`network`]: curve networks, junctions, loops and patches (§5).
-//! - [`ngon`]: n-sided patches (5..=8 sides) split into quads around a centre.
+//! - [`network`]: the curve network object (§5), split by idea into
+//!   [`junction`] (weaving curves in, keeping them connected, §5.1),
+//!   [`loops`] (pieces and loops, §5.2) and [`patch`] (patches, §5.3).
+//! - [`ngon`]: n-sided patches (5..=16 sides), transfinite and smooth
+//!   inside, over the polygon domain of [`polygon`] (derivatives by [`jet`]).
 //! - [`select`]: tool selection from the pointer pose (§6, Table 1).
 //! - [`edits`]: the `curve_*` / `surface_*` ops' payloads and how each
 //!   changes a [`CurveNetwork`].
@@ -25,22 +31,32 @@
 // the assembly code.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
 
+pub mod attract;
+pub mod budget;
 pub mod curve;
 pub mod edits;
 pub mod energy;
 mod error;
+pub mod frame;
+pub mod jet;
+pub mod junction;
+pub mod loops;
 pub mod network;
 pub mod ngon;
+pub mod patch;
+pub mod polygon;
 pub mod select;
 pub mod solver;
 pub mod surface;
 pub mod tools;
 
-pub use curve::{fit_curve, FitMode, SplineCurve};
+pub use attract::{AttractParams, Attractor};
+pub use budget::Budget;
+pub use curve::{fit_curve, fit_curve_within, FitMode, SplineCurve};
 pub use edits::{
-    CurveDelete, CurveDraw, CurveFillAuto, CurveFillLoop, CurveId, CurveNetworkCreate, CurvePull,
-    CurveSharpen, CurveSmooth, PatchId, SurfaceEquilibrium, SurfacePull, SurfaceSharpen,
-    SurfaceSmooth,
+    CurveAttract, CurveDelete, CurveDraw, CurveFillAuto, CurveFillLoop, CurveId,
+    CurveNetworkCreate, CurvePull, CurveSharpen, CurveSmooth, PatchId, SurfaceEquilibrium,
+    SurfacePull, SurfaceSharpen, SurfaceSmooth,
 };
 pub use error::StylingError;
 pub use network::{CurveNetwork, Node, Patch, Piece};
@@ -48,6 +64,14 @@ pub use network::{CurveNetwork, Node, Patch, Piece};
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_attract;
+#[cfg(test)]
+mod tests_budget;
+#[cfg(test)]
+mod tests_frame;
+#[cfg(test)]
 mod tests_net;
+#[cfg(test)]
+mod tests_ngon;
 #[cfg(test)]
 mod tests_props;

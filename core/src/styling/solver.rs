@@ -155,6 +155,16 @@ impl FixedSolver {
         })
     }
 
+    /// The factor's kind and size, for benches: `supernodal`/`simplicial`
+    /// and the number of stored factor entries.
+    pub fn describe(&self) -> String {
+        let kind = match self.symbolic.raw() {
+            faer::sparse::linalg::cholesky::SymbolicCholeskyRaw::Simplicial(_) => "simplicial",
+            faer::sparse::linalg::cholesky::SymbolicCholeskyRaw::Supernodal(_) => "supernodal",
+        };
+        format!("{kind} LDLT, {} factor entries", self.symbolic.len_val())
+    }
+
     /// The pattern.
     pub fn pattern(&self) -> &SymPattern {
         &self.pattern

@@ -21,10 +21,13 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::math::DVec3;
+use crate::math::{DVec2, DVec3};
 use crate::nurbs::{basis_funs, clamped_uniform_knots, ders_basis_funs, find_span};
 
+use super::budget::Budget;
 use super::energy::gauss_on;
+use super::jet::{Jet, VJet};
+use super::polygon::NgonDomain;
 use super::solver::{FixedSolver, SymPattern};
 use super::StylingError;
 
@@ -103,6 +106,9 @@ pub struct SurfaceSystem {
     pub fixed: Vec<bool>,
     /// The solver (symbolic analysis done once).
     pub solver: FixedSolver,
+    /// The polygon of an n-sided patch (`None`: the unit square, whose
+    /// boundary control points are fixed).
+    domain: Option<NgonDomain>,
 }
 
 /// The pattern of an `n_u × n_v` bicubic surface (49 neighbours).
@@ -198,7 +204,141 @@ impl SurfaceSystem {
             g,
             fixed,
             solver,
+            domain: None,
         })
+    }
+
+    /// The energy of the weighted displacement `w(p) Σ N_i(x) N_j(y) d_ij`
+    /// of an n-sided patch (`n × n` coefficients over the unit square
+    /// around `domain`), integrated over the polygon, with the base surface
+    /// `base` (value and derivatives at a domain point). Coefficients whose
+    /// Greville point lies outside the polygon are fixed (at zero).
+    pub fn on_ngon(
+        n: usize,
+        domain: &NgonDomain,
+        w: &SurfaceWeights,
+        base: &dyn Fn(DVec2) -> VJet,
+    ) -> Result<Self, StylingError> {
+        if !(4..=4096).contains(&n) {
+            return Err(StylingError::BadParameter(
+                "a bicubic surface needs 4..=4096 control points per side",
+            ));
+        }
+        w.validate()?;
+        let pattern = surface_pattern(n, n);
+        let mut a = vec![0.0; pattern.nnz()];
+        let count = n * n;
+        let mut g = vec![0.0; 3 * count];
+        let knots = clamped_uniform_knots(n, 3);
+        let spans: Vec<(f64, f64)> = knots
+            .windows(2)
+            .filter(|s| s[1] > s[0])
+            .map(|s| (s[0], s[1]))
+            .collect();
+        let mut slots = vec![0usize; 16 * 16];
+        for &(x0, x1) in &spans {
+            for &(y0, y1) in &spans {
+                let quad = domain.cell_quadrature(x0, x1, y0, y1);
+                if quad.is_empty() {
+                    continue;
+                }
+                let mid = DVec2::new(0.5 * (x0 + x1), 0.5 * (y0 + y1));
+                let (fu, _) = basis1(n, mid.x);
+                let (fv, _) = basis1(n, mid.y);
+                let idx = |l: usize| (fu + l / 4) * n + fv + l % 4;
+                for r in 0..16 {
+                    for c in 0..=r {
+                        slots[r * 16 + c] = pattern.slot(idx(r), idx(c)).unwrap_or(usize::MAX);
+                    }
+                }
+                for (p, wt) in quad {
+                    let (_, du) = basis1_in(n, p.x, fu);
+                    let (_, dv) = basis1_in(n, p.y, fv);
+                    let wj = NgonDomain::weight(&domain.dists(p));
+                    let phi: Vec<Jet> = (0..16)
+                        .map(|l| {
+                            let (x, y) = (l / 4, l % 4);
+                            let b = Jet {
+                                v: du[0][x] * dv[0][y],
+                                x: du[1][x] * dv[0][y],
+                                y: du[0][x] * dv[1][y],
+                                xx: du[2][x] * dv[0][y],
+                                xy: du[1][x] * dv[1][y],
+                                yy: du[0][x] * dv[2][y],
+                            };
+                            b * wj
+                        })
+                        .collect();
+                    for r in 0..16 {
+                        for c in 0..=r {
+                            let (pr, pc) = (phi[r], phi[c]);
+                            let val = w.wb * (pr.xx * pc.xx + 2.0 * pr.xy * pc.xy + pr.yy * pc.yy)
+                                + w.ws * (pr.x * pc.x + pr.y * pc.y);
+                            let s = slots[r * 16 + c];
+                            if s != usize::MAX {
+                                a[s] += wt * val;
+                            }
+                        }
+                    }
+                    let b = base(p);
+                    for (l, ph) in phi.iter().enumerate() {
+                        let bend = b.xx * ph.xx + b.xy * (2.0 * ph.xy) + b.yy * ph.yy;
+                        let stretch = b.x * ph.x + b.y * ph.y;
+                        let val = (bend * w.wb + stretch * w.ws) * wt;
+                        let i = idx(l);
+                        g[i] += val.x;
+                        g[count + i] += val.y;
+                        g[2 * count + i] += val.z;
+                    }
+                }
+            }
+        }
+        let greville = |i: usize| (knots[i + 1] + knots[i + 2] + knots[i + 3]) / 3.0;
+        let fixed: Vec<bool> = (0..count)
+            .map(|l| !domain.contains(DVec2::new(greville(l / n), greville(l % n)), -1e-9))
+            .collect();
+        if a.iter().chain(&g).any(|v| !v.is_finite()) {
+            return Err(StylingError::NonFinite("n-sided patch energy"));
+        }
+        let solver = FixedSolver::new(pattern)?;
+        Ok(Self {
+            n_u: n,
+            n_v: n,
+            a,
+            g,
+            fixed,
+            solver,
+            domain: Some(domain.clone()),
+        })
+    }
+
+    /// The displacement basis at `(u, v)`: `(unknown, value)` pairs.
+    pub fn point_row(&self, u: f64, v: f64) -> Result<Vec<(usize, f64)>, StylingError> {
+        let (fu, bu) = point_basis(self.n_u, u);
+        let (fv, bv) = point_basis(self.n_v, v);
+        let scale = match &self.domain {
+            None => 1.0,
+            Some(dom) => {
+                let p = DVec2::new(u, v);
+                if !dom.contains(p, 0.0) {
+                    return Err(StylingError::BadParameter(
+                        "(u0, v0) lies outside the n-sided patch's domain (the regular n-gon inscribed in the unit square)",
+                    ));
+                }
+                NgonDomain::weight(&dom.dists(p)).v
+            }
+        };
+        let mut idx = Vec::with_capacity(16);
+        for x in 0..4 {
+            for y in 0..4 {
+                let b = bu[x] * bv[y];
+                idx.push((
+                    (fu + x) * self.n_v + fv + y,
+                    if self.domain.is_some() { b * scale } else { b },
+                ));
+            }
+        }
+        Ok(idx)
     }
 
     /// Column-major (3 columns) unknowns from control points.
@@ -249,6 +389,7 @@ impl SurfaceSystem {
         frames: usize,
         wq_max: f64,
     ) -> Result<(Vec<[f64; 3]>, f64), StylingError> {
+        Budget::default().check_tool_work("path", frames, self.n_u * self.n_v)?;
         let a = self.a.clone();
         let fixed = self.fixed.clone();
         self.solver.factor(&a, &fixed)?;
@@ -281,16 +422,12 @@ impl SurfaceSystem {
         if !(wpp.is_finite() && wpp > 0.0) {
             return Err(StylingError::BadParameter("wpp must be > 0"));
         }
-        let (fu, bu) = point_basis(self.n_u, u0);
-        let (fv, bv) = point_basis(self.n_v, v0);
+        let budget = Budget::default();
+        budget.check_extent("path", targets)?;
+        budget.check_tool_work("path", targets.len(), self.n_u * self.n_v)?;
+        let idx = self.point_row(u0, v0)?;
         let mut a = self.a.clone();
         let n = self.n_u * self.n_v;
-        let mut idx = Vec::new();
-        for x in 0..4 {
-            for y in 0..4 {
-                idx.push(((fu + x) * self.n_v + fv + y, bu[x] * bv[y]));
-            }
-        }
         for &(r, nr) in &idx {
             for &(c, nc) in &idx {
                 if r >= c {
@@ -317,6 +454,15 @@ impl SurfaceSystem {
         }
         Ok(self.points(&x))
     }
+}
+
+/// [`basis1`] at `t` in the span whose first function is `first` (a
+/// quadrature point on a cell's edge stays in that cell's span).
+fn basis1_in(n: usize, t: f64, first: usize) -> (usize, Vec<Vec<f64>>) {
+    let knots = clamped_uniform_knots(n, 3);
+    let t = t.clamp(0.0, 1.0);
+    let span = first + 3;
+    (first, ders_basis_funs(span, t, 3, 2, &knots))
 }
 
 /// Basis values `(first, N[0..4])` of the clamped uniform cubic basis.

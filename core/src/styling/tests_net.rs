@@ -350,3 +350,187 @@ fn ops_replay_bit_identical_and_bad_input_changes_nothing() {
     assert_eq!(e, LogError::Op(OpError::Styling(StylingError::NoCurve(5))));
     assert_eq!(log.document().content_hash(), h2);
 }
+
+/// The network of the single curve-network object in `log`.
+fn net_of(log: &OpLog) -> CurveNetwork {
+    match &log.document().objects().next().unwrap().1.kind {
+        crate::doc::ObjectKind::CurveNetwork(n) => n.clone(),
+        _ => unreachable!(),
+    }
+}
+
+/// `surface_sharpen` as an op (issue 18 found no test of it): on a quad
+/// and on a pentagon it moves the patch away from its minimal-energy shape
+/// by exactly `w_q = min(f^frames, wq_max)`, raises the energy, keeps the
+/// boundary and the closed mesh, replays bit for bit, and refuses an `f`
+/// that would smooth.
+#[test]
+fn surface_sharpen_op_on_quads_and_pentagons() {
+    let mut log = OpLog::new();
+    log.apply(op(
+        r#"{"op":"curve_network_create","resolution":8,"surface_n":6}"#,
+    ))
+    .unwrap();
+    let net = super::tests_ngon::prism(5, 0.1, 0.12, 0.01, 8);
+    // Redraw the prism's curves through the ops (same samples).
+    for c in net.curves.iter().flatten() {
+        let pts: Vec<[f64; 3]> = c.polyline(13).iter().map(|p| p.to_array()).collect();
+        let s = serde_json::to_string(&pts).unwrap();
+        log.apply(op(&format!(
+            r#"{{"op":"curve_draw","id":1,"samples":{s},"fit":{{"mode":"interpolate"}},"resample":null,"snap_tol":0.001}}"#
+        )))
+        .unwrap();
+    }
+    log.apply(op(r#"{"op":"curve_fill_auto","id":1}"#)).unwrap();
+    let sides: Vec<usize> = net_of(&log)
+        .patches
+        .iter()
+        .map(|p| p.pieces.len())
+        .collect();
+    assert_eq!(sides, [4, 4, 4, 4, 4, 5, 5]);
+    let w = SurfaceWeights { wb: 1.0, ws: 0.0 };
+    for k in [0usize, 6] {
+        // Pull first, so that the patch is away from its minimal shape.
+        let c = net_of(&log).patch_point(k, 0.5, 0.5);
+        let target = (c + DVec3::new(0.01, 0.0, 0.03)).to_array();
+        log.apply(op(&format!(
+            r#"{{"op":"surface_pull","id":1,"patch":{k},"weights":{{"wb":1.0,"ws":0.0}},"wpp":1000.0,"u0":0.5,"v0":0.5,"path":[{}]}}"#,
+            serde_json::to_string(&target).unwrap()
+        )))
+        .unwrap();
+        let before = net_of(&log);
+        let mut sys = before.surface_system(k, &w).unwrap();
+        let d0 = before.patches[k].disp.clone();
+        let dmin = sys.minimal(&d0).unwrap();
+        let gap = |d: &[[f64; 3]]| {
+            d.iter()
+                .zip(&dmin)
+                .map(|(a, b)| DVec3::from_array(*a).distance(DVec3::from_array(*b)))
+                .fold(0.0, f64::max)
+        };
+        log.apply(op(&format!(
+            r#"{{"op":"surface_sharpen","id":1,"patch":{k},"weights":{{"wb":1.0,"ws":0.0}},"f":1.3,"wq_max":2.0,"path":[[0,0,0],[0,0,0],[0,0,0]]}}"#
+        )))
+        .unwrap();
+        let after = net_of(&log);
+        let d1 = &after.patches[k].disp;
+        assert!(
+            (gap(d1) - 2.0 * gap(&d0)).abs() < 1e-9,
+            "patch {k}: {} vs 2 × {}",
+            gap(d1),
+            gap(&d0)
+        );
+        assert!(
+            sys.energy(d1) > sys.energy(&d0),
+            "patch {k}: energy did not rise"
+        );
+        assert!(super::tests_ngon::boundary_gap(&after) < 1e-9);
+        let m = log.document().objects().next().unwrap().1.mesh.clone();
+        assert!(validate(&m, &Default::default()).is_closed_manifold());
+    }
+    let hash = log.document().content_hash();
+    let replayed = OpLog::replay(log.ops().to_vec(), log.len()).unwrap();
+    assert_eq!(replayed.document().content_hash(), hash);
+    // f <= 1 would smooth: refused, nothing changes.
+    let e = log
+        .apply(op(r#"{"op":"surface_sharpen","id":1,"patch":6,"weights":{"wb":1.0,"ws":0.0},"f":0.9,"wq_max":2.0,"path":[[0,0,0]]}"#))
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            LogError::Op(OpError::Styling(StylingError::BadParameter(_)))
+        ),
+        "{e:?}"
+    );
+    assert_eq!(log.document().content_hash(), hash);
+}
+
+/// `curve_attract` as an op: a uniform plane attraction (free ends,
+/// `w_p1 = 0`) moves every control point `weight / (weight + wp0)` of the
+/// way to the plane per frame and nothing along it (module doc of
+/// `attract`), replays bit for bit; the door refuses out-of-range weights
+/// far points naming the field; the tool refuses weights and frames past
+/// their declared ranges, a local attraction without a pointer and a
+/// self-attraction; and nothing changes on refusal.
+#[test]
+fn curve_attract_op_pulls_by_the_predicted_fraction() {
+    let mut log = OpLog::new();
+    log.apply(op(
+        r#"{"op":"curve_network_create","resolution":8,"surface_n":6}"#,
+    ))
+    .unwrap();
+    for z0 in [0.05, -0.04] {
+        let samples: Vec<[f64; 3]> = (0..=12)
+            .map(|i| {
+                let s = i as f64 / 12.0;
+                [
+                    0.3 * s,
+                    0.05 * (3.0 * s).sin() + z0,
+                    z0 + 0.04 * (5.0 * s).cos(),
+                ]
+            })
+            .collect();
+        let s = serde_json::to_string(&samples).unwrap();
+        log.apply(op(&format!(
+            r#"{{"op":"curve_draw","id":1,"samples":{s},"fit":{{"mode":"interpolate"}},"resample":null,"snap_tol":0.001}}"#
+        )))
+        .unwrap();
+    }
+    let before = net_of(&log).curve(0).unwrap().clone();
+    let other = net_of(&log).curve(1).unwrap().clone();
+    log.apply(op(r#"{"op":"curve_attract","id":1,"curve":0,"attractor":{"kind":"plane","a":[0,0,0.01],"normal":[0,0,2]},"params":{"weight":3.0,"wp0":1.0,"wp1":0.0,"alpha":0.0,"keep_ends":false},"at":null,"frames":2}"#))
+        .unwrap();
+    let after = net_of(&log).curve(0).unwrap().clone();
+    // Two frames of c = 3/4: the height above the plane shrinks to 1/16.
+    assert_eq!(after.ctrl.len(), before.ctrl.len());
+    for (p, q) in before.ctrl.iter().zip(&after.ctrl) {
+        assert!((q[0] - p[0]).abs() < 1e-12 && (q[1] - p[1]).abs() < 1e-12);
+        let want = 0.01 + (p[2] - 0.01) / 16.0;
+        assert!((q[2] - want).abs() < 1e-12, "{} vs {want}", q[2]);
+    }
+    assert_eq!(
+        net_of(&log).curve(1).unwrap(),
+        &other,
+        "the other curve moved"
+    );
+    let hash = log.document().content_hash();
+    let replayed = OpLog::replay(log.ops().to_vec(), log.len()).unwrap();
+    assert_eq!(replayed.document().content_hash(), hash);
+    let door = [
+        (
+            r#"{"op":"curve_attract","id":1,"curve":0,"attractor":{"kind":"point","p":[0,0,2e4]},"params":{"weight":1.0,"wp0":1.0,"wp1":0.0,"alpha":0.0,"keep_ends":false},"at":null,"frames":1}"#,
+            "attractor.p",
+        ),
+        (
+            r#"{"op":"curve_attract","id":1,"curve":0,"attractor":{"kind":"point","p":[0,0,0]},"params":{"weight":1.0,"wp0":1.0,"wp1":0.0,"alpha":50.0,"keep_ends":false},"at":[3e4,0,0],"frames":1}"#,
+            "at",
+        ),
+    ];
+    for (json, field) in door {
+        match log.apply(op(json)).unwrap_err() {
+            LogError::Op(OpError::BadField { field: f, .. }) => {
+                assert!(f.starts_with(field), "{f} vs {field}")
+            }
+            e => panic!("{field}: {e:?}"),
+        }
+        assert_eq!(log.document().content_hash(), hash);
+    }
+    // Past the declared ranges (weight <= 1e6, frames >= 1), a local
+    // attraction without a pointer, a curve attracting itself.
+    for json in [
+        r#"{"op":"curve_attract","id":1,"curve":0,"attractor":{"kind":"point","p":[0,0,0]},"params":{"weight":2e6,"wp0":1.0,"wp1":0.0,"alpha":0.0,"keep_ends":false},"at":null,"frames":1}"#,
+        r#"{"op":"curve_attract","id":1,"curve":0,"attractor":{"kind":"point","p":[0,0,0]},"params":{"weight":1.0,"wp0":1.0,"wp1":0.0,"alpha":0.0,"keep_ends":false},"at":null,"frames":0}"#,
+        r#"{"op":"curve_attract","id":1,"curve":0,"attractor":{"kind":"point","p":[0,0,0]},"params":{"weight":1.0,"wp0":1.0,"wp1":0.0,"alpha":50.0,"keep_ends":false},"at":null,"frames":1}"#,
+        r#"{"op":"curve_attract","id":1,"curve":0,"attractor":{"kind":"curve","curve":0},"params":{"weight":1.0,"wp0":1.0,"wp1":0.0,"alpha":0.0,"keep_ends":false},"at":null,"frames":1}"#,
+    ] {
+        let e = log.apply(op(json)).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                LogError::Op(OpError::Styling(StylingError::BadParameter(_)))
+            ),
+            "{e:?}"
+        );
+        assert_eq!(log.document().content_hash(), hash);
+    }
+}

@@ -1,96 +1,22 @@
-//! n-sided patches and property tests (issue 5): network invariants after
-//! random edits, the sharpener's safety, the smoother's monotonicity.
+//! Property tests (issue 5): network invariants after random edits (on
+//! nets with quads and pentagons), the sharpener's safety, the smoother's
+//! monotonicity.
 
 use std::sync::OnceLock;
 
 use proptest::prelude::*;
 
 use super::curve::{fit_curve, FitMode, SplineCurve};
-use super::network::{CurveNetwork, Piece};
-use super::tests_net::edge_samples;
+use super::network::CurveNetwork;
+use super::tests_ngon::{boundary_gap, prism, worst_seam_angle};
 use super::tools::{CurveSession, SharpenLimits, SmoothParams};
 use super::StylingError;
 use crate::math::DVec3;
 use crate::mesh::validate;
 
-fn add(net: &mut CurveNetwork, a: DVec3, b: DVec3, bow: DVec3) {
-    let s = edge_samples(a.to_array(), b.to_array(), bow.to_array());
-    let c = fit_curve(&s, FitMode::Interpolate, None).unwrap();
-    net.add_curve(c, 1e-3).unwrap();
-}
-
-/// A prism over a regular `n`-gon (circumradius `r`, height `h`), every
-/// edge bowed outwards: `2n` polygon edges and `n` verticals.
-fn prism(n: usize, r: f64, h: f64, resolution: u32) -> CurveNetwork {
-    let mut net = CurveNetwork::new(resolution, 6).unwrap();
-    let corner = |k: usize, z: f64| {
-        let a = std::f64::consts::TAU * k as f64 / n as f64;
-        DVec3::new(r * a.cos(), r * a.sin(), z)
-    };
-    for z in [0.0, h] {
-        for k in 0..n {
-            let (a, b) = (corner(k, z), corner(k + 1, z));
-            let out = ((a + b) * 0.5).with_z(0.0).normalize() * 0.006;
-            add(&mut net, a, b, out);
-        }
-    }
-    for k in 0..n {
-        let a = corner(k, 0.0);
-        add(&mut net, a, corner(k, h), a.with_z(0.0).normalize() * 0.006);
-    }
-    net
-}
-
-/// Piece `p` of `net` at `s ∈ [0, 1]` along its direction.
-fn on(net: &CurveNetwork, p: &Piece, s: f64) -> DVec3 {
-    let (ta, tb) = (
-        net.param(p.from, p.curve).unwrap(),
-        net.param(p.to, p.curve).unwrap(),
-    );
-    net.curve(p.curve).unwrap().point(ta + (tb - ta) * s)
-}
-
-/// Largest distance between any patch's boundary and its curves.
-fn boundary_gap(net: &CurveNetwork) -> f64 {
-    let mut worst: f64 = 0.0;
-    for (k, patch) in net.patches.iter().enumerate() {
-        let pc = &patch.pieces;
-        let n = pc.len();
-        for i in 0..=16 {
-            let s = i as f64 / 16.0;
-            if n > 4 {
-                for q in 0..n {
-                    let prev = (q + n - 1) % n;
-                    let a = net
-                        .ngon_point(k, q, s, 0.0)
-                        .distance(on(net, &pc[q], 0.5 * s));
-                    let b =
-                        net.ngon_point(k, q, 0.0, s)
-                            .distance(on(net, &pc[prev], 1.0 - 0.5 * s));
-                    worst = worst.max(a).max(b);
-                }
-                continue;
-            }
-            worst = worst.max(net.patch_point(k, s, 0.0).distance(on(net, &pc[0], s)));
-            worst = worst.max(net.patch_point(k, 1.0, s).distance(on(net, &pc[1], s)));
-            worst = worst.max(
-                net.patch_point(k, s, 1.0)
-                    .distance(on(net, &pc[2], 1.0 - s)),
-            );
-            if n == 4 {
-                worst = worst.max(
-                    net.patch_point(k, 0.0, s)
-                        .distance(on(net, &pc[3], 1.0 - s)),
-                );
-            }
-        }
-    }
-    worst
-}
-
 #[test]
 fn pentagonal_prism_fills_and_meshes_closed() {
-    let mut net = prism(5, 0.1, 0.12, 10);
+    let mut net = prism(5, 0.1, 0.12, 0.0, 10);
     assert_eq!(net.nodes.len(), 10);
     let filled = net.fill_all().unwrap();
     assert_eq!(filled.len(), 7, "5 quads and 2 pentagons");
@@ -111,46 +37,21 @@ fn pentagonal_prism_fills_and_meshes_closed() {
     assert!(v > straight && v < 1.25 * straight, "{v} vs {straight}");
     // A hexagonal and an octagonal prism too.
     for n in [6, 8] {
-        let mut net = prism(n, 0.1, 0.1, 8);
+        let mut net = prism(n, 0.1, 0.1, 0.0, 8);
         assert_eq!(net.fill_all().unwrap().len(), n + 2);
         let r = validate(&net.mesh(), &Default::default());
         assert!(r.is_closed_manifold(), "{n}: {}", r.problems());
     }
     // A cube's chordless hexagons are not filled: 6 faces only.
-    let mut cube = prism(4, 0.1, 0.14, 8);
+    let mut cube = prism(4, 0.1, 0.14, 0.0, 8);
     assert_eq!(cube.fill_all().unwrap().len(), 6);
-}
-
-#[test]
-fn ngon_bad_input_is_typed() {
-    let mut net = prism(5, 0.1, 0.12, 9);
-    let lp: Vec<Piece> = net.find_loops().into_iter().find(|l| l.len() == 5).unwrap();
-    assert_eq!(net.fill(&lp), Err(StylingError::OddResolution(9)));
-    let net = prism(9, 0.1, 0.12, 8);
-    assert!(net.find_loops().iter().all(|l| l.len() <= 8));
-    let nine: Vec<Piece> = (0..9)
-        .map(|k| net.pieces().into_iter().find(|p| p.curve == k).unwrap())
-        .collect();
-    assert_eq!(net.check_loop(&nine), Err(StylingError::LoopSize(9)));
-    // Surface tools refuse n-gons.
-    let mut net = prism(5, 0.1, 0.12, 8);
-    net.fill_all().unwrap();
-    let op = super::SurfacePull {
-        patch: super::PatchId(5),
-        weights: super::surface::SurfaceWeights { wb: 1.0, ws: 0.0 },
-        wpp: 10.0,
-        u0: 0.5,
-        v0: 0.5,
-        path: vec![[0.0, 0.0, 0.2]],
-    };
-    assert_eq!(op.apply_to(&mut net), Err(StylingError::NotQuad(5)));
 }
 
 fn base(pentagons: bool) -> &'static CurveNetwork {
     static NETS: OnceLock<[CurveNetwork; 2]> = OnceLock::new();
     let nets = NETS.get_or_init(|| {
         [4, 5].map(|n| {
-            let mut net = prism(n, 0.1, 0.12, 8);
+            let mut net = prism(n, 0.1, 0.12, 0.01, 8);
             net.fill_all().unwrap();
             net
         })
@@ -197,7 +98,7 @@ fn apply(net: &mut CurveNetwork, curve: usize, e: &Edit) -> Result<(), StylingEr
         Edit::Sharpen { s, frames } => {
             let q = c.point(a + (b - a) * s);
             let (p, lim) = (tool.sharpen, tool.sharpen_limits);
-            session.sharpen(&p, &lim, &vec![q; *frames]);
+            session.sharpen(&p, &lim, &vec![q; *frames])?;
         }
     }
     net.set_curve(curve, session.curve)
@@ -246,6 +147,12 @@ proptest! {
             let g = boundary_gap(&net);
             prop_assert!(g < 1e-9, "boundary gap {g}");
         }
+        for k in 0..net.patches.len() {
+            if net.patches[k].pieces.len() > 4 {
+                let a = worst_seam_angle(&net, k, 20);
+                prop_assert!(a < 1.0, "patch {k} creased {a} degrees");
+            }
+        }
         let r = validate(&net.mesh(), &Default::default());
         prop_assert!(r.is_closed_manifold(), "{}", r.problems());
     }
@@ -271,7 +178,7 @@ proptest! {
         let path: Vec<DVec3> = at.iter().map(|s| curve.point(a + (b - a) * s)).collect();
         let e0 = curve.bend_energy();
         let mut s = CurveSession::new(curve.clone()).unwrap();
-        let (frames, _) = s.sharpen(&p, &lim, &path);
+        let (frames, _) = s.sharpen(&p, &lim, &path).unwrap();
         prop_assert!(frames <= path.len());
         prop_assert!(s.curve.ctrl.iter().flatten().all(|v| v.is_finite()));
         let e = s.curve.bend_energy();

@@ -27,6 +27,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::math::DVec3;
 
+use super::budget::Budget;
 use super::curve::{SplineCurve, DEGREE};
 use super::energy::{curve_pattern, flatten, unflatten, CurveSystem, Weight};
 use super::solver::FixedSolver;
@@ -183,16 +184,28 @@ impl CurveSession {
         Ok(Self { curve, solver })
     }
 
+    /// Refuses a pointer path whose frames would exceed the default
+    /// budget's tool work, or that reaches outside its extent.
+    pub fn check_work(&self, path: &[DVec3]) -> Result<(), StylingError> {
+        let b = Budget::default();
+        b.check_extent("path", path)?;
+        b.check_tool_work("path", path.len(), 3 * self.curve.n())
+    }
+
     /// Numeric factorizations done so far.
     pub fn refactor_count(&self) -> usize {
         self.solver.refactor_count
     }
 
-    fn system(&self) -> CurveSystem {
+    pub(crate) fn system(&self) -> CurveSystem {
         CurveSystem::new(&self.curve, self.solver.pattern().clone())
     }
 
-    fn solve(&mut self, sys: &CurveSystem, fixed: &[bool]) -> Result<Vec<[f64; 3]>, StylingError> {
+    pub(crate) fn solve(
+        &mut self,
+        sys: &CurveSystem,
+        fixed: &[bool],
+    ) -> Result<Vec<[f64; 3]>, StylingError> {
         self.solver.factor(&sys.values, fixed)?;
         let x = self.solver.solve(&sys.rhs, &flatten(&self.curve.ctrl), 1)?;
         Ok(unflatten(&x))
@@ -231,6 +244,7 @@ impl CurveSession {
 
     /// Smoother over a pointer path (one frame per sample, §3.1).
     pub fn smooth(&mut self, p: &SmoothParams, path: &[DVec3]) -> Result<(), StylingError> {
+        self.check_work(path)?;
         for q in path {
             let (t0, _) = self.curve.closest(*q);
             self.curve.ctrl = self.smooth_step(p, t0, 1.0)?;
@@ -240,8 +254,19 @@ impl CurveSession {
 
     /// Sharpener over a pointer path (§3.2): negative weights, stopping
     /// before a frame that moves too far, grows the bend energy past the
-    /// limit, or fails. Returns the frames applied and why it stopped.
+    /// limit, or fails. Returns the frames applied and why it stopped; a
+    /// path over the budget is an error before any frame runs.
     pub fn sharpen(
+        &mut self,
+        p: &SmoothParams,
+        limits: &SharpenLimits,
+        path: &[DVec3],
+    ) -> Result<(usize, Option<StopReason>), StylingError> {
+        self.check_work(path)?;
+        Ok(self.sharpen_frames(p, limits, path))
+    }
+
+    fn sharpen_frames(
         &mut self,
         p: &SmoothParams,
         limits: &SharpenLimits,
@@ -285,6 +310,7 @@ impl CurveSession {
     /// sample in turn; the reference is the curve at activation, and the
     /// matrix is the same every frame (one numeric factorization).
     pub fn pull(&mut self, p: &PullParams, t0: f64, path: &[DVec3]) -> Result<(), StylingError> {
+        self.check_work(path)?;
         let reference = self.curve.clone();
         let n = self.curve.n();
         let mut fixed = vec![false; 3 * n];

@@ -8,9 +8,12 @@
 //! from the GLSL in `xr_host/shaders/` and committed.
 
 mod context;
+pub mod hud;
 mod offscreen;
 mod renderer;
 mod resource;
+mod scene;
+pub mod xr_raw;
 
 pub use context::{GpuContext, VK_API_VERSION};
 pub use offscreen::{OffscreenTarget, RgbaImage, OFFSCREEN_FORMAT};
@@ -19,6 +22,7 @@ pub use renderer::{
 };
 pub mod xr_bridge;
 pub use resource::{array_view, HostBuffer, LayeredImage};
+pub use scene::Scene;
 
 use ash::vk;
 

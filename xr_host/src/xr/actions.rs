@@ -1,33 +1,35 @@
 //! Creating the action set from the core's binding data
 //! ([`shapewright::interact::ActionMap::default_map`], the single source
 //! of bindings for both hosts), per-session spaces and hand trackers, and
-//! reading one sanitized [`InputFrame`].
+//! reading one frame into the core's [`InputFrame`].
+//!
+//! A profile's bindings are suggested only when the instance may use it
+//! (its extension is enabled, or the instance's OpenXR version made it
+//! core): a runtime rejects the whole suggestion otherwise. Haptics go out
+//! through the map's `haptic` action.
 
 use openxr as xr;
-use shapewright::interact::{ActionMap, ActionType};
+use shapewright::interact::{
+    profile_named, ActionMap, ActionType, ControllerButtons, ControllerSample, HandSample,
+    HandSource, InputFrame, JointSample, Pose, JOINT_COUNT,
+};
+use shapewright::math::{DQuat, DVec3};
 
-use super::input::{sanitize_axis, sanitize_pose, sanitize_value, HandInput, InputFrame, Pose};
+use super::input::Haptic;
 use super::lifecycle::Running;
-
-/// The instance extension an interaction profile needs, if any (the
-/// profiles of the core's map are core OpenXR 1.0 except bare hands).
-pub fn profile_extension(profile: &str) -> Option<&'static str> {
-    (profile == "/interaction_profiles/ext/hand_interaction_ext")
-        .then_some("XR_EXT_hand_interaction")
-}
+use super::spaces::{self, BaseKind, BasePlan};
+use crate::gfx::xr_raw::{self, DataSource};
 
 /// One created action, typed.
 enum AnyAction {
     Pose(xr::Action<xr::Posef>),
     Float(xr::Action<f32>),
     Bool(xr::Action<bool>),
+    Haptic(xr::Action<xr::Haptic>),
 }
 
-/// A button action's value this frame.
-enum Value {
-    Float(f32),
-    Bool(bool),
-}
+/// The user paths of the two hands.
+pub const HAND_PATHS: [&str; 2] = ["/user/hand/left", "/user/hand/right"];
 
 /// The instance-level actions (created once per instance).
 pub struct Actions {
@@ -39,26 +41,29 @@ pub struct Actions {
 }
 
 impl Actions {
-    /// Creates the set and one action per item of the core's default map
-    /// (vibration items are left out: the host sends no haptics), and
-    /// suggests the map's bindings for every profile whose extension (if
-    /// any) is enabled. A profile the runtime rejects
+    /// Creates the set and one action per item of the core's default map,
+    /// and suggests the map's bindings for every profile this instance may
+    /// use (`api` version, `enabled_exts`). A profile the runtime rejects
     /// (XR_ERROR_PATH_UNSUPPORTED) is skipped; other errors fail.
-    pub fn new(instance: &xr::Instance, enabled_exts: &[String]) -> xr::Result<Self> {
-        Self::from_map(instance, enabled_exts, &ActionMap::default_map())
+    pub fn new(
+        instance: &xr::Instance,
+        api: [u16; 2],
+        enabled_exts: &[String],
+    ) -> xr::Result<Self> {
+        Self::from_map(instance, api, enabled_exts, &ActionMap::default_map())
     }
 
     /// As [`Actions::new`] with another map.
     pub fn from_map(
         instance: &xr::Instance,
+        api: [u16; 2],
         enabled_exts: &[String],
         map: &ActionMap,
     ) -> xr::Result<Self> {
         let set = instance.create_action_set("shapewright", "Shapewright", 0)?;
-        let user = ["/user/hand/left", "/user/hand/right"];
         let hands = [
-            instance.string_to_path(user[0])?,
-            instance.string_to_path(user[1])?,
+            instance.string_to_path(HAND_PATHS[0])?,
+            instance.string_to_path(HAND_PATHS[1])?,
         ];
         let mut actions = Vec::new();
         for item in &map.items {
@@ -67,7 +72,7 @@ impl Actions {
                 ActionType::Pose => AnyAction::Pose(set.create_action(n, &l, &hands)?),
                 ActionType::Float => AnyAction::Float(set.create_action(n, &l, &hands)?),
                 ActionType::Button => AnyAction::Bool(set.create_action(n, &l, &hands)?),
-                ActionType::Vibration => continue,
+                ActionType::Vibration => AnyAction::Haptic(set.create_action(n, &l, &hands)?),
             };
             actions.push((item.name.clone(), a));
         }
@@ -79,10 +84,27 @@ impl Actions {
         }
         let mut accepted = Vec::new();
         for profile in profiles {
-            if let Some(ext) = profile_extension(profile) {
-                if !enabled_exts.iter().any(|e| e == ext) {
-                    continue;
+            // The map's own gate first (it travels with the JSON), then the
+            // core's table for maps that predate it.
+            let gate = map
+                .items
+                .iter()
+                .flat_map(|i| &i.bindings)
+                .find(|b| b.profile == profile);
+            let usable = match (gate, profile_named(profile)) {
+                (_, Some(p)) => p.available(api, enabled_exts),
+                (Some(b), None) => {
+                    let by_ext = b
+                        .extension
+                        .as_ref()
+                        .is_some_and(|e| enabled_exts.contains(e));
+                    let by_core = b.core_since.is_some_and(|v| api >= v);
+                    (b.extension.is_none() && b.core_since.is_none()) || by_ext || by_core
                 }
+                (None, None) => true,
+            };
+            if !usable {
+                continue;
             }
             let mut rows = Vec::new();
             for (item, action) in map
@@ -93,7 +115,7 @@ impl Actions {
                 let Some(b) = item.bindings.iter().find(|b| b.profile == profile) else {
                     continue;
                 };
-                for (u, comp) in user.iter().zip(&b.component_paths) {
+                for (u, comp) in HAND_PATHS.iter().zip(&b.component_paths) {
                     if let Some(comp) = comp {
                         rows.push((action, instance.string_to_path(&format!("{u}{comp}"))?));
                     }
@@ -105,6 +127,7 @@ impl Actions {
                     AnyAction::Pose(a) => xr::Binding::new(a, *path),
                     AnyAction::Float(a) => xr::Binding::new(a, *path),
                     AnyAction::Bool(a) => xr::Binding::new(a, *path),
+                    AnyAction::Haptic(a) => xr::Binding::new(a, *path),
                 })
                 .collect();
             let path = instance.string_to_path(profile)?;
@@ -132,38 +155,105 @@ impl Actions {
             _ => None,
         }
     }
+
+    /// Sends `pulse` through the `haptic` action (nothing if the map has
+    /// none or nothing is bound to it).
+    pub fn vibrate<G: xr::Graphics>(
+        &self,
+        session: &xr::Session<G>,
+        pulse: &Haptic,
+    ) -> xr::Result<()> {
+        let Some(AnyAction::Haptic(a)) = self.get("haptic") else {
+            return Ok(());
+        };
+        let Some(&hand) = self.hands.get(pulse.hand) else {
+            return Ok(());
+        };
+        let event = xr::HapticVibration::new()
+            .amplitude(pulse.amplitude.clamp(0.0, 1.0))
+            .duration(xr::Duration::from_nanos(
+                i64::from(pulse.millis) * 1_000_000,
+            ))
+            // XR_FREQUENCY_UNSPECIFIED: the runtime picks.
+            .frequency(0.0);
+        a.apply_feedback(session, hand, &event)
+    }
+
+    /// The profile bound to each hand (after a sync), as path strings.
+    pub fn bound_profiles<G: xr::Graphics>(
+        &self,
+        session: &xr::Session<G>,
+    ) -> xr::Result<[Option<String>; 2]> {
+        let mut out = [None, None];
+        for (o, &hand) in out.iter_mut().zip(&self.hands) {
+            let p = session.current_interaction_profile(hand)?;
+            if p != xr::Path::NULL {
+                *o = Some(session.instance().path_to_string(p)?);
+            }
+        }
+        Ok(out)
+    }
 }
 
 /// Per-session objects: spaces and (optional) hand trackers. Dropped
 /// before their session.
 pub struct SessionInput {
-    base: xr::Space,
+    base: Option<xr::Space>,
+    measuring: Option<(xr::Space, xr::Space)>,
+    /// The base space kind and the floor offset (known once `base` is).
+    pub base_kind: Option<(BaseKind, f32)>,
+    /// Reference spaces the session offered.
+    pub offered_spaces: Vec<String>,
     view: xr::Space,
     grip: [Option<xr::Space>; 2],
     aim: [Option<xr::Space>; 2],
     trackers: Option<[xr::HandTracker; 2]>,
+    data_source: bool,
 }
 
-/// Counts of what was dropped while reading input.
+/// What one read saw besides the frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct DropCounts {
-    /// Poses (head, grip, aim) dropped for VALID bits unset or bad numbers.
-    pub poses: u64,
-    /// Hand joints dropped.
-    pub joints: u64,
+pub struct ReadInfo {
+    /// Hands the runtime reported active, and their data source.
+    pub hands: [Option<HandSource>; 2],
+}
+
+fn to_pose(p: &xr::Posef) -> Pose {
+    let (o, q) = (p.position, p.orientation);
+    Pose::new(
+        DVec3::new(f64::from(o.x), f64::from(o.y), f64::from(o.z)),
+        DQuat::from_xyzw(
+            f64::from(q.x),
+            f64::from(q.y),
+            f64::from(q.z),
+            f64::from(q.w),
+        ),
+    )
+}
+
+fn valid(flags: xr::SpaceLocationFlags) -> bool {
+    flags.contains(
+        xr::SpaceLocationFlags::POSITION_VALID | xr::SpaceLocationFlags::ORIENTATION_VALID,
+    )
 }
 
 impl SessionInput {
-    /// Attaches the action set and creates spaces (LOCAL base, VIEW head)
-    /// and, if `hand_tracking`, one hand tracker per hand.
+    /// Attaches the action set, plans the base space (see
+    /// [`super::spaces`]), creates the VIEW space, the controllers' pose
+    /// spaces and, if `hand_tracking` (the system can track hands), one
+    /// hand tracker per hand.
     pub fn new<G: xr::Graphics>(
         session: &xr::Session<G>,
         actions: &Actions,
-        hand_tracking: bool,
+        caps: &super::InstanceCaps,
     ) -> xr::Result<Self> {
         session.attach_action_sets(&[&actions.set])?;
         let id = xr::Posef::IDENTITY;
-        let base = session.create_reference_space(xr::ReferenceSpaceType::LOCAL, id)?;
+        let (plan, offered) = spaces::plan(session, caps.local_floor)?;
+        let (base, measuring, base_kind) = match plan {
+            BasePlan::Ready(s, kind, h) => (Some(s), None, Some((kind, h))),
+            BasePlan::Measure { local, stage } => (None, Some((local, stage)), None),
+        };
         let view = session.create_reference_space(xr::ReferenceSpaceType::VIEW, id)?;
         let space = |name: &str, h: usize| match actions.pose(name) {
             Some(a) => a.create_space(session, actions.hands[h], id).map(Some),
@@ -171,152 +261,182 @@ impl SessionInput {
         };
         let grip = [space("grip_pose", 0)?, space("grip_pose", 1)?];
         let aim = [space("aim_pose", 0)?, space("aim_pose", 1)?];
-        let trackers = if hand_tracking {
+        let trackers = if caps.hand_tracking {
             Some([
-                session.create_hand_tracker(xr::Hand::LEFT)?,
-                session.create_hand_tracker(xr::Hand::RIGHT)?,
+                xr_raw::create_hand_tracker(session, xr::Hand::LEFT, caps.hand_data_source)?,
+                xr_raw::create_hand_tracker(session, xr::Hand::RIGHT, caps.hand_data_source)?,
             ])
         } else {
             None
         };
         Ok(Self {
             base,
+            measuring,
+            base_kind,
+            offered_spaces: offered,
             view,
             grip,
             aim,
             trackers,
+            data_source: caps.hand_data_source,
         })
     }
 
-    /// The base (LOCAL) space.
-    pub fn base(&self) -> &xr::Space {
-        &self.base
+    /// The base space, once established (see [`SessionInput::establish`]).
+    pub fn base(&self) -> Option<&xr::Space> {
+        self.base.as_ref()
     }
 
-    /// Syncs actions and reads one frame at `time`. Only a running session
-    /// can be read (the `Running` witness).
+    /// The VIEW space.
+    pub fn view(&self) -> &xr::Space {
+        &self.view
+    }
+
+    /// Whether hand trackers exist.
+    pub fn tracks_hands(&self) -> bool {
+        self.trackers.is_some()
+    }
+
+    /// Makes sure the base space exists (measuring LOCAL in STAGE when
+    /// that is the plan). Returns whether it does.
+    pub fn establish<G: xr::Graphics>(
+        &mut self,
+        session: &xr::Session<G>,
+        time: xr::Time,
+    ) -> xr::Result<bool> {
+        if self.base.is_some() {
+            return Ok(true);
+        }
+        let Some((local, stage)) = &self.measuring else {
+            return Ok(false);
+        };
+        if let Some((base, h)) = spaces::measure(session, local, stage, time)? {
+            self.base = Some(base);
+            self.base_kind = Some((BaseKind::LocalMeasured, h));
+            self.measuring = None;
+        }
+        Ok(self.base.is_some())
+    }
+
+    /// Syncs actions and reads one frame at `time` (seconds in the frame:
+    /// `time_s`). Only a running session can be read (the `Running`
+    /// witness); the base space must be established.
     pub fn read<G: xr::Graphics>(
         &self,
         running: &Running<xr::Session<G>>,
         actions: &Actions,
         time: xr::Time,
-        index: u64,
-        drops: &mut DropCounts,
-    ) -> xr::Result<InputFrame> {
+        time_s: f64,
+    ) -> xr::Result<(InputFrame, ReadInfo)> {
         let session = running.session();
         session.sync_actions(&[xr::ActiveActionSet::new(&actions.set)])?;
+        let Some(base) = &self.base else {
+            return Err(xr::sys::Result::ERROR_CALL_ORDER_INVALID);
+        };
         let mut frame = InputFrame {
-            index,
-            time_ns: time.as_nanos(),
+            time: time_s,
             ..Default::default()
         };
-        frame.head = locate(&self.view, &self.base, time, drops)?;
+        let mut info = ReadInfo::default();
+        let head = self.view.locate(base, time)?;
+        frame.head = valid(head.location_flags).then(|| to_pose(&head.pose));
         for h in 0..2 {
             let path = actions.hands[h];
-            let hand = &mut frame.hands[h];
-            for (space, pose_name, out) in [
-                (&self.grip[h], "grip_pose", &mut hand.grip),
-                (&self.aim[h], "aim_pose", &mut hand.aim),
+            let mut c = ControllerSample {
+                grip: Pose::IDENTITY,
+                grip_valid: false,
+                aim: Pose::IDENTITY,
+                aim_valid: false,
+                buttons: ControllerButtons::default(),
+                buttons_valid: false,
+            };
+            let mut present = false;
+            for (space, pose_name, is_grip) in [
+                (&self.grip[h], "grip_pose", true),
+                (&self.aim[h], "aim_pose", false),
             ] {
-                if let (Some(space), Some(action)) = (space, actions.pose(pose_name)) {
-                    if action.is_active(session, path)? {
-                        *out = locate(space, &self.base, time, drops)?;
+                let (Some(space), Some(action)) = (space, actions.pose(pose_name)) else {
+                    continue;
+                };
+                if !action.is_active(session, path)? {
+                    continue;
+                }
+                present = true;
+                let loc = space.locate(base, time)?;
+                if valid(loc.location_flags) {
+                    let p = to_pose(&loc.pose);
+                    if is_grip {
+                        (c.grip, c.grip_valid) = (p, true);
+                    } else {
+                        (c.aim, c.aim_valid) = (p, true);
                     }
                 }
             }
             for (name, action) in &actions.actions {
                 // Inactive actions (nothing bound on this hand) keep defaults.
-                let value = match action {
-                    AnyAction::Pose(_) => continue,
+                let b = &mut c.buttons;
+                match action {
                     AnyAction::Float(a) => {
                         let st = a.state(session, path)?;
-                        st.is_active.then_some(Value::Float(st.current_state))
+                        if !st.is_active {
+                            continue;
+                        }
+                        let v = f64::from(st.current_state);
+                        match name.as_str() {
+                            "select" => b.select = v,
+                            "grab" => b.grab = v,
+                            "stick_x" => b.stick[0] = v,
+                            "stick_y" => b.stick[1] = v,
+                            _ => continue,
+                        }
                     }
                     AnyAction::Bool(a) => {
                         let st = a.state(session, path)?;
-                        st.is_active.then_some(Value::Bool(st.current_state))
+                        if !st.is_active {
+                            continue;
+                        }
+                        match name.as_str() {
+                            "primary" => b.primary = st.current_state,
+                            "secondary" => b.secondary = st.current_state,
+                            "menu" => b.menu = st.current_state,
+                            _ => continue,
+                        }
                     }
-                };
-                let Some(value) = value else { continue };
-                hand.active = true;
-                match (name.as_str(), value) {
-                    ("select", Value::Float(v)) => hand.select = sanitize_value(v),
-                    ("grab", Value::Float(v)) => hand.squeeze = sanitize_value(v),
-                    ("stick_x", Value::Float(v)) => hand.stick[0] = sanitize_axis(v),
-                    ("stick_y", Value::Float(v)) => hand.stick[1] = sanitize_axis(v),
-                    ("primary", Value::Bool(b)) => hand.primary = b,
-                    ("secondary", Value::Bool(b)) => hand.secondary = b,
-                    ("menu", Value::Bool(b)) => hand.menu = b,
-                    _ => {}
+                    AnyAction::Pose(_) | AnyAction::Haptic(_) => continue,
                 }
+                c.buttons_valid = true;
+                present = true;
+            }
+            if present {
+                frame.controllers[h] = Some(c);
             }
             if let Some(trackers) = &self.trackers {
-                read_joints(&self.base, &trackers[h], time, hand, drops)?;
+                let j = xr_raw::locate_hand_joints(base, &trackers[h], time, self.data_source)?;
+                if j.active {
+                    let source = match j.source {
+                        Some(DataSource::Unobstructed) => HandSource::Optical,
+                        Some(DataSource::Controller) => HandSource::Controller,
+                        _ => HandSource::Unknown,
+                    };
+                    info.hands[h] = Some(source);
+                    let mut joints = [JointSample::default(); JOINT_COUNT];
+                    for (o, l) in joints.iter_mut().zip(&j.joints) {
+                        if valid(l.location_flags) {
+                            *o = JointSample {
+                                pose: to_pose(&l.pose),
+                                radius: f64::from(l.radius),
+                                valid: true,
+                            };
+                        }
+                    }
+                    frame.hands[h] = Some(HandSample {
+                        active: true,
+                        joints,
+                        source,
+                    });
+                }
             }
         }
-        Ok(frame)
+        Ok((frame, info))
     }
-}
-
-fn locate(
-    space: &xr::Space,
-    base: &xr::Space,
-    time: xr::Time,
-    drops: &mut DropCounts,
-) -> xr::Result<Option<Pose>> {
-    let loc = space.locate(base, time)?;
-    let f = loc.location_flags;
-    let pose = sanitize_pose(
-        f.contains(xr::SpaceLocationFlags::POSITION_VALID),
-        f.contains(xr::SpaceLocationFlags::ORIENTATION_VALID),
-        [
-            loc.pose.position.x,
-            loc.pose.position.y,
-            loc.pose.position.z,
-        ],
-        [
-            loc.pose.orientation.x,
-            loc.pose.orientation.y,
-            loc.pose.orientation.z,
-            loc.pose.orientation.w,
-        ],
-    );
-    if pose.is_none() {
-        drops.poses += 1;
-    }
-    Ok(pose)
-}
-
-fn read_joints(
-    base: &xr::Space,
-    tracker: &xr::HandTracker,
-    time: xr::Time,
-    hand: &mut HandInput,
-    drops: &mut DropCounts,
-) -> xr::Result<()> {
-    let Some(joints) = base.locate_hand_joints(tracker, time)? else {
-        return Ok(());
-    };
-    hand.joints = joints
-        .iter()
-        .map(|j| {
-            let f = j.location_flags;
-            let p = sanitize_pose(
-                f.contains(xr::SpaceLocationFlags::POSITION_VALID),
-                f.contains(xr::SpaceLocationFlags::ORIENTATION_VALID),
-                [j.pose.position.x, j.pose.position.y, j.pose.position.z],
-                [
-                    j.pose.orientation.x,
-                    j.pose.orientation.y,
-                    j.pose.orientation.z,
-                    j.pose.orientation.w,
-                ],
-            );
-            if p.is_none() {
-                drops.joints += 1;
-            }
-            p
-        })
-        .collect();
-    Ok(())
 }

@@ -1,5 +1,5 @@
 //! Draining the event queue and applying the spec's lifecycle reactions;
-//! shared by the headless and headset loops.
+//! used by the one frame loop ([`super::frame_loop`]).
 
 use openxr as xr;
 
@@ -35,6 +35,9 @@ pub struct Lifecycle<S> {
     pub state: xr::SessionState,
     /// Whether the host called xrRequestExitSession.
     pub exit_requested: bool,
+    /// An XrEventDataInteractionProfileChanged arrived (re-query the
+    /// bound profiles).
+    pub profile_changed: bool,
 }
 
 impl<S: Beginnable> Lifecycle<S> {
@@ -44,6 +47,7 @@ impl<S: Beginnable> Lifecycle<S> {
             phase: Some(Phase::Idle(super::lifecycle::Idle::new(session))),
             state: xr::SessionState::IDLE,
             exit_requested: false,
+            profile_changed: false,
         }
     }
 
@@ -93,11 +97,15 @@ impl<S: Beginnable> Lifecycle<S> {
                             other => self.phase = other,
                         },
                         Reaction::Exit => {
-                            report.exit_reason = if self.exit_requested {
-                                "exit requested by the host".into()
-                            } else {
-                                "exit requested by the runtime".into()
-                            };
+                            report.exit_reason =
+                                match (self.exit_requested, report.exit_reason.is_empty()) {
+                                    (true, true) => "exit requested by the host".into(),
+                                    (true, false) => format!(
+                                        "exit requested by the host: {}",
+                                        report.exit_reason
+                                    ),
+                                    (false, _) => "exit requested by the runtime".into(),
+                                };
                             return Ok(Some(SessionEnd::Exit));
                         }
                         Reaction::SessionLost => return Ok(Some(SessionEnd::Lost)),
@@ -105,6 +113,7 @@ impl<S: Beginnable> Lifecycle<S> {
                     }
                 }
                 xr::Event::InstanceLossPending(_) => return Ok(Some(SessionEnd::InstanceLost)),
+                xr::Event::InteractionProfileChanged(_) => self.profile_changed = true,
                 xr::Event::EventsLost(e) => report.events_lost += u64::from(e.lost_event_count()),
                 _ => {}
             }

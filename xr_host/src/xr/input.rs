@@ -1,66 +1,20 @@
-//! Sanitized input frames and the [`FrameSink`] that receives them.
+//! What the frame loop hands to the rest of the host: input frames in the
+//! core's own types ([`shapewright::interact::InputFrame`]), lifecycle
+//! notifications, and the [`FrameSink`] that receives them.
 //!
-//! A pose reaches the sink only if the runtime set both its position and
-//! orientation VALID bits, every component is finite and the quaternion is
-//! close to unit length; anything else is counted and dropped (the
-//! contents of a pose without VALID bits are undefined by the spec).
+//! The host does not judge input. It copies what the runtime reported (the
+//! VALID bits as `*_valid` flags, action values as they are, joints with
+//! their flags) into the core's frame; the core's one
+//! [`shapewright::interact::Sanitizer`] drops what is unusable and counts
+//! it. The only rule applied here is the spec's: the contents of a pose
+//! whose VALID bits are unset are undefined, so such a pose is written as
+//! the identity with its flag unset (or `None` for the head), and the core
+//! never sees the runtime's leftovers.
 
 use serde::{Deserialize, Serialize};
-use shapewright::interact;
-use shapewright::math::{DQuat, DVec3};
+use shapewright::interact::{InputFrame, SanitizerStats};
 
-/// A rigid pose in the session's base (LOCAL) space, meters, OpenXR axes
-/// (Y up).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Pose {
-    /// Position.
-    pub position: [f32; 3],
-    /// Unit quaternion `[x, y, z, w]`.
-    pub orientation: [f32; 4],
-}
-
-/// One hand's input this frame.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct HandInput {
-    /// Grip pose, if tracked.
-    pub grip: Option<Pose>,
-    /// Aim pose, if tracked.
-    pub aim: Option<Pose>,
-    /// Whether any of the hand's button actions is active (a controller,
-    /// or a tracked hand under the hand-interaction profile, is bound).
-    #[serde(default)]
-    pub active: bool,
-    /// Select / trigger / pinch, 0..1 (the `select` action).
-    pub select: f32,
-    /// Squeeze / grasp, 0..1 (the `grab` action).
-    pub squeeze: f32,
-    /// Menu button.
-    pub menu: bool,
-    /// Primary face button (A / X).
-    pub primary: bool,
-    /// Secondary face button (B / Y).
-    #[serde(default)]
-    pub secondary: bool,
-    /// Thumbstick or trackpad `[x, y]`, each -1..1.
-    #[serde(default)]
-    pub stick: [f32; 2],
-    /// The 26 `XR_EXT_hand_tracking` joints (palm, wrist, thumb..little),
-    /// each None if its pose was not valid; empty when no hand tracking.
-    pub joints: Vec<Option<Pose>>,
-}
-
-/// Everything the interaction core needs from one frame.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct InputFrame {
-    /// Frame counter since the host started (across session recreation).
-    pub index: u64,
-    /// The runtime's time for this frame (XrTime, nanoseconds).
-    pub time_ns: i64,
-    /// Head (VIEW space) pose, if tracked.
-    pub head: Option<Pose>,
-    /// Left (0) and right (1) hands.
-    pub hands: [HandInput; 2],
-}
+use crate::gfx::Scene;
 
 /// Lifecycle notifications (for autosave on session loss and the like).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -73,18 +27,68 @@ pub enum LifecycleEvent {
     InstanceLost,
     /// A new session was created (after start or recreation).
     SessionCreated,
+    /// The host asked the runtime to end the session (a signal, a limit).
+    ExitRequested(String),
+    /// The interaction profile bound to a hand changed (after a sync).
+    ProfileBound {
+        /// `/user/hand/left` or `/user/hand/right`.
+        hand: String,
+        /// The profile path, or None when nothing is bound.
+        profile: Option<String>,
+    },
 }
 
-/// Receives sanitized input each frame. `core::interact` plugs in here.
+/// A haptic pulse the sink asks for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Haptic {
+    /// 0 left, 1 right.
+    pub hand: usize,
+    /// Amplitude, 0..1.
+    pub amplitude: f32,
+    /// Duration in milliseconds.
+    pub millis: u32,
+}
+
+/// A message for the user, shown in the headset (and written to the log by
+/// whoever raised it).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Notice {
+    /// The text (short: it is drawn with a stroke font).
+    pub text: String,
+    /// Whether it reports a problem (drawn in red).
+    pub warning: bool,
+}
+
+/// Receives each frame's input. `core::interact` plugs in here.
 pub trait FrameSink {
-    /// Called once per frame while the session is running.
+    /// Called once per input frame while the session is running.
     fn frame(&mut self, frame: &InputFrame);
     /// Called on lifecycle changes (default: ignored).
     fn lifecycle(&mut self, _event: &LifecycleEvent) {}
     /// What to draw for the document and the tool (default: nothing; the
     /// headset then draws only `--model` and the aim rays).
-    fn scene(&self) -> Option<&crate::interaction::Scene> {
+    fn scene(&self) -> Option<&Scene> {
         None
+    }
+    /// Haptic pulses to send now (default: none).
+    fn take_haptics(&mut self) -> Vec<Haptic> {
+        Vec::new()
+    }
+    /// Messages to show in the headset now (default: none).
+    fn notices(&self) -> Vec<Notice> {
+        Vec::new()
+    }
+    /// What the input sanitizer accepted and dropped (default: unknown).
+    fn input_stats(&self) -> Option<SanitizerStats> {
+        None
+    }
+    /// Called after each delivered frame in a paced run, before the pace
+    /// is acknowledged: wait for anything the frame started (default:
+    /// nothing to wait for).
+    fn settle(&mut self) {}
+    /// Op-log length and command count, for pace acknowledgements.
+    fn progress(&self) -> (u64, u64) {
+        (0, 0)
     }
 }
 
@@ -103,143 +107,5 @@ impl FrameSink for CollectSink {
     }
     fn lifecycle(&mut self, event: &LifecycleEvent) {
         self.events.push(event.clone());
-    }
-}
-
-/// The pose if the runtime marked it valid and it is numerically sane.
-pub fn sanitize_pose(
-    position_valid: bool,
-    orientation_valid: bool,
-    position: [f32; 3],
-    orientation: [f32; 4],
-) -> Option<Pose> {
-    if !(position_valid && orientation_valid) {
-        return None;
-    }
-    if !position.iter().chain(&orientation).all(|c| c.is_finite()) {
-        return None;
-    }
-    if position.iter().any(|c| c.abs() > 1.0e4) {
-        return None;
-    }
-    let n = orientation.iter().map(|c| c * c).sum::<f32>().sqrt();
-    if !(0.9..=1.1).contains(&n) {
-        return None;
-    }
-    Some(Pose {
-        position,
-        orientation: orientation.map(|c| c / n),
-    })
-}
-
-/// A 0..1 analog value, NaN mapped to 0.
-pub fn sanitize_value(v: f32) -> f32 {
-    sanitize_axis(v).max(0.0)
-}
-
-/// A -1..1 axis value, NaN mapped to 0.
-pub fn sanitize_axis(v: f32) -> f32 {
-    if v.is_finite() {
-        v.clamp(-1.0, 1.0)
-    } else {
-        0.0
-    }
-}
-
-impl Pose {
-    /// The pose in the interaction core's f64 types.
-    pub fn to_interact(&self) -> interact::Pose {
-        let [x, y, z] = self.position.map(f64::from);
-        let [qx, qy, qz, qw] = self.orientation.map(f64::from);
-        interact::Pose::new(DVec3::new(x, y, z), DQuat::from_xyzw(qx, qy, qz, qw))
-    }
-}
-
-/// A sample the runtime did not mark valid: the identity pose with the
-/// valid flag unset, so the core never sees the runtime's undefined values.
-fn raw_pose(p: Option<Pose>) -> (interact::Pose, bool) {
-    p.map_or((interact::Pose::IDENTITY, false), |p| {
-        (p.to_interact(), true)
-    })
-}
-
-impl HandInput {
-    /// The controller sample the core reads (None: no controller bound).
-    fn controller(&self) -> Option<interact::ControllerSample> {
-        if !self.active && self.grip.is_none() && self.aim.is_none() {
-            return None;
-        }
-        let (grip, grip_valid) = raw_pose(self.grip);
-        let (aim, aim_valid) = raw_pose(self.aim);
-        Some(interact::ControllerSample {
-            grip,
-            grip_valid,
-            aim,
-            aim_valid,
-            buttons: interact::ControllerButtons {
-                select: f64::from(self.select),
-                grab: f64::from(self.squeeze),
-                primary: self.primary,
-                secondary: self.secondary,
-                menu: self.menu,
-                stick: self.stick.map(f64::from),
-            },
-            buttons_valid: self.active,
-        })
-    }
-
-    /// The tracked hand the core reads (None: no joints this frame).
-    fn hand(&self) -> Option<interact::HandSample> {
-        if self.joints.len() != interact::JOINT_COUNT {
-            return None;
-        }
-        let mut joints = [interact::JointSample::default(); interact::JOINT_COUNT];
-        for (j, p) in joints.iter_mut().zip(&self.joints) {
-            if let Some(p) = p {
-                j.pose = p.to_interact();
-                j.valid = true;
-            }
-        }
-        Some(interact::HandSample {
-            active: true,
-            joints,
-        })
-    }
-}
-
-impl InputFrame {
-    /// The frame as `core::interact` takes it: time in seconds, poses in
-    /// f64, every pose that was dropped here marked invalid (identity
-    /// contents), controllers and hands present as the runtime reported.
-    /// This is the one conversion the headless and headset loops share.
-    pub fn to_interact(&self) -> interact::InputFrame {
-        interact::InputFrame {
-            time: self.time_ns as f64 * 1e-9,
-            head: self.head.map(|p| p.to_interact()),
-            hands: [self.hands[0].hand(), self.hands[1].hand()],
-            controllers: [self.hands[0].controller(), self.hands[1].controller()],
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn invalid_bits_nan_and_bad_quaternions_are_dropped() {
-        let p = [0.1, 1.5, -0.3];
-        let q = [0.0, 0.0, 0.0, 1.0];
-        assert!(sanitize_pose(true, true, p, q).is_some());
-        assert!(sanitize_pose(false, true, p, q).is_none());
-        assert!(sanitize_pose(true, false, p, q).is_none());
-        assert!(sanitize_pose(true, true, [f32::NAN, 0.0, 0.0], q).is_none());
-        assert!(sanitize_pose(true, true, p, [0.0, f32::INFINITY, 0.0, 1.0]).is_none());
-        assert!(sanitize_pose(true, true, p, [0.0, 0.0, 0.0, 0.0]).is_none());
-        assert!(sanitize_pose(true, true, [1e9, 0.0, 0.0], q).is_none());
-        let r = sanitize_pose(true, true, p, [0.0, 0.0, 0.0, 1.05]).unwrap();
-        assert!((r.orientation[3] - 1.0).abs() < 1e-6);
-        assert_eq!(sanitize_value(f32::NAN), 0.0);
-        assert_eq!(sanitize_value(2.0), 1.0);
     }
 }

@@ -1,23 +1,40 @@
-//! The OpenXR host: instance creation (the `openxr` crate's statically
-//! linked loader 1.1.54), actions from the core's binding data, the session lifecycle
-//! as types, sanitized input handed to a [`FrameSink`], and the headless
-//! (`XR_MND_headless`) loop. Session creation, being unsafe, lives in
-//! `crate::gfx::xr_bridge`.
+//! The OpenXR host: instance and capabilities ([`instance`]), actions
+//! from the core's binding data and input read into the core's own frame
+//! type ([`actions`]), the floor-level base space ([`spaces`]), the session
+//! lifecycle as types ([`lifecycle`], [`events`]), the one frame loop both
+//! modes run ([`frame_loop`]) with its two graphics halves ([`headless`],
+//! [`headset`]), and paced runs through a real runtime ([`pace`]). Unsafe
+//! OpenXR and Vulkan calls live in `crate::gfx`.
+//!
+//! Imports run one way: `xr` uses `gfx` (the scene it draws); the
+//! interaction step (`crate::interaction`) uses `xr` (it is a
+//! [`FrameSink`]); `xr` never uses the interaction step.
 
 pub mod actions;
 pub mod events;
+pub mod frame_loop;
 pub mod headless;
 pub mod headset;
 pub mod input;
+pub mod instance;
 pub mod lifecycle;
+pub mod pace;
+pub mod remote;
+pub mod spaces;
 
 pub use headless::run_headless;
 pub use headset::run_headset;
-pub use input::{CollectSink, FrameSink, HandInput, InputFrame, LifecycleEvent, Pose};
+pub use input::{CollectSink, FrameSink, Haptic, LifecycleEvent, Notice};
+pub use instance::{create_instance, InstanceCaps, RuntimeInfo};
+pub use spaces::SpaceReport;
 
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 use std::time::Duration;
 
 use openxr as xr;
+use shapewright::interact::SanitizerStats;
 
 /// What went wrong talking to the OpenXR runtime.
 #[derive(Debug, thiserror::Error)]
@@ -100,8 +117,17 @@ pub struct RunConfig {
     pub max_instance_retries: u32,
     /// Wait between instance attempts.
     pub retry_delay: Duration,
-    /// Give up if a session is not READY this long after creation.
+    /// Give up if a session is not READY this long after creation (and
+    /// if the runtime does not reach EXITING this long after an exit
+    /// request).
     pub stall_timeout: Duration,
+    /// Set (by a signal handler) to ask the session to end: the loop calls
+    /// xrRequestExitSession and runs the normal STOPPING/EXITING path.
+    pub stop: Option<Arc<AtomicBool>>,
+    /// Pace the run by a client on this Unix socket ([`pace`]).
+    pub pace: Option<PathBuf>,
+    /// Behave as an OpenXR 1.0 application (see [`instance`]).
+    pub openxr_1_0: bool,
 }
 
 impl Default for RunConfig {
@@ -115,19 +141,53 @@ impl Default for RunConfig {
             max_instance_retries: 5,
             retry_delay: Duration::from_millis(200),
             stall_timeout: Duration::from_secs(10),
+            stop: None,
+            pace: None,
+            openxr_1_0: false,
         }
     }
 }
 
 /// What happened during a run.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct RunReport {
+    /// What the runtime and its system are.
+    pub runtime: RuntimeInfo,
+    /// The base space used and what was offered.
+    pub spaces: SpaceReport,
+    /// The interaction profile bound to the left and right hand (after the
+    /// first sync; None: nothing bound).
+    pub profiles_bound: [Option<String>; 2],
+    /// Whether joints were reported for each hand, and their source
+    /// (`optical`, `controller`, `unknown`).
+    pub hands_tracked: [Option<String>; 2],
+    /// Whether any controller or tracked hand ever reported input.
+    pub input_device: bool,
     /// Input frames handed to the sink.
     pub frames: u64,
-    /// Poses dropped (VALID bits unset, NaN, non-unit quaternion).
+    /// Input frames per second of input time (the runtime's clock, or the
+    /// trace's in a paced run).
+    pub input_hz: f64,
+    /// Frames submitted (headset: xrEndFrame; headless: ticks).
+    pub display_frames: u64,
+    /// Display frames per second while the session ran (wall clock).
+    pub display_hz: f64,
+    /// Poses dropped by the sanitizer (untracked or unusable).
     pub poses_dropped: u64,
-    /// Hand joints dropped.
+    /// Hand joints marked valid but unusable.
     pub joints_dropped: u64,
+    /// The input sanitizer's counts.
+    pub input: Option<SanitizerStats>,
+    /// Paced runs: steps taken, and display frames that waited for the
+    /// runtime to deliver a step's packet.
+    pub pace_steps: u64,
+    /// See [`RunReport::pace_steps`].
+    pub pace_waits: u64,
+    /// Haptic pulses sent.
+    pub haptics_sent: u64,
+    /// Things the user should know (no input device, ...).
+    pub notes: Vec<String>,
     /// Instances created.
     pub instances_created: u32,
     /// Failed instance creations that were retried.
@@ -144,7 +204,7 @@ pub struct RunReport {
     pub reached_focused: bool,
     /// Events the runtime reported lost.
     pub events_lost: u64,
-    /// Interaction profiles the runtime accepted bindings for.
+    /// Interaction profiles the runtime accepted suggested bindings for.
     pub profiles: Vec<String>,
     /// Why the run ended.
     pub exit_reason: String,
@@ -165,83 +225,4 @@ pub fn quantile(v: &[f64], q: f64) -> Option<f64> {
     v.sort_by(f64::total_cmp);
     let i = ((v.len().checked_sub(1)?) as f64 * q.clamp(0.0, 1.0)).round() as usize;
     v.get(i).copied()
-}
-
-/// A created instance with its system and what was enabled.
-pub struct InstanceCaps {
-    /// The instance.
-    pub instance: xr::Instance,
-    /// The head-mounted system.
-    pub system: xr::SystemId,
-    /// Whether XR_EXT_hand_tracking is enabled.
-    pub hand_tracking: bool,
-    /// Names of the enabled extensions.
-    pub enabled: Vec<String>,
-    /// The runtime's name.
-    pub runtime_name: String,
-}
-
-/// Loads the runtime through the static loader and creates an instance
-/// with the extensions the mode needs (`headless`: XR_MND_headless and
-/// XR_KHR_convert_timespec_time; otherwise XR_KHR_vulkan_enable2) plus
-/// hand tracking / hand interaction when offered.
-pub fn create_instance(_cfg: &RunConfig, headless: bool) -> Result<InstanceCaps, XrHostError> {
-    let entry = xr::Entry::linked(&()).map_err(XrHostError::NoRuntime)?;
-    let available = entry
-        .enumerate_extensions()
-        .map_err(XrHostError::NoRuntime)?;
-    let mut want = xr::ExtensionSet::default();
-    let mut enabled = Vec::new();
-    if headless {
-        if !available.mnd_headless {
-            return Err(XrHostError::MissingExtension("XR_MND_headless"));
-        }
-        if !available.khr_convert_timespec_time {
-            return Err(XrHostError::MissingExtension(
-                "XR_KHR_convert_timespec_time",
-            ));
-        }
-        want.mnd_headless = true;
-        want.khr_convert_timespec_time = true;
-        enabled.push("XR_MND_headless".to_string());
-        enabled.push("XR_KHR_convert_timespec_time".to_string());
-    } else {
-        if !available.khr_vulkan_enable2 {
-            return Err(XrHostError::MissingExtension("XR_KHR_vulkan_enable2"));
-        }
-        want.khr_vulkan_enable2 = true;
-        enabled.push("XR_KHR_vulkan_enable2".to_string());
-    }
-    if available.ext_hand_tracking {
-        want.ext_hand_tracking = true;
-        enabled.push("XR_EXT_hand_tracking".to_string());
-    }
-    if available.ext_hand_interaction {
-        want.ext_hand_interaction = true;
-        enabled.push("XR_EXT_hand_interaction".to_string());
-    }
-    let app = xr::ApplicationInfo {
-        application_name: "shapewright-xr",
-        application_version: 1,
-        engine_name: "shapewright",
-        engine_version: 1,
-        api_version: xr::Version::new(1, 0, 0),
-    };
-    let instance = entry
-        .create_instance(&app, &want, &[], &())
-        .map_err(|r| XrHostError::call("xrCreateInstance", r))?;
-    let runtime_name = instance
-        .properties()
-        .map(|p| p.runtime_name)
-        .unwrap_or_default();
-    let system = instance
-        .system(xr::FormFactor::HEAD_MOUNTED_DISPLAY)
-        .map_err(|r| XrHostError::call("xrGetSystem", r))?;
-    Ok(InstanceCaps {
-        instance,
-        system,
-        hand_tracking: want.ext_hand_tracking,
-        enabled,
-        runtime_name,
-    })
 }

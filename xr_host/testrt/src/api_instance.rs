@@ -14,6 +14,12 @@ pub(crate) fn offered(script: &Script) -> Vec<&'static str> {
     let mut v = vec!["XR_MND_headless", "XR_KHR_convert_timespec_time"];
     if script.hand_tracking {
         v.push("XR_EXT_hand_tracking");
+        if script.hand_source.is_some() {
+            v.push("XR_EXT_hand_tracking_data_source");
+        }
+    }
+    if script.local_floor {
+        v.push("XR_EXT_local_floor");
     }
     if script.vulkan {
         v.push("XR_KHR_vulkan_enable2");
@@ -237,7 +243,8 @@ pub(crate) unsafe extern "system" fn get_system_properties(
         Err(e) => return e,
     };
     with_rt(|rt| {
-        done(inst(rt, instance).and_then(|_| {
+        let rt_hands_supported = rt.script.hands_supported;
+        done(inst(rt, instance).and_then(|i| {
             if system.into_raw() != 1 {
                 return Err(sys::Result::ERROR_SYSTEM_INVALID);
             }
@@ -247,6 +254,23 @@ pub(crate) unsafe extern "system" fn get_system_properties(
             props.tracking_properties.orientation_tracking = sys::TRUE;
             props.tracking_properties.position_tracking = sys::TRUE;
             props.graphics_properties.max_layer_count = 0;
+            // Chained outputs: hand-tracking support, the only one we know.
+            let mut next = props.next as *mut sys::BaseOutStructure;
+            while !next.is_null() {
+                // SAFETY: the chain is valid per the spec: every element
+                // starts with type and next.
+                let ty = unsafe { (*next).ty };
+                if ty == sys::SystemHandTrackingPropertiesEXT::TYPE {
+                    if !i.extensions.iter().any(|e| e == "XR_EXT_hand_tracking") {
+                        return Err(sys::Result::ERROR_VALIDATION_FAILURE);
+                    }
+                    // SAFETY: the type says which struct this is.
+                    let h = unsafe { &mut *(next as *mut sys::SystemHandTrackingPropertiesEXT) };
+                    h.supports_hand_tracking = rt_hands_supported.into();
+                }
+                // SAFETY: as above.
+                next = unsafe { (*next).next };
+            }
             Ok(sys::Result::SUCCESS)
         }))
     })
@@ -488,9 +512,11 @@ pub(crate) unsafe extern "system" fn suggest_interaction_profile_bindings(
                     return Err(sys::Result::ERROR_HANDLE_INVALID);
                 }
                 let path = i.path(*p).ok_or(sys::Result::ERROR_PATH_INVALID)?;
-                if !(path.starts_with("/user/hand/left/input/")
-                    || path.starts_with("/user/hand/right/input/"))
-                {
+                let ok = ["/user/hand/left/", "/user/hand/right/"].iter().any(|u| {
+                    path.strip_prefix(u)
+                        .is_some_and(|r| r.starts_with("input/") || r.starts_with("output/"))
+                });
+                if !ok {
                     return Err(sys::Result::ERROR_PATH_UNSUPPORTED);
                 }
             }

@@ -182,6 +182,8 @@ pub(crate) unsafe extern "system" fn create_session(
                 synced: None,
                 graphics,
                 frame: Default::default(),
+                local_origin: None,
+                haptics: [0; 2],
             });
             queue(i, sys::SessionState::IDLE);
             queue(i, sys::SessionState::READY);
@@ -403,10 +405,11 @@ fn component(hand: &ScriptHand, comp: &str) -> Option<Value> {
         | "input/select/click"
         | "input/select/value"
         | "input/pinch_ext/value" => Value::Float(hand.select),
-        "input/squeeze/value" | "input/squeeze/click" | "input/grasp_ext/value" => {
-            Value::Float(hand.squeeze)
-        }
-        "input/menu/click" => Value::Bool(hand.menu),
+        "input/squeeze/value"
+        | "input/squeeze/click"
+        | "input/squeeze/force"
+        | "input/grasp_ext/value" => Value::Float(hand.squeeze),
+        "input/menu/click" | "input/thumbstick/click" => Value::Bool(hand.menu),
         "input/b/click" | "input/y/click" => Value::Bool(hand.secondary),
         "input/a/click" | "input/x/click" | "input/trackpad/click" => Value::Bool(hand.primary),
         "input/thumbstick/x" | "input/trackpad/x" => Value::Float(hand.stick[0]),
@@ -585,36 +588,49 @@ pub(crate) unsafe extern "system" fn get_action_state_pose(
     })
 }
 
+/// The reference spaces this session offers: VIEW and LOCAL always,
+/// STAGE if the script says so, LOCAL_FLOOR with XR_EXT_local_floor.
+fn reference_spaces(i: &InstanceData, script_stage: bool) -> Vec<sys::ReferenceSpaceType> {
+    let mut v = vec![
+        sys::ReferenceSpaceType::VIEW,
+        sys::ReferenceSpaceType::LOCAL,
+    ];
+    if script_stage {
+        v.push(sys::ReferenceSpaceType::STAGE);
+    }
+    if i.extensions.iter().any(|e| e == "XR_EXT_local_floor") {
+        v.push(sys::ReferenceSpaceType::LOCAL_FLOOR);
+    }
+    v
+}
+
 pub(crate) unsafe extern "system" fn enumerate_reference_spaces(
     session: sys::Session,
     capacity: u32,
     count: *mut u32,
     spaces: *mut sys::ReferenceSpaceType,
 ) -> sys::Result {
-    const TYPES: [sys::ReferenceSpaceType; 3] = [
-        sys::ReferenceSpaceType::VIEW,
-        sys::ReferenceSpaceType::LOCAL,
-        sys::ReferenceSpaceType::STAGE,
-    ];
     // SAFETY: caller pointer, null-checked.
     let count = match unsafe { output(count) } {
         Ok(c) => c,
         Err(e) => return e,
     };
     with_rt(|rt| {
-        done(sess(rt, session).and_then(|_| {
-            *count = TYPES.len() as u32;
+        let stage = rt.script.stage;
+        done(sess(rt, session).and_then(|i| {
+            let types = reference_spaces(i, stage);
+            *count = types.len() as u32;
             if capacity == 0 {
                 return Ok(sys::Result::SUCCESS);
             }
-            if (capacity as usize) < TYPES.len() {
+            if (capacity as usize) < types.len() {
                 return Err(sys::Result::ERROR_SIZE_INSUFFICIENT);
             }
             if spaces.is_null() {
                 return Err(sys::Result::ERROR_VALIDATION_FAILURE);
             }
-            for (k, t) in TYPES.iter().enumerate() {
-                // SAFETY: `spaces` holds `capacity` >= 3 elements.
+            for (k, t) in types.iter().enumerate() {
+                // SAFETY: `spaces` holds `capacity` >= types.len() elements.
                 unsafe { *spaces.add(k) = *t };
             }
             Ok(sys::Result::SUCCESS)
@@ -655,18 +671,13 @@ pub(crate) unsafe extern "system" fn create_reference_space(
     };
     with_rt(|rt| {
         let h = rt.handle();
+        let stage = rt.script.stage;
         done(sess(rt, session).and_then(|i| {
             if info.ty != sys::ReferenceSpaceCreateInfo::TYPE {
                 return Err(sys::Result::ERROR_VALIDATION_FAILURE);
             }
             let t = info.reference_space_type;
-            if ![
-                sys::ReferenceSpaceType::VIEW,
-                sys::ReferenceSpaceType::LOCAL,
-                sys::ReferenceSpaceType::STAGE,
-            ]
-            .contains(&t)
-            {
+            if !reference_spaces(i, stage).contains(&t) {
                 return Err(sys::Result::ERROR_REFERENCE_SPACE_UNSUPPORTED);
             }
             if !pose_ok(&info.pose_in_reference_space) {
@@ -746,19 +757,38 @@ pub(crate) unsafe extern "system" fn destroy_space(space: sys::Space) -> sys::Re
     })
 }
 
-/// A space's pose in LOCAL: None if untracked, Some((pose, nan)) otherwise.
+/// Sets LOCAL's origin from the head in `frame` if it is not set yet (the
+/// session's first locate, as Monado and headsets do): the head's
+/// position, eye height included, and its yaw.
+pub(crate) fn settle_local_origin(i: &mut InstanceData, frame: &Keyframe) {
+    let Some(s) = i.session.as_mut() else { return };
+    if s.local_origin.is_some() {
+        return;
+    }
+    if let Some(h) = frame.head.filter(|h| h.valid && !h.nan) {
+        s.local_origin = Some((h.p, pose::yaw(h.q)));
+    }
+}
+
+/// A space's pose in STAGE: None if untracked, Some((pose, nan)) otherwise.
 pub(crate) fn world_pose(
     i: &InstanceData,
     profile: &str,
     frame: &Keyframe,
     sp: &SpaceInfo,
 ) -> Option<(Pose, bool)> {
+    let origin = || i.session.as_ref().and_then(|s| s.local_origin);
     let (base, nan) = match sp.kind {
         SpaceKind::Reference(sys::ReferenceSpaceType::VIEW) => {
             let h = frame.head.filter(|h| h.valid)?;
             ((h.p, h.q), h.nan)
         }
-        SpaceKind::Reference(_) => (([0.0; 3], [0.0, 0.0, 0.0, 1.0]), false),
+        SpaceKind::Reference(sys::ReferenceSpaceType::LOCAL) => (origin()?, false),
+        SpaceKind::Reference(sys::ReferenceSpaceType::LOCAL_FLOOR) => {
+            let (p, q) = origin()?;
+            (([p[0], 0.0, p[2]], q), false)
+        }
+        SpaceKind::Reference(_) => (pose::IDENTITY, false),
         SpaceKind::Action { action, subaction } => {
             let p = bound_values(i, profile, frame, action, subaction)
                 .into_iter()
@@ -772,7 +802,29 @@ pub(crate) fn world_pose(
             ((p.p, p.q), p.nan)
         }
     };
-    Some((pose::compose(base, sp.offset), nan))
+    Some((compose_exact(base, sp.offset), nan))
+}
+
+/// `a ∘ b`, exactly `b` (or `a`) when the other is the identity: the
+/// floor-level spaces of the usual start pose then pass scripted poses
+/// through bit for bit.
+pub(crate) fn compose_exact(a: Pose, b: Pose) -> Pose {
+    if a == pose::IDENTITY {
+        b
+    } else if b == pose::IDENTITY {
+        a
+    } else {
+        pose::compose(a, b)
+    }
+}
+
+/// The pose of `a` relative to `base` (both in STAGE).
+pub(crate) fn relative(base: Pose, a: Pose) -> Pose {
+    if base == pose::IDENTITY {
+        a
+    } else {
+        pose::compose(pose::inverse(base), a)
+    }
 }
 
 pub(crate) fn untracked() -> sys::Posef {
@@ -841,13 +893,22 @@ pub(crate) unsafe extern "system" fn locate_space(
         if let Err(e) = sess(rt, sys::Session::from_raw(sp.session)) {
             return e;
         }
-        let i = rt.instance.as_ref().expect("checked above");
         if out.ty != sys::SpaceLocation::TYPE {
             return sys::Result::ERROR_VALIDATION_FAILURE;
         }
         if time.as_nanos() <= 0 {
             return sys::Result::ERROR_TIME_INVALID;
         }
+        let frame = rt
+            .instance
+            .as_ref()
+            .and_then(|i| i.session.as_ref())
+            .and_then(|s| s.synced.clone())
+            .unwrap_or_else(|| current.clone());
+        if let Some(i) = rt.instance.as_mut() {
+            settle_local_origin(i, &frame);
+        }
+        let i = rt.instance.as_ref().expect("checked above");
         let s = i.session.as_ref().expect("checked by sess()");
         let frame = match (&sp.kind, &s.synced) {
             // Action spaces follow the last sync; reference spaces track live.
@@ -865,7 +926,7 @@ pub(crate) unsafe extern "system" fn locate_space(
         ) {
             (Some((a, na)), Some((b, nb))) => {
                 out.location_flags = all_valid();
-                out.pose = tracked(pose::compose(pose::inverse(b), a), na || nb);
+                out.pose = tracked(relative(b, a), na || nb);
             }
             _ => {
                 out.location_flags = sys::SpaceLocationFlags::EMPTY;
@@ -888,9 +949,24 @@ pub(crate) unsafe extern "system" fn create_hand_tracker(
     };
     with_rt(|rt| {
         let h = rt.handle();
+        let supported = rt.script.hands_supported;
         done(sess(rt, session).and_then(|i| {
             if info.ty != sys::HandTrackerCreateInfoEXT::TYPE {
                 return Err(sys::Result::ERROR_VALIDATION_FAILURE);
+            }
+            if !supported {
+                return Err(sys::Result::ERROR_FEATURE_UNSUPPORTED);
+            }
+            if !info.next.is_null() {
+                // SAFETY: a valid chain per the spec.
+                let ty = unsafe { (*(info.next as *const sys::BaseInStructure)).ty };
+                let ok = ty == sys::HandTrackingDataSourceInfoEXT::TYPE
+                    && i.extensions
+                        .iter()
+                        .any(|e| e == "XR_EXT_hand_tracking_data_source");
+                if !ok {
+                    return Err(sys::Result::ERROR_VALIDATION_FAILURE);
+                }
             }
             if info.hand != sys::HandEXT::LEFT && info.hand != sys::HandEXT::RIGHT {
                 return Err(sys::Result::ERROR_VALIDATION_FAILURE);
@@ -931,6 +1007,8 @@ pub(crate) unsafe extern "system" fn locate_hand_joints(
         _ => return sys::Result::ERROR_VALIDATION_FAILURE,
     };
     with_rt(|rt| {
+        let source = rt.script.hand_source.clone();
+        let profile = rt.script.profile.clone();
         let Some(&(session, hand)) = rt
             .instance
             .as_ref()
@@ -947,9 +1025,9 @@ pub(crate) unsafe extern "system" fn locate_hand_joints(
         {
             return sys::Result::ERROR_VALIDATION_FAILURE;
         }
-        if !i.spaces.contains_key(&info.base_space.into_raw()) {
+        let Some(base_space) = i.spaces.get(&info.base_space.into_raw()).copied() else {
             return sys::Result::ERROR_HANDLE_INVALID;
-        }
+        };
         if info.time.as_nanos() <= 0 {
             return sys::Result::ERROR_TIME_INVALID;
         }
@@ -966,16 +1044,35 @@ pub(crate) unsafe extern "system" fn locate_hand_joints(
         });
         let wrist = h.and_then(|h| h.joints);
         out.is_active = wrist.is_some().into();
+        let mut next = out.next as *mut sys::BaseOutStructure;
+        while !next.is_null() {
+            // SAFETY: a valid chain per the spec.
+            let ty = unsafe { (*next).ty };
+            if ty == sys::HandTrackingDataSourceStateEXT::TYPE {
+                // SAFETY: the type says which struct this is.
+                let st = unsafe { &mut *(next as *mut sys::HandTrackingDataSourceStateEXT) };
+                st.is_active = wrist.is_some().into();
+                st.data_source = match source.as_deref() {
+                    Some("controller") => sys::HandTrackingDataSourceEXT::CONTROLLER,
+                    _ => sys::HandTrackingDataSourceEXT::UNOBSTRUCTED,
+                };
+            }
+            // SAFETY: as above.
+            next = unsafe { (*next).next };
+        }
         let Some(w) = wrist else {
             return sys::Result::SUCCESS;
         };
         let invalid = h.map(|h| h.invalid_joints.clone()).unwrap_or_default();
+        let frame = s.synced.clone().unwrap_or_default();
+        let base = world_pose(i, &profile, &frame, &base_space);
         for k in 0..sys::HAND_JOINT_COUNT_EXT {
-            let ok = w.valid && !invalid.contains(&k);
+            let ok = w.valid && !invalid.contains(&k) && base.is_some();
             let p = pose::compose(
                 (w.p, w.q),
                 ([0.01 * k as f32, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]),
             );
+            let p = base.map_or(p, |(b, _)| relative(b, p));
             let loc = sys::HandJointLocationEXT {
                 location_flags: if ok {
                     all_valid()
@@ -989,5 +1086,95 @@ pub(crate) unsafe extern "system" fn locate_hand_joints(
             unsafe { *out.joint_locations.add(k) = loc };
         }
         sys::Result::SUCCESS
+    })
+}
+
+pub(crate) unsafe extern "system" fn get_current_interaction_profile(
+    session: sys::Session,
+    top_level_user_path: sys::Path,
+    state: *mut sys::InteractionProfileState,
+) -> sys::Result {
+    // SAFETY: caller pointer, null-checked.
+    let state = match unsafe { output(state) } {
+        Ok(s) => s,
+        Err(e) => return e,
+    };
+    with_rt(|rt| {
+        let profile = rt.script.profile.clone();
+        done(sess(rt, session).and_then(|i| {
+            if state.ty != sys::InteractionProfileState::TYPE {
+                return Err(sys::Result::ERROR_VALIDATION_FAILURE);
+            }
+            let user = i
+                .path(top_level_user_path.into_raw())
+                .ok_or(sys::Result::ERROR_PATH_INVALID)?
+                .to_string();
+            let s = i
+                .session
+                .as_ref()
+                .ok_or(sys::Result::ERROR_HANDLE_INVALID)?;
+            if s.attached.is_empty() {
+                return Err(sys::Result::ERROR_ACTIONSET_NOT_ATTACHED);
+            }
+            // Bound once synced, if the app suggested the script's profile
+            // and the hand's controller is there.
+            let pid = i
+                .paths
+                .iter()
+                .position(|p| *p == profile)
+                .map(|k| k as u64 + 1);
+            let suggested = pid.is_some_and(|p| i.bindings.contains_key(&p));
+            let hand = s.synced.as_ref().map(|f| match user.as_str() {
+                "/user/hand/left" => &f.left,
+                _ => &f.right,
+            });
+            let present = hand.is_some_and(|h| h.grip.is_some() || h.aim.is_some());
+            state.interaction_profile = match (suggested && present, pid) {
+                (true, Some(p)) => sys::Path::from_raw(p),
+                _ => sys::Path::NULL,
+            };
+            Ok(sys::Result::SUCCESS)
+        }))
+    })
+}
+
+pub(crate) unsafe extern "system" fn apply_haptic_feedback(
+    session: sys::Session,
+    info: *const sys::HapticActionInfo,
+    feedback: *const sys::HapticBaseHeader,
+) -> sys::Result {
+    // SAFETY: caller pointers, null-checked.
+    let (info, fb) = match unsafe { (input(info), input(feedback)) } {
+        (Ok(i), Ok(f)) => (i, f),
+        _ => return sys::Result::ERROR_VALIDATION_FAILURE,
+    };
+    with_rt(|rt| {
+        done(sess(rt, session).and_then(|i| {
+            if info.ty != sys::HapticActionInfo::TYPE || fb.ty != sys::HapticVibration::TYPE {
+                return Err(sys::Result::ERROR_VALIDATION_FAILURE);
+            }
+            let a = i
+                .actions
+                .get(&info.action.into_raw())
+                .ok_or(sys::Result::ERROR_HANDLE_INVALID)?;
+            if a.ty != sys::ActionType::VIBRATION_OUTPUT {
+                return Err(sys::Result::ERROR_ACTION_TYPE_MISMATCH);
+            }
+            let sub = info.subaction_path.into_raw();
+            let hand = match i.path(sub) {
+                Some("/user/hand/left") => 0,
+                Some("/user/hand/right") => 1,
+                _ => return Err(sys::Result::ERROR_PATH_UNSUPPORTED),
+            };
+            let s = i
+                .session
+                .as_mut()
+                .ok_or(sys::Result::ERROR_HANDLE_INVALID)?;
+            if !s.running {
+                return Err(sys::Result::ERROR_SESSION_NOT_RUNNING);
+            }
+            s.haptics[hand] += 1;
+            Ok(sys::Result::SUCCESS)
+        }))
     })
 }

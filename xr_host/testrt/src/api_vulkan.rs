@@ -272,6 +272,7 @@ pub(crate) fn write_stats(script: &Script, s: &SessionData) {
             frames_ended: s.frame.ended,
             projection_layers: s.frame.projection_layers,
             graphics: s.graphics,
+            haptics: s.haptics,
         };
         if let Ok(t) = serde_json::to_string(&stats) {
             let _ = std::fs::write(p, t);
@@ -834,6 +835,7 @@ pub(crate) unsafe extern "system" fn locate_views(
                 .get(&info.space.into_raw())
                 .ok_or(sys::Result::ERROR_HANDLE_INVALID)?;
             let frame = session_of(i).synced.clone().unwrap_or(current);
+            crate::api_session::settle_local_origin(i, &frame);
             let head = crate::state::SpaceInfo {
                 session: session.into_raw(),
                 kind: SpaceKind::Reference(sys::ReferenceSpaceType::VIEW),

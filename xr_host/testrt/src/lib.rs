@@ -229,6 +229,8 @@ fn lookup(name: &str, exts: &[String]) -> Option<sys::pfn::VoidFunction> {
         "xrBeginFrame" => v::begin_frame,
         "xrEndFrame" => v::end_frame,
         "xrLocateViews" => v::locate_views,
+        "xrGetCurrentInteractionProfile" => s::get_current_interaction_profile,
+        "xrApplyHapticFeedback" => s::apply_haptic_feedback,
     )
 }
 
@@ -239,11 +241,9 @@ fn lookup(name: &str, exts: &[String]) -> Option<sys::pfn::VoidFunction> {
 const NOT_CALLED_BY_HOST: &[&str] = &[
     "xrStructureTypeToString",
     "xrGetViewConfigurationProperties",
-    "xrApplyHapticFeedback",
     "xrStopHapticFeedback",
     "xrGetReferenceSpaceBoundsRect",
     "xrGetActionStateVector2f",
-    "xrGetCurrentInteractionProfile",
     "xrEnumerateBoundSourcesForAction",
     "xrGetInputSourceLocalizedName",
 ];

@@ -9,7 +9,9 @@ use serde::{Deserialize, Serialize};
 /// A scripted pose.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ScriptPose {
-    /// Position (meters, LOCAL space).
+    /// Position (meters, STAGE space: the floor at y = 0). As on real
+    /// runtimes, LOCAL's origin is the head's pose at the session's first
+    /// locate (eye height), and LOCAL_FLOOR is LOCAL dropped to the floor.
     pub p: [f32; 3],
     /// Orientation `[x, y, z, w]`.
     #[serde(default = "identity")]
@@ -140,6 +142,22 @@ pub struct Script {
     /// time the host sees advances exactly one step per synced frame.
     #[serde(default)]
     pub step_ns: Option<i64>,
+    /// Offer XR_EXT_local_floor (and the LOCAL_FLOOR space).
+    #[serde(default = "yes")]
+    pub local_floor: bool,
+    /// Offer the STAGE space.
+    #[serde(default = "yes")]
+    pub stage: bool,
+    /// Whether the system can track hands. False: XR_EXT_hand_tracking is
+    /// still offered (if `hand_tracking`), `supportsHandTracking` is false
+    /// and xrCreateHandTrackerEXT fails with FEATURE_UNSUPPORTED, as on
+    /// Monado's `simulated` system and most PC headsets.
+    #[serde(default = "yes")]
+    pub hands_supported: bool,
+    /// Offer XR_EXT_hand_tracking_data_source and report this source for
+    /// active hands: `"unobstructed"` or `"controller"`.
+    #[serde(default)]
+    pub hand_source: Option<String>,
 }
 
 fn touch() -> String {
@@ -158,6 +176,10 @@ impl Default for Script {
             faults: Vec::new(),
             refuse_creates: 0,
             step_ns: None,
+            local_floor: true,
+            stage: true,
+            hands_supported: true,
+            hand_source: None,
         }
     }
 }
@@ -195,6 +217,23 @@ impl Script {
 
 /// Rigid poses: (position, unit quaternion [x, y, z, w]).
 pub mod pose {
+    /// A rigid pose.
+    pub type Pose = ([f32; 3], [f32; 4]);
+
+    /// The identity pose.
+    pub const IDENTITY: Pose = ([0.0; 3], [0.0, 0.0, 0.0, 1.0]);
+
+    /// The yaw part of `q` (rotation about +Y), normalized.
+    pub fn yaw(q: [f32; 4]) -> [f32; 4] {
+        let (y, w) = (q[1], q[3]);
+        let n = (y * y + w * w).sqrt();
+        if n < 1e-6 {
+            [0.0, 0.0, 0.0, 1.0]
+        } else {
+            [0.0, y / n, 0.0, w / n]
+        }
+    }
+
     /// Quaternion product a*b.
     pub fn qmul(a: [f32; 4], b: [f32; 4]) -> [f32; 4] {
         let [ax, ay, az, aw] = a;
@@ -239,6 +278,9 @@ pub struct FrameStats {
     pub projection_layers: u64,
     /// Whether the session was a Vulkan one.
     pub graphics: bool,
+    /// xrApplyHapticFeedback calls, per hand (left, right).
+    #[serde(default)]
+    pub haptics: [u64; 2],
 }
 
 #[cfg(test)]

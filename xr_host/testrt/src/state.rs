@@ -87,6 +87,11 @@ pub struct SessionData {
     /// A Vulkan session (else headless).
     pub graphics: bool,
     pub frame: FrameData,
+    /// LOCAL's origin in STAGE: the head's position and yaw at the first
+    /// locate (None until then).
+    pub local_origin: Option<crate::script::pose::Pose>,
+    /// Haptic pulses applied per hand.
+    pub haptics: [u64; 2],
 }
 
 pub struct InstanceData {
@@ -131,6 +136,10 @@ impl Runtime {
                 faults: Vec::new(),
                 refuse_creates: 0,
                 step_ns: None,
+                local_floor: true,
+                stage: true,
+                hands_supported: true,
+                hand_source: None,
             },
             next_handle: 1,
             instance: None,

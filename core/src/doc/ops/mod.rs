@@ -381,6 +381,9 @@ ops! {
     "curve_sharpen" => CurveSharpen(Edit<st::CurveSharpen>),
     /// Curve puller held along a pointer path.
     "curve_pull" => CurvePull(Edit<st::CurvePull>),
+    /// Curve attractor (point, line, plane or another curve) held for a
+    /// number of frames.
+    "curve_attract" => CurveAttract(Edit<st::CurveAttract>),
     /// Delete a network curve (and the patches using it).
     "curve_delete" => CurveDelete(Edit<st::CurveDelete>),
     /// Fill an explicitly picked loop with a patch.

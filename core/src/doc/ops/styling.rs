@@ -30,6 +30,7 @@ network_edits!(
     st::CurveSmooth => |op, net| op.apply_to(net),
     st::CurveSharpen => |op, net| op.apply_to(net),
     st::CurvePull => |op, net| op.apply_to(net),
+    st::CurveAttract => |op, net| op.apply_to(net),
     st::CurveDelete => |op, net| op.apply_to(net),
     st::CurveFillLoop => |op, net| op.apply_to(net),
     st::CurveFillAuto => |op, net| op.apply_to(net),

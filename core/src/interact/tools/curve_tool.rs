@@ -1,0 +1,630 @@
+//! [`CurveNetworkTool`]: the controller interface of paper 3 (variational
+//! curve styling, §6): draw curves in space, edit them with the smoother,
+//! sharpener and puller chosen by the pointer pose (Table 1), fill loops,
+//! undo and redo. Registered for traces as `"curve"`.
+//!
+//! The dominant hand (right by default) holds the pen; its tip is the aim
+//! pose's position plus [`CurveToolSettings::tip_offset`] along the aim.
+//! The other hand holds a plane.
+//!
+//! | input (dominant hand)   | action                                      |
+//! |-------------------------|---------------------------------------------|
+//! | trigger held            | draw, or apply the tool chosen at the press |
+//! | `primary` (A)           | fill every loop found (`curve_fill_auto`)   |
+//! | `secondary` (B)         | delete the pointed curve (Table 1 bands)    |
+//! | stick flick ← / → (either hand) | undo / redo                         |
+//!
+//! | input (other hand)      | plane (through the grip, normal = its aim)  |
+//! |-------------------------|---------------------------------------------|
+//! | `grab` held at the press | drawing plane: samples are projected on it |
+//! | trigger held at the press | symmetry plane: the stroke is mirrored    |
+//!
+//! At the trigger's press edge, [`crate::styling::select::select_in_network`]
+//! applies Table 1 to the curve nearest to the tip: `d < 2 cm` and the
+//! pointer across the curve (60°..120°) pulls the pointed point (puller),
+//! `2..4 cm` across sharpens, `2..4 cm` along (≤ 30° or ≥ 150°) smooths. The
+//! choice holds until release. Anything else (attach: `d < 2 cm` along;
+//! far away; between the angle bands) draws a new curve, which the network
+//! snaps to the curves it passes within [`CurveToolSettings::snap_tol`].
+//! Each held application is one op carrying its sampled path: `curve_draw`
+//! with the tip samples (model space, at least `min_spacing` apart),
+//! `curve_pull` / `curve_smooth` / `curve_sharpen` with the tip per frame.
+//! The first press with no network in the document emits
+//! `curve_network_create` (the stroke goes on; its curve goes to the new
+//! network at release). A mirrored stroke is a second `curve_draw` on the
+//! next frame (at most one command per frame). The planes are taken at the
+//! press and held for the stroke, so a wobbling hand does not bend it.
+//!
+//! Bad input during a stroke (as [`crate::interact::ObjectTool`]): NaN poses never
+//! reach the tool (the sanitizer drops them; the frame adds no sample);
+//! tracking lost freezes the stroke and cancels it (nothing emitted) after
+//! [`CurveToolSettings::grace`] seconds; a teleport commits the stroke as
+//! it was before the jump.
+//!
+//! Preview each frame: the pen ray, the sketch being drawn (model space),
+//! and [`CurvePreview`] (the mode the trigger would start or is running,
+//! the pointed curve point, the planes, the held path).
+
+use crate::doc::{Create, Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
+use crate::math::DVec3;
+use crate::styling::curve::FitMode;
+use crate::styling::select::{select_in_network, CurveTool as TableTool};
+use crate::styling::tools::{PullParams, SharpenLimits, SmoothParams, MAX_FRAMES};
+use crate::styling::CurveNetwork;
+use crate::styling::{
+    CurveDelete, CurveDraw, CurveFillAuto, CurveId, CurveNetworkCreate, CurvePull, CurveSharpen,
+    CurveSmooth,
+};
+
+use crate::interact::input::{Hand, Pose};
+use crate::interact::tools::{Preview, PreviewRay, Tool, ToolContext, ToolPreview};
+
+/// Settings of the curve tool. Lengths are metres in the world.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveToolSettings {
+    /// The hand holding the pen.
+    pub dominant: Hand,
+    /// Pen tip distance along the aim from the aim pose.
+    pub tip_offset: f64,
+    /// Length of the drawn ray.
+    pub reach: f64,
+    /// Seconds a stroke survives lost tracking before it is cancelled.
+    pub grace: f64,
+    /// Smallest spacing of drawn samples (closer ones are skipped).
+    pub min_spacing: f64,
+    /// How drawn samples become a curve.
+    pub fit: FitMode,
+    /// Arc-length resampling of drawn samples before fitting.
+    pub resample: Option<f64>,
+    /// Closest approach under which a new curve joins an existing one.
+    pub snap_tol: f64,
+    /// Mesh samples per patch side of a new network.
+    pub resolution: u32,
+    /// Surface-tool control points per patch side of a new network.
+    pub surface_n: u32,
+    /// Smoother weights.
+    pub smooth: SmoothParams,
+    /// Sharpener weights.
+    pub sharpen: SmoothParams,
+    /// Where the sharpener stops.
+    pub sharpen_limits: SharpenLimits,
+    /// Puller weights.
+    pub pull: PullParams,
+}
+
+impl Default for CurveToolSettings {
+    fn default() -> Self {
+        Self {
+            dominant: Hand::Right,
+            tip_offset: 0.0,
+            reach: 5.0,
+            grace: 0.25,
+            min_spacing: 0.003,
+            fit: FitMode::Approximate { tol: 0.001 },
+            resample: Some(0.01),
+            snap_tol: 0.02,
+            resolution: 24,
+            surface_n: 8,
+            smooth: SmoothParams {
+                wb: 1e-6,
+                ws: 0.0,
+                wp0: 1.0,
+                wp1: 0.0,
+                wp2: 0.0,
+                alpha: 20.0,
+            },
+            sharpen: SmoothParams {
+                wb: 2e-6,
+                ws: 0.0,
+                wp0: 1.0,
+                wp1: 0.0,
+                wp2: 3e-6,
+                alpha: 30.0,
+            },
+            sharpen_limits: SharpenLimits {
+                max_step: 0.004,
+                max_growth: 4.0,
+            },
+            pull: PullParams {
+                wpp: 200.0,
+                wp0: 1.0,
+                wp1: 0.001,
+            },
+        }
+    }
+}
+
+/// A plane held by the non-dominant hand (model space).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrawPlane {
+    /// A point on it (the grip position).
+    pub origin: DVec3,
+    /// Unit normal (the hand's aim direction).
+    pub normal: DVec3,
+}
+
+impl DrawPlane {
+    fn project(&self, p: DVec3) -> DVec3 {
+        p - self.normal * (p - self.origin).dot(self.normal)
+    }
+
+    fn mirror(&self, p: DVec3) -> DVec3 {
+        p - self.normal * (2.0 * (p - self.origin).dot(self.normal))
+    }
+}
+
+/// What the trigger starts (idle) or is doing (held).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurveMode {
+    /// Draw a new curve.
+    Draw,
+    /// A Table 1 tool on the pointed curve (`AttachNewCurve` draws).
+    Edit(TableTool),
+}
+
+/// The curve point the pen points at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurveTarget {
+    /// The network.
+    pub network: ObjectId,
+    /// The curve index.
+    pub curve: usize,
+    /// Parameter of the pointed point (t0).
+    pub t0: f64,
+    /// The pointed point (model space).
+    pub point: DVec3,
+    /// Tip distance to it (metres).
+    pub distance: f64,
+    /// Angle between the pen and the curve tangent (degrees).
+    pub angle_deg: f64,
+    /// What Table 1 selects there.
+    pub tool: Option<TableTool>,
+}
+
+/// The curve tool's preview state.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CurvePreview {
+    /// The pen tip (model space), when tracked.
+    pub tip: Option<DVec3>,
+    /// The mode a press would start, or the held stroke's mode.
+    pub mode: Option<CurveMode>,
+    /// The pointed curve point (for a held edit: as at the press).
+    pub target: Option<CurveTarget>,
+    /// The drawing plane in use or offered.
+    pub plane: Option<DrawPlane>,
+    /// The symmetry plane in use or offered.
+    pub symmetry: Option<DrawPlane>,
+    /// The pointer path of a held edit (model space).
+    pub path: Vec<DVec3>,
+    /// A stroke is frozen by lost tracking.
+    pub frozen: bool,
+}
+
+/// One hand's controller this frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Pen {
+    tracked: bool,
+    aim: Option<Pose>,
+    grip: Option<Pose>,
+    trigger: bool,
+    grab: bool,
+    primary: bool,
+    secondary: bool,
+    stick_x: f64,
+    teleported: bool,
+}
+
+fn read_pen(cx: &ToolContext, hand: Hand) -> Pen {
+    let Some(c) = cx.frame.controller(hand) else {
+        return Pen::default();
+    };
+    let b = c.buttons.unwrap_or_default();
+    Pen {
+        tracked: c.aim.is_some() && c.buttons.is_some(),
+        aim: c.aim,
+        grip: c.grip,
+        trigger: b.select > 0.5,
+        grab: b.grab > 0.5,
+        primary: b.primary,
+        secondary: b.secondary,
+        stick_x: b.stick[0],
+        teleported: c.teleported,
+    }
+}
+
+/// A held trigger.
+#[derive(Clone, Debug)]
+struct Stroke {
+    mode: CurveMode,
+    target: Option<CurveTarget>,
+    plane: Option<DrawPlane>,
+    symmetry: Option<DrawPlane>,
+    /// Tip samples (model space).
+    path: Vec<DVec3>,
+    lost_since: Option<f64>,
+}
+
+/// Draw, smooth, sharpen, pull, fill, delete, undo, redo on curve networks.
+#[derive(Clone, Debug)]
+pub struct CurveNetworkTool {
+    settings: CurveToolSettings,
+    preview: Preview,
+    prev: [Pen; 2],
+    stick_armed: [bool; 2],
+    stroke: Option<Stroke>,
+    /// Commands waiting for a frame of their own (a mirrored stroke).
+    pending: std::collections::VecDeque<ScriptCommand>,
+}
+
+impl Default for CurveNetworkTool {
+    fn default() -> Self {
+        Self::new(CurveToolSettings::default())
+    }
+}
+
+/// The network the tool works on: the first curve network of the document.
+fn network(doc: &Document) -> Option<(ObjectId, &CurveNetwork)> {
+    doc.objects().find_map(|(id, o)| match &o.kind {
+        ObjectKind::CurveNetwork(n) => Some((id, n)),
+        #[allow(unreachable_patterns)]
+        _ => None,
+    })
+}
+
+fn arr(p: &[DVec3]) -> Vec<[f64; 3]> {
+    p.iter().map(|v| v.to_array()).collect()
+}
+
+impl CurveNetworkTool {
+    /// A tool with `settings`.
+    pub fn new(settings: CurveToolSettings) -> Self {
+        Self {
+            settings,
+            preview: Preview {
+                tool: ToolPreview::Curve(CurvePreview::default()),
+                ..Preview::default()
+            },
+            prev: [Pen::default(); 2],
+            stick_armed: [true; 2],
+            stroke: None,
+            pending: Default::default(),
+        }
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &CurveToolSettings {
+        &self.settings
+    }
+
+    fn cp(&mut self) -> &mut CurvePreview {
+        self.preview.curve_mut()
+    }
+
+    /// The pen tip and direction in model space.
+    fn tip(&self, cx: &ToolContext, pen: &Pen) -> Option<(DVec3, DVec3)> {
+        let aim = pen.aim?;
+        let to_model = cx.model.inverse();
+        let dir = aim.forward();
+        let tip = aim.position + dir * self.settings.tip_offset;
+        Some((to_model.apply(tip), to_model.apply_dir(dir)))
+    }
+
+    /// The plane the other hand offers now (model space).
+    fn held_plane(cx: &ToolContext, pen: &Pen) -> Option<DrawPlane> {
+        let (grip, aim) = (pen.grip?, pen.aim?);
+        let to_model = cx.model.inverse();
+        let normal = to_model.apply_dir(aim.forward()).normalize_or_zero();
+        (normal != DVec3::ZERO).then_some(DrawPlane {
+            origin: to_model.apply(grip.position),
+            normal,
+        })
+    }
+
+    fn target(cx: &ToolContext, tip: DVec3, dir: DVec3) -> Option<CurveTarget> {
+        let (network, net) = network(cx.doc)?;
+        let (curve, s) = select_in_network(net, tip, dir, cx.model.scale)?;
+        Some(CurveTarget {
+            network,
+            curve,
+            t0: s.t,
+            point: net.curve(curve).ok()?.point(s.t),
+            distance: s.distance * cx.model.scale,
+            angle_deg: s.angle_deg,
+            tool: s.tool,
+        })
+    }
+
+    fn mode_of(target: Option<&CurveTarget>) -> CurveMode {
+        match target.and_then(|t| t.tool) {
+            Some(
+                t @ (TableTool::EditDataPoint
+                | TableTool::SharpenSegment
+                | TableTool::SmoothSegment),
+            ) => CurveMode::Edit(t),
+            _ => CurveMode::Draw,
+        }
+    }
+
+    fn idle(&mut self, cx: &ToolContext, pens: &[Pen; 2]) -> Option<ScriptCommand> {
+        let d = self.settings.dominant.index();
+        let o = self.settings.dominant.other().index();
+        let (now, was) = (pens[d], self.prev[d]);
+        let tip = self.tip(cx, &now);
+        let target = tip.and_then(|(p, dir)| Self::target(cx, p, dir));
+        let other = pens[o];
+        let offered = Self::held_plane(cx, &other);
+        let plane = offered.filter(|_| other.grab);
+        let symmetry = offered.filter(|_| other.trigger && !other.grab);
+        self.preview.highlighted = target.filter(|t| t.tool.is_some()).map(|t| t.network);
+        {
+            let cp = self.cp();
+            cp.tip = tip.map(|t| t.0);
+            cp.target = target;
+            cp.mode = tip.map(|_| Self::mode_of(target.as_ref()));
+            cp.plane = plane;
+            cp.symmetry = symmetry;
+            cp.path.clear();
+            cp.frozen = false;
+        }
+        if !now.tracked {
+            return None;
+        }
+        if now.trigger && !was.trigger {
+            let (p, _) = tip?;
+            let mode = Self::mode_of(target.as_ref());
+            let start = match mode {
+                CurveMode::Draw => plane.map_or(p, |pl| pl.project(p)),
+                CurveMode::Edit(_) => p,
+            };
+            self.stroke = Some(Stroke {
+                mode,
+                target,
+                plane: plane.filter(|_| mode == CurveMode::Draw),
+                symmetry: symmetry.filter(|_| mode == CurveMode::Draw),
+                path: vec![start],
+                lost_since: None,
+            });
+            self.show_stroke();
+            if network(cx.doc).is_none() {
+                return Some(ScriptCommand::Op(Op::CurveNetworkCreate(Create(
+                    CurveNetworkCreate {
+                        resolution: self.settings.resolution,
+                        surface_n: self.settings.surface_n,
+                    },
+                ))));
+            }
+            return None;
+        }
+        if now.primary && !was.primary {
+            if let Some((id, net)) = network(cx.doc) {
+                if !net.find_loops().is_empty() {
+                    return Some(ScriptCommand::Op(Op::CurveFillAuto(Edit::new(
+                        id,
+                        CurveFillAuto {},
+                    ))));
+                }
+            }
+        }
+        if now.secondary && !was.secondary {
+            if let Some(t) = target.filter(|t| t.tool.is_some()) {
+                return Some(ScriptCommand::Op(Op::CurveDelete(Edit::new(
+                    t.network,
+                    CurveDelete {
+                        curve: CurveId(t.curve),
+                    },
+                ))));
+            }
+        }
+        None
+    }
+
+    fn show_stroke(&mut self) {
+        let Some(s) = self.stroke.clone() else {
+            self.preview.sketch.clear();
+            return;
+        };
+        let draw = s.mode == CurveMode::Draw;
+        self.preview.sketch = if draw { s.path.clone() } else { Vec::new() };
+        let cp = self.cp();
+        cp.mode = Some(s.mode);
+        cp.target = s.target;
+        cp.plane = s.plane;
+        cp.symmetry = s.symmetry;
+        cp.path = if draw { Vec::new() } else { s.path };
+        cp.frozen = s.lost_since.is_some();
+    }
+
+    fn stroking(&mut self, cx: &ToolContext, pens: &[Pen; 2]) -> Option<ScriptCommand> {
+        let mut s = self.stroke.take()?;
+        let now = pens[self.settings.dominant.index()];
+        let t = cx.frame.time;
+        // A teleport: commit what was drawn before the jump.
+        if now.teleported {
+            return self.commit(cx, s);
+        }
+        let tip = self.tip(cx, &now).filter(|_| now.tracked);
+        let Some((p, _)) = tip else {
+            let since = *s.lost_since.get_or_insert(t);
+            if t - since > self.settings.grace {
+                self.stroke = None;
+                self.show_stroke();
+                return None;
+            }
+            self.stroke = Some(s);
+            self.show_stroke();
+            return None;
+        };
+        s.lost_since = None;
+        if !now.trigger {
+            return self.commit(cx, s);
+        }
+        match s.mode {
+            CurveMode::Draw => {
+                let q = s.plane.map_or(p, |pl| pl.project(p));
+                let last = s.path[s.path.len() - 1];
+                if (q - last).length() * cx.model.scale >= self.settings.min_spacing {
+                    s.path.push(q);
+                }
+            }
+            CurveMode::Edit(_) => {
+                if s.path.len() < MAX_FRAMES {
+                    s.path.push(p);
+                }
+            }
+        }
+        self.stroke = Some(s);
+        self.show_stroke();
+        None
+    }
+
+    /// The op of a finished stroke (`None` when it is too short or there
+    /// is no network to put it in).
+    fn commit(&mut self, cx: &ToolContext, s: Stroke) -> Option<ScriptCommand> {
+        self.stroke = None;
+        self.show_stroke();
+        let (id, net) = network(cx.doc)?;
+        let path = arr(&s.path);
+        let op = match (s.mode, s.target) {
+            (CurveMode::Draw, _) => {
+                if s.path.len() < 4 {
+                    return None;
+                }
+                if let Some(m) = s.symmetry {
+                    let mirrored: Vec<DVec3> = s.path.iter().map(|p| m.mirror(*p)).collect();
+                    self.pending
+                        .push_back(ScriptCommand::Op(Op::CurveDraw(self.draw(id, &mirrored))));
+                }
+                Op::CurveDraw(self.draw(id, &s.path))
+            }
+            (CurveMode::Edit(tool), Some(target)) => {
+                if target.network != id || net.curve(target.curve).is_err() {
+                    return None;
+                }
+                let curve = CurveId(target.curve);
+                match tool {
+                    TableTool::EditDataPoint => Op::CurvePull(Edit::new(
+                        id,
+                        CurvePull {
+                            curve,
+                            params: self.settings.pull,
+                            path,
+                        },
+                    )),
+                    TableTool::SharpenSegment => Op::CurveSharpen(Edit::new(
+                        id,
+                        CurveSharpen {
+                            curve,
+                            params: self.settings.sharpen,
+                            limits: self.settings.sharpen_limits,
+                            path,
+                        },
+                    )),
+                    TableTool::SmoothSegment => Op::CurveSmooth(Edit::new(
+                        id,
+                        CurveSmooth {
+                            curve,
+                            params: self.settings.smooth,
+                            path,
+                        },
+                    )),
+                    TableTool::AttachNewCurve => return None,
+                }
+            }
+            (CurveMode::Edit(_), None) => return None,
+        };
+        Some(ScriptCommand::Op(op))
+    }
+
+    fn draw(&self, id: ObjectId, samples: &[DVec3]) -> Edit<CurveDraw> {
+        Edit::new(
+            id,
+            CurveDraw {
+                samples: arr(samples),
+                fit: self.settings.fit,
+                resample: self.settings.resample,
+                snap_tol: self.settings.snap_tol,
+            },
+        )
+    }
+
+    /// Undo / redo by a stick flick of either hand (not while stroking).
+    fn flick(&mut self, pens: &[Pen; 2]) -> Option<ScriptCommand> {
+        for hand in [Hand::Right, Hand::Left] {
+            let i = hand.index();
+            let x = pens[i].stick_x;
+            if !pens[i].tracked {
+                continue;
+            }
+            if self.stick_armed[i] && x.abs() > 0.8 {
+                self.stick_armed[i] = false;
+                return Some(if x < 0.0 {
+                    ScriptCommand::Undo
+                } else {
+                    ScriptCommand::Redo
+                });
+            }
+            if x.abs() < 0.3 {
+                self.stick_armed[i] = true;
+            }
+        }
+        None
+    }
+
+    fn ray(&mut self, pens: &[Pen; 2]) {
+        let reach = self.settings.reach;
+        let d = self.settings.dominant;
+        self.preview.rays = [None, None];
+        if let Some(aim) = pens[d.index()].aim {
+            self.preview.rays[d.index()] = Some(PreviewRay {
+                origin: aim.position,
+                dir: aim.forward(),
+                length: reach,
+                hit: self.preview.highlighted.is_some(),
+            });
+        }
+    }
+}
+
+impl Tool for CurveNetworkTool {
+    fn name(&self) -> &'static str {
+        "curve"
+    }
+
+    fn update(&mut self, cx: &ToolContext) -> Option<ScriptCommand> {
+        let pens = Hand::BOTH.map(|h| read_pen(cx, h));
+        let queued = !self.pending.is_empty();
+        let out = if self.stroke.is_some() {
+            self.stroking(cx, &pens)
+        } else {
+            match self.idle(cx, &pens) {
+                Some(c) => Some(c),
+                None if self.stroke.is_none() => self.flick(&pens),
+                None => None,
+            }
+        };
+        self.ray(&pens);
+        // A lost controller keeps its last state, so it does not fire a
+        // fresh press edge when it comes back.
+        for (prev, now) in self.prev.iter_mut().zip(pens) {
+            if now.tracked {
+                *prev = now;
+            }
+        }
+        // Commands queued on an earlier frame go first.
+        if !queued {
+            return out;
+        }
+        self.pending.extend(out);
+        self.pending.pop_front()
+    }
+
+    fn cancel(&mut self) {
+        self.stroke = None;
+        self.pending.clear();
+        self.show_stroke();
+    }
+
+    fn preview(&self) -> &Preview {
+        &self.preview
+    }
+}

@@ -1,0 +1,25 @@
+//! The document's objects as [`PrintPart`]s: the one call every exit makes.
+
+use super::{printable, PrintError, PrintPart, PrintSettings, Printable};
+use crate::doc::{Document, ObjectKind};
+
+/// Every object of `doc`, in id order, as a part to print. Curve networks
+/// are surfaces; every other kind is a solid (an open mesh of any kind is
+/// still thickened).
+pub fn document_parts(doc: &Document) -> Vec<PrintPart<'_>> {
+    doc.objects()
+        .map(|(id, obj)| PrintPart {
+            id: id.0,
+            kind: obj.kind.name(),
+            surface: matches!(obj.kind, ObjectKind::CurveNetwork(_)),
+            mesh: &obj.mesh,
+        })
+        .collect()
+}
+
+/// The printable model of `doc`: [`printable`] over [`document_parts`].
+/// Hosts write `Printable::mesh` in the format whose precision they passed
+/// in `settings`, or show the error as it is.
+pub fn print_document(doc: &Document, settings: &PrintSettings) -> Result<Printable, PrintError> {
+    printable(&document_parts(doc), settings)
+}

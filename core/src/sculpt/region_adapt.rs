@@ -1,0 +1,215 @@
+//! Resolution adaptation of a frame's region (paper §5.3): recursive
+//! longest-edge bisection of the triangles at reshaped vertices whose
+//! longest edge exceeds the max length, then up to three passes of
+//! shortest-edge collapses at those vertices (the primitives and their
+//! safety checks are in [`super::adapt`]).
+//!
+//! Most triangles of the region need neither, so both phases first test
+//! every candidate in parallel (read-only, fixed chunks, results in order)
+//! and then walk the candidates sequentially in the order a sequential scan
+//! would, editing the mesh. A candidate whose test may have been changed by
+//! an earlier edit of the same walk is tested again at its turn:
+//! - a split writes only triangles that then contain a vertex it created,
+//!   so the triangles around created vertices are stamped "dirty";
+//! - a collapse changes edge lengths only at the kept vertex and its
+//!   neighbours, so those are stamped "dirty".
+//!
+//! Hence the walk makes exactly the edits of the plain sequential scan, on
+//! any number of threads.
+
+use glam::DVec3;
+
+use super::halfedge::{FaceId, VertId};
+use super::par;
+use super::sculptor::{FrameStats, Sculptor};
+
+impl Sculptor {
+    /// Whether face `f` is split this frame: it is alive, its longest edge
+    /// exceeds the max length, and it changed shape (a corner moved) or it
+    /// was reached through a new vertex and lies in the frame's box.
+    fn wants_split(&self, f: FaceId, max2: f64, lo: DVec3, hi: DVec3) -> bool {
+        if !self.mesh.face_alive(f) {
+            return false;
+        }
+        let vs = self.mesh.face_verts(f);
+        let p = vs.map(|v| self.mesh.position(v));
+        let longest2 = p[0]
+            .distance_squared(p[1])
+            .max(p[1].distance_squared(p[2]))
+            .max(p[2].distance_squared(p[0]));
+        if longest2 <= max2 {
+            return false;
+        }
+        // Triangles at a moved vertex changed shape: always adapt them.
+        // Triangles reached only through new vertices adapt inside the
+        // region's box, so a coarse base never refines far away.
+        if vs.iter().any(|&v| self.moved(v)) {
+            return true;
+        }
+        if !vs.iter().any(|&v| self.in_frame(v)) {
+            return false;
+        }
+        let c = (p[0] + p[1] + p[2]) / 3.0;
+        !(c.cmplt(lo).any() || c.cmpgt(hi).any())
+    }
+
+    /// Splits the longest edge of `face` (recursively conforming), indexes
+    /// and marks the new vertices, stamps the triangles around them with
+    /// `dirty` and appends those triangles to `queue`.
+    fn split_face(
+        &mut self,
+        face: FaceId,
+        dirty: u32,
+        created: &mut Vec<(VertId, bool)>,
+        queue: &mut Vec<FaceId>,
+        stats: &mut FrameStats,
+    ) {
+        let l = self.mesh.longest_edge(face);
+        created.clear();
+        self.mesh.split_conforming(l, created);
+        stats.splits += created.len();
+        for &(m, _) in created.iter() {
+            self.grid.insert(m, self.mesh.position(m));
+            self.mark(m, true);
+            self.note_changed(m);
+        }
+        // Stamp after the whole conforming split: every triangle it wrote
+        // contains one of the vertices it created.
+        for &(m, _) in created.iter() {
+            self.stamp_faces(m, dirty);
+            self.mesh.for_each_out(m, |h| queue.push(h.face()));
+        }
+    }
+
+    /// Adapts the frame's region: splits, then collapses (see the module
+    /// doc). `lo`/`hi` bound the frame's moves (padded by the max length).
+    pub(super) fn adapt(
+        &mut self,
+        max_len: f64,
+        min_len: f64,
+        lo: DVec3,
+        hi: DVec3,
+        stats: &mut FrameStats,
+    ) {
+        let max2 = max_len * max_len;
+        let min2 = min_len * min_len;
+        // Split phase. The region is in ascending id order here, so a
+        // triangle first appears (scanning the region's fans in order) at
+        // its smallest corner in the region: that corner tests it.
+        debug_assert!(self.region.windows(2).all(|w| w[0] < w[1]));
+        let this = &*self;
+        let initial: Vec<(FaceId, bool)> = par::flat_map_chunks(&self.region, |_, chunk, out| {
+            for &v in chunk {
+                this.mesh.for_each_out(v, |h| {
+                    let f = h.face();
+                    let vs = this.mesh.face_verts(f);
+                    let owner = vs.iter().filter(|&&w| this.in_frame(w)).min();
+                    if owner == Some(&v) {
+                        out.push((f, this.wants_split(f, max2, lo, hi)));
+                    }
+                });
+            }
+        });
+        let dirty = self.next_face_stamp();
+        let mut queue = std::mem::take(&mut self.queue);
+        queue.clear();
+        let mut created = Vec::new();
+        for &(face, want) in &initial {
+            let need = if self.face_mark.get(face.0 as usize) == Some(&dirty) {
+                self.wants_split(face, max2, lo, hi)
+            } else {
+                want
+            };
+            if need {
+                self.split_face(face, dirty, &mut created, &mut queue, stats);
+            }
+        }
+        // Triangles around new vertices, in the order they appeared.
+        let mut i = 0;
+        while i < queue.len() {
+            let face = queue[i];
+            i += 1;
+            if self.wants_split(face, max2, lo, hi) {
+                self.split_face(face, dirty, &mut created, &mut queue, stats);
+            }
+        }
+        self.queue = queue;
+        // Collapse phase: short edges at the region's vertices, by id.
+        let mut cands: Vec<VertId> = self.region.clone();
+        cands.sort_unstable();
+        let mut short = Vec::new();
+        for _pass in 0..3 {
+            let this = &*self;
+            let has_short = par::map(&cands, |&v| {
+                let mut any = false;
+                if this.mesh.vert_alive(v) {
+                    this.mesh
+                        .for_each_out(v, |h| any |= this.mesh.edge_len2(h) < min2);
+                }
+                any
+            });
+            self.dirty_stamp = self.dirty_stamp.wrapping_add(1);
+            if self.dirty_stamp == 0 {
+                self.dirty_mark.fill(0);
+                self.dirty_stamp = 1;
+            }
+            let stamp = self.dirty_stamp;
+            let mut any = false;
+            for (k, &v) in cands.iter().enumerate() {
+                let dirty = self.dirty_mark.get(v.0 as usize) == Some(&stamp);
+                if !(has_short[k] || dirty) || !self.mesh.vert_alive(v) {
+                    continue;
+                }
+                short.clear();
+                self.mesh.for_each_out(v, |h| {
+                    let l2 = self.mesh.edge_len2(h);
+                    if l2 < min2 {
+                        short.push((l2, self.mesh.to(h)));
+                    }
+                });
+                short.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                for &(_, o) in &short {
+                    let (mv, mo) = (self.in_stroke(v), self.in_stroke(o));
+                    let (keep, gone, p) = match (mv, mo) {
+                        (true, true) => {
+                            let p = (self.mesh.position(v) + self.mesh.position(o)) * 0.5;
+                            (v.min(o), v.max(o), p)
+                        }
+                        (true, false) => (o, v, self.mesh.position(o)),
+                        (false, true) => (v, o, self.mesh.position(v)),
+                        (false, false) => continue,
+                    };
+                    let Some(h) = self.mesh.find_half_edge(keep, gone) else {
+                        continue;
+                    };
+                    let gone_faces = [h.face(), self.mesh.twin(h).face()];
+                    if self.mesh.try_collapse(h, p, max2) {
+                        self.removed_faces.extend(gone_faces);
+                        self.note_changed(keep);
+                        self.grid.remove(gone);
+                        self.grid.update(keep, p);
+                        if self.in_stroke(keep) {
+                            self.mark(keep, true);
+                        }
+                        // Edge lengths changed only at `keep` and its ring.
+                        let marks = &mut self.dirty_mark;
+                        let mesh = &self.mesh;
+                        let mut stamp_vertex = |w: VertId| {
+                            if let Some(s) = marks.get_mut(w.0 as usize) {
+                                *s = stamp;
+                            }
+                        };
+                        stamp_vertex(keep);
+                        mesh.for_each_out(keep, |g| stamp_vertex(mesh.to(g)));
+                        stats.collapses += 1;
+                        any = true;
+                        break;
+                    }
+                }
+            }
+            if !any {
+                break;
+            }
+        }
+    }
+}

@@ -1,0 +1,54 @@
+"""Shared fixtures for the Blender tests (tests/blender, tests/usd): the
+extension zip, built once per session with Blender's own tool, and a runner
+for the Blender-side scenarios (`tests/blender/scenarios.py`), each in a
+fresh Python with `bpy`.
+
+SHAPEWRIGHT_ADDON_ZIP=path skips the build and uses that zip (iterating
+locally on the Python side)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENARIOS = ROOT / "tests" / "blender" / "scenarios.py"
+
+
+@pytest.fixture(scope="session")
+def addon_zip() -> Path:
+    prebuilt = os.environ.get("SHAPEWRIGHT_ADDON_ZIP")
+    if prebuilt:
+        return Path(prebuilt)
+    subprocess.run(["bash", "scripts/build_addon.sh"], cwd=ROOT, check=True, capture_output=True)
+    zips = sorted((ROOT / "out").glob("shapewright-*.zip"))
+    assert zips, "build_addon.sh made no zip"
+    return zips[-1]
+
+
+@pytest.fixture
+def run_scenario(addon_zip: Path, tmp_path: Path) -> Callable[..., str]:
+    """Runs one Blender scenario in a fresh `bpy` process (its own user
+    resources under tmp_path); returns its stdout. Extra environment
+    variables go to the scenario."""
+
+    def run(name: str, work: Path | None = None, **env: str) -> str:
+        work = work or tmp_path
+        full = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / f"blender-{name}"), **env)
+        r = subprocess.run(
+            [sys.executable, str(SCENARIOS), str(addon_zip), name, str(work)],
+            env=full,
+            capture_output=True,
+            text=True,
+            timeout=900,
+        )
+        assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+        assert f"scenario {name}: ok" in r.stdout
+        return r.stdout
+
+    return run

@@ -1,0 +1,484 @@
+//! The one frame loop both modes run (issue 15 item 4). The graphics part
+//! is the only difference, behind [`Graphics`]: the headless mode
+//! ([`super::headless`]) paces itself with a sleep and takes time from
+//! `xrConvertTimespecTimeToTimeKHR`; the headset ([`super::headset`]) runs
+//! xrWaitFrame / xrBeginFrame / xrEndFrame and draws.
+//!
+//! Per the spec (OpenXR 1.1 §10.3): events are polled every tick; READY
+//! begins, STOPPING ends, EXITING stops, LOSS_PENDING (or
+//! ERROR_SESSION_LOST) destroys the session and recreates it, instance loss
+//! destroys the instance and retries creating it. A stop request (a
+//! signal, a frame or time limit, the end of a paced trace) calls
+//! xrRequestExitSession and the loop keeps running until the runtime walks
+//! the session through STOPPING to EXITING, so the normal end path runs.
+
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+use openxr as xr;
+use shapewright::interact::InputFrame;
+
+use super::actions::{Actions, SessionInput, HAND_PATHS};
+use super::events::{end_or_error, Lifecycle, SessionEnd};
+use super::input::{FrameSink, LifecycleEvent, Notice};
+use super::instance::{create_instance, InstanceCaps};
+use super::lifecycle::{reads_input, Phase};
+use super::pace::{angle_tag, Pacer};
+use super::spaces::SpaceReport;
+use super::{classify, Failure, RunConfig, RunReport, XrHostError};
+
+/// What a tick of the graphics side needs to know about the frame.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameTime {
+    /// The time input is read at (the predicted display time, or now).
+    pub time: xr::Time,
+    /// Whether the runtime wants this frame rendered.
+    pub should_render: bool,
+}
+
+/// An error inside a tick: an OpenXR call (which may mean loss) or
+/// anything else.
+pub enum TickError {
+    /// An OpenXR call failed.
+    Xr(&'static str, xr::sys::Result),
+    /// Something else failed.
+    Host(XrHostError),
+}
+
+impl From<XrHostError> for TickError {
+    fn from(e: XrHostError) -> Self {
+        TickError::Host(e)
+    }
+}
+
+/// What the graphics side draws besides the sink's scene.
+pub struct Overlay<'a> {
+    /// The frame's input (for aim rays without a scene).
+    pub frame: Option<&'a InputFrame>,
+    /// Messages to show.
+    pub notices: &'a [Notice],
+}
+
+/// The part of a mode that differs: graphics binding, frame calls, drawing.
+pub trait Graphics {
+    /// The openxr crate's graphics type.
+    type Api: xr::Graphics;
+    /// Whether the instance is created for `XR_MND_headless`.
+    const HEADLESS: bool;
+    /// After the instance exists (Vulkan: the device through the runtime).
+    fn instance_created(&mut self, caps: &InstanceCaps) -> Result<(), XrHostError>;
+    /// Creates a session (keeping any frame-protocol objects).
+    fn create_session(&mut self, caps: &InstanceCaps) -> xr::Result<xr::Session<Self::Api>>;
+    /// After the session exists (Vulkan: swapchains, uploads).
+    fn session_created(
+        &mut self,
+        caps: &InstanceCaps,
+        session: &xr::Session<Self::Api>,
+    ) -> Result<(), TickError>;
+    /// Waits for the next frame of a running session.
+    fn wait_frame(&mut self, caps: &InstanceCaps, cfg: &RunConfig) -> Result<FrameTime, TickError>;
+    /// Finishes the frame begun by [`Graphics::wait_frame`]: draws and
+    /// submits it (headset) or nothing (headless).
+    fn end_frame(
+        &mut self,
+        session: &xr::Session<Self::Api>,
+        input: &SessionInput,
+        ft: FrameTime,
+        sink: &dyn FrameSink,
+        overlay: &Overlay<'_>,
+    ) -> Result<(), TickError>;
+    /// Frames submitted so far.
+    fn frames_submitted(&self) -> u64;
+    /// Called while the session exists but is not running.
+    fn idle(&mut self, cfg: &RunConfig);
+    /// The session is over: drop what belongs to it.
+    fn session_ended(&mut self);
+    /// The instance is over: drop what belongs to it.
+    fn instance_ended(&mut self);
+}
+
+/// Runs `gfx`'s mode until the configured limits, a stop request, EXITING
+/// from the runtime, or retries are exhausted.
+pub fn run<Gx: Graphics>(
+    cfg: &RunConfig,
+    gfx: &mut Gx,
+    sink: &mut dyn FrameSink,
+) -> Result<RunReport, XrHostError> {
+    let start = Instant::now();
+    let mut report = RunReport::default();
+    let mut pacer = match &cfg.pace {
+        Some(p) => Some(Pacer::connect(p).map_err(|e| XrHostError::GaveUp(e.to_string()))?),
+        None => None,
+    };
+    let mut failures = 0u32;
+    let result = loop {
+        let caps = match create_instance(Gx::HEADLESS, cfg) {
+            Ok(c) => c,
+            // A missing runtime at start fails fast; after a loss the runtime
+            // may need a while to come back, so creation is retried.
+            Err(e)
+                if e.is_retryable()
+                    && report.instances_created > 0
+                    && failures < cfg.max_instance_retries =>
+            {
+                failures += 1;
+                report.instance_retries += 1;
+                std::thread::sleep(cfg.retry_delay);
+                continue;
+            }
+            Err(e) => break Err(e),
+        };
+        report.instances_created += 1;
+        report.runtime = caps.info.clone();
+        if let Err(e) = gfx.instance_created(&caps) {
+            break Err(e);
+        }
+        let end = run_instance(&caps, cfg, gfx, sink, &mut report, pacer.as_mut(), start);
+        gfx.instance_ended();
+        match end {
+            Ok(SessionEnd::InstanceLost) => {
+                report.instance_losses += 1;
+                sink.lifecycle(&LifecycleEvent::InstanceLost);
+                drop(caps);
+                if report.instance_losses > cfg.max_instance_retries {
+                    break Err(XrHostError::GaveUp(
+                        "the instance was lost too often".into(),
+                    ));
+                }
+                std::thread::sleep(cfg.retry_delay);
+            }
+            Ok(_) => break Ok(()),
+            Err(e) => break Err(e),
+        }
+    };
+    report.input = sink.input_stats();
+    if let Some(s) = &report.input {
+        report.poses_dropped = s.poses_untracked + s.poses_rejected;
+        report.joints_dropped = s.joints_rejected;
+    }
+    if let Some(p) = &pacer {
+        report.pace_steps = p.steps;
+        report.pace_waits = p.waits;
+    }
+    report.display_frames = gfx.frames_submitted();
+    result.map(|()| report)
+}
+
+fn run_instance<Gx: Graphics>(
+    caps: &InstanceCaps,
+    cfg: &RunConfig,
+    gfx: &mut Gx,
+    sink: &mut dyn FrameSink,
+    report: &mut RunReport,
+    mut pacer: Option<&mut Pacer>,
+    start: Instant,
+) -> Result<SessionEnd, XrHostError> {
+    let actions = match Actions::new(&caps.instance, caps.api, &caps.enabled) {
+        Ok(a) => a,
+        Err(e) => {
+            return match classify(e) {
+                Failure::InstanceLost => Ok(SessionEnd::InstanceLost),
+                _ => Err(XrHostError::call("creating actions", e)),
+            }
+        }
+    };
+    report.profiles = actions.accepted_profiles.clone();
+    let mut recreations = 0u32;
+    loop {
+        let session = match gfx.create_session(caps) {
+            Ok(s) => s,
+            Err(e) => return end_or_error("xrCreateSession", e),
+        };
+        report.sessions_created += 1;
+        sink.lifecycle(&LifecycleEvent::SessionCreated);
+        let end = run_session(
+            session,
+            caps,
+            &actions,
+            cfg,
+            gfx,
+            sink,
+            report,
+            pacer.as_deref_mut(),
+            start,
+        );
+        gfx.session_ended();
+        match end? {
+            SessionEnd::Lost => {
+                report.session_losses += 1;
+                sink.lifecycle(&LifecycleEvent::SessionLost);
+                recreations += 1;
+                if !cfg.recreate_lost_sessions || recreations > cfg.max_session_recreations {
+                    report.exit_reason = "session lost".into();
+                    return Ok(SessionEnd::Exit);
+                }
+            }
+            other => return Ok(other),
+        }
+    }
+}
+
+/// Why the host wants to stop, if it does.
+fn stop_reason(
+    cfg: &RunConfig,
+    report: &RunReport,
+    pacer: Option<&Pacer>,
+    start: Instant,
+) -> Option<String> {
+    if cfg.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst)) {
+        return Some("a signal asked the host to stop".into());
+    }
+    if cfg.max_frames.is_some_and(|n| report.frames >= n) {
+        return Some("the frame limit was reached".into());
+    }
+    if cfg.max_duration.is_some_and(|d| start.elapsed() >= d) {
+        return Some("the time limit was reached".into());
+    }
+    if pacer.is_some_and(Pacer::ended) {
+        return Some("the paced trace ended".into());
+    }
+    None
+}
+
+/// Frames in FOCUSED without any controller or hand before the host says
+/// there is no input device.
+const NO_INPUT_FRAMES: u64 = 30;
+
+#[allow(clippy::too_many_arguments)]
+fn run_session<Gx: Graphics>(
+    session: xr::Session<Gx::Api>,
+    caps: &InstanceCaps,
+    actions: &Actions,
+    cfg: &RunConfig,
+    gfx: &mut Gx,
+    sink: &mut dyn FrameSink,
+    report: &mut RunReport,
+    mut pacer: Option<&mut Pacer>,
+    start: Instant,
+) -> Result<SessionEnd, XrHostError> {
+    let mut input = match SessionInput::new(&session, actions, caps) {
+        Ok(i) => i,
+        Err(e) => return end_or_error("creating spaces and hand trackers", e),
+    };
+    report.spaces.offered = input.offered_spaces.clone();
+    match gfx.session_created(caps, &session) {
+        Ok(()) => {}
+        Err(TickError::Xr(call, r)) => return end_or_error(call, r),
+        Err(TickError::Host(e)) => return Err(e),
+    }
+    let mut life = Lifecycle::new(session);
+    let mut buf = xr::EventDataBuffer::new();
+    let session_start = Instant::now();
+    let mut stop_asked_at: Option<Instant> = None;
+    let mut profiles_dirty = true;
+    let mut focused_frames = 0u64;
+    let mut no_input_said = false;
+    let mut first_time: Option<f64> = None;
+    let mut running_since: Option<(Instant, u64)> = None;
+    // Unwraps `$e`; a lost session or instance leaves the tick loop with
+    // that outcome, any other error ends the run with a typed error.
+    macro_rules! tick_try {
+        ($lt:lifetime, $e:expr) => {
+            match $e {
+                Ok(v) => v,
+                Err(TickError::Xr(what, err)) => break $lt end_or_error(what, err)?,
+                Err(TickError::Host(e)) => return Err(e),
+            }
+        };
+    }
+    macro_rules! xr_try {
+        ($lt:lifetime, $what:expr, $e:expr) => {
+            tick_try!($lt, $e.map_err(|r| TickError::Xr($what, r)))
+        };
+    }
+    let end = 'tick: loop {
+        // 1. Drain the event queue, reacting to state changes.
+        let drained = life.drain(&caps.instance, &mut buf, report, sink)?;
+        if life.profile_changed {
+            profiles_dirty = true;
+            life.profile_changed = false;
+        }
+        if let Some(end) = drained {
+            break end;
+        }
+        // 2. Stop when asked: request exit while running, then keep going
+        // until the runtime reaches STOPPING/EXITING.
+        if !life.exit_requested {
+            if let Some(why) = stop_reason(cfg, report, pacer.as_deref(), start) {
+                match &life.phase {
+                    Some(Phase::Running(r)) => {
+                        xr_try!('tick, "xrRequestExitSession", r.session().request_exit());
+                        life.exit_requested = true;
+                        stop_asked_at = Some(Instant::now());
+                        sink.lifecycle(&LifecycleEvent::ExitRequested(why.clone()));
+                        report.exit_reason = why;
+                    }
+                    _ => {
+                        report.exit_reason = format!("{why} before the session ran");
+                        break SessionEnd::Exit;
+                    }
+                }
+            }
+        }
+        if session_start.elapsed() > cfg.stall_timeout
+            && !report.reached_focused
+            && life.state == xr::SessionState::IDLE
+        {
+            return Err(XrHostError::GaveUp(format!(
+                "the session did not become READY within {:?}",
+                cfg.stall_timeout
+            )));
+        }
+        if stop_asked_at.is_some_and(|t| t.elapsed() > cfg.stall_timeout) {
+            return Err(XrHostError::GaveUp(
+                "the runtime did not reach EXITING after xrRequestExitSession".into(),
+            ));
+        }
+        let Some(Phase::Running(running)) = &life.phase else {
+            gfx.idle(cfg);
+            continue;
+        };
+        // 3. One frame: wait, read input, step, draw.
+        let ft = tick_try!('tick, gfx.wait_frame(caps, cfg));
+        let session = running.session();
+        let based = xr_try!('tick, "locating the base space", input.establish(session, ft.time));
+        if based && report.spaces.base.is_empty() {
+            if let Some((kind, h)) = input.base_kind {
+                report.spaces = SpaceReport {
+                    offered: input.offered_spaces.clone(),
+                    base: serde_json::to_value(kind)
+                        .ok()
+                        .and_then(|v| v.as_str().map(String::from))
+                        .unwrap_or_default(),
+                    floor_offset_m: h,
+                };
+            }
+        }
+        let mut delivered = None;
+        // No input after an exit request: a limit means exactly that many
+        // frames, and a stop means no new edits while the session winds down.
+        if based && reads_input(life.state) && !life.exit_requested {
+            let t0 = Instant::now();
+            // In a paced run, the packet's tag is read before anything else.
+            let tag = match pacer.as_deref_mut() {
+                Some(p) => {
+                    if let Err(e) = p.poll() {
+                        return Err(XrHostError::GaveUp(e.to_string()));
+                    }
+                    let (_, views) = xr_try!(
+                        'tick,
+                        "xrLocateViews",
+                        session.locate_views(
+                            xr::ViewConfigurationType::PRIMARY_STEREO,
+                            ft.time,
+                            input.view()
+                        )
+                    );
+                    views.first().and_then(|v| angle_tag(v.fov.angle_up))
+                }
+                None => None,
+            };
+            let time_s = ft.time.as_nanos() as f64 * 1e-9;
+            let (mut frame, info) =
+                xr_try!('tick, "reading input", input.read(running, actions, ft.time, time_s));
+            let step_time = match pacer.as_deref_mut() {
+                Some(p) => p.admit(tag),
+                None => Some(time_s),
+            };
+            if let Some(t) = step_time {
+                frame.time = t;
+                sink.frame(&frame);
+                report.frame_cpu_us.push(t0.elapsed().as_secs_f64() * 1e6);
+                report.frames += 1;
+                let t0 = *first_time.get_or_insert(t);
+                if t > t0 {
+                    report.input_hz = (report.frames - 1) as f64 / (t - t0);
+                }
+                if let Some(p) = pacer.as_deref_mut() {
+                    sink.settle();
+                    let (ops, commands) = sink.progress();
+                    if let Err(e) = p.ack(gfx.frames_submitted(), ops, commands) {
+                        return Err(XrHostError::GaveUp(e.to_string()));
+                    }
+                }
+            }
+            for (h, s) in info.hands.iter().enumerate() {
+                if let Some(s) = s {
+                    report.hands_tracked[h] = Some(format!("{s:?}").to_lowercase());
+                }
+            }
+            if frame.controllers.iter().any(Option::is_some)
+                || frame.hands.iter().any(Option::is_some)
+            {
+                report.input_device = true;
+            }
+            if profiles_dirty {
+                let bound = xr_try!('tick, "xrGetCurrentInteractionProfile", actions.bound_profiles(session));
+                profiles_dirty = false;
+                for (h, p) in bound.iter().enumerate() {
+                    if report.profiles_bound[h] != *p || report.frames <= 1 {
+                        sink.lifecycle(&LifecycleEvent::ProfileBound {
+                            hand: HAND_PATHS[h].into(),
+                            profile: p.clone(),
+                        });
+                    }
+                }
+                report.profiles_bound = bound;
+            }
+            if life.state == xr::SessionState::FOCUSED {
+                focused_frames += 1;
+            }
+            if focused_frames >= NO_INPUT_FRAMES && !report.input_device && !no_input_said {
+                no_input_said = true;
+                eprintln!(
+                    "shapewright-xr: no input device: the system reports no controller and no tracked hand, so no tool can be driven"
+                );
+            }
+            delivered = Some(frame);
+        }
+        // 4. Haptics the sink asked for.
+        for pulse in sink.take_haptics() {
+            xr_try!('tick, "xrApplyHapticFeedback", actions.vibrate(session, &pulse));
+            report.haptics_sent += 1;
+        }
+        // 5. Draw and submit.
+        let mut notices = sink.notices();
+        if no_input_said {
+            notices.push(Notice {
+                text: "NO CONTROLLER OR HAND: NOTHING CAN DRIVE THE TOOL".into(),
+                warning: true,
+            });
+        }
+        let overlay = Overlay {
+            frame: delivered.as_ref(),
+            notices: &notices,
+        };
+        tick_try!('tick, gfx.end_frame(session, &input, ft, sink, &overlay));
+        let (t0, n0) = *running_since.get_or_insert((Instant::now(), gfx.frames_submitted()));
+        let secs = t0.elapsed().as_secs_f64();
+        if secs > 0.0 {
+            report.display_hz = (gfx.frames_submitted() - n0) as f64 / secs;
+        }
+    };
+    if report.reached_focused && report.frames > 0 && !report.input_device {
+        report
+            .notes
+            .push("no input device: no controller and no tracked hand".into());
+    }
+    // Spaces and trackers go before the session.
+    drop(input);
+    drop(life);
+    Ok(end)
+}
+
+/// Sleeps until `next`, then moves it one `period` on (or to now when the
+/// loop fell behind).
+pub fn sleep_until(next: &mut Instant, period: Duration) {
+    let now = Instant::now();
+    if *next > now {
+        std::thread::sleep(*next - now);
+    } else {
+        *next = now;
+    }
+    *next += period;
+}
