@@ -18,7 +18,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::csg::CsgOp;
-use super::placement::{two_hand_ratio, ScaleAxis};
+use super::placement::ScaleAxis;
 use super::volume::{check_step, Component, Operand, SdfVolume, UserMesh};
 use super::SdfError;
 use crate::doc::{Document, ObjectId, ObjectKind, OpError, OpOutcome};
@@ -169,11 +169,7 @@ pub fn apply_create(doc: &mut Document, op: &SdfCreate) -> Result<OpOutcome, OpE
 /// Applies `sdf_add_operand`.
 pub fn apply_add_operand(doc: &mut Document, op: &SdfAddOperand) -> Result<OpOutcome, OpError> {
     let v = volume_of(doc, op.volume, "sdf_add_operand")?;
-    let o = Operand {
-        component: op.component.clone(),
-        csg: op.csg,
-        transform: op.transform,
-    };
+    let o = Operand::new(op.component.clone(), op.csg, op.transform);
     v.placed(&o)?;
     put(doc, op.volume, v.with_pending(|p| p.push(o)))
 }
@@ -198,14 +194,7 @@ pub fn apply_scale_two_hand(
 ) -> Result<OpOutcome, OpError> {
     let v = volume_of(doc, op.volume, "sdf_scale_two_hand")?;
     check_index(&v, op.operand)?;
-    let r = two_hand_ratio(op.hands_start, op.hands_end)?;
-    let mut o = v.pending[op.operand].clone();
-    match op.axis {
-        ScaleAxis::X => o.transform.scale[0] *= r,
-        ScaleAxis::Y => o.transform.scale[1] *= r,
-        ScaleAxis::Z => o.transform.scale[2] *= r,
-        ScaleAxis::Uniform => o.transform.scale = o.transform.scale.map(|s| s * r),
-    }
+    let o = v.pending[op.operand].scaled_two_hand(op.axis, op.hands_start, op.hands_end)?;
     v.placed(&o)?;
     put(doc, op.volume, v.with_pending(|p| p[op.operand] = o))
 }
