@@ -9,7 +9,7 @@
 use std::time::Instant;
 
 use criterion::{black_box, Criterion};
-use shapewright::doc::{ObjectId, Op, OpLog};
+use shapewright::doc::{Create, Edit, ObjectId, Op, OpLog};
 use shapewright::math::{DQuat, DVec3};
 use shapewright::sculpt::base::geodesic_sphere;
 use shapewright::sculpt::stroke::{FrameInput, Sculptor};
@@ -193,20 +193,22 @@ fn frame_times(n: u32) {
     }
     // The same stroke as one op through the log.
     let mut log = OpLog::new();
-    log.apply(Op::SculptCreate(SculptCreate {
+    log.apply(Op::SculptCreate(Create(SculptCreate {
         base: SculptBase::Mesh {
             positions: geodesic_sphere(1.0, n).positions,
             triangles: geodesic_sphere(1.0, n).triangles,
         },
         transform: Default::default(),
-    }))
+    })))
     .unwrap();
     let t = Instant::now();
-    log.apply(Op::SculptStroke(SculptStroke {
-        id: ObjectId(1),
-        settings: s.clone(),
-        samples: smp.clone(),
-    }))
+    log.apply(Op::SculptStroke(Edit::new(
+        ObjectId(1),
+        SculptStroke {
+            settings: s.clone(),
+            samples: smp.clone(),
+        },
+    )))
     .unwrap();
     println!(
         "sculpt_stroke op n={n}: {:.1} ms for the {FRAMES}-frame stroke (clone + index + frames + mesh re-evaluation)",

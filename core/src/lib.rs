@@ -13,6 +13,8 @@
 pub mod assembly;
 pub mod doc;
 pub mod gc;
+pub mod hash;
+pub mod id;
 pub mod interact;
 pub mod math;
 pub mod mesh;

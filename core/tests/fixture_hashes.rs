@@ -23,7 +23,12 @@ fn current_hashes() -> BTreeMap<String, String> {
     let mut out = BTreeMap::new();
     let mut names: Vec<_> = std::fs::read_dir(data_dir())
         .expect("tests/data exists")
-        .map(|e| e.expect("readable entry").file_name().into_string().unwrap())
+        .map(|e| {
+            e.expect("readable entry")
+                .file_name()
+                .into_string()
+                .unwrap()
+        })
         .filter(|n| n.ends_with(".jsonl"))
         .collect();
     names.sort();
@@ -71,5 +76,9 @@ fn every_fixture_replays_to_its_recorded_hash() {
     for name in recorded.keys().filter(|n| !now.contains_key(*n)) {
         diffs.push(format!("{name}: recorded but the file is gone"));
     }
-    assert!(diffs.is_empty(), "fixture hashes changed:\n{}", diffs.join("\n"));
+    assert!(
+        diffs.is_empty(),
+        "fixture hashes changed:\n{}",
+        diffs.join("\n")
+    );
 }

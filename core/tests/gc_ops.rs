@@ -3,13 +3,13 @@
 //! op scripts round-trip.
 
 use glam::DVec3;
-use shapewright::doc::{LogError, ObjectId, Op, OpError, OpLog};
-use shapewright::gc::ops::*;
+use shapewright::doc::{Create, Edit, LogError, ObjectId, Op, OpError, OpLog};
+use shapewright::gc::*;
 use shapewright::gc::{ClosedEnd, GcError, Profile, Resolution, ShapeType};
 use shapewright::mesh::validate;
 
 fn create(shape: ShapeType) -> Op {
-    Op::GcCreate(GcCreate {
+    Op::GcCreate(Create(GcCreate {
         spine: vec![
             DVec3::ZERO,
             DVec3::new(0.1, 0.0, 0.5),
@@ -47,77 +47,97 @@ fn create(shape: ShapeType) -> Op {
         ],
         shape,
         resolution: Resolution::PREVIEW,
-    })
+    }))
 }
 
 fn edits(id: ObjectId) -> Vec<Op> {
     vec![
-        Op::GcBend(GcBend {
+        Op::GcBend(Edit::new(
             id,
-            part: 0,
-            section: 2,
-            to: DVec3::new(0.3, 0.0, 0.7),
-        }),
-        Op::GcTwist(GcTwist {
-            id,
-            part: 0,
-            section: 1,
-            angle: 0.8,
-        }),
-        Op::GcInsertSection(GcInsertSection {
-            id,
-            part: 0,
-            v: 0.55,
-        }),
-        Op::GcResize(GcResize {
-            id,
-            part: 0,
-            section: 2,
-            factor: 1.25,
-        }),
-        Op::GcShift(GcShift {
-            id,
-            part: 0,
-            section: 1,
-            v: 0.3,
-        }),
-        Op::GcReplaceSection(GcReplaceSection {
-            id,
-            part: 0,
-            section: 3,
-            profile: Profile::Rectangle {
-                width: 0.4,
-                height: 0.3,
+            GcBend {
+                part: PartId(0),
+                section: SectionIndex(2),
+                to: DVec3::new(0.3, 0.0, 0.7),
             },
-        }),
-        Op::GcDeleteSection(GcDeleteSection {
+        )),
+        Op::GcTwist(Edit::new(
             id,
-            part: 0,
-            section: 2,
-        }),
-        Op::GcSetShape(GcSetShape {
-            id,
-            part: 0,
-            shape: ShapeType::Container {
-                thickness: 0.02,
-                closed_end: ClosedEnd::Start,
+            GcTwist {
+                part: PartId(0),
+                section: SectionIndex(1),
+                angle: 0.8,
             },
-        }),
-        Op::GcReplaceSpine(GcReplaceSpine {
+        )),
+        Op::GcInsertSection(Edit::new(
             id,
-            part: 0,
-            points: vec![
-                DVec3::ZERO,
-                DVec3::new(0.3, 0.0, 0.6),
-                DVec3::new(0.8, 0.0, 0.9),
-            ],
-            plane_normal: DVec3::Y,
-        }),
-        Op::GcSetResolution(GcSetResolution {
+            GcInsertSection {
+                part: PartId(0),
+                v: 0.55,
+            },
+        )),
+        Op::GcResize(Edit::new(
             id,
-            part: 0,
-            resolution: Resolution { u: 40, v: 30 },
-        }),
+            GcResize {
+                part: PartId(0),
+                section: SectionIndex(2),
+                factor: 1.25,
+            },
+        )),
+        Op::GcShift(Edit::new(
+            id,
+            GcShift {
+                part: PartId(0),
+                section: SectionIndex(1),
+                v: 0.3,
+            },
+        )),
+        Op::GcReplaceSection(Edit::new(
+            id,
+            GcReplaceSection {
+                part: PartId(0),
+                section: SectionIndex(3),
+                profile: Profile::Rectangle {
+                    width: 0.4,
+                    height: 0.3,
+                },
+            },
+        )),
+        Op::GcDeleteSection(Edit::new(
+            id,
+            GcDeleteSection {
+                part: PartId(0),
+                section: SectionIndex(2),
+            },
+        )),
+        Op::GcSetShape(Edit::new(
+            id,
+            GcSetShape {
+                part: PartId(0),
+                shape: ShapeType::Container {
+                    thickness: 0.02,
+                    closed_end: ClosedEnd::Start,
+                },
+            },
+        )),
+        Op::GcReplaceSpine(Edit::new(
+            id,
+            GcReplaceSpine {
+                part: PartId(0),
+                points: vec![
+                    DVec3::ZERO,
+                    DVec3::new(0.3, 0.0, 0.6),
+                    DVec3::new(0.8, 0.0, 0.9),
+                ],
+                plane_normal: DVec3::Y,
+            },
+        )),
+        Op::GcSetResolution(Edit::new(
+            id,
+            GcSetResolution {
+                part: PartId(0),
+                resolution: Resolution { u: 40, v: 30 },
+            },
+        )),
     ]
 }
 
@@ -170,7 +190,7 @@ fn bad_input_is_a_typed_error_and_changes_nothing() {
         let Op::GcCreate(mut c) = create(ShapeType::Solid) else {
             unreachable!()
         };
-        f(&mut c);
+        f(&mut c.0);
         Op::GcCreate(c)
     };
     let cases: Vec<(Op, &str)> = vec![
@@ -197,76 +217,92 @@ fn bad_input_is_a_typed_error_and_changes_nothing() {
             "sections out of order",
         ),
         (
-            Op::GcBend(GcBend {
+            Op::GcBend(Edit::new(
                 id,
-                part: 0,
-                section: 1,
-                to: DVec3::new(0.0, f64::NAN, 0.0),
-            }),
+                GcBend {
+                    part: PartId(0),
+                    section: SectionIndex(1),
+                    to: DVec3::new(0.0, f64::NAN, 0.0),
+                },
+            )),
             "NaN bend",
         ),
         (
-            Op::GcBend(GcBend {
+            Op::GcBend(Edit::new(
                 id,
-                part: 0,
-                section: 1,
-                to: DVec3::new(0.0, 1.0, 0.4),
-            }),
+                GcBend {
+                    part: PartId(0),
+                    section: SectionIndex(1),
+                    to: DVec3::new(0.0, 1.0, 0.4),
+                },
+            )),
             "bend off the plane",
         ),
         (
-            Op::GcTwist(GcTwist {
+            Op::GcTwist(Edit::new(
                 id,
-                part: 0,
-                section: 0,
-                angle: 1.0,
-            }),
+                GcTwist {
+                    part: PartId(0),
+                    section: SectionIndex(0),
+                    angle: 1.0,
+                },
+            )),
             "twist an end",
         ),
         (
-            Op::GcResize(GcResize {
+            Op::GcResize(Edit::new(
                 id,
-                part: 0,
-                section: 9,
-                factor: 2.0,
-            }),
+                GcResize {
+                    part: PartId(0),
+                    section: SectionIndex(9),
+                    factor: 2.0,
+                },
+            )),
             "bad section",
         ),
         (
-            Op::GcResize(GcResize {
+            Op::GcResize(Edit::new(
                 id,
-                part: 3,
-                section: 0,
-                factor: 2.0,
-            }),
+                GcResize {
+                    part: PartId(3),
+                    section: SectionIndex(0),
+                    factor: 2.0,
+                },
+            )),
             "bad part",
         ),
         (
-            Op::GcResize(GcResize {
-                id: ObjectId(77),
-                part: 0,
-                section: 0,
-                factor: 2.0,
-            }),
+            Op::GcResize(Edit::new(
+                ObjectId(77),
+                GcResize {
+                    part: PartId(0),
+                    section: SectionIndex(0),
+                    factor: 2.0,
+                },
+            )),
             "bad id",
         ),
         (
-            Op::GcInsertSection(GcInsertSection {
+            Op::GcInsertSection(Edit::new(
                 id,
-                part: 0,
-                v: 0.4,
-            }),
+                GcInsertSection {
+                    part: PartId(0),
+                    v: 0.4,
+                },
+            )),
             "insert on an existing section",
         ),
         (
-            Op::GcSetShape(GcSetShape {
+            Op::GcSetShape(Edit::new(
                 id,
-                part: 0,
-                shape: ShapeType::Container {
-                    thickness: 0.25,
-                    closed_end: ClosedEnd::End,
+                GcSetShape {
+                    part: PartId(0),
+                    shape: ShapeType::Container {
+                        thickness: 0.25,
+                        closed_end: ClosedEnd::End,
+                    },
                 },
-            }),
+            )),
             "container too thick",
         ),
     ];
@@ -279,11 +315,13 @@ fn bad_input_is_a_typed_error_and_changes_nothing() {
     }
     // One error checked by value.
     let e = log
-        .apply(Op::GcDeleteSection(GcDeleteSection {
+        .apply(Op::GcDeleteSection(Edit::new(
             id,
-            part: 0,
-            section: 7,
-        }))
+            GcDeleteSection {
+                part: PartId(0),
+                section: SectionIndex(7),
+            },
+        )))
         .unwrap_err();
     assert_eq!(
         e,

@@ -5,8 +5,8 @@
 
 use glam::DVec3;
 use proptest::prelude::*;
-use shapewright::doc::{LogError, ObjectId, Op, OpError, OpLog};
-use shapewright::gc::ops::*;
+use shapewright::doc::{Edit as DocEdit, LogError, ObjectId, Op, OpError, OpLog};
+use shapewright::gc::*;
 use shapewright::gc::{ClosedEnd, GcError, Profile, Resolution, ShapeType};
 use shapewright::mesh::validate;
 
@@ -129,40 +129,68 @@ fn to_op(id: ObjectId, e: &Edit, log: &OpLog) -> Op {
                 }
                 _ => DVec3::ZERO,
             };
-            Op::GcBend(GcBend {
+            Op::GcBend(DocEdit::new(
                 id,
-                part,
-                section,
-                to: key + DVec3::new(dx, 0.0, dz),
-            })
+                GcBend {
+                    part: PartId(part),
+                    section: SectionIndex(section),
+                    to: key + DVec3::new(dx, 0.0, dz),
+                },
+            ))
         }
-        Edit::Resize(section, factor) => Op::GcResize(GcResize {
+        Edit::Resize(section, factor) => Op::GcResize(DocEdit::new(
             id,
-            part,
-            section,
-            factor,
-        }),
-        Edit::Shift(section, v) => Op::GcShift(GcShift {
+            GcResize {
+                part: PartId(part),
+                section: SectionIndex(section),
+                factor,
+            },
+        )),
+        Edit::Shift(section, v) => Op::GcShift(DocEdit::new(
             id,
-            part,
-            section,
-            v,
-        }),
-        Edit::Twist(section, angle) => Op::GcTwist(GcTwist {
+            GcShift {
+                part: PartId(part),
+                section: SectionIndex(section),
+                v,
+            },
+        )),
+        Edit::Twist(section, angle) => Op::GcTwist(DocEdit::new(
             id,
-            part,
-            section,
-            angle,
-        }),
-        Edit::Replace(section, profile) => Op::GcReplaceSection(GcReplaceSection {
+            GcTwist {
+                part: PartId(part),
+                section: SectionIndex(section),
+                angle,
+            },
+        )),
+        Edit::Replace(section, profile) => Op::GcReplaceSection(DocEdit::new(
             id,
-            part,
-            section,
-            profile,
-        }),
-        Edit::Delete(section) => Op::GcDeleteSection(GcDeleteSection { id, part, section }),
-        Edit::Insert(v) => Op::GcInsertSection(GcInsertSection { id, part, v }),
-        Edit::Shape(shape) => Op::GcSetShape(GcSetShape { id, part, shape }),
+            GcReplaceSection {
+                part: PartId(part),
+                section: SectionIndex(section),
+                profile,
+            },
+        )),
+        Edit::Delete(section) => Op::GcDeleteSection(DocEdit::new(
+            id,
+            GcDeleteSection {
+                part: PartId(part),
+                section: SectionIndex(section),
+            },
+        )),
+        Edit::Insert(v) => Op::GcInsertSection(DocEdit::new(
+            id,
+            GcInsertSection {
+                part: PartId(part),
+                v,
+            },
+        )),
+        Edit::Shape(shape) => Op::GcSetShape(DocEdit::new(
+            id,
+            GcSetShape {
+                part: PartId(part),
+                shape,
+            },
+        )),
         Edit::Spine(pts) => {
             let mut p = vec![DVec3::ZERO];
             let mut z = 0.0;
@@ -170,12 +198,14 @@ fn to_op(id: ObjectId, e: &Edit, log: &OpLog) -> Op {
                 z += dz;
                 p.push(DVec3::new(x, 0.0, z));
             }
-            Op::GcReplaceSpine(GcReplaceSpine {
+            Op::GcReplaceSpine(DocEdit::new(
                 id,
-                part,
-                points: p,
-                plane_normal: DVec3::Y,
-            })
+                GcReplaceSpine {
+                    part: PartId(part),
+                    points: p,
+                    plane_normal: DVec3::Y,
+                },
+            ))
         }
     }
 }
@@ -197,7 +227,7 @@ proptest! {
     #[test]
     fn random_gcs_mesh_closed_or_fail_typed(c in create(), edits in prop::collection::vec(edit(), 0..6)) {
         let mut log = OpLog::new();
-        let id = match log.apply(Op::GcCreate(c)) {
+        let id = match log.apply(Op::GcCreate(shapewright::doc::Create(c))) {
             Ok(out) => out.created.unwrap(),
             Err(e) => {
                 prop_assert!(typed(&e), "untyped error {e:?}");
@@ -234,7 +264,7 @@ fn most_random_gcs_and_edits_succeed() {
     for _ in 0..n {
         let (c, es) = strat.new_tree(&mut runner).unwrap().current();
         let mut log = OpLog::new();
-        let out = match log.apply(Op::GcCreate(c.clone())) {
+        let out = match log.apply(Op::GcCreate(shapewright::doc::Create(c.clone()))) {
             Ok(out) => out,
             Err(err) => {
                 // Random thicknesses reach 0.15 and random radii go down

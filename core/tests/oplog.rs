@@ -69,14 +69,16 @@ fn failed_op_changes_nothing() {
             },
         }),
         Op::Delete(Delete { id: ObjectId(0) }),
-        Op::EditSolid(EditSolid {
-            id: ObjectId(1),
-            shape: SolidShape::Torus {
-                major_radius: 1.0,
-                minor_radius: 2.0,
+        Op::EditSolid(Edit::new(
+            ObjectId(1),
+            EditSolid {
+                shape: SolidShape::Torus {
+                    major_radius: 1.0,
+                    minor_radius: 2.0,
+                },
+                segments: 32,
             },
-            segments: 32,
-        }),
+        )),
     ];
     for op in bad {
         assert!(log.apply(op.clone()).is_err(), "{op:?} should fail");

@@ -56,7 +56,7 @@ fn step() -> impl Strategy<Value = Step> {
     prop_oneof![
         4 => (shape(), segments.clone(), transform())
             .prop_map(|(shape, segments, transform)| Step::Op(Op::AddSolid(AddSolid { shape, segments, transform }))),
-        2 => (id.clone(), shape(), segments).prop_map(|(id, shape, segments)| Step::Op(Op::EditSolid(EditSolid { id, shape, segments }))),
+        2 => (id.clone(), shape(), segments).prop_map(|(id, shape, segments)| Step::Op(Op::EditSolid(Edit::new(id, EditSolid { shape, segments ,})))),
         2 => (id.clone(), transform()).prop_map(|(id, transform)| Step::Op(Op::SetTransform(SetTransform { id, transform }))),
         2 => (id.clone(), transform()).prop_map(|(id, transform)| Step::Op(Op::TransformBy(TransformBy { id, transform }))),
         1 => id.clone().prop_map(|id| Step::Op(Op::Duplicate(Duplicate { id }))),

@@ -17,11 +17,11 @@
 
 use std::path::Path;
 
-use shapewright::doc::{ObjectId, ObjectKind, Op, OpLog, OpOutcome};
+use shapewright::doc::{Create, Edit, ObjectId, ObjectKind, Op, OpLog, OpOutcome};
 use shapewright::math::Transform;
 use shapewright::mesh::TriMesh;
 use shapewright::sculpt::{BrushShape, DistanceGrid, SculptBase, SculptCreate};
-use shapewright::sdf::ops::{SdfCreate, SdfImportComponent};
+use shapewright::sdf::{SdfCreate, SdfImportComponent};
 
 use crate::import::combined;
 use crate::{import_file, ImportError, ImportOptions};
@@ -70,7 +70,7 @@ fn volume_for(log: &mut OpLog) -> Result<ObjectId, ImportError> {
         [only] => Ok(*only),
         [] => {
             let step = shapewright::sdf::volume::DEFAULT_STEP;
-            apply(log, Op::SdfCreate(SdfCreate { step }))?
+            apply(log, Op::SdfCreate(Create(SdfCreate { step })))?
                 .created
                 .ok_or_else(|| ImportError::Apply {
                     op: "sdf_create",
@@ -102,20 +102,22 @@ pub fn import_into(
                 Some(v) => v,
                 None => volume_for(log)?,
             };
-            Op::SdfImportComponent(SdfImportComponent {
+            Op::SdfImportComponent(Edit::new(
                 volume,
-                name,
-                positions,
-                triangles,
-            })
+                SdfImportComponent {
+                    name,
+                    positions,
+                    triangles,
+                },
+            ))
         }
-        ImportTarget::SculptBase { transform } => Op::SculptCreate(SculptCreate {
+        ImportTarget::SculptBase { transform } => Op::SculptCreate(Create(SculptCreate {
             base: SculptBase::Mesh {
                 positions,
                 triangles,
             },
             transform,
-        }),
+        })),
     };
     apply(log, op)
 }

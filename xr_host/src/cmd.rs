@@ -130,3 +130,33 @@ pub fn format_report(file: &Path, r: &ValidationReport) -> String {
         bbox,
     )
 }
+
+/// The op list (`ops`), or the whole op schema as JSON (`ops --json`).
+pub fn ops(json: bool) -> String {
+    let schema = shapewright::doc::schema::op_schema();
+    if json {
+        return format!("{schema:#}\n");
+    }
+    let mut out = String::new();
+    for op in schema["ops"].as_array().into_iter().flatten() {
+        let fields: Vec<String> = op["fields"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .map(|f| {
+                let name = f["name"].as_str().unwrap_or("?");
+                match f["unit"].as_str() {
+                    Some(u) => format!("{name} [{u}]"),
+                    None => name.to_string(),
+                }
+            })
+            .collect();
+        out += &format!(
+            "{:<28} {:<14} {}\n",
+            op["name"].as_str().unwrap_or("?"),
+            op["kind"].as_str().unwrap_or("?"),
+            fields.join(", ")
+        );
+    }
+    out
+}

@@ -67,6 +67,13 @@ enum Command {
     Import(import_cmd::ImportArgs),
     /// Run the OpenXR session (headset with Vulkan; `--headless`: input only, XR_MND_headless).
     Run(run_cmd::RunArgs),
+    /// List every op the core knows, with its fields (`--json`: the whole
+    /// machine-readable schema: types, units, ranges, defaults, docs).
+    Ops {
+        /// Print the schema as JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Render a mesh file (.stl, .obj) to a PNG with the host's Vulkan renderer.
     Render {
         /// The mesh file.
@@ -101,6 +108,10 @@ fn main() -> ExitCode {
         Command::Replay(args) => replay_cmd::replay(&args),
         Command::Import(args) => import_cmd::import(&args),
         Command::Run(args) => run_cmd::run(&args),
+        Command::Ops { json } => {
+            print!("{}", cmd::ops(json));
+            Ok(())
+        }
         Command::Render {
             file,
             png,

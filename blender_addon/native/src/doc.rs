@@ -2,7 +2,7 @@
 
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use shapewright::doc::{parse_script, run_script, ContentHasher, ObjectId, Op, OpLog, OP_NAMES};
+use shapewright::doc::{parse_script, run_script, ObjectId, Op, OpLog, OP_NAMES};
 use shapewright::mesh::{validate, MeshFormat};
 
 use crate::error::{log_err, op_err, script_err, ParseError};
@@ -124,15 +124,7 @@ impl Session {
     /// A hash of one object's parameters and mesh bits: changes exactly
     /// when the object does (hosts re-sync only what changed).
     fn object_hash(&self, id: u32) -> PyResult<u64> {
-        let obj = self.0.document().get(ObjectId(id)).map_err(op_err)?;
-        let mut h = ContentHasher::new();
-        h.bytes(
-            serde_json::to_string(&obj.kind)
-                .unwrap_or_default()
-                .as_bytes(),
-        );
-        h.mesh(&obj.mesh);
-        Ok(h.finish())
+        self.0.document().object_hash(ObjectId(id)).map_err(op_err)
     }
 
     /// An object's mesh (or, with `id=None`, all objects appended) as
@@ -220,4 +212,12 @@ fn parse_ops(text: &str) -> PyResult<Vec<Op>> {
 #[pyfunction]
 pub(crate) fn op_names() -> Vec<&'static str> {
     OP_NAMES.to_vec()
+}
+
+/// The op schema as JSON: every op's fields with types, units, ranges,
+/// defaults and docs (`shapewright::doc::schema::op_schema`). The add-on
+/// builds its operators and tooltips from it.
+#[pyfunction]
+pub(crate) fn op_schema_json() -> String {
+    shapewright::doc::schema::op_schema().to_string()
 }

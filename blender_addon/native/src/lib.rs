@@ -33,6 +33,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(usd::load_usd, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::validate_buffers, m)?)?;
     m.add_function(wrap_pyfunction!(doc::op_names, m)?)?;
+    m.add_function(wrap_pyfunction!(doc::op_schema_json, m)?)?;
     m.add("OP_FORMAT_VERSION", shapewright::doc::OP_FORMAT_VERSION)?;
     error::register(m)?;
     Ok(())

@@ -10,14 +10,14 @@
 //! - creating a child on its parent's surface at a picked point, sketched
 //!   in the plane spanned by the parent's surface normal `n` and spine
 //!   tangent `t` (spine plane normal `n x t`), its end free (a spout) or
-//!   landing on the parent (a handle) ([`ops::GcAddChild`]);
+//!   landing on the parent (a handle) ([`edit::GcAddChild`]);
 //! - copying a part with its descendants, rigidly or mirrored about the
-//!   parent's spine plane ([`ops::GcCopy`]);
+//!   parent's spine plane ([`edit::GcCopy`]);
 //! - rigid transforms of a part whose descendants stay attached
-//!   ([`ops::GcTransformPart`]);
+//!   ([`edit::GcTransformPart`]);
 //! - automatic detection of connectivity, coplanarity, concentricity and
 //!   symmetry ([`detect_relations`]);
-//! - structure-aware propagation ([`ops::GcEditPart`]): an edit reaches
+//! - structure-aware propagation ([`edit::GcEditPart`]): an edit reaches
 //!   the part's symmetry group (mirrored), then descendants breadth-first
 //!   are re-placed on their parents' new surfaces, so attachments and
 //!   symmetries keep holding;
@@ -43,9 +43,10 @@ mod relations;
 mod rigid;
 mod union;
 
-pub mod ops;
+pub mod edit;
 
 pub use anchor::{anchor_frame, project_to_surface, Anchor, Attachment, Projection};
+pub use edit::{ChildEnd, GcAddChild, GcCopy, GcEditPart, GcTransformPart, PartEdit};
 pub use error::AssemblyError;
 pub use propagate::{descendants_bfs, reattach_descendants};
 pub use relations::{children_of, detect_relations, symmetry_twins, Relations};

@@ -4,8 +4,8 @@
 use glam::DVec3;
 
 use super::{mirror_gc, reflect, transform_gc};
-use crate::gc::ops::{GcCreate, SectionSpec};
 use crate::gc::{mesh_gc, Profile, Resolution, ShapeType};
+use crate::gc::{GcCreate, SectionSpec};
 
 /// A solid GC on a bent spine in the y = 0 plane with the given sections.
 fn bent(sections: Vec<SectionSpec>) -> crate::gc::Gc {

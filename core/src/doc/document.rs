@@ -5,7 +5,8 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use super::{ContentHasher, Object, ObjectId, ObjectKind, OpError};
+use super::{ContentHasher, KindOf, Object, ObjectId, ObjectKind, OpError};
+use crate::math::Transform;
 use crate::mesh::{union, BooleanError, TriMesh};
 
 /// Objects by stable id, plus the id counter. Cloning is cheap: objects
@@ -36,6 +37,18 @@ impl Document {
             .ok_or(OpError::BadId(id))
     }
 
+    /// The object `id` as kind `K`, or [`OpError::WrongKind`] (the op name
+    /// is filled in by [`super::Op::apply`]).
+    pub fn get_as<K: KindOf>(&self, id: ObjectId) -> Result<&K, OpError> {
+        let obj = self.get(id)?;
+        K::of(&obj.kind).ok_or(OpError::WrongKind {
+            id,
+            op: "",
+            expected: K::NAME,
+            found: obj.kind.name(),
+        })
+    }
+
     /// Objects in id order.
     pub fn objects(&self) -> impl Iterator<Item = (ObjectId, &Object)> {
         self.objects.iter().map(|(id, o)| (*id, o.as_ref()))
@@ -59,16 +72,70 @@ impl Document {
     /// Evaluates `kind` and inserts it under a newly allocated id.
     pub fn insert(&mut self, kind: ObjectKind) -> Result<ObjectId, OpError> {
         let id = self.next_id();
-        let obj = self.build(id, kind)?;
+        let obj = self.build(id, kind, String::new(), Transform::IDENTITY)?;
         self.next_id = id.0;
         self.objects.insert(id, Arc::new(obj));
         Ok(id)
     }
 
-    /// Replaces the object `id` with `kind`, re-evaluating its mesh.
+    /// Replaces the object `id`'s kind with `kind` (keeping its name and
+    /// placement), re-evaluating its mesh.
     pub fn replace(&mut self, id: ObjectId, kind: ObjectKind) -> Result<(), OpError> {
-        self.get(id)?;
-        let obj = self.build(id, kind)?;
+        let old = self.get(id)?;
+        let (name, placement) = (old.name.clone(), old.placement);
+        let obj = self.build(id, kind, name, placement)?;
+        self.objects.insert(id, Arc::new(obj));
+        Ok(())
+    }
+
+    /// Places object `id` at `t`: its own transform for kinds that have one
+    /// (re-evaluated), else its object-level placement (the kind's mesh is
+    /// moved once from its own frame, never re-evaluated or re-moved, so
+    /// moves do not accumulate rounding).
+    pub fn set_placement(&mut self, id: ObjectId, t: Transform) -> Result<(), OpError> {
+        t.validate()?;
+        let old = self.get(id)?.clone();
+        let mut kind = old.kind.clone();
+        let obj = if kind.set_own_transform(t)? {
+            self.build(id, kind, old.name, Transform::IDENTITY)?
+        } else {
+            let mesh = place(&old.local_mesh, &t)?;
+            self.work += mesh.triangles.len() as u64 + 1;
+            Object {
+                placement: t,
+                mesh,
+                ..old
+            }
+        };
+        self.objects.insert(id, Arc::new(obj));
+        Ok(())
+    }
+
+    /// Copies object `id` (kind, name, placement and mesh) under a new id.
+    pub fn duplicate(&mut self, id: ObjectId) -> Result<ObjectId, OpError> {
+        let src = self.get(id)?.clone();
+        let new = self.next_id();
+        let mut local = (*src.local_mesh).clone();
+        local.set_source(new.0);
+        let local = Arc::new(local);
+        let mesh = place(&local, &src.placement)?;
+        self.work += mesh.triangles.len() as u64 + 1;
+        self.next_id = new.0;
+        self.objects.insert(
+            new,
+            Arc::new(Object {
+                local_mesh: local,
+                mesh,
+                ..src
+            }),
+        );
+        Ok(new)
+    }
+
+    /// Names object `id`.
+    pub fn rename(&mut self, id: ObjectId, name: &str) -> Result<(), OpError> {
+        let mut obj = self.get(id)?.clone();
+        obj.name = name.to_string();
         self.objects.insert(id, Arc::new(obj));
         Ok(())
     }
@@ -94,13 +161,24 @@ impl Document {
         self.work += amount;
     }
 
-    fn build(&mut self, id: ObjectId, kind: ObjectKind) -> Result<Object, OpError> {
-        let mut mesh = kind.evaluate()?;
-        self.work += mesh.triangles.len() as u64 + 1;
-        mesh.set_source(id.0);
+    fn build(
+        &mut self,
+        id: ObjectId,
+        kind: ObjectKind,
+        name: String,
+        placement: Transform,
+    ) -> Result<Object, OpError> {
+        let mut local = kind.evaluate()?;
+        self.work += local.triangles.len() as u64 + 1;
+        local.set_source(id.0);
+        let local_mesh = Arc::new(local);
+        let mesh = place(&local_mesh, &placement)?;
         Ok(Object {
             kind,
-            mesh: Arc::new(mesh),
+            name,
+            placement,
+            local_mesh,
+            mesh,
         })
     }
 
@@ -130,16 +208,53 @@ impl Document {
         h.u64(self.next_id as u64);
         for (id, obj) in &self.objects {
             h.u64(id.0 as u64);
-            // Parameters: serde_json prints f64 exactly (shortest round-trip).
-            h.bytes(
-                serde_json::to_string(&obj.kind)
-                    .unwrap_or_default()
-                    .as_bytes(),
-            );
-            h.mesh(&obj.mesh);
+            hash_object(&mut h, obj);
         }
         h.finish()
     }
+
+    /// A hash of one object's name, placement, parameters and mesh bits: it
+    /// changes exactly when the object does (hosts re-sync only what
+    /// changed).
+    pub fn object_hash(&self, id: ObjectId) -> Result<u64, OpError> {
+        let mut h = ContentHasher::new();
+        hash_object(&mut h, self.get(id)?);
+        Ok(h.finish())
+    }
+}
+
+fn hash_object(h: &mut ContentHasher, obj: &Object) {
+    // Names and object-level placements were added after the first
+    // documents were recorded: hashed only when set, so those documents
+    // keep their hashes.
+    if !obj.name.is_empty() {
+        h.bytes(b"name");
+        h.bytes(obj.name.as_bytes());
+    }
+    if obj.placement != Transform::IDENTITY {
+        h.bytes(b"placement");
+        let t = &obj.placement;
+        for x in t.translate.iter().chain(&t.rotate).chain(&t.scale) {
+            h.f64(*x);
+        }
+    }
+    // Parameters: serde_json prints f64 exactly (shortest round-trip).
+    h.bytes(
+        serde_json::to_string(&obj.kind)
+            .unwrap_or_default()
+            .as_bytes(),
+    );
+    h.mesh(&obj.mesh);
+}
+
+/// `local` placed by `t` (the same `Arc` when `t` is the identity).
+fn place(local: &Arc<TriMesh>, t: &Transform) -> Result<Arc<TriMesh>, OpError> {
+    if *t == Transform::IDENTITY {
+        return Ok(local.clone());
+    }
+    let mut mesh = (**local).clone();
+    mesh.transform(&t.to_affine()?);
+    Ok(Arc::new(mesh))
 }
 
 #[derive(Serialize)]
@@ -151,7 +266,15 @@ struct DocumentOut<'a> {
 #[derive(Serialize)]
 struct ObjectOut<'a> {
     id: ObjectId,
+    #[serde(skip_serializing_if = "str::is_empty")]
+    name: &'a str,
+    #[serde(skip_serializing_if = "is_identity")]
+    placement: Transform,
     kind: &'a ObjectKind,
+}
+
+fn is_identity(t: &Transform) -> bool {
+    *t == Transform::IDENTITY
 }
 
 #[derive(Deserialize)]
@@ -165,6 +288,10 @@ struct DocumentIn {
 #[serde(deny_unknown_fields)]
 struct ObjectIn {
     id: ObjectId,
+    #[serde(default)]
+    name: String,
+    #[serde(default)]
+    placement: Transform,
     kind: ObjectKind,
 }
 
@@ -177,6 +304,8 @@ impl Serialize for Document {
                 .iter()
                 .map(|(id, o)| ObjectOut {
                     id: *id,
+                    name: &o.name,
+                    placement: o.placement,
                     kind: &o.kind,
                 })
                 .collect(),
@@ -204,7 +333,7 @@ impl<'de> Deserialize<'de> for Document {
             }
             prev = o.id.0;
             let obj = doc
-                .build(o.id, o.kind)
+                .build(o.id, o.kind, o.name, o.placement)
                 .map_err(|e| D::Error::custom(format!("object {}: {e}", o.id)))?;
             doc.objects.insert(o.id, Arc::new(obj));
         }

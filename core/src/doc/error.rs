@@ -24,6 +24,26 @@ pub enum OpError {
         /// The kind the object is.
         found: &'static str,
     },
+    /// A field of the op is not finite, or outside the range its schema
+    /// declares (see [`super::schema`]). Checked before anything is
+    /// applied.
+    #[error("`{op}`: field `{field}` {problem}")]
+    BadField {
+        /// The op's name.
+        op: &'static str,
+        /// The field's path in the op (`shape.radius`, `samples[3][1]`).
+        field: String,
+        /// What is wrong with it, with the allowed range.
+        problem: String,
+    },
+    /// The name is too long or contains control characters.
+    #[error("object name `{name}` is longer than {max} bytes or has control characters")]
+    BadName {
+        /// The start of the name.
+        name: String,
+        /// The longest name allowed, in bytes.
+        max: usize,
+    },
     /// A non-uniform scale applied on top of a rotation would shear the
     /// object, which a scale-rotate-translate placement cannot express.
     #[error("a non-uniform scale {scale:?} on top of a rotated placement would shear; scale before rotating, or edit the object's sizes")]
@@ -52,6 +72,26 @@ pub enum OpError {
     /// An assembly op failed, or the union of an assembly's parts.
     #[error(transparent)]
     Assembly(#[from] crate::assembly::AssemblyError),
+}
+
+impl OpError {
+    /// The error with the op's name filled in where the error names it.
+    pub fn in_op(self, name: &'static str) -> Self {
+        match self {
+            Self::WrongKind {
+                id,
+                op: "",
+                expected,
+                found,
+            } => Self::WrongKind {
+                id,
+                op: name,
+                expected,
+                found,
+            },
+            other => other,
+        }
+    }
 }
 
 /// Why the log could not do what was asked. The log and its document are

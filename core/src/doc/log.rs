@@ -1,6 +1,7 @@
 //! [`OpLog`]: history of ops with a cursor, undo, redo, replay and
 //! checkpoints. See the module doc of [`crate::doc`] for the choices.
 
+use super::schema::check_op;
 use super::{Document, LogError, Op, OpOutcome};
 
 /// When the log takes a checkpoint (a snapshot of the document). Only
@@ -82,6 +83,7 @@ impl OpLog {
     /// `cursor` (the ops after it stay available to redo).
     pub fn replay(ops: Vec<Op>, cursor: usize) -> Result<Self, LogError> {
         check_cursor(cursor, ops.len())?;
+        check_all(&ops)?;
         let mut log = Self::new();
         log.ops = ops;
         log.seek(cursor)?;
@@ -95,6 +97,7 @@ impl OpLog {
     /// later undos are bounded again.
     pub fn from_snapshot(ops: Vec<Op>, cursor: usize, doc: Document) -> Result<Self, LogError> {
         check_cursor(cursor, ops.len())?;
+        check_all(&ops)?;
         let mut log = Self::new();
         log.ops = ops;
         log.cursor = cursor;
@@ -151,6 +154,7 @@ impl OpLog {
     /// Applies `op` at the cursor. On success the redo tail is dropped and
     /// `op` is recorded; on error nothing changes.
     pub fn apply(&mut self, op: Op) -> Result<OpOutcome, LogError> {
+        check_op(&op)?;
         let mut next = self.doc.clone();
         let outcome = op.apply(&mut next)?;
         let cost = next.work() - self.doc.work();
@@ -292,6 +296,15 @@ impl OpLog {
             Err(pos) => self.checkpoints.insert(pos, c),
         }
     }
+}
+
+/// Every recorded op passes the door check (a file's ops too, not only
+/// those applied live).
+fn check_all(ops: &[Op]) -> Result<(), LogError> {
+    for (index, op) in ops.iter().enumerate() {
+        check_op(op).map_err(|error| LogError::Replay { index, error })?;
+    }
+    Ok(())
 }
 
 /// A cursor may sit anywhere from before the first op to after the last.

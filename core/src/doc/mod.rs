@@ -2,8 +2,9 @@
 //!
 //! A [`Document`] holds objects keyed by stable [`ObjectId`]s. It changes
 //! only through [`Op`] values applied by an [`OpLog`], which owns undo, redo,
-//! the cursor, checkpoints and replay. Scripts of ops are JSON lines
-//! ([`parse_script`]).
+//! the cursor, checkpoints and replay. Every op is declared once, in
+//! [`ops`]; [`schema`] describes them all for the hosts. Scripts of ops are
+//! JSON lines ([`parse_script`]).
 //!
 //! Choices made here:
 //! - **A new op after an undo drops the redo tail** (linear history, as in
@@ -12,6 +13,10 @@
 //!   shared through `Arc`, so the copy costs one pointer per object) and the
 //!   copy replaces the document only on success. A failed op therefore
 //!   cannot leave a half-applied change, whatever module it comes from.
+//! - **Checked at the door:** before it applies, every op's numbers are
+//!   checked against its schema (finite, within the declared range), so a
+//!   NaN from lost tracking or an `inf` from a host is refused with the
+//!   field's name before any geometry code sees it.
 //! - **Checkpoints** are whole-document snapshots (again `Arc`-shared), taken
 //!   every [`CheckpointPolicy::every_ops`] ops or once the ops since the last
 //!   one did [`CheckpointPolicy::every_work`] work. Undo restores the
@@ -20,23 +25,23 @@
 
 mod document;
 mod error;
-mod hash;
-mod id;
 mod log;
 mod object;
-mod op;
+pub mod ops;
+pub mod schema;
 mod script;
 
+pub use crate::hash::ContentHasher;
+pub use crate::id::ObjectId;
 pub use document::Document;
 pub use error::{LogError, OpError};
-pub use hash::ContentHasher;
-pub use id::ObjectId;
 pub use log::{CheckpointPolicy, OpLog};
-pub use object::{Object, ObjectKind, Solid};
-pub use op::{
-    AddSolid, Delete, Duplicate, EditSolid, Op, OpOutcome, SetTransform, TransformBy,
-    OP_FORMAT_VERSION, OP_NAMES,
+pub use object::{KindOf, Object, ObjectKind, Solid};
+pub use ops::{
+    AddSolid, Apply, Create, Delete, Duplicate, Edit, EditCx, EditSolid, ObjectCreate, ObjectEdit,
+    Op, OpOutcome, RenameObject, SetTransform, TransformBy, OP_KINDS, OP_NAMES,
 };
 pub use script::{
     parse_script, run_script, ScriptCommand, ScriptError, ScriptErrorKind, ScriptLine,
+    OP_FORMAT_VERSION,
 };

@@ -1,4 +1,15 @@
-//! Document objects: what each kind stores, and its evaluated mesh.
+//! Document objects: what each kind stores, its name, its placement, and
+//! its evaluated mesh.
+//!
+//! **Placement.** Every object can be moved, rotated and scaled by the
+//! document ops (`set_transform`, `transform_by`). Kinds that carry their
+//! own transform (solids, sculpts: their ops and tools already map world
+//! input through it) are placed by that transform. The other kinds (GC
+//! assemblies, SDF volumes, curve networks) keep their geometry in their own
+//! frame and get an object-level [`Object::placement`] applied to their
+//! mesh: moving a fused SDF result or a styled network never re-samples or
+//! re-fits it. Edit ops on those kinds take positions in the object's own
+//! frame (tools map world input through [`Object::placement`]).
 
 use std::sync::Arc;
 
@@ -10,14 +21,34 @@ use crate::solid::{tessellate, SolidShape};
 
 use super::OpError;
 
-/// An object of the document: its parameters and its evaluated mesh.
+/// An object of the document: its parameters, name, placement and
+/// evaluated mesh.
 #[derive(Clone, Debug)]
 pub struct Object {
     /// What the object is, with every parameter.
     pub kind: ObjectKind,
-    /// The object's mesh in model space, evaluated when the object changed.
-    /// Triangles carry the object's id as their source.
+    /// The user's name for it (`""`: unnamed; hosts then show the kind
+    /// and id).
+    pub name: String,
+    /// The object-level placement of kinds without their own transform
+    /// (identity for solids and sculpts, which place themselves; see the
+    /// module doc).
+    pub placement: Transform,
+    /// The kind's mesh in its own frame (before [`Self::placement`]),
+    /// evaluated when the kind changed. The same `Arc` as [`Self::mesh`]
+    /// when the placement is the identity.
+    pub local_mesh: Arc<TriMesh>,
+    /// The object's mesh in model space, placed. Triangles carry the
+    /// object's id as their source.
     pub mesh: Arc<TriMesh>,
+}
+
+impl Object {
+    /// Where the object is: its own transform for solids and sculpts, else
+    /// its object-level placement.
+    pub fn transform(&self) -> Transform {
+        self.kind.own_transform().unwrap_or(self.placement)
+    }
 }
 
 /// The kinds of object a document can hold.
@@ -41,15 +72,16 @@ impl ObjectKind {
     /// The kind's name, as errors and reports say it.
     pub fn name(&self) -> &'static str {
         match self {
-            Self::Solid(_) => "solid",
-            Self::GcAssembly(_) => "gc_assembly",
-            Self::SculptMesh(_) => "sculpt_mesh",
-            Self::SdfVolume(_) => "sdf_volume",
-            Self::CurveNetwork(_) => "curve_network",
+            Self::Solid(_) => Solid::NAME,
+            Self::GcAssembly(_) => crate::gc::GcAssembly::NAME,
+            Self::SculptMesh(_) => crate::sculpt::SculptMesh::NAME,
+            Self::SdfVolume(_) => crate::sdf::SdfVolume::NAME,
+            Self::CurveNetwork(_) => crate::styling::CurveNetwork::NAME,
         }
     }
 
-    /// Evaluates the object's mesh in model space.
+    /// Evaluates the object's mesh in model space (before any object-level
+    /// placement).
     pub fn evaluate(&self) -> Result<TriMesh, OpError> {
         match self {
             Self::Solid(s) => s.evaluate(),
@@ -59,12 +91,70 @@ impl ObjectKind {
                 crate::assembly::AssemblyError::Gc(g) => OpError::Gc(g),
                 other => OpError::Assembly(other),
             }),
-            Self::SculptMesh(s) => s.evaluate(),
+            Self::SculptMesh(s) => Ok(s.evaluate()?),
             Self::SdfVolume(v) => Ok(v.evaluate()?),
             Self::CurveNetwork(n) => Ok(n.mesh()),
         }
     }
+
+    /// The kind's own placement, for kinds that carry one.
+    pub fn own_transform(&self) -> Option<Transform> {
+        match self {
+            Self::Solid(s) => Some(s.transform),
+            Self::SculptMesh(s) => Some(s.transform),
+            _ => None,
+        }
+    }
+
+    /// Sets the kind's own placement; `false` (and nothing changed) for
+    /// kinds placed by the object.
+    pub fn set_own_transform(&mut self, t: Transform) -> Result<bool, OpError> {
+        match self {
+            Self::Solid(s) => s.transform = t,
+            Self::SculptMesh(s) => {
+                crate::sculpt::model_scale(&t)?;
+                s.transform = t;
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
 }
+
+/// A Rust type that is one of the [`ObjectKind`]s: the one typed accessor
+/// behind every "object of kind K, or a typed error" lookup
+/// ([`super::Document::get_as`]).
+pub trait KindOf: Clone + Sized {
+    /// The kind's name (`"gc_assembly"`, ...), as [`ObjectKind::name`] says it.
+    const NAME: &'static str;
+    /// `kind` as this type, if it is one.
+    fn of(kind: &ObjectKind) -> Option<&Self>;
+    /// Wraps the value as an [`ObjectKind`].
+    fn into_kind(self) -> ObjectKind;
+}
+
+macro_rules! kind_of {
+    ($ty:ty, $variant:ident, $name:literal) => {
+        impl KindOf for $ty {
+            const NAME: &'static str = $name;
+            fn of(kind: &ObjectKind) -> Option<&Self> {
+                match kind {
+                    ObjectKind::$variant(x) => Some(x),
+                    _ => None,
+                }
+            }
+            fn into_kind(self) -> ObjectKind {
+                ObjectKind::$variant(self)
+            }
+        }
+    };
+}
+
+kind_of!(Solid, Solid, "solid");
+kind_of!(crate::gc::GcAssembly, GcAssembly, "gc_assembly");
+kind_of!(crate::sculpt::SculptMesh, SculptMesh, "sculpt_mesh");
+kind_of!(crate::sdf::SdfVolume, SdfVolume, "sdf_volume");
+kind_of!(crate::styling::CurveNetwork, CurveNetwork, "curve_network");
 
 /// A parametric solid placed by a transform.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -2,12 +2,29 @@
 //!
 //! Besides ops, a line may be `{"op":"undo"}` or `{"op":"redo"}`. Blank
 //! lines and lines starting with `#` are skipped. A line may carry
-//! `"v": N`, the op format version it was written for; versions newer than
-//! [`OP_FORMAT_VERSION`] are refused. Errors name the 1-based line.
+//! `"op_version": N`, the op format version it was written for; versions
+//! newer than [`OP_FORMAT_VERSION`] are refused. Errors name the 1-based
+//! line.
+//!
+//! Files written before the key was renamed carry `"v": N`; it is still
+//! read as the version on ops that have no field `v` (`gc_shift` and
+//! `gc_insert_section` do, which is why the key moved: no op may have a
+//! field named [`VERSION_KEY`], and a test checks the schema for it).
 
 use serde_json::Value;
 
-use super::{LogError, Op, OpLog, OP_FORMAT_VERSION, OP_NAMES};
+use super::{LogError, Op, OpLog, OP_NAMES};
+
+/// The version of the op encoding this build writes and reads: new op
+/// kinds and new optional fields keep the version; anything that changes
+/// the meaning of an existing field bumps it.
+pub const OP_FORMAT_VERSION: u32 = 1;
+
+/// The key of a script line's format version.
+pub const VERSION_KEY: &str = "op_version";
+
+/// The key older files used for the format version.
+const OLD_VERSION_KEY: &str = "v";
 
 /// One command of a script.
 #[derive(Clone, Debug, PartialEq)]
@@ -94,19 +111,25 @@ fn parse_line(text: &str) -> Result<ScriptCommand, ScriptErrorKind> {
     let mut value: Value =
         serde_json::from_str(text).map_err(|e| ScriptErrorKind::Json(e.to_string()))?;
     let obj = value.as_object_mut().ok_or(ScriptErrorKind::NotAnOp)?;
-    if let Some(v) = obj.remove("v") {
-        let v = v
-            .as_u64()
-            .ok_or_else(|| ScriptErrorKind::Json("\"v\" must be a positive integer".into()))?;
-        if v > OP_FORMAT_VERSION as u64 {
-            return Err(ScriptErrorKind::UnsupportedVersion(v));
-        }
-    }
     let name = obj
         .get("op")
         .and_then(Value::as_str)
         .ok_or(ScriptErrorKind::NotAnOp)?
         .to_owned();
+    let old_key = !super::schema::op_has_field(&name, OLD_VERSION_KEY);
+    for key in [VERSION_KEY, OLD_VERSION_KEY] {
+        if key == OLD_VERSION_KEY && !old_key {
+            continue;
+        }
+        if let Some(v) = obj.shift_remove(key) {
+            let v = v.as_u64().ok_or_else(|| {
+                ScriptErrorKind::Json(format!("\"{key}\" must be a positive integer"))
+            })?;
+            if v > OP_FORMAT_VERSION as u64 {
+                return Err(ScriptErrorKind::UnsupportedVersion(v));
+            }
+        }
+    }
     match name.as_str() {
         "undo" | "redo" if obj.len() == 1 => Ok(if name == "undo" {
             ScriptCommand::Undo

@@ -7,7 +7,8 @@
 //! types solid / shell / container with thickness τ mesh to closed,
 //! oriented 2-manifolds ([`mesh_gc`]). The edits of §3.2 (bend, replace
 //! spine, resize, shift, twist, replace, delete, insert) are methods
-//! on [`Gc`] and ops ([`ops`]) on the document object kind
+//! on [`Gc`]; their op payloads ([`edits`]: what to do to which part and
+//! section) are plain values the document applies to the object kind
 //! [`GcAssembly`].
 //!
 //! Choices: sections are stored in their local frames (profile, scale,
@@ -20,13 +21,18 @@
 
 mod assembly;
 mod edit;
+pub mod edits;
 mod error;
 mod mesh;
 mod model;
-pub mod ops;
 mod section;
 
 pub use assembly::{GcAssembly, GcPart};
+pub use edits::{
+    build_gc, edit_part_gc, GcBend, GcCreate, GcDeleteSection, GcEdit, GcInsertSection,
+    GcReplaceSection, GcReplaceSpine, GcResize, GcSetResolution, GcSetShape, GcShift, GcTwist,
+    PartId, SectionIndex, SectionSpec,
+};
 pub use error::GcError;
 pub use mesh::{cavity_gc, inscribed_radius, mesh_gc, samples_between};
 pub use model::{

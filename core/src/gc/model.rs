@@ -34,7 +34,7 @@ pub struct Spine {
 }
 
 /// The shape types of §3.1.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum ShapeType {
     /// Side surface plus the faces enclosed by the first and last sections.
@@ -42,12 +42,14 @@ pub enum ShapeType {
     /// The side surface thickened inwards by `thickness` (a pipe).
     Shell {
         /// Wall thickness τ.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         thickness: f64,
     },
     /// A shell plus a solid bottom (the face enclosed by the first section,
     /// `closed_end = start`) or top (`end`) thickened by `thickness`.
     Container {
         /// Wall and floor thickness τ.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         thickness: f64,
         /// Which end is closed.
         closed_end: ClosedEnd,
@@ -55,7 +57,7 @@ pub enum ShapeType {
 }
 
 /// The closed end of a container.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ClosedEnd {
     /// The first section's end (bottom).
@@ -66,11 +68,13 @@ pub enum ClosedEnd {
 
 /// Mesh resolution: segments around a section (over the whole `u`
 /// domain) and along the spine (over the sections' `v` range).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Resolution {
     /// Segments around each section.
+    #[schemars(range(min = 4, max = 4096))]
     pub u: u32,
     /// Segments along the GC.
+    #[schemars(range(min = 4, max = 4096))]
     pub v: u32,
 }
 

@@ -21,39 +21,47 @@ use crate::nurbs::{interpolate_closed, shapes, NurbsCurve, ParamMethod};
 pub const MAX_CURVE_DEGREE: usize = 7;
 
 /// The shape of a key section in its local frame.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "template", rename_all = "snake_case")]
 pub enum Profile {
     /// Circle of radius `radius`.
     Circle {
         /// Radius.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         radius: f64,
     },
     /// Ellipse with semi-axes `rx` (local x) and `ry` (local y).
     Ellipse {
         /// Semi-axis along local x.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         rx: f64,
         /// Semi-axis along local y.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         ry: f64,
     },
     /// Regular polygon with `sides` vertices on the circle of `radius`.
     Polygon {
         /// Number of sides, at least 3.
+        #[schemars(range(min = 3, max = 1024))]
         sides: u32,
         /// Circumradius.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         radius: f64,
     },
     /// Axis-aligned rectangle centered on the spine.
     Rectangle {
         /// Extent along local x.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         width: f64,
         /// Extent along local y.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         height: f64,
     },
     /// A closed loop of 2D points (a sketch), interpolated by a periodic
     /// cubic; the first point is not repeated.
     Points {
         /// Loop points in local (x, y).
+        #[schemars(extend("x-unit" = "m"))]
         points: Vec<[f64; 2]>,
     },
     /// Any closed NURBS curve in local coordinates, domain `[0, 1]`,

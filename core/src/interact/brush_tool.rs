@@ -30,7 +30,7 @@
 //! tool. The orienting hand losing tracking or teleporting lets go of the
 //! model where it was.
 
-use crate::doc::{Document, ObjectId, ObjectKind, Op, ScriptCommand};
+use crate::doc::{Create, Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
 use crate::math::{DVec3, Transform};
 use crate::sculpt::{
     BrushShape, Falloff, SculptBase, SculptCreate, SculptStroke, StrokeSample, StrokeSettings, Warp,
@@ -192,11 +192,13 @@ impl Stroke {
         }
         // A stroke starts with one sample, so it has at least two now (a
         // dab held still is two equal samples).
-        Some(ScriptCommand::Op(Op::SculptStroke(SculptStroke {
-            id: self.id,
-            settings: self.settings,
-            samples: self.samples,
-        })))
+        Some(ScriptCommand::Op(Op::SculptStroke(Edit::new(
+            self.id,
+            SculptStroke {
+                settings: self.settings,
+                samples: self.samples,
+            },
+        ))))
     }
 }
 
@@ -395,13 +397,13 @@ impl BrushTool {
                 self.update_mode();
             }
             if now.primary && !was.primary && target.is_none() {
-                return Some(ScriptCommand::Op(Op::SculptCreate(SculptCreate {
+                return Some(ScriptCommand::Op(Op::SculptCreate(Create(SculptCreate {
                     base: SculptBase::Sphere {
                         radius: self.settings.sphere_radius,
                         edge_length: self.settings.sphere_edge,
                     },
                     transform: Transform::default(),
-                })));
+                }))));
             }
             if let Some(k) = self.flick.fired(hand, 0, &now) {
                 return Some(if k < 0 {

@@ -41,16 +41,16 @@
 //! (document unchanged); a teleport → the gesture is committed at its last
 //! good state; NaN samples never reach the tool.
 
-use crate::doc::{Delete, Document, ObjectId, ObjectKind, Op, ScriptCommand};
+use crate::doc::{Create, Delete, Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
 use crate::math::{DAffine3, DVec3, Transform};
 use crate::sdf::library::STARTER_NAMES;
-use crate::sdf::ops::{
-    SdfAddOperand, SdfCancelOperand, SdfCopyOperand, SdfCreate, SdfScaleTwoHand,
-    SdfSetOperandTransform, SdfUpdate,
-};
 use crate::sdf::placement::two_hand_ratio;
 use crate::sdf::volume::DEFAULT_STEP;
 use crate::sdf::{Component, CsgOp, ScaleAxis, SdfVolume};
+use crate::sdf::{
+    OperandIndex, SdfAddOperand, SdfCancelOperand, SdfCopyOperand, SdfCreate, SdfScaleTwoHand,
+    SdfSetOperandTransform, SdfUpdate,
+};
 use crate::solid::SolidShape;
 
 use super::ctl_input::{cycle, remember, CtlInput, Flick};
@@ -188,19 +188,21 @@ struct ScaleGesture {
 }
 
 impl ScaleGesture {
-    fn op(&self) -> SdfScaleTwoHand {
-        SdfScaleTwoHand {
-            volume: self.volume,
-            operand: self.index,
-            axis: self.axis,
-            hands_start: self.start.map(|p| p.to_array()),
-            hands_end: self.end.map(|p| p.to_array()),
-        }
+    fn op(&self) -> Edit<SdfScaleTwoHand> {
+        Edit::new(
+            self.volume,
+            SdfScaleTwoHand {
+                operand: OperandIndex(self.index),
+                axis: self.axis,
+                hands_start: self.start.map(|p| p.to_array()),
+                hands_end: self.end.map(|p| p.to_array()),
+            },
+        )
     }
 
     /// The operand's placement if the gesture ended now.
     fn transform(&self) -> Transform {
-        let op = self.op();
+        let op = self.op().edit;
         let r = two_hand_ratio(op.hands_start, op.hands_end).unwrap_or(1.0);
         let mut t = self.base;
         match self.axis {
@@ -448,13 +450,18 @@ impl CsgTool {
                     for (a, d) in t.translate.iter_mut().zip(self.settings.copy_offset) {
                         *a += d;
                     }
-                    return Some(ScriptCommand::Op(Op::SdfCopyOperand(SdfCopyOperand {
-                        volume: id,
-                        operand: k,
-                        transform: t,
-                    })));
+                    return Some(ScriptCommand::Op(Op::SdfCopyOperand(Edit::new(
+                        id,
+                        SdfCopyOperand {
+                            operand: OperandIndex(k),
+                            transform: t,
+                        },
+                    ))));
                 }
-                return Some(ScriptCommand::Op(Op::SdfUpdate(SdfUpdate { volume: id })));
+                return Some(ScriptCommand::Op(Op::SdfUpdate(Edit::new(
+                    id,
+                    SdfUpdate {},
+                ))));
             }
             if let Some(d) = self.flick.fired(hand, 0, &now) {
                 return Some(if d < 0 {
@@ -539,10 +546,12 @@ impl CsgTool {
         self.selected = None;
         let (id, _) = vol?;
         Some(ScriptCommand::Op(match hit? {
-            Target::Operand(k) => Op::SdfCancelOperand(SdfCancelOperand {
-                volume: id,
-                operand: k,
-            }),
+            Target::Operand(k) => Op::SdfCancelOperand(Edit::new(
+                id,
+                SdfCancelOperand {
+                    operand: OperandIndex(k),
+                },
+            )),
             Target::Volume => Op::Delete(Delete { id }),
         }))
     }
@@ -554,9 +563,9 @@ impl CsgTool {
         vol: Option<(ObjectId, &SdfVolume)>,
     ) -> Option<ScriptCommand> {
         let Some((id, v)) = vol else {
-            return Some(ScriptCommand::Op(Op::SdfCreate(SdfCreate {
+            return Some(ScriptCommand::Op(Op::SdfCreate(Create(SdfCreate {
                 step: self.settings.step,
-            })));
+            }))));
         };
         let csg = match self.scene_op {
             SceneOperate::Union => CsgOp::Union,
@@ -568,20 +577,24 @@ impl CsgTool {
                 };
                 self.selected = None;
                 return (k < v.pending.len()).then_some(ScriptCommand::Op(Op::SdfCancelOperand(
-                    SdfCancelOperand {
-                        volume: id,
-                        operand: k,
-                    },
+                    Edit::new(
+                        id,
+                        SdfCancelOperand {
+                            operand: OperandIndex(k),
+                        },
+                    ),
                 )));
             }
         };
         let at = cx.model.inverse().apply(now.grip?.position);
-        Some(ScriptCommand::Op(Op::SdfAddOperand(SdfAddOperand {
-            volume: id,
-            component: self.component()?.clone(),
-            csg,
-            transform: Transform::translation(at.to_array()),
-        })))
+        Some(ScriptCommand::Op(Op::SdfAddOperand(Edit::new(
+            id,
+            SdfAddOperand {
+                component: self.component()?.clone(),
+                csg,
+                transform: Transform::translation(at.to_array()),
+            },
+        ))))
     }
 
     fn dragging(&mut self, cx: &ToolContext, inputs: &[CtlInput; 2]) -> Option<ScriptCommand> {
@@ -646,13 +659,13 @@ impl CsgTool {
         if t.validate().is_err() || t == d.base {
             return None;
         }
-        Some(ScriptCommand::Op(Op::SdfSetOperandTransform(
+        Some(ScriptCommand::Op(Op::SdfSetOperandTransform(Edit::new(
+            d.volume,
             SdfSetOperandTransform {
-                volume: d.volume,
-                operand: d.index,
+                operand: OperandIndex(d.index),
                 transform: t,
             },
-        )))
+        ))))
     }
 
     fn scaling(&mut self, cx: &ToolContext, inputs: &[CtlInput; 2]) -> Option<ScriptCommand> {

@@ -1,12 +1,12 @@
 //! Bad input and per-gesture behaviour of the CSG and sculpt tools, driven
 //! by the puppet through a [`Session`].
 
-use crate::doc::{ObjectId, ObjectKind, Op, OpLog, ScriptCommand};
+use crate::doc::{Create, Edit, ObjectId, ObjectKind, Op, OpLog, ScriptCommand};
 use crate::math::{DQuat, DVec3, Transform};
 use crate::mesh;
 use crate::sculpt::{SculptBase, SculptCreate};
-use crate::sdf::ops::{SdfAddOperand, SdfCreate};
 use crate::sdf::{Component, CsgOp, ScaleAxis};
+use crate::sdf::{SdfAddOperand, SdfCreate};
 use crate::solid::SolidShape;
 
 use super::{
@@ -41,18 +41,21 @@ fn at(x: f64, y: f64, z: f64) -> Pose {
 /// A volume with one pending cylinder (r 0.05, h 0.1) at the origin.
 fn csg_log() -> OpLog {
     let mut log = OpLog::new();
-    log.apply(Op::SdfCreate(SdfCreate { step: 0.01 })).unwrap();
-    log.apply(Op::SdfAddOperand(SdfAddOperand {
-        volume: ObjectId(1),
-        component: Component::Solid {
-            shape: SolidShape::Cylinder {
-                radius: 0.05,
-                height: 0.1,
+    log.apply(Op::SdfCreate(Create(SdfCreate { step: 0.01 })))
+        .unwrap();
+    log.apply(Op::SdfAddOperand(Edit::new(
+        ObjectId(1),
+        SdfAddOperand {
+            component: Component::Solid {
+                shape: SolidShape::Cylinder {
+                    radius: 0.05,
+                    height: 0.1,
+                },
             },
+            csg: CsgOp::Union,
+            transform: Transform::IDENTITY,
         },
-        csg: CsgOp::Union,
-        transform: Transform::IDENTITY,
-    }))
+    )))
     .unwrap();
     log
 }
@@ -218,13 +221,13 @@ fn csg_select_copy_delete_update_and_undo() {
 
 fn sculpt_log() -> OpLog {
     let mut log = OpLog::new();
-    log.apply(Op::SculptCreate(SculptCreate {
+    log.apply(Op::SculptCreate(Create(SculptCreate {
         base: SculptBase::Sphere {
             radius: 0.1,
             edge_length: 0.02,
         },
         transform: Transform::IDENTITY,
-    }))
+    })))
     .unwrap();
     log
 }
@@ -232,7 +235,7 @@ fn sculpt_log() -> OpLog {
 fn strokes(cmds: &[ScriptCommand]) -> Vec<&crate::sculpt::SculptStroke> {
     cmds.iter()
         .filter_map(|c| match c {
-            ScriptCommand::Op(Op::SculptStroke(s)) => Some(s),
+            ScriptCommand::Op(Op::SculptStroke(s)) => Some(&s.edit),
             _ => None,
         })
         .collect()

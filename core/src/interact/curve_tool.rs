@@ -45,15 +45,16 @@
 //! and [`CurvePreview`] (the mode the trigger would start or is running,
 //! the pointed curve point, the planes, the held path).
 
-use crate::doc::{Document, ObjectId, ObjectKind, Op, ScriptCommand};
+use crate::doc::{Create, Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
 use crate::math::DVec3;
 use crate::styling::curve::FitMode;
-use crate::styling::ops::{
-    CurveDelete, CurveDraw, CurveFillAuto, CurveNetworkCreate, CurvePull, CurveSharpen, CurveSmooth,
-};
 use crate::styling::select::{select_in_network, CurveTool as TableTool};
 use crate::styling::tools::{PullParams, SharpenLimits, SmoothParams, MAX_FRAMES};
 use crate::styling::CurveNetwork;
+use crate::styling::{
+    CurveDelete, CurveDraw, CurveFillAuto, CurveId, CurveNetworkCreate, CurvePull, CurveSharpen,
+    CurveSmooth,
+};
 
 use super::input::{Hand, Pose};
 use super::tool::{Preview, PreviewRay, Tool, ToolContext};
@@ -385,28 +386,33 @@ impl CurveNetworkTool {
             });
             self.show_stroke();
             if network(cx.doc).is_none() {
-                return Some(ScriptCommand::Op(Op::CurveNetworkCreate(
+                return Some(ScriptCommand::Op(Op::CurveNetworkCreate(Create(
                     CurveNetworkCreate {
                         resolution: self.settings.resolution,
                         surface_n: self.settings.surface_n,
                     },
-                )));
+                ))));
             }
             return None;
         }
         if now.primary && !was.primary {
             if let Some((id, net)) = network(cx.doc) {
                 if !net.find_loops().is_empty() {
-                    return Some(ScriptCommand::Op(Op::CurveFillAuto(CurveFillAuto { id })));
+                    return Some(ScriptCommand::Op(Op::CurveFillAuto(Edit::new(
+                        id,
+                        CurveFillAuto {},
+                    ))));
                 }
             }
         }
         if now.secondary && !was.secondary {
             if let Some(t) = target.filter(|t| t.tool.is_some()) {
-                return Some(ScriptCommand::Op(Op::CurveDelete(CurveDelete {
-                    id: t.network,
-                    curve: t.curve,
-                })));
+                return Some(ScriptCommand::Op(Op::CurveDelete(Edit::new(
+                    t.network,
+                    CurveDelete {
+                        curve: CurveId(t.curve),
+                    },
+                ))));
             }
         }
         None
@@ -494,27 +500,33 @@ impl CurveNetworkTool {
                 if target.network != id || net.curve(target.curve).is_err() {
                     return None;
                 }
-                let curve = target.curve;
+                let curve = CurveId(target.curve);
                 match tool {
-                    TableTool::EditDataPoint => Op::CurvePull(CurvePull {
+                    TableTool::EditDataPoint => Op::CurvePull(Edit::new(
                         id,
-                        curve,
-                        params: self.settings.pull,
-                        path,
-                    }),
-                    TableTool::SharpenSegment => Op::CurveSharpen(CurveSharpen {
+                        CurvePull {
+                            curve,
+                            params: self.settings.pull,
+                            path,
+                        },
+                    )),
+                    TableTool::SharpenSegment => Op::CurveSharpen(Edit::new(
                         id,
-                        curve,
-                        params: self.settings.sharpen,
-                        limits: self.settings.sharpen_limits,
-                        path,
-                    }),
-                    TableTool::SmoothSegment => Op::CurveSmooth(CurveSmooth {
+                        CurveSharpen {
+                            curve,
+                            params: self.settings.sharpen,
+                            limits: self.settings.sharpen_limits,
+                            path,
+                        },
+                    )),
+                    TableTool::SmoothSegment => Op::CurveSmooth(Edit::new(
                         id,
-                        curve,
-                        params: self.settings.smooth,
-                        path,
-                    }),
+                        CurveSmooth {
+                            curve,
+                            params: self.settings.smooth,
+                            path,
+                        },
+                    )),
                     TableTool::AttachNewCurve => return None,
                 }
             }
@@ -523,14 +535,16 @@ impl CurveNetworkTool {
         Some(ScriptCommand::Op(op))
     }
 
-    fn draw(&self, id: ObjectId, samples: &[DVec3]) -> CurveDraw {
-        CurveDraw {
+    fn draw(&self, id: ObjectId, samples: &[DVec3]) -> Edit<CurveDraw> {
+        Edit::new(
             id,
-            samples: arr(samples),
-            fit: self.settings.fit,
-            resample: self.settings.resample,
-            snap_tol: self.settings.snap_tol,
-        }
+            CurveDraw {
+                samples: arr(samples),
+                fit: self.settings.fit,
+                resample: self.settings.resample,
+                snap_tol: self.settings.snap_tol,
+            },
+        )
     }
 
     /// Undo / redo by a stick flick of either hand (not while stroking).

@@ -366,7 +366,7 @@ fn held_tools_emit_one_op_with_their_path() {
     assert!(seen_path > 20, "the held path is previewed");
     match &cmds[4] {
         ScriptCommand::Op(Op::CurvePull(op)) => {
-            assert_eq!(op.curve, 0);
+            assert_eq!(op.curve, crate::styling::CurveId(0));
             assert!(
                 (op.path[0][2] - 0.11).abs() < 1e-4
                     && (op.path.last().unwrap()[2] - 0.14).abs() < 1e-4

@@ -9,10 +9,11 @@ use serde::{Deserialize, Serialize};
 /// The rotation is a quaternion `[x, y, z, w]`; it is normalized when the
 /// transform is built, and must not be zero. Every field has a default, so
 /// scripts may give only what they change.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Transform {
     /// Translation in model units.
+    #[schemars(extend("x-unit" = "m"))]
     pub translate: [f64; 3],
     /// Rotation quaternion `[x, y, z, w]`.
     pub rotate: [f64; 4],

@@ -18,13 +18,15 @@ use super::NurbsError;
 
 /// A NURBS curve: degree, clamped or unclamped knot vector and homogeneous
 /// control points `(w x, w y, w z, w)`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct NurbsCurve {
     /// Degree `p >= 1`.
+    #[schemars(range(min = 1, max = 7))]
     pub degree: usize,
     /// Knot vector, `control.len() + degree + 1` non-decreasing values.
     pub knots: Vec<f64>,
     /// Homogeneous control points (`xyz` premultiplied by the weight `w`).
+    #[schemars(with = "Vec<[f64; 4]>")]
     pub control: Vec<DVec4>,
 }
 

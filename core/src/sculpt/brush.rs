@@ -21,7 +21,7 @@ use super::SculptError;
 
 /// A dense grid of signed distances: value `(i, j, k)` sits at
 /// `origin + step · (i, j, k)` and is stored at `i + dims[0]·(j + dims[1]·k)`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DistanceGrid {
     /// Position of sample `(0, 0, 0)`.
@@ -131,7 +131,7 @@ impl DistanceGrid {
 }
 
 /// A brush shape as a distance field in the brush's own frame.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum BrushShape {
     /// A ball of `radius` around the brush position.

@@ -28,7 +28,7 @@ use serde::{Deserialize, Serialize};
 
 use super::brush::{check_finite, positive, DistanceGrid};
 use super::SculptError;
-use crate::doc::{Document, ObjectId, OpError};
+use crate::id::ObjectId;
 use crate::mesh::TriMesh;
 use crate::sdf::mesh_sdf::mesh_to_sdf;
 use crate::sdf::SdfError;
@@ -37,7 +37,7 @@ use crate::sdf::SdfError;
 pub const MAX_BRUSH_SAMPLES: u64 = 1 << 21;
 
 /// Where a mesh brush's mesh comes from.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum MeshSource {
     /// A mesh given inline (closed, counter-clockwise from outside).
@@ -56,7 +56,7 @@ pub enum MeshSource {
 }
 
 /// A brush whose distance field is generated from a closed mesh.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MeshBrush {
     /// The mesh.
@@ -88,18 +88,28 @@ impl MeshBrush {
         Ok(())
     }
 
-    /// The brush's distance grid, from the inline mesh or the object's
-    /// current mesh in `doc`.
-    pub fn to_grid(&self, doc: &Document) -> Result<DistanceGrid, OpError> {
+    /// The object the brush's mesh comes from, if any.
+    pub fn object(&self) -> Option<ObjectId> {
+        match &self.source {
+            MeshSource::Object { id } => Some(*id),
+            MeshSource::Mesh { .. } => None,
+        }
+    }
+
+    /// The brush's distance grid, from the inline mesh or `object_mesh`
+    /// (the current mesh of [`Self::object`], resolved by the document).
+    pub fn to_grid(&self, object_mesh: Option<&TriMesh>) -> Result<DistanceGrid, SculptError> {
         self.validate()?;
         let mesh = match &self.source {
             MeshSource::Mesh {
                 positions,
                 triangles,
             } => TriMesh::new(positions.clone(), triangles.clone()),
-            MeshSource::Object { id } => (*doc.get(*id)?.mesh).clone(),
+            MeshSource::Object { id } => object_mesh
+                .ok_or_else(|| SculptError::Invalid(format!("the mesh of object {id} is missing")))?
+                .clone(),
         };
-        Ok(grid_from_mesh(mesh, self.step, self.padding)?)
+        grid_from_mesh(mesh, self.step, self.padding)
     }
 }
 

@@ -11,8 +11,8 @@
 //! - [`grid`]: a uniform hash grid of vertices, updated incrementally.
 //! - [`stroke`]: strokes applied frame by frame by a [`Sculptor`] (§4.1).
 //! - [`base`]: base meshes (geodesic sphere, box, slab).
-//! - [`ops`]: the `sculpt_mesh` object kind and the `sculpt_create` and
-//!   `sculpt_stroke` ops.
+//! - [`object`]: the `sculpt_mesh` object kind and the payloads of the
+//!   `sculpt_create` and `sculpt_stroke` ops.
 //!
 //! Guarantees after every frame (checked by the property test):
 //! - the surface is a closed, oriented 2-manifold with no degenerate
@@ -32,8 +32,8 @@
 //! weighted drag moves rigidly, so only the rim of the rigid region and
 //! non-rigidly moved vertices get fold checks and adaptation.
 //!
-//! Not here: placement ops for sculpt objects (their `transform` is set at
-//! creation).
+//! Placement: a sculpt's `transform` is its placement (the document's
+//! `set_transform` / `transform_by` edit it; its scale must stay uniform).
 //!
 //! Own code rather than a crate: the per-frame hot path needs a layout we
 //! control (implicit `next`/face, 8 bytes per half-edge, free lists reused
@@ -48,7 +48,7 @@ mod error;
 pub mod grid;
 pub mod halfedge;
 pub mod mesh_brush;
-pub mod ops;
+pub mod object;
 pub mod stroke;
 pub mod warp;
 
@@ -56,7 +56,7 @@ pub use brush::{BrushPose, BrushShape, DistanceGrid};
 pub use error::SculptError;
 pub use halfedge::{FaceId, HalfEdgeId, HalfEdgeMesh, VertId};
 pub use mesh_brush::{MeshBrush, MeshSource};
-pub use ops::{SculptBase, SculptCreate, SculptMesh, SculptStroke};
+pub use object::{model_scale, SculptBase, SculptCreate, SculptMesh, SculptStroke};
 pub use stroke::{FrameInput, FrameStats, Sculptor, StrokeSample, StrokeSettings};
 pub use warp::{Falloff, Warp};
 

@@ -26,7 +26,7 @@ const PARALLEL_MIN: usize = 8192;
 const PARALLEL_CHUNK: usize = 2048;
 
 /// One tracker sample: brush position, orientation and pressure.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StrokeSample {
     /// Brush position (world space).
@@ -60,7 +60,7 @@ impl StrokeSample {
 }
 
 /// Everything about a stroke except its path.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StrokeSettings {
     /// Brush shape (distance field in the brush frame).

@@ -10,7 +10,7 @@ use super::halfedge::{HalfEdgeMesh, VertId};
 use super::stroke::{run_stroke, Sculptor, StrokeSample, StrokeSettings};
 use super::warp::{Falloff, Warp};
 use super::{SculptBase, SculptCreate, SculptError, SculptStroke};
-use crate::doc::{LogError, ObjectId, Op, OpError, OpLog};
+use crate::doc::{Create, Edit, LogError, ObjectId, Op, OpError, OpLog};
 use crate::mesh::{validate, TriMesh, ValidationSettings};
 
 fn sphere_he(n: u32) -> HalfEdgeMesh {
@@ -291,26 +291,28 @@ fn full_pressure_drag_moves_the_inner_region_rigidly() {
 }
 
 pub(super) fn create_op(n_edge: f64) -> Op {
-    Op::SculptCreate(SculptCreate {
+    Op::SculptCreate(Create(SculptCreate {
         base: SculptBase::Sphere {
             radius: 1.0,
             edge_length: n_edge,
         },
         transform: Default::default(),
-    })
+    }))
 }
 
 fn stroke_op(id: u32, warp: Warp, z: f64) -> Op {
-    Op::SculptStroke(SculptStroke {
-        id: ObjectId(id),
-        settings: settings(BrushShape::Sphere { radius: 0.25 }, 0.3, warp),
-        samples: (0..6)
-            .map(|i| {
-                let t = i as f64 * 0.05;
-                sample([t, 0.1, z + t * 0.3], DQuat::from_rotation_y(t), 1.0)
-            })
-            .collect(),
-    })
+    Op::SculptStroke(Edit::new(
+        ObjectId(id),
+        SculptStroke {
+            settings: settings(BrushShape::Sphere { radius: 0.25 }, 0.3, warp),
+            samples: (0..6)
+                .map(|i| {
+                    let t = i as f64 * 0.05;
+                    sample([t, 0.1, z + t * 0.3], DQuat::from_rotation_y(t), 1.0)
+                })
+                .collect(),
+        },
+    ))
 }
 
 /// Applies `ops` to `log`, each changing the document; undoes them all
@@ -374,9 +376,21 @@ fn bad_input_gets_typed_errors_and_changes_nothing() {
     if let Op::SculptStroke(s) = &mut nan {
         s.samples[2].position[1] = f64::NAN;
     }
-    expect(&mut log, nan, &|e| {
-        matches!(e, SculptError::NonFinite { .. })
-    });
+    // Refused at the door, naming the sample; the stroke's own check still
+    // guards direct callers.
+    match log.apply(nan.clone()) {
+        Err(LogError::Op(OpError::BadField { field, .. })) => {
+            assert_eq!(field, "samples[2].position[1]")
+        }
+        other => panic!("unexpected {other:?}"),
+    }
+    let Op::SculptStroke(s) = &nan else {
+        unreachable!()
+    };
+    assert!(matches!(
+        s.samples[2].validate(2),
+        Err(SculptError::NonFinite { .. })
+    ));
     for r in [0.0, -0.5] {
         let mut op = stroke_op(1, Warp::Drag, 1.0);
         if let Op::SculptStroke(s) = &mut op {
@@ -407,13 +421,13 @@ fn bad_input_gets_typed_errors_and_changes_nothing() {
     expect(&mut log, op, &|e| matches!(e, SculptError::EmptyStroke));
     let mut open = geodesic_sphere(1.0, 2);
     open.triangles.pop();
-    let op = Op::SculptCreate(SculptCreate {
+    let op = Op::SculptCreate(Create(SculptCreate {
         base: SculptBase::Mesh {
             positions: open.positions,
             triangles: open.triangles,
         },
         transform: Default::default(),
-    });
+    }));
     expect(&mut log, op, &|e| {
         matches!(e, SculptError::NotClosedManifold { .. })
     });
@@ -651,14 +665,17 @@ fn model_placement_and_brush_scale_are_separate() {
         edge_length: 0.15,
     };
     let mut a = OpLog::new();
-    a.apply(Op::SculptCreate(SculptCreate {
+    a.apply(Op::SculptCreate(Create(SculptCreate {
         base: base.clone(),
         transform: Default::default(),
-    }))
+    })))
     .unwrap();
     let mut b = OpLog::new();
-    b.apply(Op::SculptCreate(SculptCreate { base, transform: t }))
-        .unwrap();
+    b.apply(Op::SculptCreate(Create(SculptCreate {
+        base,
+        transform: t,
+    })))
+    .unwrap();
     let local = stroke_op(1, Warp::Explode { delta: 0.2 }, 1.0);
     let Op::SculptStroke(mut world) = local.clone() else {
         unreachable!()
@@ -691,7 +708,7 @@ fn model_placement_and_brush_scale_are_separate() {
     assert!((world_mesh.signed_volume() - 8.0 * vol_a).abs() < 1e-9 * vol_a);
     // A non-uniform model scale is refused.
     let mut log = OpLog::new();
-    let err = log.apply(Op::SculptCreate(SculptCreate {
+    let err = log.apply(Op::SculptCreate(Create(SculptCreate {
         base: SculptBase::Sphere {
             radius: 1.0,
             edge_length: 0.2,
@@ -700,7 +717,7 @@ fn model_placement_and_brush_scale_are_separate() {
             scale: [1.0, 2.0, 1.0],
             ..Default::default()
         },
-    }));
+    })));
     assert!(matches!(
         err,
         Err(LogError::Op(OpError::Sculpt(SculptError::NonUniformScale(
@@ -733,13 +750,26 @@ fn absurd_sizes_are_refused_or_handled_without_panics() {
     run_stroke(&mut sc, &shape, &s, 1.0, &[(pose, 0.5)]);
     assert_closed(sc.mesh());
     let mut log = OpLog::new();
-    let huge = Op::SculptCreate(SculptCreate {
+    let huge = Op::SculptCreate(Create(SculptCreate {
         base: SculptBase::Box {
             size: [1e9, 1.0, 1.0],
             edge_length: 1e-3,
         },
         transform: Default::default(),
-    });
+    }));
+    // 1e9 m is refused at the door (farther than any model); a box inside
+    // that limit but with too many triangles gets the sculpt's own budget.
+    assert!(matches!(
+        log.apply(huge),
+        Err(LogError::Op(OpError::BadField { ref field, .. })) if field == "base.size[0]"
+    ));
+    let huge = Op::SculptCreate(Create(SculptCreate {
+        base: SculptBase::Box {
+            size: [1e4, 1.0, 1.0],
+            edge_length: 1e-3,
+        },
+        transform: Default::default(),
+    }));
     assert!(matches!(
         log.apply(huge),
         Err(LogError::Op(OpError::Sculpt(SculptError::TooLarge { .. })))

@@ -16,7 +16,7 @@ use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
 /// Weight falloff with normalized distance.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Falloff {
     /// `1 − dn`: most intuitive for rotations.
@@ -46,7 +46,7 @@ impl Falloff {
 }
 
 /// A warp operator.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Warp {
     /// Rigid increment of the brush frame (push, pull, twist).

@@ -25,7 +25,7 @@ use super::dense::{DenseSdf, GridField};
 use super::library;
 use super::mesh_sdf::component_sdf;
 use super::SdfError;
-use crate::doc::ContentHasher;
+use crate::hash::ContentHasher;
 use crate::mesh::TriMesh;
 
 /// Version of the blob format and of the SDF computation; bump it when

@@ -23,7 +23,7 @@ use super::sample::{sample_operand, SampledOperand, CHUNK};
 use crate::math::DVec3;
 
 /// A CSG operation of the SceneOperate mode (paper §4.2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum CsgOp {
     /// `min(a, b)`.

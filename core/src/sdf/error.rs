@@ -60,6 +60,9 @@ pub enum SdfError {
     /// The fused result is empty: there is nothing to move or copy.
     #[error("the volume's fused result is empty; update some operands first")]
     EmptyResult,
+    /// A user component needs a name to be picked by.
+    #[error("the component name is empty; give the imported component a name")]
+    EmptyComponentName,
     /// `sdf_update` with no pending operand.
     #[error("nothing to update: the volume has no pending operands")]
     NothingPending,

@@ -14,7 +14,7 @@
 //!   re-extraction of changed bricks only, equal to a full extraction.
 //! - [`mesh_sdf`], [`library`], [`cache`]: mesh → SDF (parry3d distance,
 //!   pseudo-normal sign), the starter library, the on-disk cache.
-//! - [`ops`]: the `sdf_*` ops.
+//! - [`edits`]: the `sdf_*` ops' payloads and how each changes a volume.
 //!
 //! ## Measured (scripts/bench/sdf.py, 2 cores, noisy shared machine)
 //!
@@ -35,6 +35,7 @@ pub mod analytic;
 pub mod cache;
 pub mod csg;
 pub mod dense;
+pub mod edits;
 mod error;
 pub mod extract;
 pub mod features;
@@ -42,7 +43,6 @@ pub mod grid;
 pub mod library;
 pub mod mc;
 pub mod mesh_sdf;
-pub mod ops;
 pub mod placement;
 pub mod reuse;
 pub mod sample;
@@ -51,6 +51,10 @@ pub mod volume;
 pub use cache::SdfCache;
 pub use csg::CsgOp;
 pub use dense::DenseSdf;
+pub use edits::{
+    OperandIndex, SdfAddOperand, SdfCancelOperand, SdfCopyOperand, SdfCreate, SdfImportComponent,
+    SdfScaleTwoHand, SdfSetOperandTransform, SdfSetStep, SdfUpdate,
+};
 pub use error::SdfError;
 pub use mesh_sdf::mesh_to_sdf;
 pub use placement::ScaleAxis;

@@ -203,7 +203,7 @@ impl PlacedField {
 }
 
 /// Which axis a two-hand scale acts on (paper §4.3: X, Y, Z or A).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ScaleAxis {
     /// The component's local X.

@@ -60,7 +60,7 @@ pub const MEMORY_BUDGET_BYTES: usize = 1 << 30;
 const SAMPLE_CACHE_ENTRIES: usize = 32;
 
 /// What an operand is made of.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Component {
     /// An analytic solid, sampled exactly.

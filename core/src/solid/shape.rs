@@ -13,50 +13,61 @@ pub const MIN_SEGMENTS: u32 = 8;
 pub const MAX_SEGMENTS: u32 = 1024;
 
 /// A solid centred on the origin; round shapes have their axis along +Z.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum SolidShape {
     /// Axis-aligned box with edge lengths `size`.
     Box {
         /// Edge lengths along x, y, z.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         size: [f64; 3],
     },
     /// Sphere.
     Sphere {
         /// Radius.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         radius: f64,
     },
     /// Ellipsoid with semi-axes along x, y, z.
     Ellipsoid {
         /// Semi-axes.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         radii: [f64; 3],
     },
     /// Closed cylinder from z = -height/2 to +height/2.
     Cylinder {
         /// Radius.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         radius: f64,
         /// Height along z.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         height: f64,
     },
     /// Cone with its base at z = -height/2 and apex at +height/2.
     Cone {
         /// Base radius.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         radius: f64,
         /// Height along z.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         height: f64,
     },
     /// Torus around the z axis.
     Torus {
         /// Distance from the axis to the tube centre.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         major_radius: f64,
         /// Tube radius; must be smaller than `major_radius`.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         minor_radius: f64,
     },
     /// Capsule: a cylinder of `length` capped by hemispheres.
     Capsule {
         /// Radius.
+        #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
         radius: f64,
         /// Distance between the hemisphere centres (may be 0: a sphere).
+        #[schemars(extend("x-unit" = "m"), range(min = 0.0))]
         length: f64,
     },
 }

@@ -27,7 +27,7 @@ pub struct SplineCurve {
 }
 
 /// How samples become a curve.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "mode", rename_all = "snake_case")]
 pub enum FitMode {
     /// Interpolate every (resampled) sample.

@@ -13,7 +13,8 @@
 //! - [`network`]: curve networks, junctions, loops and patches (§5).
 //! - [`ngon`]: n-sided patches (5..=8 sides) split into quads around a centre.
 //! - [`select`]: tool selection from the pointer pose (§6, Table 1).
-//! - [`ops`]: the `curve_*` / `surface_*` ops and the `CurveNetwork` kind.
+//! - [`edits`]: the `curve_*` / `surface_*` ops' payloads and how each
+//!   changes a [`CurveNetwork`].
 //!
 //! Choices: B-spline basis, interpolation and approximation come from
 //! `core::nurbs`; the sparse factorization is faer's (no own sparse code).
@@ -25,17 +26,22 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
 
 pub mod curve;
+pub mod edits;
 pub mod energy;
 mod error;
 pub mod network;
 pub mod ngon;
-pub mod ops;
 pub mod select;
 pub mod solver;
 pub mod surface;
 pub mod tools;
 
 pub use curve::{fit_curve, FitMode, SplineCurve};
+pub use edits::{
+    CurveDelete, CurveDraw, CurveFillAuto, CurveFillLoop, CurveId, CurveNetworkCreate, CurvePull,
+    CurveSharpen, CurveSmooth, PatchId, SurfaceEquilibrium, SurfacePull, SurfaceSharpen,
+    SurfaceSmooth,
+};
 pub use error::StylingError;
 pub use network::{CurveNetwork, Node, Patch, Piece};
 

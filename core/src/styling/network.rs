@@ -49,7 +49,7 @@ pub struct Node {
 }
 
 /// A span of one curve between two of its consecutive nodes, directed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Piece {
     /// Curve index.

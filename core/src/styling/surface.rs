@@ -32,7 +32,7 @@ use super::StylingError;
 pub type BaseDerivs = [DVec3; 6];
 
 /// Weights of the surface internal energy.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SurfaceWeights {
     /// Thin-plate bend weight `w_b` (> 0).

@@ -320,11 +320,18 @@ fn ops_replay_bit_identical_and_bad_input_changes_nothing() {
         assert_eq!(log.document().content_hash(), hash);
     }
     // NaN sample (JSON has no NaN: build the op directly).
-    let mut draw: super::ops::CurveDraw = serde_json::from_str(r#"{"id":1,"samples":[[0,0,0],[1,0,0],[2,0,0],[3,0,0]],"fit":{"mode":"interpolate"},"resample":null,"snap_tol":0.001}"#).unwrap();
+    // The door refuses it, naming the sample; the styling code's own check
+    // (NonFiniteSample) guards callers that bypass the log.
+    let mut draw: crate::doc::Edit<super::CurveDraw> = serde_json::from_str(r#"{"id":1,"samples":[[0,0,0],[1,0,0],[2,0,0],[3,0,0]],"fit":{"mode":"interpolate"},"resample":null,"snap_tol":0.001}"#).unwrap();
     draw.samples[1][2] = f64::NAN;
+    let err = log.apply(Op::CurveDraw(draw.clone())).unwrap_err();
+    assert!(
+        matches!(&err, LogError::Op(OpError::BadField { field, .. }) if field == "samples[1][2]"),
+        "{err}"
+    );
     assert_eq!(
-        log.apply(Op::CurveDraw(draw)).unwrap_err(),
-        LogError::Op(OpError::Styling(StylingError::NonFiniteSample(1)))
+        super::fit_curve(&draw.samples, draw.fit, draw.resample).unwrap_err(),
+        StylingError::NonFiniteSample(1)
     );
     // Loop that does not close.
     let e = log.apply(op(r#"{"op":"curve_fill_loop","id":1,"pieces":[{"curve":0,"from":0,"to":1},{"curve":1,"from":5,"to":6},{"curve":2,"from":6,"to":0}]}"#)).unwrap_err();

@@ -135,23 +135,15 @@ fn ngon_bad_input_is_typed() {
     // Surface tools refuse n-gons.
     let mut net = prism(5, 0.1, 0.12, 8);
     net.fill_all().unwrap();
-    let mut doc = crate::doc::Document::default();
-    let id = doc
-        .insert(crate::doc::ObjectKind::CurveNetwork(net))
-        .unwrap();
-    let op = super::ops::SurfacePull {
-        id,
-        patch: 5,
+    let op = super::SurfacePull {
+        patch: super::PatchId(5),
         weights: super::surface::SurfaceWeights { wb: 1.0, ws: 0.0 },
         wpp: 10.0,
         u0: 0.5,
         v0: 0.5,
         path: vec![[0.0, 0.0, 0.2]],
     };
-    assert_eq!(
-        super::ops::apply_surface_pull(&mut doc, &op),
-        Err(StylingError::NotQuad(5).into())
-    );
+    assert_eq!(op.apply_to(&mut net), Err(StylingError::NotQuad(5)));
 }
 
 fn base(pentagons: bool) -> &'static CurveNetwork {

@@ -35,7 +35,7 @@ use super::StylingError;
 /// Weights of the smoother and sharpener (eq. 18-19), relative to the curve
 /// parameter normalized to `[0, 1]` (energies are integrals over the
 /// curve's own parameter; see [`CurveSystem`]).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SmoothParams {
     /// Bend weight `w_b` (the sharpener uses `-w_b`). Must be > 0.
@@ -56,7 +56,7 @@ pub struct SmoothParams {
 }
 
 /// Limits that make the sharpener stop safely.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SharpenLimits {
     /// Largest control-point move in one frame (model units).
@@ -66,7 +66,7 @@ pub struct SharpenLimits {
 }
 
 /// Weights of the puller (eq. 21).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PullParams {
     /// Point-to-point attractor weight `w_pp`. Must be > 0.

@@ -18,11 +18,12 @@
 //!   parameters, one per [`super::GcToolSettings::section_spacing`] of
 //!   spine length (3 to [`super::GcToolSettings::sections`]).
 
-use crate::assembly::ops::{ChildEnd, GcAddChild};
-use crate::assembly::{anchor_frame, project_to_surface};
-use crate::doc::{ObjectId, Op};
-use crate::gc::ops::{GcCreate, GcReplaceSection, GcReplaceSpine, SectionSpec};
-use crate::gc::{GcAssembly, Profile, ShapeType};
+use crate::assembly::{anchor_frame, project_to_surface, ChildEnd, GcAddChild};
+use crate::doc::{Create, Edit, ObjectId, Op};
+use crate::gc::{
+    GcAssembly, GcCreate, GcReplaceSection, GcReplaceSpine, PartId, Profile, SectionIndex,
+    SectionSpec, ShapeType,
+};
 use crate::math::DVec3;
 use crate::sketch::{fit_spine_stroke, match_section_stroke, SketchPlane};
 
@@ -164,13 +165,13 @@ pub(super) fn create_op(
             .iter()
             .map(|p| *p - first + start.point)
             .collect();
-        return Some(Op::GcCreate(GcCreate {
+        return Some(Op::GcCreate(Create(GcCreate {
             spine,
             plane_normal: start.spine_plane.normal,
             sections,
             shape: ShapeType::Solid,
             resolution: s.resolution,
-        }));
+        })));
     };
     let plane = &start.spine_plane;
     let depth = 0.6 * profile_radius(profile);
@@ -189,22 +190,24 @@ pub(super) fn create_op(
     let lands = project_to_surface(&pg.surface, end_raw).distance < s.land_distance;
     let end_sunk = plane.lift(glam::DVec2::new(last[0], last[1]));
     let end_distance = project_to_surface(&pg.surface, end_sunk).distance;
-    Some(Op::GcAddChild(GcAddChild {
+    Some(Op::GcAddChild(Edit::new(
         id,
-        parent: part,
-        at: start.point,
-        tolerance: 1e-4,
-        spine,
-        end: if lands {
-            ChildEnd::Parent
-        } else {
-            ChildEnd::Free
+        GcAddChild {
+            parent: PartId(part),
+            at: start.point,
+            tolerance: 1e-4,
+            spine,
+            end: if lands {
+                ChildEnd::Parent
+            } else {
+                ChildEnd::Free
+            },
+            end_tolerance: (end_distance * 1.25).max(1e-4),
+            sections,
+            shape: ShapeType::Solid,
+            resolution: s.resolution,
         },
-        end_tolerance: (end_distance * 1.25).max(1e-4),
-        sections,
-        shape: ShapeType::Solid,
-        resolution: s.resolution,
-    }))
+    )))
 }
 
 /// The plane a replacing stroke is sketched in: the spine plane for a key
@@ -246,21 +249,25 @@ pub(super) fn replace_op(
             let first = *fit.simplified.first()?;
             let n = gc.spine.plane_normal;
             let shift = (start - first) - n * (start - first).dot(n);
-            Some(Op::GcReplaceSpine(GcReplaceSpine {
+            Some(Op::GcReplaceSpine(Edit::new(
                 id,
-                part,
-                points: fit.simplified.iter().map(|p| *p + shift).collect(),
-                plane_normal: n,
-            }))
+                GcReplaceSpine {
+                    part: PartId(part),
+                    points: fit.simplified.iter().map(|p| *p + shift).collect(),
+                    plane_normal: n,
+                },
+            )))
         }
         GcTarget::Section {
             id, part, section, ..
-        } => Some(Op::GcReplaceSection(GcReplaceSection {
+        } => Some(Op::GcReplaceSection(Edit::new(
             id,
-            part,
-            section,
-            profile: section_profile(stroke, plane, s)?,
-        })),
+            GcReplaceSection {
+                part: PartId(part),
+                section: SectionIndex(section),
+                profile: section_profile(stroke, plane, s)?,
+            },
+        ))),
         _ => None,
     }
 }

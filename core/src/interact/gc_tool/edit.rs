@@ -21,10 +21,12 @@
 //!   gap. Opening the free end of a solid child makes a tube (its start
 //!   is buried in the parent).
 
-use crate::assembly::ops::{GcEditPart, GcTransformPart, PartEdit};
-use crate::doc::{ObjectId, Op};
-use crate::gc::ops::{GcDeleteSection, GcInsertSection, GcSetShape};
-use crate::gc::{ClosedEnd, GcAssembly, ShapeType};
+use crate::assembly::{GcEditPart, GcTransformPart, PartEdit};
+use crate::doc::{Edit, ObjectId, Op};
+use crate::gc::{
+    ClosedEnd, GcAssembly, GcDeleteSection, GcInsertSection, GcSetShape, PartId, SectionIndex,
+    ShapeType,
+};
 use crate::math::DVec3;
 
 use super::target::{GcTarget, GeoCache};
@@ -44,11 +46,16 @@ pub(super) fn drag_op(target: &GcTarget, d: DVec3, geo: &GeoCache) -> Option<Op>
         } => {
             let n = geo.assembly(id)?.parts.get(part)?.gc.spine.plane_normal;
             let to = point + d - n * d.dot(n);
-            Some(Op::GcEditPart(GcEditPart {
+            Some(Op::GcEditPart(Edit::new(
                 id,
-                part,
-                edit: PartEdit::Bend { section, to },
-            }))
+                GcEditPart {
+                    part: PartId(part),
+                    edit: PartEdit::Bend {
+                        section: SectionIndex(section),
+                        to,
+                    },
+                },
+            )))
         }
         GcTarget::Section {
             id,
@@ -79,7 +86,7 @@ fn section_drag(
     let (dr, dn, dt) = (d.dot(r), d.dot(f.tangent), d.dot(tang));
     let edit = if dr.abs() >= dn.abs() && dr.abs() >= dt.abs() {
         PartEdit::Resize {
-            section,
+            section: SectionIndex(section),
             factor: ((rho + dr) / rho).max(0.05),
         }
     } else if dn.abs() >= dt.abs() {
@@ -101,16 +108,22 @@ fn section_drag(
         let lo = if section == 0 { lo } else { lo + margin };
         let hi = if section + 1 == k { hi } else { hi - margin };
         PartEdit::Shift {
-            section,
+            section: SectionIndex(section),
             v: (v + dn / speed).clamp(lo, hi),
         }
     } else {
         PartEdit::Twist {
-            section,
+            section: SectionIndex(section),
             angle: dt / rho,
         }
     };
-    Some(Op::GcEditPart(GcEditPart { id, part, edit }))
+    Some(Op::GcEditPart(Edit::new(
+        id,
+        GcEditPart {
+            part: PartId(part),
+            edit,
+        },
+    )))
 }
 
 fn move_part(id: ObjectId, part: usize, d: DVec3, geo: &GeoCache) -> Option<Op> {
@@ -124,13 +137,15 @@ fn move_part(id: ObjectId, part: usize, d: DVec3, geo: &GeoCache) -> Option<Op> 
         }
         _ => d,
     };
-    Some(Op::GcTransformPart(GcTransformPart {
+    Some(Op::GcTransformPart(Edit::new(
         id,
-        part,
-        translate,
-        rotate: [0.0, 0.0, 0.0, 1.0],
-        tolerance: 1e-3,
-    }))
+        GcTransformPart {
+            part: PartId(part),
+            translate,
+            rotate: [0.0, 0.0, 0.0, 1.0],
+            tolerance: 1e-3,
+        },
+    )))
 }
 
 /// The op an OPEN hold on `target` becomes.
@@ -138,10 +153,20 @@ pub(super) fn hold_op(target: &GcTarget) -> Option<Op> {
     match *target {
         GcTarget::Section {
             id, part, section, ..
-        } => Some(Op::GcDeleteSection(GcDeleteSection { id, part, section })),
-        GcTarget::Surface { id, part, v, .. } => {
-            Some(Op::GcInsertSection(GcInsertSection { id, part, v }))
-        }
+        } => Some(Op::GcDeleteSection(Edit::new(
+            id,
+            GcDeleteSection {
+                part: PartId(part),
+                section: SectionIndex(section),
+            },
+        ))),
+        GcTarget::Surface { id, part, v, .. } => Some(Op::GcInsertSection(Edit::new(
+            id,
+            GcInsertSection {
+                part: PartId(part),
+                v,
+            },
+        ))),
         _ => None,
     }
 }
@@ -227,9 +252,11 @@ pub(super) fn shape_op(
     shape: ShapeType,
     asm: &GcAssembly,
 ) -> Option<Op> {
-    (asm.parts.get(part)?.gc.shape != shape).then_some(Op::GcSetShape(GcSetShape {
+    (asm.parts.get(part)?.gc.shape != shape).then_some(Op::GcSetShape(Edit::new(
         id,
-        part,
-        shape,
-    }))
+        GcSetShape {
+            part: PartId(part),
+            shape,
+        },
+    )))
 }

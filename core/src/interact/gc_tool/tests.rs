@@ -2,8 +2,8 @@
 //! pipeline (raw joints -> sanitizer -> classifier -> tool -> op), the bad
 //! inputs of issue 8, and the recorded mug and teapot traces.
 
-use crate::doc::{Op, OpLog, ScriptCommand};
-use crate::gc::ops::{GcCreate, SectionSpec};
+use crate::doc::{Create, Op, OpLog, ScriptCommand};
+use crate::gc::{GcCreate, SectionSpec};
 use crate::gc::{Profile, Resolution, ShapeType};
 use crate::math::DVec3;
 use crate::mesh::{validate, ValidationSettings};
@@ -18,7 +18,7 @@ use super::{mug_trace, teapot_trace, GcTool};
 
 /// A cylinder r = 5 cm, 12 cm tall, 4 sections at z = 0, 4, 8, 12 cm.
 fn body() -> Op {
-    Op::GcCreate(GcCreate {
+    Op::GcCreate(Create(GcCreate {
         spine: vec![DVec3::ZERO, DVec3::new(0.0, 0.0, 0.12)],
         plane_normal: DVec3::Y,
         sections: (0..4)
@@ -31,7 +31,7 @@ fn body() -> Op {
             .collect(),
         shape: ShapeType::Solid,
         resolution: Resolution { u: 48, v: 32 },
-    })
+    }))
 }
 
 struct Run {
@@ -86,9 +86,9 @@ fn rig() -> Rig {
     Rig::new(ModelPlacement::desk())
 }
 
-fn edit_of(run: &Run) -> crate::assembly::ops::PartEdit {
+fn edit_of(run: &Run) -> crate::assembly::PartEdit {
     match ops(run).as_slice() {
-        [Op::GcEditPart(e)] => e.edit.clone(),
+        [Op::GcEditPart(e)] => e.edit.edit.clone(),
         other => panic!("expected one gc_edit_part, got {other:?}"),
     }
 }
@@ -97,14 +97,14 @@ const A: f64 = -50.0;
 
 #[test]
 fn fist_on_a_section_resizes_shifts_or_twists_by_the_motion_component() {
-    use crate::assembly::ops::PartEdit;
+    use crate::assembly::PartEdit;
     let at = ring(0.05, A, 0.08);
     let from = outward(A, 0.2, 0.08);
     let mut r = rig();
     r.fist_drag(at, from, ring(0.01, A, 0.0));
     match edit_of(&run(&[body()], &r)) {
         PartEdit::Resize { section, factor } => {
-            assert_eq!(section, 2);
+            assert_eq!(section, crate::gc::SectionIndex(2));
             assert!((factor - 1.2).abs() < 0.04, "factor {factor}");
         }
         e => panic!("expected a resize, got {e:?}"),
@@ -113,7 +113,7 @@ fn fist_on_a_section_resizes_shifts_or_twists_by_the_motion_component() {
     r.fist_drag(at, from, DVec3::new(0.0, 0.0, -0.01));
     match edit_of(&run(&[body()], &r)) {
         PartEdit::Shift { section, v } => {
-            assert_eq!(section, 2);
+            assert_eq!(section, crate::gc::SectionIndex(2));
             // Arc length 12 cm over v in [0, 1]: 1 cm is 1/12.
             assert!((v - (2.0 / 3.0 - 1.0 / 12.0)).abs() < 0.01, "v {v}");
         }
@@ -124,7 +124,7 @@ fn fist_on_a_section_resizes_shifts_or_twists_by_the_motion_component() {
     r.fist_drag(at, from, tangent);
     match edit_of(&run(&[body()], &r)) {
         PartEdit::Twist { section, angle } => {
-            assert_eq!(section, 2);
+            assert_eq!(section, crate::gc::SectionIndex(2));
             assert!((angle - 0.2).abs() < 0.03, "angle {angle}");
         }
         e => panic!("expected a twist, got {e:?}"),
@@ -133,7 +133,7 @@ fn fist_on_a_section_resizes_shifts_or_twists_by_the_motion_component() {
 
 #[test]
 fn fist_on_a_key_point_bends_within_the_spine_plane() {
-    use crate::assembly::ops::PartEdit;
+    use crate::assembly::PartEdit;
     let mut r = rig();
     let key = DVec3::new(0.0, 0.0, 0.08);
     r.fist_drag(
@@ -143,7 +143,7 @@ fn fist_on_a_key_point_bends_within_the_spine_plane() {
     );
     match edit_of(&run(&[body()], &r)) {
         PartEdit::Bend { section, to } => {
-            assert_eq!(section, 2);
+            assert_eq!(section, crate::gc::SectionIndex(2));
             assert!(to.y.abs() < 1e-12, "off the spine plane: {to}");
             assert!((to - DVec3::new(0.02, 0.0, 0.08)).length() < 0.003, "{to}");
         }
@@ -165,7 +165,7 @@ fn point_on_the_surface_sketches_a_child_section_and_spine() {
     let Op::GcAddChild(c) = ops(&run)[0] else {
         unreachable!()
     };
-    assert_eq!(c.end, crate::assembly::ops::ChildEnd::Free);
+    assert_eq!(c.end, crate::assembly::ChildEnd::Free);
     let Profile::Circle { radius } = c.sections[0].profile else {
         panic!("expected a circle, got {:?}", c.sections[0].profile);
     };
@@ -281,7 +281,7 @@ fn a_static_fist_for_three_seconds_instances_the_part_then_moves_the_copy() {
     let Op::GcTransformPart(t) = ops(&run)[1] else {
         unreachable!()
     };
-    assert_eq!(t.part, 1);
+    assert_eq!(t.part, crate::gc::PartId(1));
     assert!((t.translate - DVec3::new(0.15, 0.0, 0.0)).length() < 0.004);
 }
 
@@ -407,7 +407,7 @@ fn a_hand_that_vanishes_mid_drag_or_mid_sketch_leaves_the_document_unchanged() {
 
 #[test]
 fn tracking_lost_during_a_drag_resumes_within_grace_or_cancels() {
-    use crate::assembly::ops::PartEdit;
+    use crate::assembly::PartEdit;
     // 0.1 s gap: the drag continues and commits once.
     let (mut r, _, _) = drag_rig();
     r.p.hide_hand(Hand::Right);
@@ -434,7 +434,7 @@ fn tracking_lost_during_a_drag_resumes_within_grace_or_cancels() {
 
 #[test]
 fn a_teleporting_hand_commits_the_drag_it_had_before_the_jump() {
-    use crate::assembly::ops::PartEdit;
+    use crate::assembly::PartEdit;
     let (mut r, _, _) = drag_rig();
     r.wait(0.3);
     r.p.teleport(Hand::Right, DVec3::new(0.0, 0.5, 0.0));

@@ -479,16 +479,16 @@ impl GcTool {
                 d.start = palm;
                 d.motion = DVec3::ZERO;
                 self.state = State::Drag(d);
-                return Some(ScriptCommand::Op(Op::GcCopy(
-                    crate::assembly::ops::GcCopy {
-                        id,
-                        part,
+                return Some(ScriptCommand::Op(Op::GcCopy(crate::doc::Edit::new(
+                    id,
+                    crate::assembly::GcCopy {
+                        part: crate::gc::PartId(part),
                         mirror,
                         translate: DVec3::ZERO,
                         rotate: [0.0, 0.0, 0.0, 1.0],
                         tolerance: 1e-3,
                     },
-                )));
+                ))));
             }
         }
         self.preview.gc.hold = if d.may_instance {
@@ -514,8 +514,8 @@ impl GcTool {
         let (id, part) = d.target.part()?;
         let mut asm = self.geo.assembly(id)?.clone();
         match drag_op(&d.target, d.motion, &self.geo)? {
-            Op::GcEditPart(e) => e.apply_to(&mut asm).ok()?,
-            Op::GcTransformPart(t) => t.apply_to(&mut asm).ok()?,
+            Op::GcEditPart(e) => e.edit.apply_to(&mut asm).ok()?,
+            Op::GcTransformPart(t) => t.edit.apply_to(&mut asm).ok()?,
             _ => return None,
         }
         let mut gc = asm.parts.get(part)?.gc.clone();

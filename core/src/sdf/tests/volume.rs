@@ -2,10 +2,10 @@ use std::f64::consts::PI;
 
 use proptest::prelude::*;
 
-use crate::doc::{Document, ObjectKind, Op, OpError, OpLog};
+use crate::doc::{Create, Document, Edit, ObjectKind, Op, OpError, OpLog};
 use crate::math::{DQuat, DVec3, Transform};
 use crate::mesh::{validate, TriMesh};
-use crate::sdf::ops::*;
+use crate::sdf::edits::*;
 use crate::sdf::volume::{extract_keys, stitch};
 use crate::sdf::{Component, CsgOp, Operand, ScaleAxis, SdfError, SdfVolume};
 use crate::solid::SolidShape;
@@ -199,17 +199,19 @@ fn lazy_sequence_with_cancel_and_move_before_update() {
     // queued; one update.
     let mut log = OpLog::new();
     let id = log
-        .apply(Op::SdfCreate(SdfCreate { step: 0.01 }))
+        .apply(Op::SdfCreate(Create(SdfCreate { step: 0.01 })))
         .unwrap()
         .created
         .unwrap();
     let add = |c, csg, t| {
-        Op::SdfAddOperand(SdfAddOperand {
-            volume: id,
-            component: c,
-            csg,
-            transform: t,
-        })
+        Op::SdfAddOperand(Edit::new(
+            id,
+            SdfAddOperand {
+                component: c,
+                csg,
+                transform: t,
+            },
+        ))
     };
     log.apply(add(cube(0.3), CsgOp::Union, Transform::IDENTITY))
         .unwrap();
@@ -221,18 +223,23 @@ fn lazy_sequence_with_cancel_and_move_before_update() {
         .unwrap();
     log.apply(add(sphere(0.08), CsgOp::Subtract, at([0.0, 0.0, 0.15])))
         .unwrap();
-    log.apply(Op::SdfCancelOperand(SdfCancelOperand {
-        volume: id,
-        operand: 2,
-    }))
+    log.apply(Op::SdfCancelOperand(Edit::new(
+        id,
+        SdfCancelOperand {
+            operand: OperandIndex(2),
+        },
+    )))
     .unwrap();
-    log.apply(Op::SdfSetOperandTransform(SdfSetOperandTransform {
-        volume: id,
-        operand: 1,
-        transform: at([0.18, 0.0, 0.0]),
-    }))
+    log.apply(Op::SdfSetOperandTransform(Edit::new(
+        id,
+        SdfSetOperandTransform {
+            operand: OperandIndex(1),
+            transform: at([0.18, 0.0, 0.0]),
+        },
+    )))
     .unwrap();
-    log.apply(Op::SdfUpdate(SdfUpdate { volume: id })).unwrap();
+    log.apply(Op::SdfUpdate(Edit::new(id, SdfUpdate {})))
+        .unwrap();
     let obj = log.document().get(id).unwrap();
     let ObjectKind::SdfVolume(v) = &obj.kind else {
         panic!()
@@ -256,60 +263,60 @@ fn lazy_sequence_with_cancel_and_move_before_update() {
 
 #[test]
 fn two_hand_scale_is_clamped_and_per_axis() {
-    let mut doc = Document::new();
-    let id = apply_create(&mut doc, &SdfCreate { step: 0.01 })
+    let mut log = OpLog::new();
+    let id = log
+        .apply(Op::SdfCreate(Create(SdfCreate { step: 0.01 })))
         .unwrap()
         .created
         .unwrap();
-    apply_add_operand(
-        &mut doc,
-        &SdfAddOperand {
-            volume: id,
+    log.apply(Op::SdfAddOperand(Edit::new(
+        id,
+        SdfAddOperand {
             component: sphere(0.1),
             csg: CsgOp::Union,
             transform: Transform::IDENTITY,
         },
-    )
+    )))
     .unwrap();
-    let scale = |doc: &mut Document, axis, end: f64| {
-        apply_scale_two_hand(
-            doc,
-            &SdfScaleTwoHand {
-                volume: id,
-                operand: 0,
+    let scale = |axis, end: f64| {
+        Op::SdfScaleTwoHand(Edit::new(
+            id,
+            SdfScaleTwoHand {
+                operand: OperandIndex(0),
                 axis,
                 hands_start: [[0.0; 3], [0.1, 0.0, 0.0]],
                 hands_end: [[0.0; 3], [end, 0.0, 0.0]],
             },
-        )
+        ))
     };
-    let scale_now = |doc: &Document| {
-        let ObjectKind::SdfVolume(v) = &doc.get(id).unwrap().kind else {
+    let scale_now = |log: &OpLog| {
+        let ObjectKind::SdfVolume(v) = &log.document().get(id).unwrap().kind else {
             panic!()
         };
         v.pending[0].transform.scale
     };
-    scale(&mut doc, ScaleAxis::X, 10.0).unwrap(); // ratio 100 -> 4, X only
-    let s = scale_now(&doc);
+    log.apply(scale(ScaleAxis::X, 10.0)).unwrap(); // ratio 100 -> 4, X only
+    let s = scale_now(&log);
     assert!(
         (s[0] - 4.0).abs() < 1e-12 && s[1] == 1.0 && s[2] == 1.0,
         "{s:?}"
     );
     // Ratio 0.1 on all axes: X 4 -> 0.4, Y and Z 1 -> 0.1, clamped to 0.4
     // of the scale before the first gesture.
-    scale(&mut doc, ScaleAxis::Uniform, 0.01).unwrap();
-    let s = scale_now(&doc);
+    log.apply(scale(ScaleAxis::Uniform, 0.01)).unwrap();
+    let s = scale_now(&log);
     assert!(s.iter().all(|x| (x - 0.4).abs() < 1e-12), "{s:?}");
-    let bad = apply_scale_two_hand(
-        &mut doc,
-        &SdfScaleTwoHand {
-            volume: id,
-            operand: 0,
+    let mut doc = log.document().clone();
+    let bad = Op::SdfScaleTwoHand(Edit::new(
+        id,
+        SdfScaleTwoHand {
+            operand: OperandIndex(0),
             axis: ScaleAxis::Y,
             hands_start: [[0.0; 3], [0.0; 3]],
             hands_end: [[0.0; 3], [1.0, 0.0, 0.0]],
         },
-    );
+    ))
+    .apply(&mut doc);
     assert!(matches!(
         bad,
         Err(OpError::Sdf(SdfError::HandsTooClose { .. }))
@@ -320,11 +327,11 @@ fn two_hand_scale_is_clamped_and_per_axis() {
 fn bad_input_gets_typed_errors_and_changes_nothing() {
     let mut log = OpLog::new();
     assert!(matches!(
-        log.apply(Op::SdfCreate(SdfCreate { step: 0.05 })),
+        log.apply(Op::SdfCreate(Create(SdfCreate { step: 0.05 }))),
         Err(crate::doc::LogError::Op(OpError::Sdf(SdfError::BadStep(_))))
     ));
     let id = log
-        .apply(Op::SdfCreate(SdfCreate { step: 0.01 }))
+        .apply(Op::SdfCreate(Create(SdfCreate { step: 0.01 })))
         .unwrap()
         .created
         .unwrap();
@@ -336,14 +343,17 @@ fn bad_input_gets_typed_errors_and_changes_nothing() {
     let mut huge = Transform::IDENTITY;
     huge.scale = [1e4; 3];
     for (t, what) in [(nan, "nan"), (zero, "zero scale"), (huge, "budget")] {
-        let e = log.apply(Op::SdfAddOperand(SdfAddOperand {
-            volume: id,
-            component: sphere(0.1),
-            csg: CsgOp::Union,
-            transform: t,
-        }));
+        let e = log.apply(Op::SdfAddOperand(Edit::new(
+            id,
+            SdfAddOperand {
+                component: sphere(0.1),
+                csg: CsgOp::Union,
+                transform: t,
+            },
+        )));
         match (what, e) {
-            ("nan", Err(crate::doc::LogError::Op(OpError::Sdf(SdfError::Transform(_))))) => {}
+            ("nan", Err(crate::doc::LogError::Op(OpError::BadField { field, .. })))
+                if field == "transform.translate[0]" => {}
             ("zero scale", Err(crate::doc::LogError::Op(OpError::Sdf(SdfError::Transform(_))))) => {
             }
             (
@@ -358,27 +368,31 @@ fn bad_input_gets_typed_errors_and_changes_nothing() {
         vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
         vec![[0, 1, 2]],
     );
-    let e = log.apply(Op::SdfImportComponent(SdfImportComponent {
-        volume: id,
-        name: "tri".into(),
-        positions: open.positions.clone(),
-        triangles: open.triangles.clone(),
-    }));
+    let e = log.apply(Op::SdfImportComponent(Edit::new(
+        id,
+        SdfImportComponent {
+            name: "tri".into(),
+            positions: open.positions.clone(),
+            triangles: open.triangles.clone(),
+        },
+    )));
     assert!(matches!(
         e,
         Err(crate::doc::LogError::Op(OpError::Sdf(SdfError::BadMesh(_))))
     ));
     assert!(matches!(
-        log.apply(Op::SdfUpdate(SdfUpdate { volume: id })),
+        log.apply(Op::SdfUpdate(Edit::new(id, SdfUpdate {}))),
         Err(crate::doc::LogError::Op(OpError::Sdf(
             SdfError::NothingPending
         )))
     ));
     assert!(matches!(
-        log.apply(Op::SdfCancelOperand(SdfCancelOperand {
-            volume: id,
-            operand: 0
-        })),
+        log.apply(Op::SdfCancelOperand(Edit::new(
+            id,
+            SdfCancelOperand {
+                operand: OperandIndex(0),
+            }
+        ))),
         Err(crate::doc::LogError::Op(OpError::Sdf(
             SdfError::BadOperand { .. }
         )))

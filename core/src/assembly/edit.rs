@@ -1,18 +1,21 @@
-//! The assembly ops (`gc_add_child`, `gc_copy`, `gc_transform_part`,
-//! `gc_edit_part`): payloads with every parameter explicit, and how each
-//! applies. Every op works on a copy of the assembly and stores it only
-//! when the whole change (propagation and union included) succeeded.
+//! The assembly edits (`gc_add_child`, `gc_copy`, `gc_transform_part`,
+//! `gc_edit_part`): plain values with every parameter explicit, and how
+//! each changes a [`GcAssembly`]. The document applies them to a copy of
+//! the assembly and stores it only when the whole change (propagation and
+//! union included) succeeded.
 
 use glam::{DAffine3, DQuat, DVec3};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::{
     anchor_frame, descendants_bfs, mirror_gc, mirror_plane, project_to_surface,
     reattach_descendants, reflect, symmetry_twins, transform_gc, Anchor, AssemblyError, Attachment,
 };
-use crate::doc::{Document, ObjectId, ObjectKind, OpError, OpOutcome};
-use crate::gc::ops::{GcCreate, SectionSpec};
-use crate::gc::{Gc, GcAssembly, GcError, GcPart, Resolution, ShapeType};
+use crate::gc::{
+    build_gc, Gc, GcAssembly, GcError, GcPart, PartId, Resolution, SectionIndex, SectionSpec,
+    ShapeType,
+};
 
 fn default_tolerance() -> f64 {
     1e-4
@@ -26,20 +29,8 @@ fn identity_rotation() -> [f64; 4] {
     [0.0, 0.0, 0.0, 1.0]
 }
 
-fn assembly_of(doc: &Document, id: ObjectId, op: &'static str) -> Result<GcAssembly, OpError> {
-    match &doc.get(id)?.kind {
-        ObjectKind::GcAssembly(a) => Ok(a.clone()),
-        #[allow(unreachable_patterns)]
-        other => Err(OpError::WrongKind {
-            id,
-            op,
-            expected: "gc_assembly",
-            found: other.name(),
-        }),
-    }
-}
-
-fn check_part(asm: &GcAssembly, part: usize) -> Result<(), AssemblyError> {
+fn check_part(asm: &GcAssembly, part: PartId) -> Result<(), AssemblyError> {
+    let part = part.0;
     if part < asm.parts.len() {
         Ok(())
     } else {
@@ -77,7 +68,7 @@ fn rigid(translate: DVec3, rotate: [f64; 4]) -> Result<DAffine3, AssemblyError> 
 }
 
 /// Where a child's spine ends.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ChildEnd {
     /// The end is free (a spout, a leg).
@@ -91,26 +82,28 @@ pub enum ChildEnd {
 /// spanned by the surface normal `n` and the parent's spine tangent `t`
 /// (made perpendicular to `n`): spine point `[a, b]` is `at + a n + b t`,
 /// and the spine plane normal is `n x t`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GcAddChild {
-    /// The GC assembly object.
-    pub id: ObjectId,
     /// The parent part.
-    pub parent: usize,
+    pub parent: PartId,
     /// The picked point, on the parent's side surface.
+    #[schemars(with = "[f64; 3]", extend("x-unit" = "m"))]
     pub at: DVec3,
     /// How far `at` may be from the surface.
     #[serde(default = "default_tolerance")]
+    #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
     pub tolerance: f64,
     /// Spine points in the sketch plane's `(n, t)` coordinates about
     /// `at` (at least 2; the first may lie inside the parent).
+    #[schemars(extend("x-unit" = "m"))]
     pub spine: Vec<[f64; 2]>,
     /// Whether the spine's end is free or lands on the parent.
     pub end: ChildEnd,
     /// For `end = parent`: how far the last spine point may be from the
     /// parent's surface (its projection there becomes the end anchor).
     #[serde(default = "default_tolerance")]
+    #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
     pub end_tolerance: f64,
     /// Key sections, `v` in `[0, 1]` along the spine.
     pub sections: Vec<SectionSpec>,
@@ -123,6 +116,13 @@ pub struct GcAddChild {
 }
 
 impl GcAddChild {
+    /// Adds the child part to `asm`.
+    pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
+        let part = self.build(asm)?;
+        asm.parts.push(part);
+        Ok(())
+    }
+
     /// The child part this op adds to `asm`.
     pub fn build(&self, asm: &GcAssembly) -> Result<GcPart, AssemblyError> {
         check_part(asm, self.parent)?;
@@ -137,7 +137,7 @@ impl GcAddChild {
         if self.spine.iter().flatten().any(|x| !x.is_finite()) {
             return Err(AssemblyError::NonFinite("spine"));
         }
-        let parent = &asm.parts[self.parent].gc;
+        let parent = &asm.parts[self.parent.0].gc;
         let surf = parent.surface()?;
         let proj = project_to_surface(&surf, self.at);
         if !(proj.distance <= self.tolerance) {
@@ -152,14 +152,13 @@ impl GcAddChild {
             .iter()
             .map(|p| frame.transform_point3(DVec3::new(p[0], p[1], 0.0)))
             .collect();
-        let gc = GcCreate {
-            spine: points.clone(),
-            plane_normal: frame.matrix3.z_axis,
-            sections: self.sections.clone(),
-            shape: self.shape,
-            resolution: self.resolution,
-        }
-        .build()?;
+        let gc = build_gc(
+            &points,
+            frame.matrix3.z_axis,
+            &self.sections,
+            self.shape,
+            self.resolution,
+        )?;
         let end = match self.end {
             ChildEnd::Free => None,
             ChildEnd::Parent => {
@@ -176,21 +175,12 @@ impl GcAddChild {
         };
         Ok(GcPart {
             gc,
-            parent: Some(self.parent),
+            parent: Some(self.parent.0),
             attach: Some(Attachment {
                 start: proj.anchor,
                 end,
             }),
         })
-    }
-
-    /// Applies the op.
-    pub fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
-        let mut asm = assembly_of(doc, self.id, "gc_add_child")?;
-        let part = self.build(&asm)?;
-        asm.parts.push(part);
-        doc.replace(self.id, ObjectKind::GcAssembly(asm))?;
-        Ok(OpOutcome::default())
     }
 }
 
@@ -199,24 +189,24 @@ impl GcAddChild {
 /// rotated by `rotate` and moved by `translate`. The copy keeps the
 /// parent; its anchor is re-found by projecting the moved anchor point on
 /// the parent's surface, which must be within `tolerance`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GcCopy {
-    /// The GC assembly object.
-    pub id: ObjectId,
     /// The part to copy.
-    pub part: usize,
+    pub part: PartId,
     /// Mirror about the parent's spine plane first.
     #[serde(default)]
     pub mirror: bool,
     /// Translation applied after the mirror and rotation.
     #[serde(default)]
+    #[schemars(with = "[f64; 3]", extend("x-unit" = "m"))]
     pub translate: DVec3,
     /// Rotation quaternion `[x, y, z, w]` (normalized here).
     #[serde(default = "identity_rotation")]
     pub rotate: [f64; 4],
     /// How far a moved anchor may be from its parent's surface.
     #[serde(default = "default_tolerance")]
+    #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
     pub tolerance: f64,
 }
 
@@ -258,17 +248,18 @@ impl GcCopy {
     /// Applies the op to `asm`.
     pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
         check_part(asm, self.part)?;
+        let part = self.part.0;
         positive("tolerance", self.tolerance)?;
         let r = rigid(self.translate, self.rotate)?;
-        let parent = asm.parts[self.part].parent;
-        let (o, n) = mirror_plane(&asm.parts[parent.unwrap_or(self.part)].gc);
+        let parent = asm.parts[part].parent;
+        let (o, n) = mirror_plane(&asm.parts[parent.unwrap_or(part)].gc);
         let mirror = self.mirror;
         let map = move |p: DVec3| {
             let q = if mirror { reflect(p, o, n) } else { p };
             r.transform_point3(q)
         };
-        let mut subtree = vec![self.part];
-        subtree.extend(descendants_bfs(asm, &[self.part]));
+        let mut subtree = vec![part];
+        subtree.extend(descendants_bfs(asm, &[part]));
         let base = asm.parts.len();
         let new_index = |i: usize| subtree.iter().position(|&s| s == i).map(|k| base + k);
         for &i in &subtree {
@@ -302,35 +293,27 @@ impl GcCopy {
         }
         Ok(())
     }
-
-    /// Applies the op.
-    pub fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
-        let mut asm = assembly_of(doc, self.id, "gc_copy")?;
-        self.apply_to(&mut asm)?;
-        doc.replace(self.id, ObjectKind::GcAssembly(asm))?;
-        Ok(OpOutcome::default())
-    }
 }
 
 /// Move part `part` rigidly (rotation `rotate`, then `translate`); its
 /// symmetry twins get the mirrored motion and every descendant follows.
 /// A part with a parent must stay on it: its moved anchor point is
 /// projected on the parent's surface and must be within `tolerance`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GcTransformPart {
-    /// The GC assembly object.
-    pub id: ObjectId,
     /// The part to move.
-    pub part: usize,
+    pub part: PartId,
     /// Translation.
     #[serde(default)]
+    #[schemars(with = "[f64; 3]", extend("x-unit" = "m"))]
     pub translate: DVec3,
     /// Rotation quaternion `[x, y, z, w]` (normalized here).
     #[serde(default = "identity_rotation")]
     pub rotate: [f64; 4],
     /// How far a moved anchor may be from its parent's surface.
     #[serde(default = "default_tolerance")]
+    #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
     pub tolerance: f64,
 }
 
@@ -338,12 +321,13 @@ impl GcTransformPart {
     /// Applies the op to `asm`.
     pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
         check_part(asm, self.part)?;
+        let part = self.part.0;
         positive("tolerance", self.tolerance)?;
         let r = rigid(self.translate, self.rotate)?;
         let old = asm.clone();
-        let twins = symmetry_twins(&old, self.part);
-        let mut moved = vec![(self.part, r)];
-        if let Some(p) = old.parts[self.part].parent {
+        let twins = symmetry_twins(&old, part);
+        let mut moved = vec![(part, r)];
+        if let Some(p) = old.parts[part].parent {
             let (o, n) = mirror_plane(&old.parts[p].gc);
             let m = DAffine3::from_translation(o)
                 * DAffine3::from_mat3(glam::DMat3::IDENTITY - 2.0 * outer(n))
@@ -363,14 +347,6 @@ impl GcTransformPart {
         let roots: Vec<usize> = moved.iter().map(|(i, _)| *i).collect();
         reattach_descendants(&old, asm, &roots)
     }
-
-    /// Applies the op.
-    pub fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
-        let mut asm = assembly_of(doc, self.id, "gc_transform_part")?;
-        self.apply_to(&mut asm)?;
-        doc.replace(self.id, ObjectKind::GcAssembly(asm))?;
-        Ok(OpOutcome::default())
-    }
 }
 
 fn outer(n: DVec3) -> glam::DMat3 {
@@ -378,34 +354,35 @@ fn outer(n: DVec3) -> glam::DMat3 {
 }
 
 /// A §3.2 edit of one part, as [`GcEditPart`] propagates it.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "edit", rename_all = "snake_case", deny_unknown_fields)]
 pub enum PartEdit {
     /// Move key point `section` to `to` (in the spine plane).
     Bend {
         /// Section index.
-        section: usize,
+        section: SectionIndex,
         /// New key point.
+        #[schemars(with = "[f64; 3]", extend("x-unit" = "m"))]
         to: DVec3,
     },
     /// Scale section `section` by `factor`.
     Resize {
         /// Section index.
-        section: usize,
+        section: SectionIndex,
         /// Factor (> 0).
         factor: f64,
     },
     /// Move section `section` to spine parameter `v`.
     Shift {
         /// Section index.
-        section: usize,
+        section: SectionIndex,
         /// New parameter.
         v: f64,
     },
     /// Twist interior section `section` by `angle` radians.
     Twist {
         /// Section index.
-        section: usize,
+        section: SectionIndex,
         /// Angle.
         angle: f64,
     },
@@ -414,10 +391,10 @@ pub enum PartEdit {
 impl PartEdit {
     fn apply(&self, gc: &mut Gc) -> Result<(), GcError> {
         match *self {
-            Self::Bend { section, to } => gc.bend(section, to),
-            Self::Resize { section, factor } => gc.resize(section, factor),
-            Self::Shift { section, v } => gc.shift(section, v),
-            Self::Twist { section, angle } => gc.twist(section, angle),
+            Self::Bend { section, to } => gc.bend(section.0, to),
+            Self::Resize { section, factor } => gc.resize(section.0, factor),
+            Self::Shift { section, v } => gc.shift(section.0, v),
+            Self::Twist { section, angle } => gc.twist(section.0, angle),
         }
     }
 
@@ -441,13 +418,11 @@ impl PartEdit {
 /// its symmetry twins (same parent, mirrored about the parent's spine
 /// plane), and then every descendant of the edited parts is re-placed on
 /// its parent's new surface, breadth-first.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GcEditPart {
-    /// The GC assembly object.
-    pub id: ObjectId,
     /// The part edited.
-    pub part: usize,
+    pub part: PartId,
     /// The edit.
     pub edit: PartEdit,
 }
@@ -456,26 +431,19 @@ impl GcEditPart {
     /// Applies the op to `asm`.
     pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
         check_part(asm, self.part)?;
+        let part = self.part.0;
         let old = asm.clone();
-        let twins = symmetry_twins(&old, self.part);
-        self.edit.apply(&mut asm.parts[self.part].gc)?;
-        if let Some(p) = old.parts[self.part].parent {
+        let twins = symmetry_twins(&old, part);
+        self.edit.apply(&mut asm.parts[part].gc)?;
+        if let Some(p) = old.parts[part].parent {
             let (o, n) = mirror_plane(&old.parts[p].gc);
             let m = self.edit.mirrored(o, n);
             for &t in &twins {
                 m.apply(&mut asm.parts[t].gc)?;
             }
         }
-        let mut roots = vec![self.part];
+        let mut roots = vec![part];
         roots.extend(twins);
         reattach_descendants(&old, asm, &roots)
-    }
-
-    /// Applies the op.
-    pub fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
-        let mut asm = assembly_of(doc, self.id, "gc_edit_part")?;
-        self.apply_to(&mut asm)?;
-        doc.replace(self.id, ObjectKind::GcAssembly(asm))?;
-        Ok(OpOutcome::default())
     }
 }

@@ -1,0 +1,36 @@
+//! The SDF CSG ops (paper 2): the payloads of [`crate::sdf::edits`]
+//! applied to a document's [`SdfVolume`], named by the field `volume`.
+
+use super::{EditCx, ObjectCreate, ObjectEdit};
+use crate::doc::OpError;
+use crate::sdf::{self, SdfVolume};
+
+impl ObjectCreate for sdf::SdfCreate {
+    type Target = SdfVolume;
+    fn build(&self, _: &mut EditCx<'_>) -> Result<SdfVolume, OpError> {
+        Ok(sdf::SdfCreate::build(self)?)
+    }
+}
+
+macro_rules! volume_edits {
+    ($($ty:ty),*) => {$(
+        impl ObjectEdit for $ty {
+            type Target = SdfVolume;
+            const ID_FIELD: &'static str = "volume";
+            fn apply(&self, v: &mut SdfVolume, _: &mut EditCx<'_>) -> Result<(), OpError> {
+                Ok(self.apply_to(v)?)
+            }
+        }
+    )*};
+}
+
+volume_edits!(
+    sdf::SdfAddOperand,
+    sdf::SdfSetOperandTransform,
+    sdf::SdfScaleTwoHand,
+    sdf::SdfCancelOperand,
+    sdf::SdfCopyOperand,
+    sdf::SdfUpdate,
+    sdf::SdfImportComponent,
+    sdf::SdfSetStep
+);

@@ -1,0 +1,352 @@
+//! The styling ops' payloads and how each changes a [`CurveNetwork`]. Each
+//! held tool application is one op carrying its sampled pointer path (one
+//! frame per sample), so replay recomputes the same frames in the same
+//! order and reproduces the result bit for bit. The document names the
+//! network and applies each to a copy of it, stored only on success, so a
+//! failing op changes nothing. Each `apply_to` returns the work it did (for
+//! the log's checkpoint spacing).
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+use crate::math::DVec3;
+
+use super::curve::{fit_curve, FitMode};
+use super::network::{CurveNetwork, Piece};
+use super::surface::{SurfaceSystem, SurfaceWeights};
+use super::tools::{check_path, CurveSession, PullParams, SharpenLimits, SmoothParams, StopReason};
+use super::StylingError;
+
+macro_rules! index_type {
+    ($(#[$doc:meta])* $name:ident, $xref:literal, $desc:literal) => {
+        $(#[$doc])*
+        #[derive(
+            Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
+        )]
+        #[serde(transparent)]
+        pub struct $name(pub usize);
+
+        impl JsonSchema for $name {
+            fn schema_name() -> std::borrow::Cow<'static, str> {
+                stringify!($name).into()
+            }
+            fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+                schemars::json_schema!({
+                    "type": "integer", "minimum": 0, "x-ref": $xref, "description": $desc
+                })
+            }
+        }
+    };
+}
+
+index_type!(
+    /// A curve of a network, by index in creation order. Serialized as a
+    /// plain number.
+    CurveId,
+    "curve",
+    "A curve of the network, by index (0 is the first drawn)."
+);
+index_type!(
+    /// A patch of a network, by index in fill order. Serialized as a plain
+    /// number.
+    PatchId,
+    "patch",
+    "A patch of the network, by index (0 is the first filled)."
+);
+
+/// Create an empty curve network.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveNetworkCreate {
+    /// Mesh samples per patch side (2..=256).
+    #[schemars(range(min = 2, max = 256))]
+    pub resolution: u32,
+    /// Displacement control points per patch side for the surface tools
+    /// (4..=64).
+    #[schemars(range(min = 4, max = 64))]
+    pub surface_n: u32,
+}
+
+/// Draw a curve into a network from tracked samples.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveDraw {
+    /// Tracked samples (at least 4, finite, no consecutive duplicates).
+    #[schemars(extend("x-unit" = "m"))]
+    pub samples: Vec<[f64; 3]>,
+    /// Interpolate or approximate to a tolerance.
+    pub fit: FitMode,
+    /// Arc-length resampling spacing applied first, if any.
+    #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
+    pub resample: Option<f64>,
+    /// Closest approach under which an existing curve is intersected.
+    #[schemars(extend("x-unit" = "m"), range(min = 0.0))]
+    pub snap_tol: f64,
+}
+
+/// Smoother held along a pointer path.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveSmooth {
+    /// The curve.
+    pub curve: CurveId,
+    /// Weights.
+    pub params: SmoothParams,
+    /// Pointer tip per frame.
+    #[schemars(extend("x-unit" = "m"))]
+    pub path: Vec<[f64; 3]>,
+}
+
+/// Sharpener held along a pointer path.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveSharpen {
+    /// The curve.
+    pub curve: CurveId,
+    /// Weights (used negated).
+    pub params: SmoothParams,
+    /// Where it stops.
+    pub limits: SharpenLimits,
+    /// Pointer tip per frame.
+    #[schemars(extend("x-unit" = "m"))]
+    pub path: Vec<[f64; 3]>,
+}
+
+/// Puller: the curve point closest to the first sample follows the path.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurvePull {
+    /// The curve.
+    pub curve: CurveId,
+    /// Weights.
+    pub params: PullParams,
+    /// Pointer tip per frame (the first picks the point).
+    #[schemars(extend("x-unit" = "m"))]
+    pub path: Vec<[f64; 3]>,
+}
+
+/// Delete a curve (and the patches using it).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveDelete {
+    /// The curve.
+    pub curve: CurveId,
+}
+
+/// Fill an explicitly picked loop.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveFillLoop {
+    /// 3 to 8 pieces head to tail.
+    pub pieces: Vec<Piece>,
+}
+
+/// Fill every loop found automatically.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveFillAuto {}
+
+/// Surface smoother (`0 < f < 1`) or sharpener (`f > 1`) on a patch, one
+/// frame per path sample.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceEquilibrium {
+    /// The patch.
+    pub patch: PatchId,
+    /// Internal energy weights.
+    pub weights: SurfaceWeights,
+    /// Factor applied to `w_q` each frame: in (0, 1) for the smoother,
+    /// (1, 2] for the sharpener.
+    #[schemars(extend("exclusiveMinimum" = 0.0), range(max = 2.0))]
+    pub f: f64,
+    /// Cap on `w_q` (sharpener bound).
+    #[schemars(range(min = 1.0, max = 100.0))]
+    pub wq_max: f64,
+    /// Pointer tip per frame.
+    #[schemars(extend("x-unit" = "m"))]
+    pub path: Vec<[f64; 3]>,
+}
+
+/// Surface puller: the patch point at `(u0, v0)` follows the path.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SurfacePull {
+    /// The patch.
+    pub patch: PatchId,
+    /// Internal energy weights.
+    pub weights: SurfaceWeights,
+    /// Attractor weight.
+    pub wpp: f64,
+    /// Patch parameter of the pulled point.
+    #[schemars(range(min = 0.0, max = 1.0))]
+    pub u0: f64,
+    /// Patch parameter of the pulled point.
+    #[schemars(range(min = 0.0, max = 1.0))]
+    pub v0: f64,
+    /// Target per frame.
+    #[schemars(extend("x-unit" = "m"))]
+    pub path: Vec<[f64; 3]>,
+}
+
+/// Surface smoother: [`SurfaceEquilibrium`] with `0 < f < 1`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(transparent)]
+pub struct SurfaceSmooth(pub SurfaceEquilibrium);
+
+/// Surface sharpener: [`SurfaceEquilibrium`] with `1 < f <= 2`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(transparent)]
+pub struct SurfaceSharpen(pub SurfaceEquilibrium);
+
+impl CurveNetworkCreate {
+    /// The new, empty network.
+    pub fn build(&self) -> Result<CurveNetwork, StylingError> {
+        CurveNetwork::new(self.resolution, self.surface_n)
+    }
+}
+
+impl CurveDraw {
+    /// Fits the samples and adds the curve (intersecting existing ones).
+    pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
+        let c = fit_curve(&self.samples, self.fit, self.resample)?;
+        let work = (c.n() * net.curves.len()) as u64;
+        net.add_curve(c, self.snap_tol)?;
+        Ok(work)
+    }
+}
+
+impl CurveSmooth {
+    /// Runs the smoother along the path.
+    pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
+        self.params.validate()?;
+        let path = check_path(&self.path)?;
+        let mut s = CurveSession::new(net.curve(self.curve.0)?.clone())?;
+        s.smooth(&self.params, &path)?;
+        let work = (s.curve.n() * path.len()) as u64;
+        net.set_curve(self.curve.0, s.curve)?;
+        Ok(work)
+    }
+}
+
+impl CurveSharpen {
+    /// Runs the sharpener along the path. Stopping early is not an error:
+    /// the frames before the stop are kept (the tool is released there).
+    pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
+        self.params.validate()?;
+        self.limits.validate()?;
+        let path = check_path(&self.path)?;
+        let mut s = CurveSession::new(net.curve(self.curve.0)?.clone())?;
+        let (frames, _stop): (usize, Option<StopReason>) =
+            s.sharpen(&self.params, &self.limits, &path);
+        let work = (s.curve.n() * frames.max(1)) as u64;
+        net.set_curve(self.curve.0, s.curve)?;
+        Ok(work)
+    }
+}
+
+impl CurvePull {
+    /// Runs the puller along the path.
+    pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
+        self.params.validate()?;
+        let path = check_path(&self.path)?;
+        let curve = net.curve(self.curve.0)?.clone();
+        let (t0, _) = curve.closest(path[0]);
+        let mut s = CurveSession::new(curve)?;
+        s.pull(&self.params, t0, &path)?;
+        let work = (s.curve.n() * path.len()) as u64;
+        net.set_curve(self.curve.0, s.curve)?;
+        Ok(work)
+    }
+}
+
+impl CurveDelete {
+    /// Deletes the curve and the patches using it.
+    pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
+        net.delete_curve(self.curve.0)?;
+        Ok(1)
+    }
+}
+
+impl CurveFillLoop {
+    /// Fills the loop.
+    pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
+        net.fill(&self.pieces)?;
+        Ok(1)
+    }
+}
+
+impl CurveFillAuto {
+    /// Fills every loop found.
+    pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
+        net.fill_all()?;
+        Ok(1)
+    }
+}
+
+fn patch_system(
+    net: &CurveNetwork,
+    k: usize,
+    w: &SurfaceWeights,
+) -> Result<SurfaceSystem, StylingError> {
+    if k >= net.patches.len() {
+        return Err(StylingError::NoPatch(k));
+    }
+    if net.patches[k].pieces.len() > 4 {
+        return Err(StylingError::NotQuad(k));
+    }
+    let n = net.surface_n as usize;
+    let base = |u: f64, v: f64| net.coons(k, u, v);
+    SurfaceSystem::new(n, n, w, Some(&base))
+}
+
+impl SurfaceEquilibrium {
+    /// The smoother (`sharpen = false`) or sharpener along the path.
+    pub fn apply_to(&self, net: &mut CurveNetwork, sharpen: bool) -> Result<u64, StylingError> {
+        let path = check_path(&self.path)?;
+        let f_ok = if sharpen {
+            self.f > 1.0 && self.f <= 2.0
+        } else {
+            self.f > 0.0 && self.f < 1.0
+        };
+        if !f_ok || !self.f.is_finite() {
+            return Err(StylingError::BadParameter(
+                "f must be in (0, 1) for the smoother and (1, 2] for the sharpener",
+            ));
+        }
+        if !(self.wq_max.is_finite() && (1.0..=100.0).contains(&self.wq_max)) {
+            return Err(StylingError::BadParameter("wq_max must be in [1, 100]"));
+        }
+        let k = self.patch.0;
+        let mut sys = patch_system(net, k, &self.weights)?;
+        let (d, _wq) =
+            sys.equilibrium_frames(&net.patches[k].disp, self.f, path.len(), self.wq_max)?;
+        let work = (d.len() * path.len()) as u64;
+        net.patches[k].disp = d;
+        Ok(work)
+    }
+}
+
+impl SurfacePull {
+    /// The puller along the path.
+    pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
+        let path = check_path(&self.path)?;
+        if !((0.0..=1.0).contains(&self.u0) && (0.0..=1.0).contains(&self.v0)) {
+            return Err(StylingError::BadParameter("u0 and v0 must be in [0, 1]"));
+        }
+        let k = self.patch.0;
+        let mut sys = patch_system(net, k, &self.weights)?;
+        let base0 = net.coons(k, self.u0, self.v0)[0];
+        let targets: Vec<DVec3> = path;
+        let d = sys.pull(
+            &net.patches[k].disp,
+            self.u0,
+            self.v0,
+            base0,
+            self.wpp,
+            &targets,
+        )?;
+        let work = (d.len() * targets.len()) as u64;
+        net.patches[k].disp = d;
+        Ok(work)
+    }
+}
