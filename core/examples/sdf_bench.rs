@@ -1,19 +1,26 @@
-//! Benchmark of the SDF system, run by scripts/bench/sdf.py (which adds the
-//! NumPy + scikit-image peer on the grids this program dumps).
+//! Benchmark of the SDF system, run by `scripts/bench/sdf.py` (which times
+//! the NumPy + SciPy + scikit-image peer on the data this program dumps, in
+//! the same run).
 //!
-//! `sdf_bench [--dump DIR] [--reps N]` prints one JSON object per line:
-//! - the paper's Table 1 workloads (Cube–Sphere, Chair, Cup) at steps
-//!   0.012 / 0.01 / 0.008 / 0.006: fusion ms, extraction ms, total update
-//!   ms (one `SdfVolume::updated` from an empty volume), triangles, and
-//!   fast-surface-nets on the same fused grid made dense;
-//! - full-grid extraction of a sphere minus a torus at 128³ and 256³: ours
-//!   (on 1 and on all threads), fast-surface-nets and a "classify the
-//!   cells" floor (sign mask of every cell, single thread).
+//! `sdf_bench [--dump DIR] [--reps N] [--steps 0.01,0.006] [--no-full]`
+//! prints one JSON object per line:
+//! - `"kind":"table1"`: the paper's Table 1 workloads (Cube–Sphere, Chair,
+//!   Cup; every operand a library component with its precomputed SDF, as
+//!   in the paper) at each step: one `SdfVolume::updated` from an empty
+//!   volume with every operand queued and no operand sampled yet (so the
+//!   resampling of every operand is inside the timer, as in the peer), on
+//!   all threads and on one; its parts (resample, fold, extraction); a
+//!   drag frame (one operand moved, the others' samples reused); memory;
+//!   triangles. Times are medians with the 25th–75th percentile spread.
+//! - `"kind":"full"`: full-grid extraction of a sphere minus a torus at
+//!   128³ and 256³: ours (all threads and one), fast-surface-nets, and the
+//!   single-thread "classify every cell" floor, alternated rep by rep.
 //!
-//! With `--dump`, each grid is written as raw little-endian f32 (x
-//! fastest) plus a JSON sidecar, and each Table 1 workload also dumps
-//! every operand's field on the same box, so the peer fuses the same data.
+//! With `--dump`, every operand's local grid, placement and the lattice box
+//! are written (raw little-endian f32 plus JSON), so the peer resamples and
+//! fuses the same data; the full grids too.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 /// The hosts' allocator (see the workspace manifest).
@@ -23,16 +30,13 @@ static ALLOC: mimalloc::MiMalloc = mimalloc::MiMalloc;
 use fast_surface_nets::ndshape::RuntimeShape;
 use fast_surface_nets::{surface_nets, SurfaceNetsBuffer};
 use shapewright::math::Transform;
-use shapewright::sdf::csg::fuse;
+use shapewright::sdf::csg::fuse_sampled;
 use shapewright::sdf::features::ExactField;
 use shapewright::sdf::grid::{Brick, SparseGrid, BRICK};
+use shapewright::sdf::placement::LocalField;
+use shapewright::sdf::sample::sample_operand;
 use shapewright::sdf::volume::stitch;
-use shapewright::sdf::{Component, CsgOp, Operand, SdfVolume};
-use shapewright::solid::SolidShape;
-
-fn solid(shape: SolidShape) -> Component {
-    Component::Solid { shape }
-}
+use shapewright::sdf::{Component, CsgOp, Operand, SdfCache, SdfVolume};
 
 fn lib(name: &str) -> Component {
     Component::Library { name: name.into() }
@@ -48,12 +52,9 @@ fn t(tr: [f64; 3], q: [f64; 4], s: [f64; 3]) -> Transform {
 
 const ID: [f64; 4] = [0.0, 0.0, 0.0, 1.0];
 
-fn workloads() -> Vec<(&'static str, Vec<Operand>)> {
-    let o = |component, csg, transform| Operand {
-        component,
-        csg,
-        transform,
-    };
+/// The three Table 1 scenes, and the operand a drag moves in each.
+fn workloads() -> Vec<(&'static str, Vec<Operand>, usize)> {
+    let o = Operand::new;
     let s2 = 0.5f64.sqrt();
     let leg = |x: f64, y: f64| {
         o(
@@ -73,6 +74,7 @@ fn workloads() -> Vec<(&'static str, Vec<Operand>)> {
                     t([0.15, 0.1, 0.1], ID, [1.2; 3]),
                 ),
             ],
+            1,
         ),
         (
             "chair",
@@ -92,104 +94,53 @@ fn workloads() -> Vec<(&'static str, Vec<Operand>)> {
                     t([0.0, 0.178, 0.69], ID, [1.1; 3]),
                 ),
             ],
+            5,
         ),
         (
+            // The library cylinder is 0.4 across and tall: 0.6 makes the
+            // paper's cup body (radius 0.12, height 0.24).
             "cup",
             vec![
+                o(lib("cylinder"), CsgOp::Union, t([0.0; 3], ID, [0.6; 3])),
                 o(
-                    solid(SolidShape::Cylinder {
-                        radius: 0.12,
-                        height: 0.24,
-                    }),
+                    lib("cup_handle"),
                     CsgOp::Union,
-                    t([0.0; 3], ID, [1.0; 3]),
+                    t([0.17, 0.0, 0.0], [s2, 0.0, 0.0, s2], [0.38; 3]),
                 ),
                 o(
-                    solid(SolidShape::Torus {
-                        major_radius: 0.06,
-                        minor_radius: 0.015,
-                    }),
-                    CsgOp::Union,
-                    t([0.17, 0.0, 0.0], [s2, 0.0, 0.0, s2], [1.0; 3]),
-                ),
-                o(
-                    solid(SolidShape::Cylinder {
-                        radius: 0.105,
-                        height: 0.24,
-                    }),
+                    lib("cylinder"),
                     CsgOp::Subtract,
-                    t([0.0, 0.0, 0.03], ID, [1.0; 3]),
+                    t([0.0, 0.0, 0.03], ID, [0.525, 0.525, 0.6]),
                 ),
             ],
+            1,
         ),
     ]
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+/// Median and the 25th / 75th percentiles.
+fn stats(mut v: Vec<f64>) -> [f64; 3] {
     v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
+    let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+    [at(0.5), at(0.25), at(0.75)]
 }
 
-/// The grid as a dense array over the bounding box of its stored bricks
-/// (one brick of margin), `+band` where nothing is stored.
-fn densify(g: &SparseGrid, lo: [i32; 3], hi: [i32; 3]) -> (Vec<f32>, [usize; 3]) {
-    let dims = [0, 1, 2].map(|a| ((hi[a] - lo[a] + 1) * BRICK) as usize);
-    let mut out = vec![g.band; dims[0] * dims[1] * dims[2]];
-    for (k, b) in &g.bricks {
-        if (0..3).any(|a| k[a] < lo[a] || k[a] > hi[a]) {
-            continue;
-        }
-        for l in 0..512usize {
-            let (x, y, z) = (l % 8, l / 8 % 8, l / 64);
-            let gx = ((k[0] - lo[0]) * BRICK) as usize + x;
-            let gy = ((k[1] - lo[1]) * BRICK) as usize + y;
-            let gz = ((k[2] - lo[2]) * BRICK) as usize + z;
-            out[gx + dims[0] * (gy + dims[1] * gz)] = match b {
-                Brick::Uniform(v) => *v,
-                Brick::Dense(d) => d[l],
-            };
-        }
-    }
-    (out, dims)
+fn ms(s: Instant) -> f64 {
+    s.elapsed().as_secs_f64() * 1e3
 }
 
-fn brick_box(g: &SparseGrid) -> ([i32; 3], [i32; 3]) {
-    let mut lo = [i32::MAX; 3];
-    let mut hi = [i32::MIN; 3];
-    for k in g.bricks.keys() {
-        for a in 0..3 {
-            lo[a] = lo[a].min(k[a] - 1);
-            hi[a] = hi[a].max(k[a] + 1);
-        }
-    }
-    (lo, hi)
+fn json3(x: [f64; 3]) -> String {
+    format!("[{:.4},{:.4},{:.4}]", x[0], x[1], x[2])
 }
 
-fn dump(dir: &Option<String>, name: &str, v: &[f32], dims: [usize; 3], step: f64) {
-    if let Some(d) = dir {
-        let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
-        std::fs::write(format!("{d}/{name}.f32"), bytes).expect("write grid");
-        std::fs::write(
-            format!("{d}/{name}.json"),
-            format!(
-                "{{\"dims\":[{},{},{}],\"step\":{step}}}",
-                dims[0], dims[1], dims[2]
-            ),
-        )
-        .expect("write sidecar");
-    }
+fn write_f32(path: &str, v: &[f32]) {
+    let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+    std::fs::write(path, bytes).expect("write grid");
 }
 
-fn fsn_ms(v: &[f32], dims: [usize; 3], reps: usize) -> (f64, usize) {
-    let shape = RuntimeShape::<u32, 3>::new(dims.map(|d| d as u32));
-    let mut buf = SurfaceNetsBuffer::default();
-    let mut times = Vec::new();
-    for _ in 0..reps {
-        let s = Instant::now();
-        surface_nets(v, &shape, [0; 3], dims.map(|d| d as u32 - 1), &mut buf);
-        times.push(s.elapsed().as_secs_f64() * 1e3);
-    }
-    (median(times), buf.indices.len() / 3)
+/// Bytes a mesh holds (positions and normals f64, triangles u32).
+fn mesh_bytes(m: &shapewright::mesh::TriMesh) -> usize {
+    m.positions.len() * 24 + m.normals.len() * 24 + m.triangles.len() * 12
 }
 
 /// Counts the cells of a dense grid whose corners differ in sign.
@@ -212,101 +163,211 @@ fn classify(v: &[f32], dims: [usize; 3]) -> usize {
     n
 }
 
-fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let mut dir = None;
-    let mut reps = 15usize;
-    let mut full_only = false;
+fn fsn_ms(v: &[f32], dims: [usize; 3], reps: usize) -> ([f64; 3], usize) {
+    let shape = RuntimeShape::<u32, 3>::new(dims.map(|d| d as u32));
+    let mut buf = SurfaceNetsBuffer::default();
+    let mut times = Vec::new();
+    for _ in 0..reps {
+        let s = Instant::now();
+        surface_nets(v, &shape, [0; 3], dims.map(|d| d as u32 - 1), &mut buf);
+        times.push(ms(s));
+    }
+    (stats(times), buf.indices.len() / 3)
+}
+
+struct Args {
+    dir: Option<String>,
+    reps: usize,
+    steps: Vec<f64>,
+    full: bool,
+    table1: bool,
+    /// Profiling: loop one phase (`sample`, `fuse`, `extract`, `update`,
+    /// `drag`) of one workload at the first step.
+    phase: Option<(String, String)>,
+}
+
+fn args() -> Args {
+    let a: Vec<String> = std::env::args().collect();
+    let mut out = Args {
+        dir: None,
+        reps: 15,
+        steps: vec![0.012, 0.01, 0.008, 0.006, 0.004],
+        full: true,
+        table1: true,
+        phase: None,
+    };
     let mut i = 1;
-    while i < args.len() {
-        match args[i].as_str() {
+    while i < a.len() {
+        match a[i].as_str() {
             "--dump" => {
-                dir = args.get(i + 1).cloned();
+                out.dir = a.get(i + 1).cloned();
                 i += 1;
             }
-            "--full-only" => full_only = true,
             "--reps" => {
-                reps = args.get(i + 1).and_then(|s| s.parse().ok()).unwrap_or(reps);
+                out.reps = a.get(i + 1).and_then(|s| s.parse().ok()).unwrap_or(15);
                 i += 1;
             }
+            "--steps" => {
+                if let Some(s) = a.get(i + 1) {
+                    out.steps = s.split(',').filter_map(|x| x.parse().ok()).collect();
+                }
+                i += 1;
+            }
+            "--phase" => {
+                if let (Some(w), Some(p)) = (a.get(i + 1), a.get(i + 2)) {
+                    out.phase = Some((w.clone(), p.clone()));
+                }
+                i += 2;
+            }
+            "--no-full" => out.full = false,
+            "--full-only" => out.table1 = false,
             _ => {}
         }
         i += 1;
     }
+    out
+}
+
+fn table1(a: &Args, cache: &SdfCache, one: &rayon::ThreadPool) {
     let threads = rayon::current_num_threads();
-    let workloads = if full_only { Vec::new() } else { workloads() };
-    for (name, ops) in workloads {
-        for step in [0.012, 0.01, 0.008, 0.006] {
-            let mut v = SdfVolume::new(step).expect("step");
-            let placed: Vec<_> = ops
-                .iter()
-                .map(|o| std::sync::Arc::new(v.placed(o).expect("operand")))
-                .collect();
-            // Sharp features with exact normals, as the volume extracts.
+    for (name, ops, drag) in workloads() {
+        if let Some(d) = &a.dir {
+            // Each operand's local grid and placement, once per scene.
+            for (k, o) in ops.iter().enumerate() {
+                let v = SdfVolume::new(0.01).expect("step");
+                let f = v.placed_with(o, cache).expect("operand");
+                let LocalField::Grid(g) = &f.field else {
+                    panic!("bench operands are library components")
+                };
+                write_f32(&format!("{d}/{name}_op{k}.f32"), &g.sdf.values);
+                let m = f.inverse.matrix3;
+                let tr = f.inverse.translation;
+                let (lo, hi) = f.world_box;
+                std::fs::write(
+                    format!("{d}/{name}_op{k}.json"),
+                    format!(
+                        "{{\"dims\":[{},{},{}],\"origin\":{},\"step\":{},\"inverse\":[{},{},{}],\"translation\":{},\"scale_min\":{},\"world_lo\":{},\"world_hi\":{},\"csg\":\"{}\"}}",
+                        g.sdf.dims[0], g.sdf.dims[1], g.sdf.dims[2],
+                        json3(g.sdf.origin),
+                        g.sdf.step,
+                        json3(m.row(0).to_array()), json3(m.row(1).to_array()), json3(m.row(2).to_array()),
+                        json3(tr.to_array()),
+                        f.scale_min,
+                        json3(lo.to_array()),
+                        json3(hi.to_array()),
+                        format!("{:?}", o.csg).to_lowercase(),
+                    ),
+                )
+                .expect("write operand");
+            }
+        }
+        for &step in &a.steps {
+            let band = (3.0 * step) as f32;
+            let fresh = || {
+                let mut v = SdfVolume::new(step).expect("step");
+                v.pending = ops.clone();
+                v
+            };
+            // One update, cold: a new volume (no operand sampled) each rep.
+            let update = || {
+                let v = fresh();
+                let s = Instant::now();
+                let u = v.updated_with(cache).expect("update");
+                let t = ms(s);
+                std::hint::black_box(u);
+                t
+            };
+            let (mut t2, mut t1) = (Vec::new(), Vec::new());
+            for _ in 0..a.reps {
+                t2.push(update());
+                t1.push(one.install(update));
+            }
+            // Its parts.
+            let placed: Vec<_> = {
+                let v = fresh();
+                ops.iter()
+                    .map(|o| Arc::new(v.placed_with(o, cache).expect("operand")))
+                    .collect()
+            };
             let exact = ExactField::new(
                 placed
                     .iter()
                     .cloned()
                     .zip(ops.iter().map(|o| o.csg))
                     .collect(),
-                3.0 * step,
+                band as f64,
             );
-            let (mut tf, mut te, mut tt) = (Vec::new(), Vec::new(), Vec::new());
-            let mut tris = 0;
-            let mut grid = SparseGrid::new(step, (3.0 * step) as f32);
-            for _ in 0..reps {
+            let (mut ts, mut tf, mut te) = (Vec::new(), Vec::new(), Vec::new());
+            let mut last = None;
+            for _ in 0..a.reps {
                 let s = Instant::now();
-                let mut g = SparseGrid::new(step, (3.0 * step) as f32);
-                for (p, o) in placed.iter().zip(&ops) {
-                    fuse(&mut g, p, o.csg);
+                let sampled: Vec<_> = placed
+                    .iter()
+                    .map(|p| sample_operand(p, step, band))
+                    .collect();
+                ts.push(ms(s));
+                let s = Instant::now();
+                let mut g = SparseGrid::new(step, band);
+                for (so, o) in sampled.iter().zip(&ops) {
+                    fuse_sampled(&mut g, so, o.csg);
                 }
-                let f = s.elapsed().as_secs_f64() * 1e3;
+                tf.push(ms(s));
                 let s = Instant::now();
-                // Pieces are kept past the timing, as the volume keeps them.
                 let pieces = g.extract_all(Some(&exact));
                 let m = stitch(&pieces);
-                te.push(s.elapsed().as_secs_f64() * 1e3);
-                drop(pieces);
-                tf.push(f);
-                tris = m.triangle_count();
-                grid = g;
+                te.push(ms(s));
+                last = Some((g, sampled, pieces, m));
             }
-            v.pending = ops.clone();
-            for _ in 0..reps {
+            let (grid, sampled, pieces, mesh) = last.expect("reps > 0");
+            // A drag frame: the moved operand resampled, the others' samples
+            // reused, one update.
+            let base = fresh();
+            base.updated_with(cache).expect("warm");
+            let mut td = Vec::new();
+            for r in 0..a.reps {
+                let v = base
+                    .with_pending(|p| p[drag].transform.translate[0] += 0.0013 * (r + 1) as f64);
                 let s = Instant::now();
-                let u = v.updated().expect("update");
-                tt.push(s.elapsed().as_secs_f64() * 1e3);
+                let u = v.updated_with(cache).expect("drag");
+                td.push(ms(s));
                 std::hint::black_box(u);
             }
-            let (lo, hi) = brick_box(&grid);
-            let (dense, dims) = densify(&grid, lo, hi);
-            let (fsn, fsn_tris) = fsn_ms(&dense, dims, reps.min(5));
-            let tag = format!("{name}_{}", (step * 1000.0).round() as i32);
-            dump(&dir, &tag, &dense, dims, step);
-            for (k, (p, o)) in placed.iter().zip(&ops).enumerate() {
-                let mut g = SparseGrid::new(step, (3.0 * step) as f32);
-                fuse(&mut g, p, CsgOp::Union);
-                let (d, _) = densify(&g, lo, hi);
-                dump(
-                    &dir,
-                    &format!("{tag}_op{k}_{:?}", o.csg).to_lowercase(),
-                    &d,
-                    dims,
-                    step,
-                );
+            let piece_bytes: usize = pieces.values().map(|p| p.heap_bytes()).sum();
+            let sample_bytes: usize = sampled.iter().map(|s| s.dense_bytes()).sum();
+            // The lattice box of the result, one brick of margin, for the peer.
+            let mut lo = [i32::MAX; 3];
+            let mut hi = [i32::MIN; 3];
+            for k in grid.bricks.keys() {
+                for ax in 0..3 {
+                    lo[ax] = lo[ax].min((k[ax] - 1) * BRICK);
+                    hi[ax] = hi[ax].max((k[ax] + 2) * BRICK - 1);
+                }
             }
+            let dense_bricks = grid
+                .bricks
+                .values()
+                .filter(|b| matches!(b, Brick::Dense(_)))
+                .count();
             println!(
-                "{{\"kind\":\"table1\",\"workload\":\"{name}\",\"step\":{step},\"threads\":{threads},\"fusion_ms\":{:.3},\"extraction_ms\":{:.3},\"update_ms\":{:.3},\"triangles\":{tris},\"dense_dims\":[{},{},{}],\"fsn_ms\":{fsn:.3},\"fsn_triangles\":{fsn_tris},\"tag\":\"{tag}\",\"operands\":{}}}",
-                median(tf),
-                median(te),
-                median(tt),
-                dims[0],
-                dims[1],
-                dims[2],
-                ops.len()
+                "{{\"kind\":\"table1\",\"workload\":\"{name}\",\"step\":{step},\"threads\":{threads},\"operands\":{},\"update_ms\":{},\"update_1t_ms\":{},\"sample_ms\":{},\"fuse_ms\":{},\"extract_ms\":{},\"drag_ms\":{},\"triangles\":{},\"dense_bricks\":{dense_bricks},\"grid_bytes\":{},\"sample_bytes\":{sample_bytes},\"piece_bytes\":{piece_bytes},\"mesh_bytes\":{},\"lattice_lo\":[{},{},{}],\"lattice_hi\":[{},{},{}],\"band\":{band}}}",
+                ops.len(),
+                json3(stats(t2)),
+                json3(stats(t1)),
+                json3(stats(ts)),
+                json3(stats(tf)),
+                json3(stats(te)),
+                json3(stats(td)),
+                mesh.triangle_count(),
+                grid.dense_bytes(),
+                mesh_bytes(&mesh),
+                lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
             );
         }
     }
+}
+
+fn full(a: &Args, one: &rayon::ThreadPool) {
+    let threads = rayon::current_num_threads();
     for n in [128usize, 256] {
         let h = 1.0 / n as f64;
         let c = n as f64 * h * 0.5;
@@ -322,8 +383,8 @@ fn main() {
                 }
             }
         }
-        // Into bricks (clamped to the band), then extraction as the
-        // volume does it.
+        // Into bricks (clamped to the band), then extraction as the volume
+        // does it.
         let band = (3.0 * h) as f32;
         let mut g = SparseGrid::new(h, band);
         let nb = (n as i32) / BRICK;
@@ -343,38 +404,148 @@ fn main() {
             }
         }
         // Ours and the classify floor alternate, rep by rep, so that a
-        // noisy machine slows both alike; medians of each.
+        // noisy machine slows both alike.
         let extract = || {
             let s = Instant::now();
             let pieces = g.extract_all(None);
             let m = stitch(&pieces);
-            let ms = s.elapsed().as_secs_f64() * 1e3;
+            let t = ms(s);
             drop(pieces);
-            (ms, m.triangle_count())
+            (t, m.triangle_count())
         };
-        let one = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .expect("pool");
         let (mut t2, mut t1, mut ct) = (Vec::new(), Vec::new(), Vec::new());
         let (mut tris, mut cells) = (0, 0);
-        for _ in 0..reps.max(41) {
-            let (ms, t) = extract();
-            t2.push(ms);
-            tris = t;
+        for _ in 0..a.reps.max(21) {
+            let (t, tr) = extract();
+            t2.push(t);
+            tris = tr;
+            t1.push(one.install(extract).0);
             let s = Instant::now();
             cells = std::hint::black_box(classify(&dense, dims));
-            ct.push(s.elapsed().as_secs_f64() * 1e3);
+            ct.push(ms(s));
         }
-        for _ in 0..reps.max(15) {
-            t1.push(one.install(extract).0);
+        let (fsn, fsn_tris) = fsn_ms(&dense, dims, a.reps.clamp(5, 11));
+        if let Some(d) = &a.dir {
+            write_f32(&format!("{d}/full_{n}.f32"), &dense);
         }
-        let (ours, ours1) = (median(t2), median(t1));
-        let (fsn, fsn_tris) = fsn_ms(&dense, dims, reps.min(5));
-        dump(&dir, &format!("full_{n}"), &dense, dims, h);
         println!(
-            "{{\"kind\":\"full\",\"n\":{n},\"threads\":{threads},\"ours_ms\":{ours:.3},\"ours_1thread_ms\":{ours1:.3},\"triangles\":{tris},\"classify_ms\":{:.3},\"crossing_cells\":{cells},\"fsn_ms\":{fsn:.3},\"fsn_triangles\":{fsn_tris},\"tag\":\"full_{n}\"}}",
-            median(ct)
+            "{{\"kind\":\"full\",\"n\":{n},\"threads\":{threads},\"ours_ms\":{},\"ours_1t_ms\":{},\"triangles\":{tris},\"classify_ms\":{},\"crossing_cells\":{cells},\"fsn_ms\":{},\"fsn_triangles\":{fsn_tris},\"tag\":\"full_{n}\"}}",
+            json3(stats(t2)),
+            json3(stats(t1)),
+            json3(stats(ct)),
+            json3(fsn),
         );
+    }
+}
+
+/// Loops one phase for a profiler (`perf stat -e task-clock` gives its
+/// CPU time, which a loaded machine inflates far less than wall time).
+fn phase(a: &Args, cache: &SdfCache, workload: &str, phase: &str) {
+    let (_, ops, drag) = workloads()
+        .into_iter()
+        .find(|w| w.0 == workload)
+        .expect("workload");
+    let step = a.steps[0];
+    let band = (3.0 * step) as f32;
+    let v = SdfVolume::new(step).expect("step");
+    let placed: Vec<_> = ops
+        .iter()
+        .map(|o| Arc::new(v.placed_with(o, cache).expect("operand")))
+        .collect();
+    let exact = ExactField::new(
+        placed
+            .iter()
+            .cloned()
+            .zip(ops.iter().map(|o| o.csg))
+            .collect(),
+        band as f64,
+    );
+    let sampled: Vec<_> = placed
+        .iter()
+        .map(|p| sample_operand(p, step, band))
+        .collect();
+    for (k, so) in sampled.iter().enumerate() {
+        eprintln!(
+            "operand {k}: {} region bricks, {} evaluated, {} stored",
+            so.region_bricks,
+            so.evaluated_bricks,
+            so.bricks.len()
+        );
+    }
+    let mut g = SparseGrid::new(step, band);
+    for (so, o) in sampled.iter().zip(&ops) {
+        fuse_sampled(&mut g, so, o.csg);
+    }
+    let mut base = SdfVolume::new(step).expect("step");
+    base.pending = ops.clone();
+    base.updated_with(cache).expect("warm");
+    let mut times = Vec::new();
+    for r in 0..a.reps {
+        let s = Instant::now();
+        match phase {
+            "sample" => {
+                std::hint::black_box(
+                    placed
+                        .iter()
+                        .map(|p| sample_operand(p, step, band))
+                        .collect::<Vec<_>>(),
+                );
+            }
+            "fuse" => {
+                let mut g = SparseGrid::new(step, band);
+                for (so, o) in sampled.iter().zip(&ops) {
+                    fuse_sampled(&mut g, so, o.csg);
+                }
+                std::hint::black_box(g);
+            }
+            "extract" => {
+                std::hint::black_box(stitch(&g.extract_all(Some(&exact))));
+            }
+            "extract_plain" => {
+                std::hint::black_box(stitch(&g.extract_all(None)));
+            }
+            "update" => {
+                let mut v = SdfVolume::new(step).expect("step");
+                v.pending = ops.clone();
+                std::hint::black_box(v.updated_with(cache).expect("update"));
+            }
+            "drag" => {
+                let v = base
+                    .with_pending(|p| p[drag].transform.translate[0] += 0.0013 * (r + 1) as f64);
+                std::hint::black_box(v.updated_with(cache).expect("drag"));
+            }
+            _ => panic!("unknown phase {phase}"),
+        }
+        times.push(ms(s));
+    }
+    let min = times.iter().copied().fold(f64::INFINITY, f64::min);
+    let [med, p25, p75] = stats(times);
+    eprintln!("{phase}: min {min:.3} ms, median {med:.3} ({p25:.3}..{p75:.3}) per rep (wall)");
+}
+
+fn main() {
+    let a = args();
+    if let Some((w, p)) = &a.phase {
+        let cache = SdfCache::new();
+        phase(&a, &cache, w, p);
+        return;
+    }
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("pool");
+    // The components' SDFs are precomputed (§5.2), as the peer's are.
+    let cache = SdfCache::new();
+    if a.table1 {
+        for (_, ops, _) in workloads() {
+            let v = SdfVolume::new(0.01).expect("step");
+            for o in &ops {
+                v.placed_with(o, &cache).expect("operand");
+            }
+        }
+        table1(&a, &cache, &one);
+    }
+    if a.full {
+        full(&a, &one);
     }
 }

@@ -8,7 +8,8 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use shapewright::sdf::cache::{install_store, SdfStore};
+use shapewright::sdf::cache::{SdfCache, SdfStore};
+use shapewright::sdf::volume::set_default_cache;
 
 /// A directory of SDF blobs.
 #[derive(Clone, Debug)]
@@ -34,11 +35,19 @@ impl DirStore {
         Some(base.join("shapewright").join("sdf"))
     }
 
-    /// Installs a store at the default directory as the process-wide cache.
-    pub fn install_default() {
-        if let Some(dir) = Self::default_dir() {
-            install_store(Some(Arc::new(Self::new(dir))));
+    /// A component cache backed by a store at the default directory (a
+    /// memory-only cache when there is no such directory).
+    pub fn default_cache() -> SdfCache {
+        match Self::default_dir() {
+            Some(dir) => SdfCache::with_store(Arc::new(Self::new(dir))),
+            None => SdfCache::new(),
         }
+    }
+
+    /// Makes [`Self::default_cache`] the cache the core's document ops use
+    /// (call once, at start-up, before any SDF op runs).
+    pub fn install_default() {
+        set_default_cache(Self::default_cache());
     }
 
     /// The directory.

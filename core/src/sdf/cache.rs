@@ -1,11 +1,16 @@
-//! On-disk cache of precomputed component SDFs (paper 2 §5.2 step 6 keeps
-//! them as Unity assets; we keep them as versioned, checksummed blobs).
+//! The cache of precomputed component SDFs, as a value the host owns and
+//! passes in: [`SdfCache`] (paper 2 §5.2 step 6 keeps them as Unity
+//! assets; we keep them in memory and, when the host gives a store, as
+//! versioned, checksummed blobs).
 //!
-//! **Where the I/O lives.** The core does no file I/O (ARCHITECTURE.md), so
-//! the cache is split: this module encodes and verifies blobs, and a host
-//! installs an [`SdfStore`] (a key → bytes store; a directory of files on
-//! the desktop, anything else elsewhere) with [`install_store`]. Without a
-//! store, SDFs are recomputed once per process and kept in memory.
+//! **Where the I/O lives.** The core does no file I/O (ARCHITECTURE.md).
+//! A host that wants SDFs to survive the process builds its cache with
+//! [`SdfCache::with_store`] around an [`SdfStore`] (a key → bytes store;
+//! a directory of files on the desktop, anything else elsewhere) and hands
+//! that cache to whatever builds volumes. There is no process-wide store:
+//! two caches (two documents, two hosts in one test) never see each
+//! other's entries. Entries depend only on the mesh bits and the format
+//! version, so a hit and a recomputation give the same bits.
 //!
 //! **Blob format** (little endian): magic `SWSDF\0\0\0`, format version
 //! `u32`, cache key `u64`, dims `3 × u64`, origin `3 × f64`, step `f64`,
@@ -13,10 +18,15 @@
 //! preceding bytes. A blob with a wrong magic, version, key, length or
 //! checksum is treated as missing: the SDF is recomputed and re-stored.
 
-use std::sync::{Arc, RwLock};
+use std::collections::BTreeMap;
+use std::sync::{Arc, Mutex};
 
-use super::dense::DenseSdf;
+use super::dense::{DenseSdf, GridField};
+use super::library;
+use super::mesh_sdf::component_sdf;
+use super::SdfError;
 use crate::hash::ContentHasher;
+use crate::mesh::TriMesh;
 
 /// Version of the blob format and of the SDF computation; bump it when
 /// either changes so that old blobs are regenerated.
@@ -33,16 +43,135 @@ pub trait SdfStore: Send + Sync {
     fn store(&self, key: &str, bytes: &[u8]);
 }
 
-fn slot() -> &'static RwLock<Option<Arc<dyn SdfStore>>> {
-    static S: RwLock<Option<Arc<dyn SdfStore>>> = RwLock::new(None);
-    &S
+/// Component SDFs computed so far (by mesh key and by library name), and
+/// the host's persistent store if it gave one. Cloning shares the cache.
+#[derive(Clone, Default)]
+pub struct SdfCache {
+    inner: Arc<Inner>,
 }
 
-/// Installs (or, with `None`, removes) the process-wide store.
-pub fn install_store(store: Option<Arc<dyn SdfStore>>) {
-    if let Ok(mut s) = slot().write() {
-        *s = store;
+#[derive(Default)]
+struct Inner {
+    store: Option<Arc<dyn SdfStore>>,
+    by_key: Mutex<BTreeMap<u64, Arc<GridField>>>,
+    by_name: Mutex<BTreeMap<String, Arc<GridField>>>,
+}
+
+impl std::fmt::Debug for SdfCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SdfCache")
+            .field("store", &self.inner.store.is_some())
+            .field("entries", &self.inner.by_key.lock().map_or(0, |m| m.len()))
+            .finish()
     }
+}
+
+impl SdfCache {
+    /// A cache in memory only.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// A cache backed by the host's persistent `store`.
+    pub fn with_store(store: Arc<dyn SdfStore>) -> Self {
+        Self {
+            inner: Arc::new(Inner {
+                store: Some(store),
+                ..Inner::default()
+            }),
+        }
+    }
+
+    /// Whether two handles share one cache.
+    pub fn same(&self, other: &SdfCache) -> bool {
+        Arc::ptr_eq(&self.inner, &other.inner)
+    }
+
+    /// Number of component SDFs held in memory.
+    pub fn len(&self) -> usize {
+        self.inner.by_key.lock().map_or(0, |m| m.len())
+    }
+
+    /// Whether no SDF is held in memory.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The normalized SDF (§5.2) of closed `mesh`: from memory, from the
+    /// store (verified), or computed and then kept (and stored).
+    pub fn component_sdf(&self, mesh: &TriMesh) -> Result<Arc<DenseSdf>, SdfError> {
+        Ok(self.component_field(mesh)?.sdf.clone())
+    }
+
+    /// [`Self::component_sdf`] ready for resampling (with its block
+    /// ranges).
+    pub fn component_field(&self, mesh: &TriMesh) -> Result<Arc<GridField>, SdfError> {
+        let key = mesh_key(mesh);
+        if let Some(s) = self
+            .inner
+            .by_key
+            .lock()
+            .ok()
+            .and_then(|m| m.get(&key).cloned())
+        {
+            return Ok(s);
+        }
+        let sdf = match self.load(key) {
+            Some(s) => s,
+            None => {
+                let s = component_sdf(mesh)?;
+                self.store(key, &s);
+                s
+            }
+        };
+        let field = Arc::new(GridField::new(Arc::new(sdf)));
+        if let Ok(mut m) = self.inner.by_key.lock() {
+            m.insert(key, field.clone());
+        }
+        Ok(field)
+    }
+
+    /// The SDF of library component `name`, ready for resampling
+    /// (memoized by name, so placing a component does not rebuild and hash
+    /// its mesh).
+    pub fn library_field(&self, name: &str) -> Result<Arc<GridField>, SdfError> {
+        if let Some(s) = self
+            .inner
+            .by_name
+            .lock()
+            .ok()
+            .and_then(|m| m.get(name).cloned())
+        {
+            return Ok(s);
+        }
+        let s = self.component_field(&library::entry(name)?.mesh())?;
+        if let Ok(mut m) = self.inner.by_name.lock() {
+            m.insert(name.to_owned(), s.clone());
+        }
+        Ok(s)
+    }
+
+    /// The SDF cached under `key` in the store, if present and valid.
+    pub fn load(&self, key: u64) -> Option<DenseSdf> {
+        let store = self.inner.store.as_ref()?;
+        decode(key, &store.load(&key_name(key))?)
+    }
+
+    /// Writes `sdf` to the store, if any.
+    pub fn store(&self, key: u64, sdf: &DenseSdf) {
+        if let Some(s) = &self.inner.store {
+            s.store(&key_name(key), &encode(key, sdf));
+        }
+    }
+}
+
+/// The cache key of a mesh's component SDF: the format version and the
+/// exact bits of the mesh.
+pub fn mesh_key(mesh: &TriMesh) -> u64 {
+    let mut h = ContentHasher::new();
+    h.u64(FORMAT_VERSION as u64);
+    h.mesh(mesh);
+    h.finish()
 }
 
 /// The store key (a file name) of cache key `key`.
@@ -130,18 +259,4 @@ pub fn decode(key: u64, bytes: &[u8]) -> Option<DenseSdf> {
         step,
         values,
     })
-}
-
-/// The SDF cached under `key` in the installed store, if present and valid.
-pub fn load(key: u64) -> Option<DenseSdf> {
-    let store = slot().read().ok()?.clone()?;
-    decode(key, &store.load(&key_name(key))?)
-}
-
-/// Writes `sdf` to the installed store, if any.
-pub fn store(key: u64, sdf: &DenseSdf) {
-    let store = slot().read().ok().and_then(|s| s.clone());
-    if let Some(s) = store {
-        s.store(&key_name(key), &encode(key, sdf));
-    }
 }

@@ -74,6 +74,88 @@ impl DenseSdf {
         Some(y0 + (y1 - y0) * z)
     }
 
+    /// The cell and fractions of grid index coordinates `u`, or `None`
+    /// outside the grid (no division, no `floor` call: the caller already
+    /// works in index units).
+    #[inline]
+    fn locate_index(&self, u: DVec3) -> Option<(usize, [f64; 3])> {
+        let mut c = 0usize;
+        let mut fr = [0.0; 3];
+        let mut stride = 1usize;
+        for (a, f) in fr.iter_mut().enumerate() {
+            let n = self.dims[a] - 1;
+            if !(u[a] >= 0.0 && u[a] <= n as f64) {
+                return None;
+            }
+            // Truncation is the floor: u is at least 0.
+            let i = (u[a] as usize).min(n - 1);
+            *f = u[a] - i as f64;
+            c += i * stride;
+            stride *= self.dims[a];
+        }
+        Some((c, fr))
+    }
+
+    /// The 8 corners of cell `c` (corner `i` at offset `(i & 1, i >> 1 &
+    /// 1, i >> 2 & 1)`).
+    #[inline]
+    fn corners(&self, c: usize) -> [f64; 8] {
+        let (nx, nxy) = (self.dims[0], self.dims[0] * self.dims[1]);
+        let w = &self.values[c..c + nxy + nx + 2];
+        [
+            w[0],
+            w[1],
+            w[nx],
+            w[nx + 1],
+            w[nxy],
+            w[nxy + 1],
+            w[nxy + nx],
+            w[nxy + nx + 1],
+        ]
+        .map(f64::from)
+    }
+
+    /// Trilinear interpolation at grid index coordinates `u` (what
+    /// [`Self::sample`] does at `origin + step · u`), or `None` outside.
+    #[inline]
+    pub fn sample_index(&self, u: DVec3) -> Option<f64> {
+        let (c, [x, y, z]) = self.locate_index(u)?;
+        let v = self.corners(c);
+        let x00 = v[0] + (v[1] - v[0]) * x;
+        let x10 = v[2] + (v[3] - v[2]) * x;
+        let x01 = v[4] + (v[5] - v[4]) * x;
+        let x11 = v[6] + (v[7] - v[6]) * x;
+        let y0 = x00 + (x10 - x00) * y;
+        let y1 = x01 + (x11 - x01) * y;
+        Some(y0 + (y1 - y0) * z)
+    }
+
+    /// [`Self::sample_index`] and the interpolant's gradient in index
+    /// units (divide by `step` for local units).
+    #[inline]
+    pub fn sample_gradient_index(&self, u: DVec3) -> Option<(f64, DVec3)> {
+        let (c, [x, y, z]) = self.locate_index(u)?;
+        let v = self.corners(c);
+        let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
+        let x00 = lerp(v[0], v[1], x);
+        let x10 = lerp(v[2], v[3], x);
+        let x01 = lerp(v[4], v[5], x);
+        let x11 = lerp(v[6], v[7], x);
+        let y0 = lerp(x00, x10, y);
+        let y1 = lerp(x01, x11, y);
+        let gx = lerp(
+            lerp(v[1] - v[0], v[3] - v[2], y),
+            lerp(v[5] - v[4], v[7] - v[6], y),
+            z,
+        );
+        let gy = lerp(
+            lerp(v[2] - v[0], v[3] - v[1], x),
+            lerp(v[6] - v[4], v[7] - v[5], x),
+            z,
+        );
+        Some((lerp(y0, y1, z), DVec3::new(gx, gy, y1 - y0)))
+    }
+
     /// The gradient of the trilinear interpolant at `p` (exact derivative
     /// of [`Self::sample`] inside a cell), or `None` outside the box. Sculpt
     /// brushes use it as the direction of explode/collapse warps.
@@ -97,5 +179,99 @@ impl DenseSdf {
             y,
         );
         Some(DVec3::new(dx, dy, dz) / self.step)
+    }
+}
+
+/// Cells per side of a [`GridField`] bounds block.
+const BOUND_BLOCK: usize = 2;
+
+/// A component's grid ready for fast resampling: the SDF and, per block of
+/// 2³ cells, the least and greatest sample (the trilinear interpolant of
+/// a cell never leaves its corners' range), so that the fusion can prove
+/// a whole brick far from the surface with a few lookups instead of the
+/// Lipschitz bound's √3 slack.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridField {
+    /// The grid.
+    pub sdf: std::sync::Arc<DenseSdf>,
+    /// Blocks per axis.
+    blocks: [usize; 3],
+    /// Per block: least and greatest sample of its cells' corners.
+    ranges: Vec<[f32; 2]>,
+}
+
+impl GridField {
+    /// Precomputes the block ranges of `sdf`.
+    pub fn new(sdf: std::sync::Arc<DenseSdf>) -> Self {
+        let cells = sdf.dims.map(|d| d - 1);
+        let blocks = cells.map(|c| c.div_ceil(BOUND_BLOCK));
+        let mut ranges =
+            vec![[f32::INFINITY, f32::NEG_INFINITY]; blocks[0] * blocks[1] * blocks[2]];
+        let [nx, ny, nz] = sdf.dims;
+        for k in 0..nz {
+            let bk: [usize; 2] = [
+                k.saturating_sub(1) / BOUND_BLOCK,
+                k.min(cells[2] - 1) / BOUND_BLOCK,
+            ];
+            for j in 0..ny {
+                let bj = [
+                    j.saturating_sub(1) / BOUND_BLOCK,
+                    j.min(cells[1] - 1) / BOUND_BLOCK,
+                ];
+                for i in 0..nx {
+                    let bi = [
+                        i.saturating_sub(1) / BOUND_BLOCK,
+                        i.min(cells[0] - 1) / BOUND_BLOCK,
+                    ];
+                    let v = sdf.values[i + nx * (j + ny * k)];
+                    // A sample is a corner of the cells on both sides of
+                    // it, which may lie in two blocks per axis.
+                    for &c in &bk[..1 + (bk[0] != bk[1]) as usize] {
+                        for &b in &bj[..1 + (bj[0] != bj[1]) as usize] {
+                            for &a in &bi[..1 + (bi[0] != bi[1]) as usize] {
+                                let r = &mut ranges[a + blocks[0] * (b + blocks[1] * c)];
+                                r[0] = r[0].min(v);
+                                r[1] = r[1].max(v);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        Self {
+            sdf,
+            blocks,
+            ranges,
+        }
+    }
+
+    /// The least and greatest value of the interpolant over the cells
+    /// meeting the box `lo..=hi` in grid index units (clamped to the grid),
+    /// or `None` when the box misses the grid.
+    pub fn range(&self, lo: DVec3, hi: DVec3) -> Option<[f32; 2]> {
+        let mut b0 = [0usize; 3];
+        let mut b1 = [0usize; 3];
+        for a in 0..3 {
+            let n = (self.sdf.dims[a] - 1) as f64;
+            if !(hi[a] >= 0.0 && lo[a] <= n) {
+                return None;
+            }
+            // Truncation is the floor here: both are at least 0.
+            let c0 = lo[a].max(0.0) as usize;
+            let c1 = (hi[a].min(n) as usize).min(self.sdf.dims[a] - 2);
+            b0[a] = c0.min(self.sdf.dims[a] - 2) / BOUND_BLOCK;
+            b1[a] = c1 / BOUND_BLOCK;
+        }
+        let mut r = [f32::INFINITY, f32::NEG_INFINITY];
+        for c in b0[2]..=b1[2] {
+            for b in b0[1]..=b1[1] {
+                let row = self.blocks[0] * (b + self.blocks[1] * c);
+                for x in &self.ranges[row + b0[0]..=row + b1[0]] {
+                    r[0] = r[0].min(x[0]);
+                    r[1] = r[1].max(x[1]);
+                }
+            }
+        }
+        Some(r)
     }
 }

@@ -7,7 +7,7 @@
 //! | `sdf_create` | a new scene SDF object |
 //! | `sdf_add_operand` | pick a component (menu) and hit it with union / intersect / subtract (§4.2) |
 //! | `sdf_set_operand_transform` | grab: translate / rotate / scale an operand (§4.1) |
-//! | `sdf_scale_two_hand` | two-hand scaling along X, Y, Z or A, ratio clamped to [0.4, 4] (§4.3) |
+//! | `sdf_scale_two_hand` | two-hand scaling along X, Y, Z or A, clamped to [0.4, 4] of the scale before the first gesture (§4.3) |
 //! | `sdf_cancel_operand` | SceneOperate *cancel*: remove one operand (§4.2) |
 //! | `sdf_copy_operand` | copy (§4.4) an operand under a new placement |
 //! | `sdf_update` | *update*: fuse the queue, one extraction (§5.4) |
@@ -21,7 +21,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::csg::CsgOp;
-use super::placement::{two_hand_ratio, ScaleAxis};
+use super::placement::ScaleAxis;
 use super::volume::{check_step, Component, Operand, SdfVolume, UserMesh};
 use super::SdfError;
 use crate::math::Transform;
@@ -51,8 +51,8 @@ impl JsonSchema for OperandIndex {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SdfCreate {
-    /// Grid step, 0.006..=0.012 ([`super::volume::DEFAULT_STEP`] is the paper's choice).
-    #[schemars(range(min = 0.006, max = 0.012), extend("x-unit" = "m"))]
+    /// Grid step, 0.004..=0.012 ([`super::volume::DEFAULT_STEP`] is the paper's choice).
+    #[schemars(range(min = 0.004, max = 0.012), extend("x-unit" = "m"))]
     pub step: f64,
 }
 
@@ -79,7 +79,8 @@ pub struct SdfSetOperandTransform {
     pub transform: Transform,
 }
 
-/// Scale a pending operand by the two-hand ratio of eq. 1.
+/// Scale a pending operand by the two-hand ratio of eq. 1 (each scaled
+/// axis stays within [0.4, 4] of its scale before the first gesture).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SdfScaleTwoHand {
@@ -135,8 +136,8 @@ pub struct SdfImportComponent {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SdfSetStep {
-    /// New step, 0.006..=0.012.
-    #[schemars(range(min = 0.006, max = 0.012), extend("x-unit" = "m"))]
+    /// New step, 0.004..=0.012.
+    #[schemars(range(min = 0.004, max = 0.012), extend("x-unit" = "m"))]
     pub step: f64,
 }
 
@@ -161,11 +162,7 @@ impl SdfCreate {
 impl SdfAddOperand {
     /// Queues the operand.
     pub fn apply_to(&self, v: &mut SdfVolume) -> Result<(), SdfError> {
-        let o = Operand {
-            component: self.component.clone(),
-            csg: self.csg,
-            transform: self.transform,
-        };
+        let o = Operand::new(self.component.clone(), self.csg, self.transform);
         v.placed(&o)?;
         *v = v.with_pending(|p| p.push(o));
         Ok(())
@@ -188,14 +185,7 @@ impl SdfScaleTwoHand {
     /// Scales the operand by the two-hand ratio.
     pub fn apply_to(&self, v: &mut SdfVolume) -> Result<(), SdfError> {
         let i = check_index(v, self.operand)?;
-        let r = two_hand_ratio(self.hands_start, self.hands_end)?;
-        let mut o = v.pending[i].clone();
-        match self.axis {
-            ScaleAxis::X => o.transform.scale[0] *= r,
-            ScaleAxis::Y => o.transform.scale[1] *= r,
-            ScaleAxis::Z => o.transform.scale[2] *= r,
-            ScaleAxis::Uniform => o.transform.scale = o.transform.scale.map(|s| s * r),
-        }
+        let o = v.pending[i].scaled_two_hand(self.axis, self.hands_start, self.hands_end)?;
         v.placed(&o)?;
         *v = v.with_pending(|p| p[i] = o);
         Ok(())

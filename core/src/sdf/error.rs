@@ -7,7 +7,7 @@ use crate::solid::SolidError;
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SdfError {
     /// The grid step is outside the supported range.
-    #[error("grid step {0} is outside 0.006..=0.012 (the default is 0.01)")]
+    #[error("grid step {0} is outside 0.004..=0.012 (the default is 0.01)")]
     BadStep(f64),
     /// The operand index names no pending operand.
     #[error("volume has {len} pending operands; operand {index} does not exist")]
@@ -52,6 +52,14 @@ pub enum SdfError {
         /// The budget.
         budget_mib: u64,
     },
+    /// Moving the fused result by a transform that is not a similarity
+    /// (its scale differs per axis) cannot be done exactly by moving the
+    /// operands: make the result a component first and scale that.
+    #[error("the fused result can only be moved by a uniform scale, got {0:?}; make it a component (sdf_copy_fused) and scale the copy")]
+    NotSimilarity([f64; 3]),
+    /// The fused result is empty: there is nothing to move or copy.
+    #[error("the volume's fused result is empty; update some operands first")]
+    EmptyResult,
     /// A user component needs a name to be picked by.
     #[error("the component name is empty; give the imported component a name")]
     EmptyComponentName,

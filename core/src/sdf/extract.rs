@@ -28,7 +28,7 @@ use rayon::prelude::*;
 
 use super::features::{feature_apex, ExactField};
 use super::grid::{Brick, BrickKey, SparseGrid, BRICK, BRICK_LEN, SIGN_IN, SIGN_OUT};
-use super::mc::{polygonize, MeshSink, VertKey, MIN_TWICE_AREA_REL};
+use super::mc::{polygonize, BuildKeyHasher, MeshSink, VertKey, MIN_TWICE_AREA_REL};
 use crate::math::DVec3;
 use crate::mesh::TriMesh;
 
@@ -60,6 +60,17 @@ pub struct Piece {
     /// The triangles (indices into `triangles`) of feature fans, each with
     /// its fan vertex first.
     pub(crate) feature_triangles: Vec<u32>,
+}
+
+impl Piece {
+    /// Bytes its buffers hold.
+    pub fn heap_bytes(&self) -> usize {
+        self.slots.len() * 4
+            + (self.positions.len() + self.normals.len()) * 24
+            + self.shared.len() * 8
+            + self.triangles.len() * 12
+            + self.feature_triangles.len() * 4
+    }
 }
 
 /// Samples per edge of the block a brick's cells read.
@@ -626,25 +637,30 @@ fn flip_feature_edges(
     }
     // The crossing edge of each fan triangle, directed as the triangle
     // runs it.
-    let by_edge: std::collections::HashMap<(u32, u32), usize> = fans
+    // Keyed by u64 through the fixed multiply-rotate hasher (only looked
+    // up, never iterated: the hasher does not change the result).
+    type Set = std::collections::HashSet<u64, BuildKeyHasher>;
+    let pair = |a: u32, b: u32| (a as u64) << 32 | b as u64;
+    let by_edge: std::collections::HashMap<u64, usize, BuildKeyHasher> = fans
         .iter()
         .map(|&t| {
             let [_, a, b] = triangles[t];
-            ((a, b), t)
+            (pair(a, b), t)
         })
         .collect();
-    let mut joined: std::collections::HashSet<(u32, u32)> = Default::default();
-    let mut flipped: std::collections::HashSet<usize> = Default::default();
+    let mut joined: Vec<(u32, u32)> = Vec::new();
+    let mut joined_set = Set::default();
+    let mut flipped = Set::default();
     for &t in &fans {
-        if flipped.contains(&t) {
+        if flipped.contains(&(t as u64)) {
             continue;
         }
         let [f, a, b] = triangles[t];
-        let Some(&u) = by_edge.get(&(b, a)) else {
+        let Some(&u) = by_edge.get(&pair(b, a)) else {
             continue;
         };
         let [g, b2, a2] = triangles[u];
-        if flipped.contains(&u) || g == f || (b2, a2) != (b, a) {
+        if flipped.contains(&(u as u64)) || g == f || (b2, a2) != (b, a) {
             continue;
         }
         // The quad f a g b must stay unfolded: both new triangles face
@@ -655,23 +671,26 @@ fn flip_feature_edges(
         if normal([f, a, g]).dot(before) <= 0.0 || normal([f, g, b]).dot(before) <= 0.0 {
             continue;
         }
-        if !joined.insert((f.min(g), f.max(g))) {
+        if !joined_set.insert(pair(f.min(g), f.max(g))) {
             continue;
         }
+        joined.push((f, g));
         triangles[t] = [f, a, g];
         triangles[u] = [f, g, b];
-        flipped.insert(t);
-        flipped.insert(u);
+        flipped.insert(t as u64);
+        flipped.insert(u as u64);
     }
     // A fan vertex joined to no other stands alone on its crease (its
     // neighbours along it found no feature): a spike between chamfers.
     // It goes back to its rim's centroid, the plain fan.
-    let joined_vertices: std::collections::HashSet<u32> =
-        joined.iter().flat_map(|&(f, g)| [f, g]).collect();
+    let joined_vertices: Set = joined
+        .iter()
+        .flat_map(|&(f, g)| [f as u64, g as u64])
+        .collect();
     let mut rims: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
     for &t in &fans {
         let [f, a, b] = triangles[t];
-        if !joined_vertices.contains(&f) {
+        if !joined_vertices.contains(&(f as u64)) {
             let rim = rims.entry(f).or_default();
             rim.push(a);
             rim.push(b);

@@ -101,17 +101,25 @@ impl ExactField {
     }
 
     /// The field's value at `p` and the outward unit normal there: the
-    /// gradient of the deciding operand, by central differences of step
-    /// `h`.
+    /// gradient of the deciding operand (exact for a grid component, by
+    /// central differences of step `h` for an analytic solid).
     pub fn value_normal(&self, p: DVec3, h: f64) -> Option<(f64, DVec3)> {
         let (k, sign, value) = self.active(p)?;
         let f = &self.fields[k].0;
-        let mut g = DVec3::ZERO;
-        for a in 0..3 {
-            let mut e = DVec3::ZERO;
-            e[a] = h;
-            g[a] = f.value(p + e)? - f.value(p - e)?;
-        }
+        // A grid field's gradient is its trilinear cell's derivative; an
+        // analytic solid's is differenced.
+        let g = match f.value_gradient(p) {
+            Some((_, g)) => g,
+            None => {
+                let mut g = DVec3::ZERO;
+                for a in 0..3 {
+                    let mut e = DVec3::ZERO;
+                    e[a] = h;
+                    g[a] = f.value(p + e)? - f.value(p - e)?;
+                }
+                g
+            }
+        };
         Some((value, (g * sign).try_normalize()?))
     }
 }

@@ -57,12 +57,21 @@ impl Brick {
     /// every sample equals `±band`, else dense.
     pub fn dense(values: Vec<f32>, band: f32) -> Brick {
         assert_eq!(values.len(), BRICK_LEN, "a brick has 512 samples");
+        // Uniform bricks fail these at once when they are not.
         for u in [band, -band] {
             if values.iter().all(|x| *x == u) {
                 return Brick::Uniform(u);
             }
         }
-        let signs = dense_region_signs(&values);
+        // Per row of 8, the mask of inside samples.
+        let mut rows = [0u8; 64];
+        for (row, m) in values.chunks_exact(BRICK as usize).zip(&mut rows) {
+            *m = row
+                .iter()
+                .enumerate()
+                .fold(0u8, |bits, (x, v)| bits | ((*v < 0.0) as u8) << x);
+        }
+        let signs = region_signs_of_rows(&rows);
         Brick::Dense(Arc::new(DenseBrick { values, signs }))
     }
 
@@ -107,22 +116,43 @@ fn sign_bit(v: f32) -> u8 {
     }
 }
 
-fn dense_region_signs(d: &[f32]) -> [u8; 8] {
-    std::array::from_fn(|o| {
-        let range = |a: usize| if o >> a & 1 == 1 { 0..1 } else { 0..BRICK };
-        let mut s = 0u8;
-        for z in range(2) {
-            for y in range(1) {
-                for x in range(0) {
-                    s |= sign_bit(d[local_index(x, y, z)]);
-                }
-            }
-            if s == SIGN_IN | SIGN_OUT {
-                return s;
-            }
+/// The region signs (see [`Brick::region_signs`]) from the inside masks
+/// of the 64 rows (row `y + 8 z`, bit `x` set for an inside sample).
+fn region_signs_of_rows(rows: &[u8; 64]) -> [u8; 8] {
+    // Or and and of the masks over all rows, the rows with y = 0 and the
+    // rows with z = 0.
+    let (mut or_all, mut and_all) = (0u8, 0xffu8);
+    let (mut or_y0, mut and_y0) = (0u8, 0xffu8);
+    let (mut or_z0, mut and_z0) = (0u8, 0xffu8);
+    for (r, &m) in rows.iter().enumerate() {
+        or_all |= m;
+        and_all &= m;
+        if r % BRICK as usize == 0 {
+            or_y0 |= m;
+            and_y0 &= m;
         }
-        s
-    })
+        if r < BRICK as usize {
+            or_z0 |= m;
+            and_z0 &= m;
+        }
+    }
+    // The samples of bits `mask` of those rows: inside if any is set,
+    // outside if any is clear.
+    let sign = |or: u8, and: u8, mask: u8| {
+        (if or & mask != 0 { SIGN_IN } else { 0 }) | (if and & mask != mask { SIGN_OUT } else { 0 })
+    };
+    let r00 = rows[0];
+    // Offset bit a set: only the low layer along axis a (x = bit 0).
+    [
+        sign(or_all, and_all, 0xff),
+        sign(or_all, and_all, 0x01),
+        sign(or_y0, and_y0, 0xff),
+        sign(or_y0, and_y0, 0x01),
+        sign(or_z0, and_z0, 0xff),
+        sign(or_z0, and_z0, 0x01),
+        sign(r00, r00, 0xff),
+        sign(r00, r00, 0x01),
+    ]
 }
 
 /// Local index of a sample within its brick.

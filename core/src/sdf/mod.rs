@@ -44,8 +44,11 @@ pub mod library;
 pub mod mc;
 pub mod mesh_sdf;
 pub mod placement;
+pub mod reuse;
+pub mod sample;
 pub mod volume;
 
+pub use cache::SdfCache;
 pub use csg::CsgOp;
 pub use dense::DenseSdf;
 pub use edits::{

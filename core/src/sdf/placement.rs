@@ -18,7 +18,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::analytic::solid_distance;
-use super::dense::DenseSdf;
+use super::dense::GridField;
 use super::SdfError;
 use crate::math::{DAffine3, DVec3, Transform};
 use crate::solid::SolidShape;
@@ -32,7 +32,7 @@ pub enum LocalField {
     /// An exact analytic distance.
     Solid(SolidShape),
     /// A precomputed grid, trilinearly interpolated.
-    Grid(Arc<DenseSdf>),
+    Grid(Arc<GridField>),
 }
 
 impl LocalField {
@@ -45,7 +45,7 @@ impl LocalField {
                 let m = h.max_element() * 0.25;
                 (-h - DVec3::splat(m), h + DVec3::splat(m))
             }
-            LocalField::Grid(g) => g.bounds(),
+            LocalField::Grid(g) => g.sdf.bounds(),
         }
     }
 
@@ -63,7 +63,7 @@ impl LocalField {
     pub fn sample(&self, p: DVec3) -> Option<f64> {
         match self {
             LocalField::Solid(s) => Some(solid_distance(s, p)),
-            LocalField::Grid(g) => g.sample(p),
+            LocalField::Grid(g) => g.sdf.sample(p),
         }
     }
 }
@@ -83,6 +83,9 @@ pub struct PlacedField {
     pub local_box: (DVec3, DVec3),
     /// The world box of the transformed local box.
     pub world_box: (DVec3, DVec3),
+    /// For a grid field: world → grid index coordinates (the inverse
+    /// transform and the grid's origin and step in one affine).
+    to_index: Option<DAffine3>,
 }
 
 impl PlacedField {
@@ -113,6 +116,17 @@ impl PlacedField {
             wlo = wlo.min(w);
             whi = whi.max(w);
         }
+        let to_index = match &field {
+            LocalField::Grid(g) => {
+                let s = 1.0 / g.sdf.step;
+                Some(
+                    DAffine3::from_scale(DVec3::splat(s))
+                        * DAffine3::from_translation(-DVec3::from_array(g.sdf.origin))
+                        * inverse,
+                )
+            }
+            LocalField::Solid(_) => None,
+        };
         Ok(Self {
             field,
             forward: m,
@@ -120,6 +134,7 @@ impl PlacedField {
             scale_min,
             local_box,
             world_box: (wlo, whi),
+            to_index,
         })
     }
 
@@ -127,8 +142,33 @@ impl PlacedField {
     /// component's box (+infinity).
     #[inline]
     pub fn value(&self, p: DVec3) -> Option<f64> {
-        let q = self.inverse.transform_point3(p);
-        self.field.sample(q).map(|v| v * self.scale_min)
+        match (&self.field, &self.to_index) {
+            (LocalField::Grid(g), Some(a)) => g
+                .sdf
+                .sample_index(a.transform_point3(p))
+                .map(|v| v * self.scale_min),
+            _ => {
+                let q = self.inverse.transform_point3(p);
+                self.field.sample(q).map(|v| v * self.scale_min)
+            }
+        }
+    }
+
+    /// The corrected world value at `p` and its gradient (world units),
+    /// exact for a grid field (the derivative of its trilinear cell);
+    /// `None` outside the box, and for analytic solids (whose callers
+    /// difference [`Self::value`]).
+    #[inline]
+    pub fn value_gradient(&self, p: DVec3) -> Option<(f64, DVec3)> {
+        let (LocalField::Grid(g), Some(a)) = (&self.field, &self.to_index) else {
+            return None;
+        };
+        let (v, gu) = g.sdf.sample_gradient_index(a.transform_point3(p))?;
+        // d/dp of f(A p + c) is Aᵀ ∇f.
+        Some((
+            v * self.scale_min,
+            a.matrix3.transpose() * gu * self.scale_min,
+        ))
     }
 
     /// The sign (`+1` or `-1`) shared by every world value within the ball
@@ -176,9 +216,9 @@ pub enum ScaleAxis {
     Uniform,
 }
 
-/// The two-hand scale ratio of eq. 1: new hand distance over old, clamped
-/// to [`TWO_HAND_RATIO`].
-pub fn two_hand_ratio(old: [[f64; 3]; 2], new: [[f64; 3]; 2]) -> Result<f64, SdfError> {
+/// The unclamped two-hand ratio of eq. 1: the hands' distance now over
+/// their distance when both grabs began.
+pub fn two_hand_raw_ratio(old: [[f64; 3]; 2], new: [[f64; 3]; 2]) -> Result<f64, SdfError> {
     let all = old.iter().chain(new.iter()).flatten();
     if all.clone().any(|x| !x.is_finite()) {
         return Err(SdfError::NonFiniteHands);
@@ -188,5 +228,39 @@ pub fn two_hand_ratio(old: [[f64; 3]; 2], new: [[f64; 3]; 2]) -> Result<f64, Sdf
     if d0 < 1e-6 {
         return Err(SdfError::HandsTooClose { distance: d0 });
     }
-    Ok((d1 / d0).clamp(TWO_HAND_RATIO[0], TWO_HAND_RATIO[1]))
+    Ok(d1 / d0)
+}
+
+/// The two-hand scale ratio of eq. 1 for one gesture, clamped to
+/// [`TWO_HAND_RATIO`]. Across gestures the clamp holds against the
+/// operand's reference scale: see [`two_hand_scale`].
+pub fn two_hand_ratio(old: [[f64; 3]; 2], new: [[f64; 3]; 2]) -> Result<f64, SdfError> {
+    Ok(two_hand_raw_ratio(old, new)?.clamp(TWO_HAND_RATIO[0], TWO_HAND_RATIO[1]))
+}
+
+/// The scale after a two-hand gesture (§4.3) on `axis`: the current
+/// `scale` times the gesture's ratio, with each scaled axis kept within
+/// [`TWO_HAND_RATIO`] of `reference` (the scale before the first two-hand
+/// gesture), so that no sequence of gestures goes beyond the paper's
+/// [0.4, 4] (two gestures used to reach 16x).
+pub fn two_hand_scale(
+    scale: [f64; 3],
+    reference: [f64; 3],
+    axis: ScaleAxis,
+    hands_start: [[f64; 3]; 2],
+    hands_end: [[f64; 3]; 2],
+) -> Result<[f64; 3], SdfError> {
+    let r = two_hand_raw_ratio(hands_start, hands_end)?;
+    let mut out = scale;
+    let axes: &[usize] = match axis {
+        ScaleAxis::X => &[0],
+        ScaleAxis::Y => &[1],
+        ScaleAxis::Z => &[2],
+        ScaleAxis::Uniform => &[0, 1, 2],
+    };
+    for &a in axes {
+        let f = (scale[a] * r / reference[a]).clamp(TWO_HAND_RATIO[0], TWO_HAND_RATIO[1]);
+        out[a] = reference[a] * f;
+    }
+    Ok(out)
 }

@@ -10,19 +10,38 @@
 //! the bricks whose cells read a changed brick and stitches all pieces in
 //! key order; a full extraction stitches freshly extracted pieces in the
 //! same order, so the two are equal bit for bit.
+//!
+//! **Resampled operands are cached** ([`super::sample`]): each operand's
+//! field on the lattice is kept, per component, placement and step, in a
+//! small cache shared by a volume and the volumes derived from it (an
+//! update, a moved or added operand). An update resamples only the
+//! operands placed differently since they were last sampled: during a
+//! drag (the host calling [`SdfVolume::updated`] on the volume with the
+//! dragged operand moved), the dragged one. Entries are a pure function of
+//! their key, so hits and misses give the same bits.
+//!
+//! **Component SDFs** come from an [`SdfCache`] the caller passes in (the
+//! host owns it, with or without a persistent store); the methods without
+//! a cache argument use [`default_cache`], the process's memory-only
+//! cache, for callers that do not hold one yet.
+//!
+//! **Memory** (measured on the paper's chair, `scripts/bench/sdf.py`):
+//! a dense brick is 2 KiB, and the bricks near the surface grow as
+//! `1/step²`: see the module doc of [`super`] for the numbers per step.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::csg::{brick_count_in_box, fuse, CsgOp};
+use super::cache::SdfCache;
+use super::csg::{brick_count_in_box, fuse_sampled, CsgOp};
 use super::extract::{assemble, Piece};
 use super::features::ExactField;
 use super::grid::{BrickKey, SparseGrid, BRICK, BRICK_LEN};
-use super::library::{cached_component_sdf, starter_sdf};
-use super::placement::{LocalField, PlacedField};
+use super::placement::{two_hand_scale, LocalField, PlacedField, ScaleAxis};
+use super::sample::{sample_operand, SampledOperand};
 use super::SdfError;
 use crate::math::Transform;
 use crate::mesh::TriMesh;
@@ -30,12 +49,15 @@ use crate::solid::SolidShape;
 
 /// Default grid step (paper §5.4).
 pub const DEFAULT_STEP: f64 = 0.01;
-/// Allowed grid steps.
-pub const STEP_RANGE: [f64; 2] = [0.006, 0.012];
+/// Allowed grid steps (the paper tried 0.006 to 0.012 on a GPU; 0.004
+/// keeps a 0.03 handle's tube 7 samples across).
+pub const STEP_RANGE: [f64; 2] = [0.004, 0.012];
 /// The band (clamp) in steps.
 pub const BAND_STEPS: f64 = 3.0;
 /// Memory budget of a volume's dense bricks.
 pub const MEMORY_BUDGET_BYTES: usize = 1 << 30;
+/// Resampled operands kept per volume lineage.
+const SAMPLE_CACHE_ENTRIES: usize = 32;
 
 /// What an operand is made of.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -46,9 +68,9 @@ pub enum Component {
         /// The shape and its sizes (local units).
         shape: SolidShape,
     },
-    /// A starter-library component (normalized discrete SDF).
+    /// A library component (normalized discrete SDF).
     Library {
-        /// Its name, one of [`super::library::STARTER_NAMES`].
+        /// Its name, one of [`super::library::catalog`]'s.
         name: String,
     },
     /// A component imported into this volume with `sdf_import_component`.
@@ -67,6 +89,13 @@ pub struct UserMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
+impl UserMesh {
+    /// The mesh.
+    pub fn mesh(&self) -> TriMesh {
+        TriMesh::new(self.positions.clone(), self.triangles.clone())
+    }
+}
+
 /// A component placed in the volume with a CSG operation.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -77,6 +106,46 @@ pub struct Operand {
     pub csg: CsgOp,
     /// Placement: local → model space.
     pub transform: Transform,
+    /// The scale the operand had before its first two-hand scale: later
+    /// two-hand gestures stay within [`super::placement::TWO_HAND_RATIO`]
+    /// of it (paper §4.3), however many there are.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale_reference: Option<[f64; 3]>,
+}
+
+impl Operand {
+    /// An operand with no two-hand scale so far.
+    pub fn new(component: Component, csg: CsgOp, transform: Transform) -> Self {
+        Self {
+            component,
+            csg,
+            transform,
+            scale_reference: None,
+        }
+    }
+
+    /// The operand after a two-hand scale gesture (§4.3, eq. 1) on `axis`:
+    /// the first gesture records the scale it started from, and every
+    /// gesture keeps each axis within [0.4, 4] of that reference.
+    pub fn scaled_two_hand(
+        &self,
+        axis: ScaleAxis,
+        hands_start: [[f64; 3]; 2],
+        hands_end: [[f64; 3]; 2],
+    ) -> Result<Operand, SdfError> {
+        let reference = self.scale_reference.unwrap_or(self.transform.scale);
+        let mut o = self.clone();
+        o.transform.scale = two_hand_scale(
+            self.transform.scale,
+            reference,
+            axis,
+            hands_start,
+            hands_end,
+        )?;
+        o.scale_reference = Some(reference);
+        o.transform.validate()?;
+        Ok(o)
+    }
 }
 
 /// Derived state of a volume.
@@ -92,11 +161,40 @@ pub struct VolumeState {
     pub exact: Arc<ExactField>,
 }
 
+/// What identifies a resampled operand: its local field, its placement
+/// (exact bits) and the lattice step.
+#[derive(Clone, Debug, PartialEq)]
+struct SampleKey {
+    field: FieldId,
+    transform: [u64; 10],
+    step: u64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum FieldId {
+    Solid(SolidShape),
+    /// The address of the shared grid (kept alive by the entry).
+    Grid(usize),
+}
+
+struct SampleEntry {
+    key: SampleKey,
+    field: Arc<PlacedField>,
+    sampled: Arc<SampledOperand>,
+    preview: OnceLock<Arc<TriMesh>>,
+}
+
+/// Resampled operands, most recently used last.
+#[derive(Default)]
+struct SampleCache {
+    entries: Vec<Arc<SampleEntry>>,
+}
+
 /// A scene SDF object.
 #[derive(Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SdfVolume {
-    /// Grid step in model units (0.006..=0.012).
+    /// Grid step in model units ([`STEP_RANGE`]).
     pub step: f64,
     /// Imported user components by name.
     #[serde(default)]
@@ -109,6 +207,8 @@ pub struct SdfVolume {
     pub pending: Vec<Operand>,
     #[serde(skip)]
     state: OnceLock<Arc<VolumeState>>,
+    #[serde(skip)]
+    samples: Arc<Mutex<SampleCache>>,
 }
 
 impl PartialEq for SdfVolume {
@@ -140,6 +240,31 @@ pub fn check_step(step: f64) -> Result<(), SdfError> {
     }
 }
 
+static DEFAULT_CACHE: OnceLock<SdfCache> = OnceLock::new();
+
+/// The process's component cache, for callers that do not pass one (the
+/// document's ops, until the document carries the host's cache): the one
+/// given to [`set_default_cache`], else a memory-only cache.
+pub fn default_cache() -> &'static SdfCache {
+    DEFAULT_CACHE.get_or_init(SdfCache::new)
+}
+
+/// Makes `cache` (a host's, usually with a persistent store) the
+/// [`default_cache`]. Only the first call before any use counts: returns
+/// `false` (and changes nothing) if the default was already set or used.
+pub fn set_default_cache(cache: SdfCache) -> bool {
+    DEFAULT_CACHE.set(cache).is_ok()
+}
+
+fn transform_bits(t: &Transform) -> [u64; 10] {
+    let mut b = [0u64; 10];
+    let all = t.translate.iter().chain(&t.rotate).chain(&t.scale);
+    for (o, x) in b.iter_mut().zip(all) {
+        *o = x.to_bits();
+    }
+    b
+}
+
 impl SdfVolume {
     /// An empty volume.
     pub fn new(step: f64) -> Result<Self, SdfError> {
@@ -150,31 +275,41 @@ impl SdfVolume {
             fused: Vec::new(),
             pending: Vec::new(),
             state: OnceLock::new(),
+            samples: Arc::default(),
         })
     }
 
-    /// The local field of a component.
-    pub fn local_field(&self, c: &Component) -> Result<LocalField, SdfError> {
+    /// The local field of a component, its SDF from `cache`.
+    pub fn local_field_with(
+        &self,
+        c: &Component,
+        cache: &SdfCache,
+    ) -> Result<LocalField, SdfError> {
         Ok(match c {
             Component::Solid { shape } => {
                 shape.validate()?;
                 LocalField::Solid(*shape)
             }
-            Component::Library { name } => LocalField::Grid(starter_sdf(name)?),
+            Component::Library { name } => LocalField::Grid(cache.library_field(name)?),
             Component::User { name } => {
                 let m = self
                     .user_components
                     .get(name)
                     .ok_or_else(|| SdfError::UnknownComponent(name.clone()))?;
-                let mesh = TriMesh::new(m.positions.clone(), m.triangles.clone());
-                LocalField::Grid(cached_component_sdf(&mesh)?)
+                LocalField::Grid(cache.component_field(&m.mesh())?)
             }
         })
     }
 
-    /// An operand's placed field (validates component and transform).
-    pub fn placed(&self, o: &Operand) -> Result<PlacedField, SdfError> {
-        let f = PlacedField::new(self.local_field(&o.component)?, &o.transform)?;
+    /// [`Self::local_field_with`] the [`default_cache`].
+    pub fn local_field(&self, c: &Component) -> Result<LocalField, SdfError> {
+        self.local_field_with(c, default_cache())
+    }
+
+    /// An operand's placed field (validates component and transform, and
+    /// that its box fits the memory budget).
+    pub fn placed_with(&self, o: &Operand, cache: &SdfCache) -> Result<PlacedField, SdfError> {
+        let f = PlacedField::new(self.local_field_with(&o.component, cache)?, &o.transform)?;
         let (lo, hi) = f.world_box;
         let bricks = brick_count_in_box(self.step, lo, hi);
         let budget = (MEMORY_BUDGET_BYTES / (BRICK_LEN * 4)) as f64;
@@ -187,28 +322,90 @@ impl SdfVolume {
         Ok(f)
     }
 
+    /// [`Self::placed_with`] the [`default_cache`].
+    pub fn placed(&self, o: &Operand) -> Result<PlacedField, SdfError> {
+        self.placed_with(o, default_cache())
+    }
+
     fn band(&self) -> f32 {
         (BAND_STEPS * self.step) as f32
     }
 
+    /// The operand resampled onto this volume's lattice, from the sample
+    /// cache or resampled now (and kept).
+    fn sample_entry(&self, o: &Operand, cache: &SdfCache) -> Result<Arc<SampleEntry>, SdfError> {
+        let field = self.placed_with(o, cache)?;
+        let key = SampleKey {
+            field: match &field.field {
+                LocalField::Solid(s) => FieldId::Solid(*s),
+                LocalField::Grid(g) => FieldId::Grid(Arc::as_ptr(g) as usize),
+            },
+            transform: transform_bits(&o.transform),
+            step: self.step.to_bits(),
+        };
+        if let Ok(mut c) = self.samples.lock() {
+            if let Some(i) = c.entries.iter().position(|e| e.key == key) {
+                let e = c.entries.remove(i);
+                c.entries.push(e.clone());
+                return Ok(e);
+            }
+        }
+        let sampled = Arc::new(sample_operand(&field, self.step, self.band()));
+        let e = Arc::new(SampleEntry {
+            key,
+            field: Arc::new(field),
+            sampled,
+            preview: OnceLock::new(),
+        });
+        if let Ok(mut c) = self.samples.lock() {
+            if c.entries.len() >= SAMPLE_CACHE_ENTRIES {
+                c.entries.remove(0);
+            }
+            c.entries.push(e.clone());
+        }
+        Ok(e)
+    }
+
+    /// The operand's placed field and its values on this volume's lattice
+    /// (resampled only when not cached).
+    pub fn sampled_with(
+        &self,
+        o: &Operand,
+        cache: &SdfCache,
+    ) -> Result<(Arc<PlacedField>, Arc<SampledOperand>), SdfError> {
+        let e = self.sample_entry(o, cache)?;
+        Ok((e.field.clone(), e.sampled.clone()))
+    }
+
+    /// Resampled operands held for this volume and the volumes derived
+    /// from it.
+    pub fn cached_samples(&self) -> usize {
+        self.samples.lock().map_or(0, |c| c.entries.len())
+    }
+
     /// The derived state, rebuilt from the recipe when missing.
-    pub fn state(&self) -> Result<Arc<VolumeState>, SdfError> {
+    pub fn state_with(&self, cache: &SdfCache) -> Result<Arc<VolumeState>, SdfError> {
         if let Some(s) = self.state.get() {
             return Ok(s.clone());
         }
-        let s = Arc::new(self.rebuild()?);
+        let s = Arc::new(self.rebuild_with(cache)?);
         Ok(self.state.get_or_init(|| s).clone())
     }
 
+    /// [`Self::state_with`] the [`default_cache`].
+    pub fn state(&self) -> Result<Arc<VolumeState>, SdfError> {
+        self.state_with(default_cache())
+    }
+
     /// Fuses every fused operand from scratch and extracts every brick.
-    pub fn rebuild(&self) -> Result<VolumeState, SdfError> {
+    pub fn rebuild_with(&self, cache: &SdfCache) -> Result<VolumeState, SdfError> {
         let mut grid = SparseGrid::new(self.step, self.band());
         let mut fields = Vec::with_capacity(self.fused.len());
         for o in &self.fused {
-            let f = Arc::new(self.placed(o)?);
-            fuse(&mut grid, &f, o.csg);
+            let e = self.sample_entry(o, cache)?;
+            fuse_sampled(&mut grid, &e.sampled, o.csg);
             check_budget(&grid)?;
-            fields.push((f, o.csg));
+            fields.push((e.field.clone(), o.csg));
         }
         let exact = Arc::new(ExactField::new(fields, self.band() as f64));
         let pieces = grid.extract_all(Some(&exact));
@@ -221,19 +418,28 @@ impl SdfVolume {
         })
     }
 
+    /// [`Self::rebuild_with`] the [`default_cache`].
+    pub fn rebuild(&self) -> Result<VolumeState, SdfError> {
+        self.rebuild_with(default_cache())
+    }
+
     /// The volume after fusing its pending operands (lazy update, §5.4):
     /// one incremental extraction for the whole queue.
-    pub fn updated(&self) -> Result<SdfVolume, SdfError> {
+    pub fn updated_with(&self, cache: &SdfCache) -> Result<SdfVolume, SdfError> {
         if self.pending.is_empty() {
             return Err(SdfError::NothingPending);
         }
-        let old = self.state()?;
+        let old = self.state_with(cache)?;
+        let entries = self
+            .pending
+            .iter()
+            .map(|o| self.sample_entry(o, cache))
+            .collect::<Result<Vec<_>, _>>()?;
         let mut grid = old.grid.clone();
         let mut changed = BTreeSet::new();
         let mut fields = old.exact.fields().to_vec();
-        for o in &self.pending {
-            let f = Arc::new(self.placed(o)?);
-            changed.extend(fuse(&mut grid, &f, o.csg));
+        for (o, e) in self.pending.iter().zip(&entries) {
+            changed.extend(fuse_sampled(&mut grid, &e.sampled, o.csg));
             check_budget(&grid)?;
             // Exact normals at points in the operand's box may now come
             // from it, even where no sample changed: the bricks with
@@ -241,7 +447,7 @@ impl SdfVolume {
             // stored brick, which lies at most one brick beyond the box, so
             // the stored bricks of the box grown by one brick stand for it
             // (the box's empty bricks cost nothing).
-            let (lo, hi) = f.world_box;
+            let (lo, hi) = e.field.world_box;
             let b = BRICK as f64 * self.step;
             let (klo, khi) = ((lo / b).floor() - 1.0, (hi / b).floor() + 1.0);
             changed.extend(
@@ -250,7 +456,7 @@ impl SdfVolume {
                     .copied()
                     .filter(|k| (0..3).all(|a| (k[a] as f64) >= klo[a] && (k[a] as f64) <= khi[a])),
             );
-            fields.push((f, o.csg));
+            fields.push((e.field.clone(), o.csg));
         }
         let exact = Arc::new(ExactField::new(fields, self.band() as f64));
         let mut dirty = BTreeSet::new();
@@ -281,6 +487,11 @@ impl SdfVolume {
         Ok(next)
     }
 
+    /// [`Self::updated_with`] the [`default_cache`].
+    pub fn updated(&self) -> Result<SdfVolume, SdfError> {
+        self.updated_with(default_cache())
+    }
+
     /// A copy with the recipe changed by `f` and the derived state kept
     /// (for edits that do not touch the fused grid: pending operands).
     pub fn with_pending(&self, f: impl FnOnce(&mut Vec<Operand>)) -> SdfVolume {
@@ -298,25 +509,44 @@ impl SdfVolume {
 
     /// The fused surface: a closed oriented 2-manifold (empty when nothing
     /// is inside).
+    pub fn evaluate_with(&self, cache: &SdfCache) -> Result<TriMesh, SdfError> {
+        Ok((*self.state_with(cache)?.mesh).clone())
+    }
+
+    /// [`Self::evaluate_with`] the [`default_cache`].
     pub fn evaluate(&self) -> Result<TriMesh, SdfError> {
-        Ok((*self.state()?.mesh).clone())
+        self.evaluate_with(default_cache())
     }
 
     /// Preview meshes of the pending operands (their own surfaces, as the
-    /// paper draws operands in blue/green/orange before the update).
-    pub fn pending_previews(&self) -> Result<Vec<TriMesh>, SdfError> {
+    /// paper draws operands in blue/green/orange before the update), from
+    /// their cached samples; each is kept with its sample.
+    pub fn pending_previews_with(&self, cache: &SdfCache) -> Result<Vec<Arc<TriMesh>>, SdfError> {
         self.pending
             .iter()
             .map(|o| {
-                let mut v = SdfVolume::new(self.step)?;
-                v.user_components = self.user_components.clone();
-                v.fused.push(Operand {
-                    csg: CsgOp::Union,
-                    ..o.clone()
-                });
-                v.evaluate()
+                let e = self.sample_entry(o, cache)?;
+                Ok(e.preview
+                    .get_or_init(|| {
+                        let exact = ExactField::new(
+                            vec![(e.field.clone(), CsgOp::Union)],
+                            self.band() as f64,
+                        );
+                        Arc::new(stitch(&e.sampled.as_grid().extract_all(Some(&exact))))
+                    })
+                    .clone())
             })
             .collect()
+    }
+
+    /// [`Self::pending_previews_with`] the [`default_cache`], as owned
+    /// meshes.
+    pub fn pending_previews(&self) -> Result<Vec<TriMesh>, SdfError> {
+        Ok(self
+            .pending_previews_with(default_cache())?
+            .iter()
+            .map(|m| (**m).clone())
+            .collect())
     }
 }
 

@@ -2,11 +2,10 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use crate::math::DVec3;
-use crate::mesh::{validate, TriMesh};
-use crate::sdf::cache::{self, SdfStore};
-use crate::sdf::library::{starter_mesh, STARTER_NAMES};
+use crate::mesh::TriMesh;
+use crate::sdf::cache::{self, SdfCache, SdfStore};
+use crate::sdf::library::starter_mesh;
 use crate::sdf::mesh_sdf::{component_sdf, mesh_to_sdf, MeshDistance};
-use crate::sdf::SdfError;
 use crate::solid::{tessellate, SolidShape};
 
 fn unit_cube() -> TriMesh {
@@ -72,20 +71,6 @@ fn normalized_component_matches_section_5_2() {
     assert!(g.z > 0.9, "{g}");
 }
 
-#[test]
-fn starter_library_has_20_closed_components() {
-    assert!(STARTER_NAMES.len() >= 20);
-    for n in STARTER_NAMES {
-        let m = starter_mesh(n).unwrap();
-        let r = validate(&m, &Default::default());
-        assert!(r.is_closed_manifold(), "{n}: {}", r.problems());
-    }
-    assert!(matches!(
-        starter_mesh("nope"),
-        Err(SdfError::UnknownComponent(_))
-    ));
-}
-
 #[derive(Default)]
 struct MemStore(Mutex<HashMap<String, Vec<u8>>>);
 
@@ -111,13 +96,31 @@ fn cache_blobs_roundtrip_and_reject_corruption() {
     }
     assert!(cache::decode(42, &b[..b.len() - 4]).is_none());
     assert!(cache::decode(42, &[]).is_none());
-    // A store: written on a miss, and a corrupt entry is regenerated.
+    // A cache with a store: written on a miss, read back by a second
+    // cache on the same store, and a corrupt entry is regenerated.
     let store = Arc::new(MemStore::default());
-    cache::install_store(Some(store.clone()));
-    cache::store(7, &s);
-    let name = cache::key_name(7);
-    assert_eq!(cache::load(7).as_ref(), Some(&s));
+    let mesh = starter_mesh("cone").unwrap();
+    let a = SdfCache::with_store(store.clone());
+    assert_eq!(*a.component_sdf(&mesh).unwrap(), s);
+    let name = cache::key_name(cache::mesh_key(&mesh));
+    assert!(
+        store.0.lock().unwrap().contains_key(&name),
+        "written on a miss"
+    );
+    let b = SdfCache::with_store(store.clone());
+    assert!(!b.same(&a) && b.is_empty());
+    assert_eq!(b.load(cache::mesh_key(&mesh)).as_ref(), Some(&s));
     store.0.lock().unwrap().get_mut(&name).unwrap()[30] ^= 1;
-    assert!(cache::load(7).is_none());
-    cache::install_store(None);
+    assert!(
+        b.load(cache::mesh_key(&mesh)).is_none(),
+        "corrupt blob is a miss"
+    );
+    assert_eq!(*b.component_sdf(&mesh).unwrap(), s, "recomputed");
+    assert_eq!(
+        b.load(cache::mesh_key(&mesh)).as_ref(),
+        Some(&s),
+        "and rewritten"
+    );
+    // A cache without a store never sees another's entries.
+    assert!(SdfCache::new().load(cache::mesh_key(&mesh)).is_none());
 }

@@ -1,3 +1,4 @@
+mod library;
 mod mc;
 mod mesh_sdf;
 mod scenes;

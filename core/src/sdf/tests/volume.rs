@@ -27,11 +27,7 @@ fn at(t: [f64; 3]) -> Transform {
 }
 
 fn op(c: Component, csg: CsgOp, t: Transform) -> Operand {
-    Operand {
-        component: c,
-        csg,
-        transform: t,
-    }
+    Operand::new(c, csg, t)
 }
 
 fn run(step: f64, ops: Vec<Operand>) -> SdfVolume {
@@ -293,16 +289,23 @@ fn two_hand_scale_is_clamped_and_per_axis() {
             },
         ))
     };
-    log.apply(scale(ScaleAxis::X, 10.0)).unwrap(); // ratio 100 -> 4
-    log.apply(scale(ScaleAxis::Uniform, 0.01)).unwrap(); // 0.1 -> 0.4
-    let ObjectKind::SdfVolume(v) = &log.document().get(id).unwrap().kind else {
-        panic!()
+    let scale_now = |log: &OpLog| {
+        let ObjectKind::SdfVolume(v) = &log.document().get(id).unwrap().kind else {
+            panic!()
+        };
+        v.pending[0].transform.scale
     };
-    let s = v.pending[0].transform.scale;
+    log.apply(scale(ScaleAxis::X, 10.0)).unwrap(); // ratio 100 -> 4, X only
+    let s = scale_now(&log);
     assert!(
-        (s[0] - 1.6).abs() < 1e-12 && (s[1] - 0.4).abs() < 1e-12,
+        (s[0] - 4.0).abs() < 1e-12 && s[1] == 1.0 && s[2] == 1.0,
         "{s:?}"
     );
+    // Ratio 0.1 on all axes: X 4 -> 0.4, Y and Z 1 -> 0.1, clamped to 0.4
+    // of the scale before the first gesture.
+    log.apply(scale(ScaleAxis::Uniform, 0.01)).unwrap();
+    let s = scale_now(&log);
+    assert!(s.iter().all(|x| (x - 0.4).abs() < 1e-12), "{s:?}");
     let mut doc = log.document().clone();
     let bad = Op::SdfScaleTwoHand(Edit::new(
         id,
@@ -522,14 +525,16 @@ fn arb_operand() -> impl Strategy<Value = Operand> {
         ],
         prop_oneof![Just([1.0; 3]), [0.4f64..2.0, 0.4f64..2.0, 0.4f64..2.0]],
     )
-        .prop_map(|(shape, csg, t, q, s)| Operand {
-            component: Component::Solid { shape },
-            csg,
-            transform: Transform {
-                translate: t,
-                rotate: q,
-                scale: s,
-            },
+        .prop_map(|(shape, csg, t, q, s)| {
+            Operand::new(
+                Component::Solid { shape },
+                csg,
+                Transform {
+                    translate: t,
+                    rotate: q,
+                    scale: s,
+                },
+            )
         })
 }
 
@@ -561,4 +566,230 @@ proptest! {
             }
         }
     }
+}
+
+#[test]
+fn two_hand_scale_clamp_holds_across_gestures() {
+    // Two gestures of ratio 4 each used to reach 16x; the reference scale
+    // recorded by the first keeps every axis within [0.4, 4] of it.
+    let o = op(sphere(0.1), CsgOp::Union, Transform::IDENTITY);
+    let start = [[0.0; 3], [0.1, 0.0, 0.0]];
+    let grow = [[0.0; 3], [1.0, 0.0, 0.0]];
+    let shrink = [[0.0; 3], [0.001, 0.0, 0.0]];
+    let a = o.scaled_two_hand(ScaleAxis::Uniform, start, grow).unwrap();
+    assert_eq!(a.transform.scale, [4.0; 3]);
+    let b = a.scaled_two_hand(ScaleAxis::Uniform, start, grow).unwrap();
+    assert_eq!(
+        b.transform.scale, [4.0; 3],
+        "a second gesture cannot pass 4x"
+    );
+    let c = b.scaled_two_hand(ScaleAxis::X, start, shrink).unwrap();
+    assert!(
+        (c.transform.scale[0] - 0.4).abs() < 1e-12,
+        "{:?}",
+        c.transform.scale
+    );
+    assert_eq!(c.transform.scale[1], 4.0);
+    let d = c.scaled_two_hand(ScaleAxis::X, start, shrink).unwrap();
+    assert!((d.transform.scale[0] - 0.4).abs() < 1e-12, "nor below 0.4x");
+    // A gesture inside the range scales by its ratio.
+    let e = o
+        .scaled_two_hand(ScaleAxis::Z, start, [[0.0; 3], [0.15, 0.0, 0.0]])
+        .unwrap();
+    assert!((e.transform.scale[2] - 1.5).abs() < 1e-12);
+    assert!(matches!(
+        o.scaled_two_hand(ScaleAxis::Z, [[0.0; 3]; 2], grow),
+        Err(SdfError::HandsTooClose { .. })
+    ));
+}
+
+fn lib(name: &str) -> Component {
+    Component::Library { name: name.into() }
+}
+
+#[test]
+fn a_drag_resamples_only_the_moved_operand_and_equals_a_cold_update() {
+    let cache = crate::sdf::SdfCache::new();
+    let mut v = SdfVolume::new(0.008).unwrap();
+    v.pending = vec![
+        op(lib("chair_seat"), CsgOp::Union, at([0.0, 0.0, 0.2])),
+        op(lib("chair_leg"), CsgOp::Union, at([0.15, 0.15, 0.0])),
+        op(cube(0.1), CsgOp::Subtract, at([0.0, 0.0, 0.25])),
+    ];
+    v.updated_with(&cache).unwrap();
+    let (_, seat) = v.sampled_with(&v.pending[0], &cache).unwrap();
+    let moved = v.with_pending(|p| p[1].transform.translate[0] = 0.12);
+    let (_, seat2) = moved.sampled_with(&moved.pending[0], &cache).unwrap();
+    assert!(
+        std::sync::Arc::ptr_eq(&seat, &seat2),
+        "the unmoved operand is reused"
+    );
+    let (_, leg) = v.sampled_with(&v.pending[1], &cache).unwrap();
+    let (_, leg2) = moved.sampled_with(&moved.pending[1], &cache).unwrap();
+    assert!(
+        !std::sync::Arc::ptr_eq(&leg, &leg2),
+        "the moved one is resampled"
+    );
+    // With cached samples or none, the same bits.
+    let warm = moved
+        .updated_with(&cache)
+        .unwrap()
+        .evaluate_with(&cache)
+        .unwrap();
+    let mut cold = SdfVolume::new(0.008).unwrap();
+    cold.pending = moved.pending.clone();
+    let cold = cold
+        .updated_with(&crate::sdf::SdfCache::new())
+        .unwrap()
+        .evaluate_with(&cache)
+        .unwrap();
+    assert_eq!(warm.positions, cold.positions);
+    assert_eq!(warm.triangles, cold.triangles);
+    let r = check_closed(&warm);
+    assert_eq!(r.components, 1);
+}
+
+#[test]
+fn step_0_004_is_allowed_closed_and_the_same_on_one_and_two_threads() {
+    assert!(matches!(SdfVolume::new(0.0039), Err(SdfError::BadStep(_))));
+    let ops = vec![
+        op(
+            lib("cylinder"),
+            CsgOp::Union,
+            Transform {
+                scale: [0.6; 3],
+                ..Transform::IDENTITY
+            },
+        ),
+        op(
+            lib("cup_handle"),
+            CsgOp::Union,
+            Transform {
+                translate: [0.17, 0.0, 0.0],
+                rotate: [0.5f64.sqrt(), 0.0, 0.0, 0.5f64.sqrt()],
+                scale: [0.38; 3],
+            },
+        ),
+        op(
+            lib("cylinder"),
+            CsgOp::Subtract,
+            Transform {
+                translate: [0.0, 0.0, 0.03],
+                scale: [0.525, 0.525, 0.6],
+                ..Transform::IDENTITY
+            },
+        ),
+    ];
+    let go = |n| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let cache = crate::sdf::SdfCache::new();
+            let mut v = SdfVolume::new(0.004).unwrap();
+            v.pending = ops.clone();
+            v.updated_with(&cache)
+                .unwrap()
+                .evaluate_with(&cache)
+                .unwrap()
+        })
+    };
+    let (a, b) = (go(1), go(2));
+    assert_eq!(a.positions, b.positions);
+    assert_eq!(a.normals, b.normals);
+    assert_eq!(a.triangles, b.triangles);
+    let r = check_closed(&a);
+    assert_eq!(r.genus, Some(1), "the cup and its handle: genus 1");
+}
+
+#[test]
+fn the_fused_result_moves_copies_and_becomes_a_component() {
+    let cache = crate::sdf::SdfCache::new();
+    let mut v = SdfVolume::new(0.01).unwrap();
+    v.pending = vec![
+        op(sphere(0.15), CsgOp::Union, at([0.0, 0.0, 0.05])),
+        op(
+            Component::Solid {
+                shape: SolidShape::Torus {
+                    major_radius: 0.15,
+                    minor_radius: 0.06,
+                },
+            },
+            CsgOp::Subtract,
+            at([0.0, 0.0, 0.05]),
+        ),
+    ];
+    let v = v.updated_with(&cache).unwrap();
+    let m0 = v.evaluate_with(&cache).unwrap();
+    let r0 = check_closed(&m0);
+    // Moved by a rigid motion and a uniform scale: the same solid there.
+    let t = Transform {
+        translate: [0.3, -0.1, 0.2],
+        rotate: DQuat::from_rotation_z(0.7).to_array(),
+        scale: [0.5; 3],
+    };
+    let moved = v.with_fused_moved(&t, &cache).unwrap();
+    let m1 = moved.evaluate_with(&cache).unwrap();
+    let r1 = check_closed(&m1);
+    assert_eq!(r1.genus, r0.genus);
+    let ratio = r1.signed_volume / (r0.signed_volume * 0.125);
+    assert!((ratio - 1.0).abs() < 0.03, "volume ratio {ratio}");
+    let c0 = m0.bbox().map(|(a, b)| (a + b) * 0.5).unwrap();
+    let c1 = m1.bbox().map(|(a, b)| (a + b) * 0.5).unwrap();
+    let want = DVec3::from_array(t.translate) + DQuat::from_array(t.rotate) * (c0 * 0.5);
+    assert!((c1 - want).length() < 0.01, "{c1} vs {want}");
+    let bad = Transform {
+        scale: [1.0, 2.0, 1.0],
+        ..Transform::IDENTITY
+    };
+    assert!(matches!(
+        v.with_fused_moved(&bad, &cache),
+        Err(SdfError::NotSimilarity(_))
+    ));
+    // Copied beside itself as a new operand, then fused: twice the volume.
+    let copy = v
+        .with_fused_copy("m", &at([0.5, 0.0, 0.0]), CsgOp::Union, &cache)
+        .unwrap();
+    assert_eq!(copy.pending.len(), 1);
+    let both = copy
+        .updated_with(&cache)
+        .unwrap()
+        .evaluate_with(&cache)
+        .unwrap();
+    let r2 = check_closed(&both);
+    assert_eq!(r2.components, 2);
+    assert!(
+        (r2.signed_volume / (2.0 * r0.signed_volume) - 1.0).abs() < 0.03,
+        "{} vs {}",
+        r2.signed_volume,
+        r0.signed_volume
+    );
+    assert!(matches!(
+        copy.with_fused_copy("m", &Transform::IDENTITY, CsgOp::Union, &cache),
+        Err(SdfError::DuplicateComponent(_))
+    ));
+    // Any closed mesh becomes a component placed where it was.
+    let (user, back) = crate::sdf::reuse::component_from_mesh(&m0, &cache).unwrap();
+    assert_eq!(user.positions.len(), m0.positions.len());
+    let open = TriMesh::new(
+        vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        vec![[0, 1, 2]],
+    );
+    assert!(matches!(
+        crate::sdf::reuse::component_from_mesh(&open, &cache),
+        Err(SdfError::BadMesh(_))
+    ));
+    let mut w = SdfVolume::new(0.01).unwrap();
+    w.user_components.insert("m".into(), user);
+    w.pending
+        .push(op(Component::User { name: "m".into() }, CsgOp::Union, back));
+    let m3 = w
+        .updated_with(&cache)
+        .unwrap()
+        .evaluate_with(&cache)
+        .unwrap();
+    let r3 = check_closed(&m3);
+    assert_eq!(r3.genus, r0.genus);
+    assert!((r3.signed_volume / r0.signed_volume - 1.0).abs() < 0.03);
 }
