@@ -337,7 +337,6 @@ impl Interaction {
             .session
             .preview()
             .rays
-            .clone()
             .map(|r| r.is_some_and(|r| r.hit));
         for (h, (&now, was)) in hits.iter().zip(&mut self.ray_hit).enumerate() {
             if now && !*was {
