@@ -412,10 +412,21 @@ fn csg_menu_lists_library_components_by_name() {
         );
         assert!(seen.insert(*name), "menu entry {name} listed twice");
     }
+    // The menu: the tool's primitives, then exactly the listed components.
     let menu = crate::interact::CsgToolSettings::default().components;
-    assert_eq!(
-        menu.len(),
-        7 + super::csg_tool::MENU_LIBRARY.len(),
-        "seven primitives, then the listed library components"
-    );
+    let library: Vec<&str> = menu
+        .iter()
+        .filter_map(|c| match c {
+            Component::Library { name } => Some(name.as_str()),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(library, super::csg_tool::MENU_LIBRARY);
+    let first_library = menu
+        .iter()
+        .position(|c| matches!(c, Component::Library { .. }))
+        .expect("library entries on the menu");
+    assert!(menu[..first_library]
+        .iter()
+        .all(|c| matches!(c, Component::Solid { .. })));
 }
