@@ -70,6 +70,8 @@ class OpSpec:
     target_kind: str | None = None
     # Points are required (the op has nothing to do without a sketch).
     needs_points: bool = False
+    # Built from Blender data (a mesh object), not from the fields alone.
+    from_blender: bool = False
 
 
 PROFILE_TEMPLATES = ("circle", "ellipse", "polygon", "rectangle")
@@ -304,6 +306,19 @@ def _sdf_two_hand(v: dict) -> dict:
         "axis": v["axis"],
         "hands_start": [list(v["left_start"]), list(v["right_start"])],
         "hands_end": [list(v["left_end"]), list(v["right_end"])],
+    }
+
+
+def _import_component(v: dict) -> dict:
+    from . import sync  # Blender's side: reads the mesh object
+
+    name, positions, triangles = sync.world_triangles(v["mesh"])
+    return {
+        "op": "sdf_import_component",
+        "volume": v["volume"],
+        "name": v["name"] or name,
+        "positions": positions,
+        "triangles": triangles,
     }
 
 
@@ -594,6 +609,26 @@ SPECS: tuple[OpSpec, ...] = (
             "operand": v["operand"],
             "transform": transform(v),
         },
+    ),
+    OpSpec(
+        "sdf_import_component",
+        "Import Component",
+        "csg",
+        "Add a closed Blender mesh (triangulated, in world space) to the volume's components; "
+        "then add it with Add Component as a user component (Apply Op) by its name",
+        (
+            Field("volume", "target", -1),
+            Field("name", "string", "", doc="The component's name; empty: the mesh object's name"),
+            Field(
+                "mesh",
+                "string",
+                "",
+                doc="The Blender mesh object to import (closed, outward normals); empty: the selected "
+                "mesh that is not a Shapewright object",
+            ),
+        ),
+        build_with=lambda v, _s=None: _import_component(v),
+        from_blender=True,
     ),
     OpSpec(
         "sdf_set_step",

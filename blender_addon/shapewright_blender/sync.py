@@ -59,6 +59,34 @@ def read_mesh(me: bpy.types.Mesh) -> tuple[np.ndarray, np.ndarray]:
     return pos.astype(np.float64).reshape(-1, 3), idx.reshape(-1, 3)
 
 
+def world_triangles(name: str = "") -> tuple[str, list, list]:
+    """A Blender mesh object (by name; "" the selected mesh that is not a
+    Shapewright object) as (name, world-space positions, triangles), its
+    faces triangulated with the winding kept (flipped under a mirroring
+    matrix, so triangles stay counter-clockwise seen from outside).
+    Raises ValueError when there is no such mesh."""
+    if name:
+        obj = bpy.data.objects.get(name)
+    else:
+        obj = next((o for o in bpy.context.selected_objects if o.type == "MESH" and ID_PROP not in o), None)
+    if obj is None or obj.type != "MESH":
+        raise ValueError(
+            f"no mesh object {name!r}" if name else "select a mesh that is not a Shapewright object"
+        )
+    me = obj.data
+    me.calc_loop_triangles()
+    pos = np.empty(len(me.vertices) * 3, dtype=np.float32)
+    me.vertices.foreach_get("co", pos)
+    m = np.array(obj.matrix_world, dtype=np.float64)
+    world = pos.astype(np.float64).reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+    tri = np.empty(len(me.loop_triangles) * 3, dtype=np.int32)
+    me.loop_triangles.foreach_get("vertices", tri)
+    tri = tri.reshape(-1, 3)
+    if np.linalg.det(m[:3, :3]) < 0:
+        tri = tri[:, ::-1]
+    return obj.name, world.tolist(), tri.tolist()
+
+
 def object_for(scene: bpy.types.Scene, object_id: int) -> bpy.types.Object | None:
     for obj in collection(scene).objects:
         if obj.get(ID_PROP) == object_id:

@@ -1151,6 +1151,8 @@ def scenario_op_schema(work: Path) -> None:
                 problems.append(f"{spec.op}.{f.name}: choices {sorted(f.items)}, the core's {sorted(consts)}")
         if spec.needs_points and spec.build_with is not None:
             continue  # built by the core's sketch functions from a stroke
+        if spec.from_blender:
+            continue  # built from a Blender mesh: `check_import_component`
         # The op built from the defaults, and with each choice of each
         # enum field: only the op's fields, every required one, numbers in
         # the core's ranges and enum values the core knows.
@@ -1192,6 +1194,7 @@ def scenario_op_schema(work: Path) -> None:
                 problems.append(f"{spec.op}.{name}: choices {sorted(f.items)}, the core's {sorted(consts)}")
     problems += operator_property_problems(work)
     problems += core_bound_problems()
+    check_import_component()
     problems = sorted(set(problems))
     assert not problems, "operators disagree with the op schema:\n" + "\n".join(problems)
     print(f"checked {len(table.SPECS)} op-table entries against {len(ops)} schema ops")
@@ -1228,6 +1231,33 @@ def op_scene() -> dict[str, int]:
     assert sorted(kinds) == ["curve_network", "gc_assembly", "sdf_volume", "solid"], kinds
     kinds["document"] = kinds["solid"]
     return kinds
+
+
+def check_import_component() -> None:
+    """A closed Blender mesh becomes a user component of a CSG volume (and
+    an operand by its name); an open one is refused with the core's
+    reason. Run after `op_scene` (volume 4)."""
+    ops = bpy.ops.shapewright
+    bpy.ops.mesh.primitive_cube_add(size=0.1, location=(2.0, 0.0, 0.05))
+    cube = bpy.context.active_object
+    step(ops.sdf_import_component(volume=4, mesh=cube.name, name="block"), "import component")
+    assert '"block"' in core_session().object_json(4), core_session().object_json(4)[:200]
+    op = {
+        "op": "sdf_add_operand",
+        "volume": 4,
+        "component": {"kind": "user", "name": "block"},
+        "csg": "union",
+    }
+    step(ops.apply_op(op_json=json.dumps(op)), "add the component")
+    bpy.ops.mesh.primitive_plane_add(size=0.1)
+    before = core_session().content_hash()
+    try:
+        ops.sdf_import_component(volume=4, mesh=bpy.context.active_object.name)
+    except RuntimeError as e:
+        print(f"open mesh refused: {e}")
+    else:
+        raise AssertionError("an open mesh must be refused")
+    assert core_session().content_hash() == before
 
 
 def log_undo() -> None:
