@@ -1,7 +1,8 @@
 """Core meshes into Blender meshes, with `foreach_set` (no Python loops over
 vertices). Each core object is a mesh object in the "Shapewright"
-collection carrying its core id and kind; only objects whose content hash
-changed are rewritten.
+collection carrying its core id and kind, named by the core's name
+(`rename_object`) or `SW<id>`; only objects whose content hash changed
+are rewritten.
 
 With the scene's "Show parametric parts" on, the parametric data of GC
 assemblies and curve networks (the same `NurbsCurves` / `NurbsPatch` data
@@ -25,6 +26,7 @@ HASH_PROP = "shapewright_hash"
 KIND_PROP = "shapewright_kind"
 OWNER_PROP = "shapewright_owner"
 PART_PROP = "shapewright_parametric"
+NAME_PROP = "shapewright_name"
 
 # Blender's knot mode value `KnotsMode::NURBS_KNOT_MODE_ENDPOINT_BEZIER`.
 KNOTS_ENDPOINT_BEZIER = 3
@@ -137,6 +139,12 @@ def sync_scene(scene: bpy.types.Scene, s: sw.Session) -> None:
             coll.objects.link(obj)
         if obj.get(KIND_PROP) is None:
             obj[KIND_PROP] = s.object_kind(object_id)
+        # The core's name (`rename_object`) names the Blender object; a
+        # name given in Blender stays until the core's name changes.
+        want = s.object_name(object_id) or f"SW{object_id}"
+        if obj.get(NAME_PROP) != want:
+            obj.name = want
+            obj[NAME_PROP] = want
         if obj.get(HASH_PROP) != digest:
             pos, tri, _ = sw.mesh_arrays(s, object_id)
             write_mesh(obj.data, pos, tri)

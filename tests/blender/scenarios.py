@@ -1195,6 +1195,7 @@ def scenario_op_schema(work: Path) -> None:
     problems += operator_property_problems(work)
     problems += core_bound_problems()
     check_import_component()
+    check_rename()
     problems = sorted(set(problems))
     assert not problems, "operators disagree with the op schema:\n" + "\n".join(problems)
     print(f"checked {len(table.SPECS)} op-table entries against {len(ops)} schema ops")
@@ -1258,6 +1259,18 @@ def check_import_component() -> None:
     else:
         raise AssertionError("an open mesh must be refused")
     assert core_session().content_hash() == before
+
+
+def check_rename() -> None:
+    """Rename (`rename_object`) names the Blender object; undo gives the
+    old name back. Run after `op_scene` (solid 2)."""
+    bpy.context.view_layer.objects.active = sw_objects()[2]
+    step(bpy.ops.shapewright.rename_object(name="Ball"), "rename")
+    assert core_session().object_name(2) == "Ball"
+    assert sw_objects()[2].name == "Ball", sw_objects()[2].name
+    log_undo()
+    assert core_session().object_name(2) == ""
+    assert sw_objects()[2].name == "SW2", sw_objects()[2].name
 
 
 def log_undo() -> None:
