@@ -1,9 +1,14 @@
-"""Every SPEC.md operation as data: one `OpSpec` per op kind, from which
-`operators.py` generates a thin typed operator (`SHAPEWRIGHT_OT_gc_bend`,
-`shapewright.gc_bend`) and `panels.py` its button. Each spec lists its
-fields (name, kind, default) and, where the op's JSON is nested, a `build`
-function from the flat operator properties to the op dict. Nothing here
-computes geometry; the core validates every value and refuses bad ones.
+"""Blender's own choices for the core's ops: the ops that get a typed
+operator with a Blender-shaped form (`SHAPEWRIGHT_OT_gc_bend`,
+`shapewright.gc_bend`) and a button in `panels.py`, their labels and panel
+category, and how their flat fields build the op (templates, sketches,
+placements). Each spec lists its fields (name, kind, default); a field's
+tooltip, unit and range come from the core's op schema (`schema.py`): the
+op's field of the same name, or the one named by `like`. Every other op
+of the schema gets a generic operator built from the schema alone
+(`operators.generic_operator`; `GENERIC_LABELS` only names some), so a new
+core op needs no edit here. Nothing here computes geometry; the core
+validates every value and refuses bad ones.
 
 Field kinds:
 - ``target``: an object id; -1 means the active Shapewright object.

@@ -17,6 +17,11 @@ then). Blender's conventions:
   Blender's float32 overflow of `inf` are refused before the op is
   built (`shapewright.check_finite`), and the core refuses zero or
   negative sizes by name.
+Typed operators come from `op_table`; every other op of the core's schema
+gets a generic one (`generic_operator`), its properties built from the
+schema. Every property's tooltip, unit and soft range come from the
+schema, and values outside the range are refused by field name before the
+op is built (float32 property values snapped to their shortest decimal).
 Long exports run on a thread of their own with Blender's progress bar and
 Esc to cancel (`SHAPEWRIGHT_OT_export_mesh`).
 """
