@@ -13,10 +13,10 @@ from __future__ import annotations
 if "bpy" in locals():
     import importlib
 
-    for _m in (props, history, sync, op_table, draw, operators, sketch, xr, panels, usd_hook):  # noqa: F821
+    for _m in (props, history, sync, schema, op_table, draw, operators, sketch, xr, panels, usd_hook):  # noqa: F821
         importlib.reload(_m)
 else:
-    from . import draw, history, op_table, operators, panels, props, sketch, sync, usd_hook, xr
+    from . import draw, history, op_table, operators, panels, props, schema, sketch, sync, usd_hook, xr
 
 import bpy  # noqa: E402
 
@@ -35,4 +35,4 @@ def unregister() -> None:
         m.unregister()
 
 
-__all__ = ["register", "unregister", "sync", "op_table", "usd_hook", "bpy"]
+__all__ = ["register", "unregister", "sync", "op_table", "schema", "usd_hook", "bpy"]

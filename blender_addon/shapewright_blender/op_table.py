@@ -1,9 +1,14 @@
-"""Every SPEC.md operation as data: one `OpSpec` per op kind, from which
-`operators.py` generates a thin typed operator (`SHAPEWRIGHT_OT_gc_bend`,
-`shapewright.gc_bend`) and `panels.py` its button. Each spec lists its
-fields (name, kind, default) and, where the op's JSON is nested, a `build`
-function from the flat operator properties to the op dict. Nothing here
-computes geometry; the core validates every value and refuses bad ones.
+"""Blender's own choices for the core's ops: the ops that get a typed
+operator with a Blender-shaped form (`SHAPEWRIGHT_OT_gc_bend`,
+`shapewright.gc_bend`) and a button in `panels.py`, their labels and panel
+category, and how their flat fields build the op (templates, sketches,
+placements). Each spec lists its fields (name, kind, default); a field's
+tooltip, unit and range come from the core's op schema (`schema.py`): the
+op's field of the same name, or the one named by `like`. Every other op
+of the schema gets a generic operator built from the schema alone
+(`operators.generic_operator`; `GENERIC_LABELS` only names some), so a new
+core op needs no edit here. Nothing here computes geometry; the core
+validates every value and refuses bad ones.
 
 Field kinds:
 - ``target``: an object id; -1 means the active Shapewright object.
@@ -41,7 +46,16 @@ class Field:
     default: Any = None
     items: tuple[str, ...] = ()
     label: str = ""
+    # Blender's own text, for a field the op does not have as such (a
+    # template's size, a location); else the schema's doc is the tooltip.
     doc: str = ""
+    # The schema field this property stands for when its name differs
+    # (`("@Profile", "radius")`, `("gc_create", "resolution", "u")`): its
+    # doc, unit and range. Default: the op's field of the same name.
+    like: tuple[str, ...] = ()
+    unit: str | None = None  # for Blender's own fields: "m" or "rad"
+    # A value meaning "none" (not range-checked), e.g. resample 0.
+    none_at: Any = None
 
 
 @dataclass(frozen=True)
@@ -61,6 +75,8 @@ class OpSpec:
     target_kind: str | None = None
     # Points are required (the op has nothing to do without a sketch).
     needs_points: bool = False
+    # Built from Blender data (a mesh object), not from the fields alone.
+    from_blender: bool = False
 
 
 PROFILE_TEMPLATES = ("circle", "ellipse", "polygon", "rectangle")
@@ -121,33 +137,39 @@ def sections(v: dict) -> list[dict]:
     ]
 
 
+HAND_DOC = "The %s hand's position when the gesture %s"
+TEMPLATE_DOC = "Section template: circle, ellipse, regular polygon or rectangle"
+SIZE_A_DOC = "Circle or polygon radius, ellipse semi-axis rx, rectangle width (positive)"
+SIZE_B_DOC = "Ellipse semi-axis ry, rectangle height (positive); unused by circles and polygons"
+SOLID_A_DOC = "Sphere, cylinder, cone or capsule radius; torus major radius; box and ellipsoid x and y size"
+SOLID_B_DOC = "Cylinder or cone height, capsule length, torus minor radius; box and ellipsoid z size"
 TEMPLATE_FIELDS = (
-    Field("template", "enum", "circle", PROFILE_TEMPLATES),
-    Field("size_a", "float", 0.05, label="Radius / width"),
-    Field("size_b", "float", 0.03, label="Height / ry"),
-    Field("sides", "int", 6),
+    Field("template", "enum", "circle", PROFILE_TEMPLATES, doc=TEMPLATE_DOC),
+    Field("size_a", "float", 0.05, label="Radius / width", doc=SIZE_A_DOC, like=("@Profile", "radius")),
+    Field("size_b", "float", 0.03, label="Height / ry", doc=SIZE_B_DOC, like=("@Profile", "ry")),
+    Field("sides", "int", 6, like=("@Profile", "sides")),
 )
 # A child's section: handle- and spout-sized by default.
 CHILD_TEMPLATE_FIELDS = (
-    Field("template", "enum", "circle", PROFILE_TEMPLATES),
-    Field("size_a", "float", 0.008, label="Radius / width"),
-    Field("size_b", "float", 0.005, label="Height / ry"),
-    Field("sides", "int", 6),
+    Field("template", "enum", "circle", PROFILE_TEMPLATES, doc=TEMPLATE_DOC),
+    Field("size_a", "float", 0.008, label="Radius / width", doc=SIZE_A_DOC, like=("@Profile", "radius")),
+    Field("size_b", "float", 0.005, label="Height / ry", doc=SIZE_B_DOC, like=("@Profile", "ry")),
+    Field("sides", "int", 6, like=("@Profile", "sides")),
 )
 SHAPE_TYPE_FIELDS = (
-    Field("shape_type", "enum", "solid", ("solid", "shell", "container")),
-    Field("thickness", "float", 0.004),
-    Field("closed_end", "enum", "start", ("start", "end")),
+    Field("shape_type", "enum", "solid", ("solid", "shell", "container"), like=("@ShapeType", "type")),
+    Field("thickness", "float", 0.004, like=("@ShapeType", "thickness")),
+    Field("closed_end", "enum", "start", ("start", "end"), like=("@ShapeType", "closed_end")),
 )
 SOLID_FIELDS = (
-    Field("shape", "enum", "sphere", SOLID_SHAPES),
-    Field("size_a", "float", 0.1, label="Radius / size"),
-    Field("size_b", "float", 0.2, label="Height / minor"),
+    Field("shape", "enum", "sphere", SOLID_SHAPES, like=("@SolidShape", "kind")),
+    Field("size_a", "float", 0.1, label="Radius / size", doc=SOLID_A_DOC, like=("@SolidShape", "radius")),
+    Field("size_b", "float", 0.2, label="Height / minor", doc=SOLID_B_DOC, like=("@SolidShape", "height")),
 )
 PLACE_FIELDS = (
-    Field("location", "vec3", (0.0, 0.0, 0.0)),
-    Field("angle_z", "float", 0.0),
-    Field("scale", "vec3", (1.0, 1.0, 1.0)),
+    Field("location", "vec3", (0.0, 0.0, 0.0), like=("@Transform", "translate")),
+    Field("angle_z", "float", 0.0, doc="Rotation about Z", unit="rad"),
+    Field("scale", "vec3", (1.0, 1.0, 1.0), like=("@Transform", "scale")),
 )
 GC_PART = (Field("id", "target", -1), Field("part", "int", 0))
 SMOOTH_PARAMS = {"wb": 1e-06, "ws": 0.0, "wp0": 1.0, "wp1": 0.0, "wp2": 0.0, "alpha": 20.0}
@@ -292,6 +314,19 @@ def _sdf_two_hand(v: dict) -> dict:
     }
 
 
+def _import_component(v: dict) -> dict:
+    from . import sync  # Blender's side: reads the mesh object
+
+    name, positions, triangles = sync.world_triangles(v["mesh"])
+    return {
+        "op": "sdf_import_component",
+        "volume": v["volume"],
+        "name": v["name"] or name,
+        "positions": positions,
+        "triangles": triangles,
+    }
+
+
 def _curve_draw(v: dict) -> dict:
     fit = {"mode": "interpolate"} if v["fit"] == "interpolate" else {"mode": "approximate", "tol": v["tol"]}
     return {
@@ -366,14 +401,20 @@ SPECS: tuple[OpSpec, ...] = (
         "gc",
         "Create a generalized cylinder: a template section swept along the sketch or a straight spine",
         (
-            Field("location", "vec3", (0.0, 0.0, 0.0)),
-            Field("length", "float", 0.2),
+            Field(
+                "location",
+                "vec3",
+                (0.0, 0.0, 0.0),
+                doc="Where the straight spine starts (no sketch)",
+                unit="m",
+            ),
+            Field("length", "float", 0.2, doc="Length of the straight spine along +Z (no sketch)", unit="m"),
             Field("plane_normal", "vec3", (0.0, 1.0, 0.0)),
             Field("points", "points", ""),
             *TEMPLATE_FIELDS,
             *SHAPE_TYPE_FIELDS,
-            Field("res_u", "int", 96),
-            Field("res_v", "int", 64),
+            Field("res_u", "int", 96, like=("gc_create", "resolution", "u")),
+            Field("res_v", "int", 64, like=("gc_create", "resolution", "v")),
         ),
         sketch="points",
         build_with=_gc_create,
@@ -427,7 +468,7 @@ SPECS: tuple[OpSpec, ...] = (
             Field("section", "int", 0),
             *TEMPLATE_FIELDS,
             Field("points", "points", ""),
-            Field("plane_normal", "vec3", (0.0, 0.0, 1.0)),
+            Field("plane_normal", "vec3", (0.0, 0.0, 1.0), doc="Normal of the sketched loop's plane"),
         ),
         sketch="points",
         build_with=_gc_replace_section,
@@ -467,8 +508,15 @@ SPECS: tuple[OpSpec, ...] = (
             Field("points", "points", ""),
             Field("parent", "int", 0),
             Field("at", "vec3", (0.0, 0.0, 0.0)),
-            Field("length", "float", 0.1),
-            Field("end", "enum", "auto", ("auto", "free", "parent")),
+            Field("length", "float", 0.1, doc="Length of a straight stub (no sketch)", unit="m"),
+            Field(
+                "end",
+                "enum",
+                "auto",
+                ("auto", "free", "parent"),
+                doc="Where the spine ends: free (a spout), on the parent (a handle), or auto: on the parent "
+                "when a sketch ends on it",
+            ),
             *CHILD_TEMPLATE_FIELDS,
             *SHAPE_TYPE_FIELDS,
         ),
@@ -503,8 +551,8 @@ SPECS: tuple[OpSpec, ...] = (
         "Add a library component or a solid with a boolean operation",
         (
             Field("volume", "target", -1),
-            Field("component", "enum", "library", ("library", "solid")),
-            Field("library", "library", "chair_seat"),
+            Field("component", "enum", "library", ("library", "solid"), doc="A library component or a solid"),
+            Field("library", "library", "chair_seat", doc="The starter-library component"),
             *SOLID_FIELDS,
             Field("csg", "enum", "union", ("union", "subtract", "intersect")),
             *PLACE_FIELDS,
@@ -533,10 +581,10 @@ SPECS: tuple[OpSpec, ...] = (
             Field("volume", "target", -1),
             Field("operand", "int", 0),
             Field("axis", "enum", "uniform", ("x", "y", "z", "uniform")),
-            Field("left_start", "vec3", (0.0, 0.0, 0.0)),
-            Field("right_start", "vec3", (0.2, 0.0, 0.0)),
-            Field("left_end", "vec3", (0.0, 0.0, 0.0)),
-            Field("right_end", "vec3", (0.3, 0.0, 0.0)),
+            Field("left_start", "vec3", (0.0, 0.0, 0.0), doc=HAND_DOC % ("left", "began"), unit="m"),
+            Field("right_start", "vec3", (0.2, 0.0, 0.0), doc=HAND_DOC % ("right", "began"), unit="m"),
+            Field("left_end", "vec3", (0.0, 0.0, 0.0), doc=HAND_DOC % ("left", "ended"), unit="m"),
+            Field("right_end", "vec3", (0.3, 0.0, 0.0), doc=HAND_DOC % ("right", "ended"), unit="m"),
         ),
         _sdf_two_hand,
     ),
@@ -568,6 +616,26 @@ SPECS: tuple[OpSpec, ...] = (
         },
     ),
     OpSpec(
+        "sdf_import_component",
+        "Import Component",
+        "csg",
+        "Add a closed Blender mesh (triangulated, in world space) to the volume's components; "
+        "then add it with Add Component as a user component (Apply Op) by its name",
+        (
+            Field("volume", "target", -1),
+            Field("name", "string", "", doc="The component's name; empty: the mesh object's name"),
+            Field(
+                "mesh",
+                "string",
+                "",
+                doc="The Blender mesh object to import (closed, outward normals); empty: the selected "
+                "mesh that is not a Shapewright object",
+            ),
+        ),
+        build_with=lambda v, _s=None: _import_component(v),
+        from_blender=True,
+    ),
+    OpSpec(
         "sdf_set_step",
         "Grid Step",
         "csg",
@@ -591,8 +659,21 @@ SPECS: tuple[OpSpec, ...] = (
             Field("id", "target", -1),
             Field("points", "points", ""),
             Field("fit", "enum", "interpolate", ("interpolate", "approximate")),
-            Field("tol", "float", 0.002),
-            Field("resample", "float", 0.0),
+            Field(
+                "tol",
+                "float",
+                0.002,
+                doc="Approximation tolerance (approximate fit)",
+                like=("@FitMode", "tol"),
+            ),
+            Field(
+                "resample",
+                "float",
+                0.0,
+                doc="Arc-length resampling spacing applied first; 0: none",
+                like=("curve_draw", "resample"),
+                none_at=0.0,
+            ),
             Field("snap_tol", "float", 0.002),
         ),
         _curve_draw,
@@ -657,9 +738,16 @@ SPECS: tuple[OpSpec, ...] = (
         "sculpt",
         "Create a sculpt object from a base shape",
         (
-            Field("base", "enum", "sphere", ("sphere", "box")),
-            Field("size_a", "float", 0.3, label="Radius / half size"),
-            Field("edge_length", "float", 0.03),
+            Field("base", "enum", "sphere", ("sphere", "box"), like=("@SculptBase", "kind")),
+            Field(
+                "size_a",
+                "float",
+                0.3,
+                label="Radius / half size",
+                doc="Sphere radius; half the box's edge",
+                like=("@SculptBase", "radius"),
+            ),
+            Field("edge_length", "float", 0.03, like=("@SculptBase", "edge_length")),
             *PLACE_FIELDS,
         ),
         _sculpt_create,
@@ -725,3 +813,21 @@ def decode(f: Field, raw: Any) -> Any:
     if f.kind == "vec3":
         return tuple(float(x) for x in raw)
     return raw
+
+
+# Labels of the ops that have a generic operator (built from the schema by
+# `operators.generic_operator`); any other op is labelled from its name.
+GENERIC_LABELS = {
+    "set_transform": "Set Placement",
+    "rename_object": "Rename",
+    "gc_set_resolution": "Mesh Resolution",
+    "gc_edit_part": "Edit Part (propagated)",
+    "sdf_import_component": "Import Component",
+}
+
+
+def label_of(op: str) -> str:
+    spec = BY_OP.get(op)
+    if spec is not None:
+        return spec.label
+    return GENERIC_LABELS.get(op) or op.replace("_", " ").capitalize()

@@ -17,17 +17,24 @@ then). Blender's conventions:
   Blender's float32 overflow of `inf` are refused before the op is
   built (`shapewright.check_finite`), and the core refuses zero or
   negative sizes by name.
+Typed operators come from `op_table`; every other op of the core's schema
+gets a generic one (`generic_operator`), its properties built from the
+schema. Every property's tooltip, unit and soft range come from the
+schema, and values outside the range are refused by field name before the
+op is built (float32 property values snapped to their shortest decimal).
 Long exports run on a thread of their own with Blender's progress bar and
 Esc to cancel (`SHAPEWRIGHT_OT_export_mesh`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
 
 import bpy
+import numpy as np
 import shapewright as sw
 from bpy.props import (
     BoolProperty,
@@ -38,7 +45,7 @@ from bpy.props import (
     StringProperty,
 )
 
-from . import history, op_table, sync
+from . import history, op_table, schema, sync
 
 SKIP = {"SKIP_SAVE"}
 
@@ -96,42 +103,62 @@ def scene_has_kind(context, kind: str) -> bool:
 
 
 class _ShapeProps:
-    shape: EnumProperty(name="Shape", items=SHAPES, default="sphere", options=SKIP)
+    # The schema fields these properties stand for (the tooltips' ranges,
+    # and tests check the soft ranges against them); the core refuses what
+    # is out of range, by name.
+    sw_schema = {
+        "size": ("@SolidShape", "size"),
+        "radius": ("@SolidShape", "radius"),
+        "minor_radius": ("@SolidShape", "minor_radius"),
+        "height": ("@SolidShape", "height"),
+        "segments": ("add_solid", "segments"),
+    }
+    shape: EnumProperty(
+        name="Shape",
+        items=SHAPES,
+        default="sphere",
+        description=schema.info(("@SolidShape", "kind")).doc or "The solid's shape",
+        options=SKIP,
+    )
     size: FloatVectorProperty(
         name="Size",
-        description="Box edge lengths; ellipsoid diameters (m)",
+        description=schema.info(("@SolidShape", "size")).tooltip("Box edge lengths; ellipsoid diameters"),
         default=(0.2, 0.2, 0.2),
-        soft_min=1e-3,
+        soft_min=0.0,
         subtype="XYZ_LENGTH",
+        unit="LENGTH",
         options=SKIP,
     )
     radius: FloatProperty(
         name="Radius",
-        description="Radius (m); the torus's major radius. Must be positive",
+        description="Radius; the torus's major radius. Range: > 0 m.",
         default=0.1,
-        soft_min=1e-3,
+        soft_min=0.0,
         subtype="DISTANCE",
+        unit="LENGTH",
         options=SKIP,
     )
     minor_radius: FloatProperty(
         name="Minor radius",
-        description="The torus tube's radius (m), smaller than the radius",
+        description="The torus tube's radius, smaller than the radius. Range: > 0 m.",
         default=0.03,
-        soft_min=1e-3,
+        soft_min=0.0,
         subtype="DISTANCE",
+        unit="LENGTH",
         options=SKIP,
     )
     height: FloatProperty(
         name="Height / length",
-        description="Cylinder and cone height; capsule length between its caps (m)",
+        description="Cylinder and cone height; capsule length between its caps. Range: > 0 m.",
         default=0.2,
         soft_min=0.0,
         subtype="DISTANCE",
+        unit="LENGTH",
         options=SKIP,
     )
     segments: IntProperty(
         name="Segments",
-        description="Segments around curved solids (8 to 1024)",
+        description=schema.info(("add_solid", "segments")).tooltip("Segments around curved solids"),
         default=64,
         soft_min=8,
         soft_max=1024,
@@ -322,8 +349,8 @@ class SHAPEWRIGHT_OT_run_script(bpy.types.Operator):
     bl_label = "Run Op Script"
     bl_options = {"REGISTER", "UNDO"}
 
-    filepath: StringProperty(subtype="FILE_PATH", options=SKIP)
-    filter_glob: StringProperty(default="*.jsonl", options={"HIDDEN"})
+    filepath: StringProperty(description="The op script (.jsonl) to run", subtype="FILE_PATH", options=SKIP)
+    filter_glob: StringProperty(default="*.jsonl", description="Files the browser lists", options={"HIDDEN"})
 
     def invoke(self, context, event):
         context.window_manager.fileselect_add(self)
@@ -373,53 +400,129 @@ class SHAPEWRIGHT_OT_apply_op(bpy.types.Operator):
         return run_op(self, context, op)
 
 
-def _description(f: op_table.Field, label: str) -> str:
-    if f.doc:
-        return f.doc
-    if f.kind == "target":
-        return "Object id for scripts; -1 (default) acts on the active object"
-    if f.kind == "points":
+TARGET_DOC = "Object id, for scripts; -1 (the default): the active object"
+
+
+def field_info(spec: op_table.OpSpec, f: op_table.Field) -> schema.Info:
+    """The schema's doc, unit and range for one op-table field (the field
+    it stands for, `f.like`, or the op's field of the same name), with
+    Blender's own text and unit where the field is the add-on's own."""
+    path = f.like or (spec.op, f.name)
+    inf = schema.info(path) if schema.field_schema(path) is not None else schema.Info()
+    return dataclasses.replace(inf, doc=f.doc or inf.doc, unit=f.unit or inf.unit)
+
+
+def schema_path(spec: op_table.OpSpec, f: op_table.Field) -> tuple[str, ...] | None:
+    """The schema field a typed operator's property stands for (None: a
+    field of the add-on's own)."""
+    path = f.like or (spec.op, f.name)
+    return path if schema.field_schema(path) is not None else None
+
+
+def _description(kind: str, inf: schema.Info, label: str) -> str:
+    if kind == "target":
+        return f"{inf.doc} {TARGET_DOC}".strip() if inf.doc and inf.doc != "The object." else TARGET_DOC
+    if kind == "points":
         return "A sketch as JSON [[x, y, z], ...] (the Sketch operator fills it); empty: none"
-    if f.kind == "json":
-        return f"{label} as JSON"
-    return label
+    tip = inf.tooltip(label)
+    if kind == "json":
+        return f"{tip} (JSON)"
+    return tip
 
 
-def _property(f: op_table.Field):
-    """The bpy property of one op-table field (not remembered between
-    calls; no hard limits, so bad values reach the checks instead of being
-    clamped)."""
-    label = f.label or f.name.replace("_", " ").capitalize()
-    desc = _description(f, label)
-    if f.kind == "target":
+def make_property(kind: str, label: str, inf: schema.Info, default, items=(), size: int = 0):
+    """One bpy property with its tooltip, unit and soft range from the
+    schema. Not remembered between calls; no hard limits (they would clamp
+    silently): `check_value` refuses what the core would refuse, by name."""
+    desc = _description(kind, inf, label)
+    lo, hi = inf.soft_range()
+    rng = {}
+    if kind in ("int", "float", "vec", "vec3"):
+        if lo is not None:
+            rng["soft_min"] = int(lo) if kind == "int" else float(lo)
+        if hi is not None:
+            rng["soft_max"] = int(hi) if kind == "int" else float(hi)
+    unit, subtype, vec_subtype = schema.UNITS.get(inf.unit or "", ("NONE", "NONE", "NONE"))
+    if kind == "target":
         return IntProperty(name=label, default=-1, description=desc, options=SKIP)
-    if f.kind == "int":
-        return IntProperty(name=label, default=f.default, description=desc, options=SKIP)
-    if f.kind == "float":
-        return FloatProperty(name=label, default=f.default, precision=4, description=desc, options=SKIP)
-    if f.kind == "bool":
-        return BoolProperty(name=label, default=f.default, description=desc, options=SKIP)
-    if f.kind == "vec3":
-        return FloatVectorProperty(name=label, default=f.default, size=3, description=desc, options=SKIP)
-    if f.kind == "enum":
+    if kind == "int":
+        return IntProperty(name=label, default=default, description=desc, options=SKIP, **rng)
+    if kind == "float":
+        return FloatProperty(
+            name=label,
+            default=default,
+            precision=4,
+            description=desc,
+            subtype=subtype,
+            unit=unit,
+            options=SKIP,
+            **rng,
+        )
+    if kind == "bool":
+        return BoolProperty(name=label, default=default, description=desc, options=SKIP)
+    if kind in ("vec", "vec3"):
+        n = size or 3
+        return FloatVectorProperty(
+            name=label,
+            default=tuple(default),
+            size=n,
+            description=desc,
+            subtype=vec_subtype if n == 3 else "NONE",
+            unit=unit,
+            options=SKIP,
+            **rng,
+        )
+    if kind == "enum":
         return EnumProperty(
             name=label,
-            items=[(i, i.replace("_", " ").capitalize(), "") for i in f.items],
-            default=f.default,
+            items=[(i, i.replace("_", " ").capitalize(), "") for i in items],
+            default=default,
             description=desc,
             options=SKIP,
         )
-    if f.kind == "library":
+    if kind == "library":
         return EnumProperty(
             name=label,
             items=[(n, n, "") for n in sw.library_names()],
-            default=f.default,
+            default=default,
             description=desc,
             options=SKIP,
         )
-    if f.kind == "json":
-        return StringProperty(name=label, default=json.dumps(f.default), description=desc, options=SKIP)
-    return StringProperty(name=label, default="", description=desc, options=SKIP)
+    if kind == "json":
+        text = "" if default in (None, "") else json.dumps(default)
+        return StringProperty(name=label, default=text, description=desc, options=SKIP)
+    return StringProperty(name=label, default=default or "", description=desc, options=SKIP)
+
+
+def _property(spec: op_table.OpSpec, f: op_table.Field):
+    """The bpy property of one op-table field."""
+    label = f.label or f.name.replace("_", " ").capitalize()
+    return make_property(f.kind, label, field_info(spec, f), f.default, f.items)
+
+
+def snap32(v):
+    """A float (or vector) property's value as the shortest decimal that
+    rounds to the same float32: Blender keeps 0.012 as 0.0120000001, which
+    the core would refuse at its bound 0.012, and the op log should read
+    what the user typed."""
+    if isinstance(v, (list, tuple)):
+        return type(v)(snap32(x) for x in v)
+    if isinstance(v, float) and math.isfinite(v):
+        return float(str(np.float32(v)))
+    return v
+
+
+def check_value(label: str, inf: schema.Info, v, none_at=None) -> None:
+    """Refuses (ValueError naming the field) a number or vector component
+    outside the schema's range."""
+    if none_at is not None and v == none_at:
+        return
+    xs = v if isinstance(v, (list, tuple)) else [v]
+    for x in xs:
+        if isinstance(x, (int, float)) and not isinstance(x, bool):
+            problem = inf.problem(x)
+            if problem is not None:
+                raise ValueError(f"{label} {problem}")
 
 
 def op_values(operator, spec: op_table.OpSpec, context) -> dict:
@@ -439,9 +542,14 @@ def op_values(operator, spec: op_table.OpSpec, context) -> dict:
             v = op_table.decode(f, raw)
         except json.JSONDecodeError as e:
             raise ValueError(f"{spec.label}: {f.name} is not JSON: {e}") from e
-        if f.kind == "points" and not v and spec.needs_points:
-            raise ValueError(f"{spec.label}: sketch it (Sketch panel) or give {f.name}")
+        if f.kind in ("float", "vec3"):
+            v = snap32(v)
+        if f.kind in ("int", "float", "vec3"):
+            check_value(f"{spec.label}: {f.name}", field_info(spec, f), v, f.none_at)
         values[f.name] = v
+    for f in spec.fields:
+        if f.kind == "points" and not values[f.name] and spec.needs_points:
+            raise ValueError(f"{spec.label}: sketch it (Sketch panel) or give {f.name}")
     sw.check_finite(values)
     return values
 
@@ -480,13 +588,115 @@ def typed_operator(spec: op_table.OpSpec) -> type:
         "bl_label": spec.label,
         "bl_options": {"REGISTER", "UNDO"},
         "op_name": spec.op,
-        "__annotations__": {f.name: _property(f) for f in spec.fields},
+        "__annotations__": {f.name: _property(spec, f) for f in spec.fields},
         "execute": _typed_execute,
+        # Which schema field each property stands for (tests check the
+        # properties' tooltips and ranges against it).
+        "sw_schema": {
+            f.name: p
+            for f in spec.fields
+            if f.kind not in ("target", "points") and (p := schema_path(spec, f)) is not None
+        },
     }
     poll = _typed_poll(spec)
     if poll is not None:
         attrs["poll"] = poll
     return type(f"SHAPEWRIGHT_OT_{spec.op}", (bpy.types.Operator,), attrs)
+
+
+def generic_values(operator, op: str, fields: tuple[schema.GenField, ...], context) -> dict:
+    """The op dict of a generic operator: its properties put back where
+    the schema has them, targets resolved (the active object unless a
+    script passed an id), numbers checked against the schema's ranges.
+    Raises ValueError with a message for the user."""
+    kind = schema.OPS[op]["kind"]
+    want = None if kind == "document" else kind
+    label = op_table.label_of(op)
+    out: dict = {"op": op}
+    missing: list[str] = []
+    for g in fields:
+        raw = getattr(operator, g.prop)
+        if g.kind == "target":
+            if raw < 0:
+                raw = active_id(context)
+                if raw is None or (want is not None and active_kind(context) != want):
+                    what = (want or "Shapewright object").replace("_", " ")
+                    raise ValueError(f"{label}: make a {what} the active object (or pass {g.prop})")
+            v = raw
+        elif g.kind == "json":
+            if not raw.strip():
+                if g.required:
+                    missing.append(g.prop)
+                continue
+            try:
+                v = json.loads(raw)
+            except json.JSONDecodeError as e:
+                raise ValueError(f"{label}: {g.prop} is not JSON: {e}") from e
+        elif g.kind == "vec":
+            v = [snap32(float(x)) for x in raw]
+        elif g.kind == "float":
+            v = snap32(raw)
+        else:
+            v = raw
+        if g.kind in ("int", "float", "vec"):
+            check_value(f"{label}: {g.prop}", g.info, v)
+        d = out
+        for k in g.path[:-1]:
+            d = d.setdefault(k, {})
+        d[g.path[-1]] = v
+    if missing:
+        raise ValueError(f"{label}: give {', '.join(missing)} (JSON)")
+    sw.check_finite(out)
+    return out
+
+
+def generic_operator(op: str) -> type:
+    """An operator for any op of the core's schema, its properties built
+    from the schema (`schema.fields`): a new core op gets one with no
+    add-on edit."""
+    fields = schema.fields(op)
+    kind = schema.OPS[op]["kind"]
+    label = op_table.label_of(op)
+
+    def execute(self, context):
+        try:
+            built = generic_values(self, op, fields, context)
+        except ValueError as e:  # also sw.ShapewrightError
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        return run_op(self, context, built)
+
+    attrs = {
+        "__doc__": schema.clean_doc(schema.OPS[op]["doc"]) or label,
+        "bl_idname": f"shapewright.{op}",
+        "bl_label": label,
+        "bl_options": {"REGISTER", "UNDO"},
+        "op_name": op,
+        "__annotations__": {
+            g.prop: make_property(
+                g.kind, g.prop.replace("_", " ").capitalize(), g.info, g.default, g.items, g.size
+            )
+            for g in fields
+        },
+        "execute": execute,
+        "sw_schema": {g.prop: (op, *g.path) for g in fields if g.kind != "target"},
+    }
+    if any(g.kind == "target" for g in fields):
+        want = None if kind == "document" else kind
+
+        def poll(cls, context):
+            if want is None:
+                return active_kind(context) is not None
+            return active_kind(context) == want or scene_has_kind(context, want)
+
+        attrs["poll"] = classmethod(poll)
+    return type(f"SHAPEWRIGHT_OT_{op}", (bpy.types.Operator,), attrs)
+
+
+def generic_ops() -> tuple[str, ...]:
+    """The core's ops that have neither a typed operator (`op_table`) nor
+    a hand-written one here: each gets a generic operator."""
+    return tuple(n for n in schema.OPS if n not in op_table.BY_OP and n not in HAND_WRITTEN)
 
 
 class SHAPEWRIGHT_OT_undo(bpy.types.Operator):
@@ -591,8 +801,14 @@ class SHAPEWRIGHT_OT_export_mesh(bpy.types.Operator):
     bl_idname = "shapewright.export_mesh"
     bl_label = "Export Mesh"
 
-    filepath: StringProperty(subtype="FILE_PATH", options=SKIP)
-    filter_glob: StringProperty(default="*.stl;*.obj;*.ply", options={"HIDDEN"})
+    filepath: StringProperty(
+        description="Where to write the mesh; .stl, .obj or .ply chooses the format",
+        subtype="FILE_PATH",
+        options=SKIP,
+    )
+    filter_glob: StringProperty(
+        default="*.stl;*.obj;*.ply", description="Files the browser lists", options={"HIDDEN"}
+    )
 
     _task: ExportTask | None = None
     _timer = None
@@ -665,7 +881,12 @@ class SHAPEWRIGHT_OT_render_png(bpy.types.Operator):
     bl_idname = "shapewright.render_png"
     bl_label = "Render PNG"
 
-    filepath: StringProperty(subtype="FILE_PATH", default="//shapewright.png", options=SKIP)
+    filepath: StringProperty(
+        description="Where to write the PNG (// is the .blend's folder)",
+        subtype="FILE_PATH",
+        default="//shapewright.png",
+        options=SKIP,
+    )
     resolution: IntProperty(name="Width", description="Image width in pixels", default=960, min=64, max=8192)
 
     def execute(self, context):
@@ -698,6 +919,15 @@ classes = (
 )
 
 
+# The core's ops emitted by the hand-written operators above, by operator.
+HAND_WRITTEN = {
+    "add_solid": "add_solid",
+    "edit_solid": "edit_solid",
+    "transform_by": "move",
+    "duplicate": "duplicate",
+    "delete": "delete",
+}
+
 typed_classes: tuple[type, ...] = ()
 _keymaps: list = []
 
@@ -705,6 +935,7 @@ _keymaps: list = []
 def register() -> None:
     global typed_classes
     typed_classes = tuple(typed_operator(spec) for spec in op_table.SPECS)
+    typed_classes += tuple(generic_operator(op) for op in generic_ops())
     for cls in classes + typed_classes:
         bpy.utils.register_class(cls)
     # Ctrl-Z / Ctrl-Shift-Z continue into the saved history where

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import bpy
 
-from . import history, op_table, sync
+from . import history, op_table, operators, schema, sync
 
 
 class _Sidebar:
@@ -60,6 +60,9 @@ class VIEW3D_PT_shapewright(_Sidebar, bpy.types.Panel):
             row = box.row(align=True)
             row.operator("shapewright.duplicate")
             row.operator("shapewright.delete")
+            for op in operators.generic_ops():
+                if schema.OPS[op]["kind"] == "document":
+                    box.operator(f"shapewright.{op}")
         else:
             box.label(text="Select a Shapewright object to edit it")
         row = layout.row(align=True)
@@ -96,6 +99,10 @@ def _category_panel(key: str, title: str) -> type:
                 continue
             if op_table.kind_of(spec) is None or active:
                 col.operator(f"shapewright.{spec.op}")
+        # The ops with a generic operator (built from the core's schema).
+        for op in operators.generic_ops():
+            if schema.OPS[op]["kind"] == kind and active:
+                col.operator(f"shapewright.{op}")
         if not active:
             col.label(text=f"Select a {KIND_LABELS[kind].lower()} to edit it")
 

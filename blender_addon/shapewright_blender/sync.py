@@ -1,7 +1,8 @@
 """Core meshes into Blender meshes, with `foreach_set` (no Python loops over
 vertices). Each core object is a mesh object in the "Shapewright"
-collection carrying its core id and kind; only objects whose content hash
-changed are rewritten.
+collection carrying its core id and kind, named by the core's name
+(`rename_object`) or `SW<id>`; only objects whose content hash changed
+are rewritten.
 
 With the scene's "Show parametric parts" on, the parametric data of GC
 assemblies and curve networks (the same `NurbsCurves` / `NurbsPatch` data
@@ -25,6 +26,7 @@ HASH_PROP = "shapewright_hash"
 KIND_PROP = "shapewright_kind"
 OWNER_PROP = "shapewright_owner"
 PART_PROP = "shapewright_parametric"
+NAME_PROP = "shapewright_name"
 
 # Blender's knot mode value `KnotsMode::NURBS_KNOT_MODE_ENDPOINT_BEZIER`.
 KNOTS_ENDPOINT_BEZIER = 3
@@ -57,6 +59,34 @@ def read_mesh(me: bpy.types.Mesh) -> tuple[np.ndarray, np.ndarray]:
     idx = np.empty(len(me.loops), dtype=np.int32)
     me.loops.foreach_get("vertex_index", idx)
     return pos.astype(np.float64).reshape(-1, 3), idx.reshape(-1, 3)
+
+
+def world_triangles(name: str = "") -> tuple[str, list, list]:
+    """A Blender mesh object (by name; "" the selected mesh that is not a
+    Shapewright object) as (name, world-space positions, triangles), its
+    faces triangulated with the winding kept (flipped under a mirroring
+    matrix, so triangles stay counter-clockwise seen from outside).
+    Raises ValueError when there is no such mesh."""
+    if name:
+        obj = bpy.data.objects.get(name)
+    else:
+        obj = next((o for o in bpy.context.selected_objects if o.type == "MESH" and ID_PROP not in o), None)
+    if obj is None or obj.type != "MESH":
+        raise ValueError(
+            f"no mesh object {name!r}" if name else "select a mesh that is not a Shapewright object"
+        )
+    me = obj.data
+    me.calc_loop_triangles()
+    pos = np.empty(len(me.vertices) * 3, dtype=np.float32)
+    me.vertices.foreach_get("co", pos)
+    m = np.array(obj.matrix_world, dtype=np.float64)
+    world = pos.astype(np.float64).reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+    tri = np.empty(len(me.loop_triangles) * 3, dtype=np.int32)
+    me.loop_triangles.foreach_get("vertices", tri)
+    tri = tri.reshape(-1, 3)
+    if np.linalg.det(m[:3, :3]) < 0:
+        tri = tri[:, ::-1]
+    return obj.name, world.tolist(), tri.tolist()
 
 
 def object_for(scene: bpy.types.Scene, object_id: int) -> bpy.types.Object | None:
@@ -109,6 +139,12 @@ def sync_scene(scene: bpy.types.Scene, s: sw.Session) -> None:
             coll.objects.link(obj)
         if obj.get(KIND_PROP) is None:
             obj[KIND_PROP] = s.object_kind(object_id)
+        # The core's name (`rename_object`) names the Blender object; a
+        # name given in Blender stays until the core's name changes.
+        want = s.object_name(object_id) or f"SW{object_id}"
+        if obj.get(NAME_PROP) != want:
+            obj.name = want
+            obj[NAME_PROP] = want
         if obj.get(HASH_PROP) != digest:
             pos, tri, _ = sw.mesh_arrays(s, object_id)
             write_mesh(obj.data, pos, tri)

@@ -196,7 +196,9 @@ class SHAPEWRIGHT_OT_xr_tool(bpy.types.Operator):
     bl_idname = "shapewright.xr_tool"
     bl_label = "Shapewright VR Tool"
 
-    tool: StringProperty(name="Tool", default="")
+    tool: StringProperty(
+        name="Tool", description="The tool to run (empty: the scene's VR tool setting)", default=""
+    )
 
     @classmethod
     def poll(cls, context):

@@ -1043,7 +1043,8 @@ def scenario_export_job(work: Path) -> None:
     try:
         sw.Session().export_mesh(str(empty))
     except sw.ShapewrightError as e:
-        assert "nothing to export" in str(e), e
+        # The one printable path (issue 17) says "nothing to print".
+        assert "nothing to" in str(e) and "no objects" in str(e), e
     else:
         raise AssertionError("an empty document must not export")
     assert not empty.exists()
@@ -1089,18 +1090,6 @@ HAND_WRITTEN_OPS = {
     "duplicate": "duplicate",
     "delete": "delete",
 }
-# Ops with no operator yet (scripts reach them through Apply Op): the
-# generic transform and rename ops arrived with issue 15, the part edits
-# and mesh import have no Blender UI yet. Shrink this list, never grow it
-# silently: the check fails for any schema op not in the table, not
-# hand-written and not listed here.
-NO_OPERATOR_YET = {
-    "set_transform",
-    "rename_object",
-    "gc_set_resolution",
-    "gc_edit_part",
-    "sdf_import_component",
-}
 
 
 def schema_consts(defs: dict, schema: dict) -> set[str] | None:
@@ -1130,21 +1119,16 @@ def scenario_op_schema(work: Path) -> None:
     ops = {o["name"]: {f["name"]: f for f in o["fields"]} for o in schema["ops"]}
     problems: list[str] = []
 
-    # Every op has an operator; the table names only real ops.
+    # Every op has an operator (typed, hand-written or generic, built from
+    # the schema); the table names only real ops.
+    registered = set(dir(bpy.ops.shapewright))
     for name in sorted(ops):
-        if name in table.BY_OP:
-            if not hasattr(bpy.ops.shapewright, name):
-                problems.append(f"{name}: in the op table but no operator registered")
-        elif name in HAND_WRITTEN_OPS:
-            if not hasattr(bpy.ops.shapewright, HAND_WRITTEN_OPS[name]):
-                problems.append(f"{name}: operator shapewright.{HAND_WRITTEN_OPS[name]} missing")
-        elif name not in NO_OPERATOR_YET:
-            problems.append(f"{name}: no operator (not in op_table.SPECS)")
-    for name in sorted(set(table.BY_OP) | set(HAND_WRITTEN_OPS) | NO_OPERATOR_YET):
+        operator = HAND_WRITTEN_OPS.get(name, name)
+        if operator not in registered:
+            problems.append(f"{name}: no operator shapewright.{operator}")
+    for name in sorted(set(table.BY_OP) | set(HAND_WRITTEN_OPS)):
         if name not in ops:
             problems.append(f"{name}: not an op of the core's schema")
-    for name in sorted(NO_OPERATOR_YET & set(table.BY_OP)):
-        problems.append(f"{name}: has an operator now; drop it from NO_OPERATOR_YET")
 
     for spec in table.SPECS:
         fields = ops.get(spec.op)
@@ -1167,6 +1151,8 @@ def scenario_op_schema(work: Path) -> None:
                 problems.append(f"{spec.op}.{f.name}: choices {sorted(f.items)}, the core's {sorted(consts)}")
         if spec.needs_points and spec.build_with is not None:
             continue  # built by the core's sketch functions from a stroke
+        if spec.from_blender:
+            continue  # built from a Blender mesh: `check_import_component`
         # The op built from the defaults, and with each choice of each
         # enum field: only the op's fields, every required one, numbers in
         # the core's ranges and enum values the core knows.
@@ -1206,9 +1192,343 @@ def scenario_op_schema(work: Path) -> None:
             consts = schema_consts(defs, fields[name]["schema"])
             if consts is not None and set(f.items) != consts:
                 problems.append(f"{spec.op}.{name}: choices {sorted(f.items)}, the core's {sorted(consts)}")
+    problems += operator_property_problems(work)
+    problems += core_bound_problems()
+    check_import_component()
+    check_rename()
     problems = sorted(set(problems))
-    assert not problems, "op table disagrees with the op schema:\n" + "\n".join(problems)
+    assert not problems, "operators disagree with the op schema:\n" + "\n".join(problems)
     print(f"checked {len(table.SPECS)} op-table entries against {len(ops)} schema ops")
+
+
+def op_scene() -> dict[str, int]:
+    """A scene with an object of every kind: the styled curve-network box
+    (id 1, 6 patches), a sphere (2), a 4-section GC (3) and a CSG volume
+    with one pending operand (4). Returns the id of each kind."""
+    hist = addon().history
+    scene = bpy.context.scene
+    root = Path(__file__).resolve().parents[1] / "data"
+    step(bpy.ops.shapewright.run_script(filepath=str(root / "curve_network.jsonl")), "curves")
+    circle = {"template": "circle", "radius": 0.04}
+    for op in (
+        {"op": "add_solid", "shape": {"kind": "sphere", "radius": 0.1}},
+        {
+            "op": "gc_create",
+            "spine": [[0.5, 0.0, 0.0], [0.5, 0.0, 0.2]],
+            "plane_normal": [0.0, 1.0, 0.0],
+            "sections": [{"profile": circle, "v": v} for v in (0.0, 0.4, 0.6, 1.0)],
+        },
+        {"op": "sdf_create", "step": 0.01},
+        {
+            "op": "sdf_add_operand",
+            "volume": 4,
+            "component": {"kind": "library", "name": "chair_seat"},
+            "csg": "union",
+        },
+    ):
+        hist.apply(scene, op)
+    s = core_session()
+    kinds = {s.object_kind(i): i for i in s.object_ids()}
+    assert sorted(kinds) == ["curve_network", "gc_assembly", "sdf_volume", "solid"], kinds
+    kinds["document"] = kinds["solid"]
+    return kinds
+
+
+def check_import_component() -> None:
+    """A closed Blender mesh becomes a user component of a CSG volume (and
+    an operand by its name); an open one is refused with the core's
+    reason. Run after `op_scene` (volume 4)."""
+    ops = bpy.ops.shapewright
+    bpy.ops.mesh.primitive_cube_add(size=0.1, location=(2.0, 0.0, 0.05))
+    cube = bpy.context.active_object
+    step(ops.sdf_import_component(volume=4, mesh=cube.name, name="block"), "import component")
+    assert '"block"' in core_session().object_json(4), core_session().object_json(4)[:200]
+    op = {
+        "op": "sdf_add_operand",
+        "volume": 4,
+        "component": {"kind": "user", "name": "block"},
+        "csg": "union",
+    }
+    step(ops.apply_op(op_json=json.dumps(op)), "add the component")
+    bpy.ops.mesh.primitive_plane_add(size=0.1)
+    before = core_session().content_hash()
+    try:
+        ops.sdf_import_component(volume=4, mesh=bpy.context.active_object.name)
+    except RuntimeError as e:
+        print(f"open mesh refused: {e}")
+    else:
+        raise AssertionError("an open mesh must be refused")
+    assert core_session().content_hash() == before
+
+
+def check_rename() -> None:
+    """Rename (`rename_object`) names the Blender object; undo gives the
+    old name back. Run after `op_scene` (solid 2)."""
+    bpy.context.view_layer.objects.active = sw_objects()[2]
+    step(bpy.ops.shapewright.rename_object(name="Ball"), "rename")
+    assert core_session().object_name(2) == "Ball"
+    assert sw_objects()[2].name == "Ball", sw_objects()[2].name
+    log_undo()
+    assert core_session().object_name(2) == ""
+    assert sw_objects()[2].name == "SW2", sw_objects()[2].name
+
+
+def log_undo() -> None:
+    """Steps the op log back one op (an accepted trial value)."""
+    bpy.ops.shapewright.apply_op(op_json='{"op": "undo"}')
+
+
+def outside(inf) -> list[float]:
+    """Values just outside a schema range: min - eps, the exclusive
+    minimum itself, max + eps (1 for integers)."""
+
+    def eps(x: float) -> float:  # seen through a float32 property
+        return 1 if inf.integer else max(1e-6, abs(x) * 1e-5)
+
+    out = []
+    if inf.minimum is not None:
+        out.append(inf.minimum - eps(inf.minimum))
+    if inf.exclusive_minimum is not None:
+        out.append(inf.exclusive_minimum)
+    if inf.maximum is not None:
+        out.append(inf.maximum + eps(inf.maximum))
+    return out
+
+
+# Properties used by some shapes only: the shape that uses each.
+SHAPE_OF = {"size": "box", "height": "cylinder", "minor_radius": "torus"}
+
+
+def close(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-6 * max(1.0, abs(b))
+
+
+RANGE_WORDS = ("below the minimum", "above the maximum", "must be greater than")
+
+
+def operator_property_problems(work: Path) -> list[str]:
+    """Every property of every Shapewright operator has a tooltip; every
+    property standing for a schema field shows its unit and range, and
+    refuses (naming itself, changing nothing) the values just outside the
+    range, while its own check accepts the bounds."""
+    a = addon()
+    schema, table = a.schema, a.op_table
+    problems = []
+    kinds = op_scene()
+    for name in sorted(dir(bpy.ops.shapewright)):
+        rna = getattr(bpy.ops.shapewright, name).get_rna_type()
+        if not rna.description.strip():
+            problems.append(f"shapewright.{name}: no description")
+        for p in rna.properties:
+            if p.identifier != "rna_type" and not p.description.strip():
+                problems.append(f"shapewright.{name}.{p.identifier}: no tooltip")
+        cls = getattr(bpy.types, f"SHAPEWRIGHT_OT_{name}", None)
+        mapped = getattr(cls, "sw_schema", {}) if cls is not None else {}
+        spec = table.BY_OP.get(name)
+        if spec is not None:
+            # A typed property named as its op's field stands for it.
+            for f in spec.fields:
+                if f.kind not in ("target", "points") and schema.field_schema((name, f.name)) is not None:
+                    if f.name not in mapped:
+                        problems.append(f"shapewright.{name}.{f.name}: not mapped to its schema field")
+            targets = [f.name for f in spec.fields if f.kind == "target"]
+            none_at = {f.name: f.none_at for f in spec.fields}
+        elif name in schema.OPS:
+            targets = [g.prop for g in schema.fields(name) if g.kind == "target"]
+            none_at = {}
+        else:
+            targets, none_at = [], {}
+        kind = schema.OPS[name]["kind"] if name in schema.OPS else "solid"
+        call = {t: kinds.get(kind, kinds["document"]) for t in targets}
+        objs = sw_objects()
+        bpy.context.view_layer.objects.active = objs[kinds.get(kind, kinds["document"])]
+        for prop, path in sorted(mapped.items()):
+            if name in ("add_solid", "edit_solid"):
+                call = {"shape": SHAPE_OF.get(prop, "sphere")}
+            rp = rna.properties.get(prop)
+            if rp is None:
+                problems.append(f"shapewright.{name}.{prop}: mapped to {path} but no such property")
+                continue
+            inf = schema.info(path)
+            lo, hi = inf.soft_range()
+            if rp.type in ("INT", "FLOAT"):
+                if lo is not None and not close(rp.soft_min, lo):
+                    problems.append(f"shapewright.{name}.{prop}: soft_min {rp.soft_min}, the schema's {lo}")
+                if hi is not None and not close(rp.soft_max, hi):
+                    problems.append(f"shapewright.{name}.{prop}: soft_max {rp.soft_max}, the schema's {hi}")
+            want_unit = {"m": "LENGTH", "rad": "ROTATION"}.get(inf.unit or "")
+            if rp.type == "FLOAT" and want_unit and rp.unit != want_unit:
+                problems.append(f"shapewright.{name}.{prop}: unit {rp.unit}, the schema's {inf.unit}")
+            if rp.type not in ("INT", "FLOAT"):
+                continue
+            size = rp.array_length or 0
+
+            def value(x, size=size, rp=rp):
+                x = int(x) if rp.type == "INT" else float(x)
+                return [x] * size if size else x
+
+            before = core_session().content_hash()
+            for x in outside(inf):
+                if none_at.get(prop) is not None and x == none_at[prop]:
+                    continue
+                try:
+                    getattr(bpy.ops.shapewright, name)(**call, **{prop: value(x)})
+                except RuntimeError as e:
+                    if prop not in str(e):
+                        problems.append(f"shapewright.{name}.{prop}={x}: refused without naming it: {e}")
+                else:
+                    problems.append(f"shapewright.{name}.{prop}={x}: accepted, outside the schema's range")
+                if core_session().content_hash() != before:
+                    problems.append(f"shapewright.{name}.{prop}={x}: changed the document")
+                    log_undo()
+            for x in (inf.minimum, inf.maximum):
+                if x is None:
+                    continue
+                try:
+                    getattr(bpy.ops.shapewright, name)(**call, **{prop: value(x)})
+                except RuntimeError as e:
+                    if any(w in str(e) for w in RANGE_WORDS):
+                        problems.append(
+                            f"shapewright.{name}.{prop}={x}: the bound refused as out of range: {e}"
+                        )
+                if core_session().content_hash() != before:
+                    log_undo()
+                    assert core_session().content_hash() == before
+    return problems
+
+
+# A valid op for each op with ranged fields, on the scene of `op_scene`
+# (ids: 1 curve network, 2 solid, 3 GC, 4 CSG volume).
+CIRCLE = {"template": "circle", "radius": 0.04}
+SMOOTH_PATH = [[0.0, -0.13, 0.1]] * 4
+BASE_OPS = {
+    "add_solid": {"shape": {"kind": "sphere", "radius": 0.1}, "segments": 64},
+    "edit_solid": {"id": 2, "shape": {"kind": "sphere", "radius": 0.1}, "segments": 64},
+    "gc_create": {
+        "spine": [[0.9, 0.0, 0.0], [0.9, 0.0, 0.2]],
+        "plane_normal": [0.0, 1.0, 0.0],
+        "sections": [{"profile": CIRCLE, "v": 0.0}, {"profile": CIRCLE, "v": 1.0}],
+        "resolution": {"u": 32, "v": 32},
+    },
+    "gc_resize": {"id": 3, "section": 1, "factor": 1.1},
+    "gc_shift": {"id": 3, "section": 1, "v": 0.3},
+    "gc_insert_section": {"id": 3, "v": 0.5},
+    "gc_set_resolution": {"id": 3, "resolution": {"u": 32, "v": 32}},
+    "gc_add_child": {
+        "id": 3,
+        "parent": 0,
+        "at": [0.54, 0.0, 0.1],
+        "spine": [[-0.004, 0.0], [0.05, 0.0]],
+        "end": "free",
+        "sections": [{"profile": {"template": "circle", "radius": 0.008}, "v": v} for v in (0.0, 1.0)],
+        "tolerance": 1e-4,
+        "end_tolerance": 1e-4,
+        "resolution": {"u": 32, "v": 32},
+    },
+    "gc_copy": {"id": 3, "part": 0, "translate": [0.0, 0.3, 0.0], "tolerance": 1e-4},
+    "gc_transform_part": {"id": 3, "part": 0, "translate": [0.0, 0.01, 0.0], "tolerance": 1e-4},
+    "sdf_create": {"step": 0.01},
+    "sdf_set_step": {"volume": 4, "step": 0.01},
+    "curve_network_create": {"resolution": 24, "surface_n": 8},
+    "curve_draw": {
+        "id": 1,
+        "samples": [
+            [0.3, 0.0, 0.0],
+            [0.32, 0.0, 0.01],
+            [0.34, 0.0, 0.015],
+            [0.36, 0.0, 0.01],
+            [0.38, 0.0, 0.0],
+        ],
+        "fit": {"mode": "interpolate"},
+        "snap_tol": 0.002,
+    },
+    "curve_attract": {
+        "id": 1,
+        "curve": 1,
+        "attractor": {"kind": "point", "p": [0.0, -0.2, 0.1]},
+        "params": {"weight": 1.0, "wp0": 1.0, "wp1": 0.0, "alpha": 0.0, "keep_ends": True},
+        "frames": 2,
+    },
+    "surface_smooth": {
+        "id": 1,
+        "patch": 0,
+        "weights": {"wb": 1.0, "ws": 0.0},
+        "f": 0.8,
+        "wq_max": 1.0,
+        "path": SMOOTH_PATH,
+    },
+    "surface_sharpen": {
+        "id": 1,
+        "patch": 0,
+        "weights": {"wb": 1.0, "ws": 0.0},
+        "f": 1.2,
+        "wq_max": 2.0,
+        "path": SMOOTH_PATH,
+    },
+    "surface_pull": {
+        "id": 1,
+        "patch": 2,
+        "weights": {"wb": 1.0, "ws": 0.0},
+        "wpp": 2000.0,
+        "u0": 0.5,
+        "v0": 0.5,
+        "path": [[0.0, 0.0, 0.23], [0.0, 0.0, 0.235]],
+    },
+}
+
+
+def core_bound_problems() -> list[str]:
+    """The schema's ranges are the core's: every ranged number of every op
+    (scalars and members of small structs, not ids) is refused by the core
+    just outside its range, in an op that is otherwise valid (`BASE_OPS`).
+    Run after `op_scene`."""
+    import shapewright as sw
+
+    schema = addon().schema
+    s = core_session()
+    problems = []
+    checked = 0
+    for op in schema.OPS:
+        ranged = [
+            g
+            for g in schema.fields(op)
+            if g.kind in ("int", "float")
+            and schema.field_schema((op, *g.path)).get("x-ref") is None
+            and (g.info.minimum, g.info.maximum, g.info.exclusive_minimum) != (None, None, None)
+        ]
+        if not ranged:
+            continue
+        base = BASE_OPS.get(op)
+        if base is None:
+            problems.append(
+                f"{op}: ranged fields {[g.prop for g in ranged]} but no BASE_OPS entry to check them"
+            )
+            continue
+        base = {"op": op, **base}
+        try:
+            sw.apply(s.snapshot(), base)
+        except sw.ShapewrightError as e:
+            problems.append(f"{op}: BASE_OPS entry refused: {e}")
+            continue
+        for g in ranged:
+            for x in outside(g.info):
+                trial = json.loads(json.dumps(base))
+                d = trial
+                for k in g.path[:-1]:
+                    d = d[k]
+                d[g.path[-1]] = int(x) if g.info.integer else x
+                checked += 1
+                try:
+                    sw.apply(s.snapshot(), trial)
+                except sw.ShapewrightError:
+                    continue
+                except (ValueError, OverflowError, TypeError):
+                    continue  # not even decodable (a negative u32)
+                problems.append(
+                    f"{op}.{'.'.join(g.path)}={x}: accepted by the core, outside the schema's range"
+                )
+    print(f"core bounds: {checked} out-of-range values tried")
+    return problems
 
 
 def main() -> int:

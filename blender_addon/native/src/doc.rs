@@ -153,6 +153,12 @@ impl Session {
         serde_json::to_string(&obj.kind).map_err(|e| ParseError::new_err(e.to_string()))
     }
 
+    /// An object's user name (`rename_object`; `""`: unnamed).
+    fn object_name(&self, id: u32) -> PyResult<String> {
+        let obj = self.0.document().get(ObjectId(id)).map_err(op_err)?;
+        Ok(obj.name.clone())
+    }
+
     /// A hash of one object's parameters and mesh bits: changes exactly
     /// when the object does (hosts re-sync only what changed).
     fn object_hash(&self, id: u32) -> PyResult<u64> {

@@ -23,23 +23,23 @@ data = here.parent
 out = pathlib.Path(sys.argv[1])
 out.mkdir(parents=True, exist_ok=True)
 
-mug = [json.loads(l) for l in open(data / "mug.jsonl") if l.strip() and not l.startswith("#")]
+mug = [json.loads(line) for line in open(data / "mug.jsonl") if line.strip() and not line.startswith("#")]
 gc = dict(next(o for o in mug if o["op"] == "gc_create"))
 n = 20000
-gc["sections"] = [
-    {"profile": {"template": "circle", "radius": 0.04}, "v": i / (n - 1)} for i in range(n)
-]
+gc["sections"] = [{"profile": {"template": "circle", "radius": 0.04}, "v": i / (n - 1)} for i in range(n)]
 (out / "gc_sections_20000.jsonl").write_text(json.dumps(gc, separators=(",", ":")) + "\n")
 
 lines = (data / "curve_network.trace.jsonl").read_text().splitlines()
 head = json.loads(lines[0])
 head["model"]["scale"] = 1e-9
-(out / "curve_network_scale_1e-9.trace.jsonl").write_text(
-    "\n".join([json.dumps(head)] + lines[1:]) + "\n"
-)
+(out / "curve_network_scale_1e-9.trace.jsonl").write_text("\n".join([json.dumps(head)] + lines[1:]) + "\n")
 
 if len(sys.argv) > 2:
-    net = [json.loads(l) for l in open(data / "curve_network.jsonl") if l.strip() and not l.startswith("#")]
+    net = [
+        json.loads(line)
+        for line in open(data / "curve_network.jsonl")
+        if line.strip() and not line.startswith("#")
+    ]
     draw = next(o for o in net if o["op"] == "curve_draw")
     ok = out / "near_sample.jsonl"
     ok.write_text(json.dumps(net[0]) + "\n" + json.dumps(draw) + "\n")
