@@ -734,8 +734,9 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("s.usda");
-        // The atomic save's temporary file is blocked by a directory.
-        let blocker = dir.join(format!(".s.usda.{}.tmp", std::process::id()));
+        // A directory where the file should be: the atomic save's final
+        // rename fails (whatever its temporary file is called).
+        let blocker = path.clone();
         std::fs::create_dir(&blocker).unwrap();
         let trace = fixture();
         let model = trace.header.model.similarity().unwrap();

@@ -339,15 +339,17 @@ impl Ctx<'_> {
                 let (i, j) = shared[0];
                 shares_vertex(pa, i, pb, j)
             }
-            2 => {
+            // Two shared corners on distinct corners of both: a shared edge.
+            2 if shared[0].0 != shared[1].0 && shared[0].1 != shared[1].1 => {
                 // The corners not on the shared edge.
                 let ia = 3 - shared[0].0 - shared[1].0;
                 let ib = 3 - shared[0].1 - shared[1].1;
                 let (e0, e1) = (pa[shared[0].0], pa[shared[1].0]);
                 folded_onto(e0, e1, pa[ia], pb[ib])
             }
-            // The same triangle twice (or a degenerate one repeating a
-            // vertex): coincident sheets.
+            // The same triangle twice, or a degenerate one repeating a
+            // vertex (found by the mesh-reader fuzz test: two shared pairs
+            // on one corner): coincident sheets.
             _ => true,
         }
     }
@@ -583,6 +585,27 @@ mod tests {
             let s = self_intersections(&m);
             assert!(s.is_clear(), "{:?}", &s.pairs[..s.pairs.len().min(5)]);
         }
+    }
+
+    /// Found by `mesh_io_fuzz`: a degenerate triangle repeating a vertex
+    /// next to one sharing that vertex twice over made the shared-edge
+    /// arithmetic underflow. Such a pair is reported, never a panic.
+    #[test]
+    fn a_triangle_repeating_a_vertex_is_reported_not_a_panic() {
+        let m = TriMesh {
+            positions: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ],
+            triangles: vec![[1, 2, 2], [3, 4, 2], [0, 0, 1], [0, 3, 4]],
+            ..TriMesh::default()
+        };
+        let s = self_intersections(&m);
+        assert!(s.checked);
+        assert!(!s.is_clear());
     }
 
     #[test]
