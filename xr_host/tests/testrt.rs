@@ -977,7 +977,6 @@ fn a_run_that_gives_up_after_instance_loss_still_saved_every_op() {
 }
 
 #[test]
-#[ignore = "the recorded frames no longer line up with the injected NaN stretch since the frame-loop merge (issue 16, open); the core's sanitizer tests still cover NaN and lost poses"]
 fn nan_poses_and_tracking_loss_change_nothing() {
     let trace = fixture_trace();
     let n = trace.frames.len();
@@ -1019,13 +1018,30 @@ fn nan_poses_and_tracking_loss_change_nothing() {
         sa.log.document().content_hash(),
         sb.log.document().content_hash()
     );
-    // The core saw those poses as invalid (identity contents), never NaN.
+    // The record keeps the raw input (so a replay meets the same faults):
+    // the NaN grip, lost aim and lost head are in exactly those 20 frames.
     let rec = b.recorded.unwrap();
-    for f in &rec.frames[start + 10..start + 30] {
+    let faulty = |f: &interact::InputFrame| {
         let [l, r] = &f.controllers;
-        let (l, r) = (l.unwrap(), r.unwrap());
-        assert!(!r.grip_valid && r.grip == interact::Pose::IDENTITY);
-        assert!(!l.aim_valid && l.aim == interact::Pose::IDENTITY);
-        assert!(f.head.is_none());
+        let nan_grip = r.is_some_and(|r| r.grip_valid && !r.grip.is_finite());
+        let lost_aim = l.is_some_and(|l| !l.aim_valid);
+        [nan_grip, lost_aim, f.head.is_none()]
+    };
+    for (k, f) in rec.frames.iter().enumerate() {
+        let want = (start + 10..start + 30).contains(&k);
+        assert_eq!(faulty(f), [want; 3], "frame {k}");
+    }
+    // The core's door turns them into absent poses and lets no NaN through.
+    let mut door = interact::Sanitizer::default();
+    for (k, raw) in rec.frames.iter().enumerate() {
+        let f = door.accept(raw).expect("every frame's time is fine");
+        let poses = [
+            f.head,
+            f.controllers[0].and_then(|c| c.aim),
+            f.controllers[1].and_then(|c| c.grip),
+        ];
+        assert!(poses.iter().flatten().all(|p| p.is_finite()), "frame {k}");
+        let want = (start + 10..start + 30).contains(&k);
+        assert_eq!(poses.map(|p| p.is_none()), [want; 3], "frame {k}");
     }
 }
