@@ -281,7 +281,10 @@ def finish_import(scene: bpy.types.Scene) -> None:
         obj.parent = None
         obj.matrix_world = mw
         obj[sync.ID_PROP] = int(oid)
-        for prop in (sync.HASH_PROP, sync.KIND_PROP):
+        # Blender's importer brings our custom properties back; the name
+        # props go too, so the log's name names the object (a prim name is
+        # a valid identifier: "My mug" came in as "My_mug").
+        for prop in (sync.HASH_PROP, sync.KIND_PROP, sync.NAME_PROP, sync.SHOWN_PROP):
             if prop in obj:
                 del obj[prop]
         for c in list(obj.users_collection):

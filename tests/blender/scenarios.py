@@ -838,6 +838,107 @@ def scenario_reopen_undo(work: Path) -> None:
     assert_synced()
 
 
+def scenario_rename(work: Path) -> None:
+    """Renaming a Shapewright object in Blender (`obj.name = ...`, which is
+    what the outliner and F2 set) records a `rename_object` op; one undo
+    takes the rename back, redo brings it again (the log keeps its redo
+    tail); a name the core refuses is put back; the name survives a .blend
+    reload, the usda beside it, and Blender's own USD export and import."""
+    import shapewright as sw
+
+    add("sphere", 0.0, radius=0.1)
+    add("box", 0.6)
+    s = core_session()
+    n0 = len(s)
+    assert sw_objects()[1].name == "SW1" and s.object_name(1) == ""
+    # A script's rename, the depsgraph update Blender runs after it, then
+    # the undo push the UI makes.
+    sw_objects()[1].name = "Mug body"
+    bpy.context.view_layer.update()
+    bpy.ops.ed.undo_push(message="rename body")
+    s = core_session()
+    assert last_op() == {"op": "rename_object", "id": 1, "name": "Mug body"}, last_op()
+    assert len(s) == n0 + 1 and s.cursor == n0 + 1 and s.object_name(1) == "Mug body"
+    assert sw_objects()[1].name == "Mug body"
+    assert_synced()
+    bpy.ops.ed.undo()
+    s = core_session()
+    assert s.cursor == n0 and s.object_name(1) == "" and sw_objects()[1].name == "SW1"
+    assert_synced()
+    bpy.ops.ed.redo()
+    s = core_session()
+    assert s.cursor == n0 + 1 and s.object_name(1) == "Mug body" and sw_objects()[1].name == "Mug body"
+    # The UI's order (outliner, F2): the rename's undo step is pushed
+    # before the depsgraph update records the op (headless, the push
+    # itself evaluates the depsgraph: the handler is held back for it).
+    handlers = bpy.app.handlers.depsgraph_update_post
+    handler = addon().history._on_depsgraph_update
+    handlers.remove(handler)
+    sw_objects()[2].name = "Lid"
+    bpy.ops.ed.undo_push(message="rename lid")
+    handlers.append(handler)
+    assert '"Lid"' not in bpy.context.scene.shapewright.ops
+    sw_objects()[2].update_tag()
+    bpy.context.view_layer.update()
+    s = core_session()
+    assert last_op() == {"op": "rename_object", "id": 2, "name": "Lid"}, last_op()
+    assert s.cursor == n0 + 2 == len(s)
+    step(bpy.ops.shapewright.add_solid(shape="cone", use_cursor=False, location=(1.2, 0, 0)), "cone")
+    want_ops = core_session().ops_jsonl()
+    # One undo takes the rename back (the panel's Undo, then Blender's).
+    assert bpy.ops.shapewright.undo() == {"FINISHED"}
+    assert bpy.ops.shapewright.undo() == {"FINISHED"}
+    s = core_session()
+    assert s.cursor == n0 + 1 and s.object_name(2) == "" and sw_objects()[2].name == "SW2", s.cursor
+    assert_synced()
+    # Redo returns to the step Blender pushed with the old log: the op is
+    # redone from the log's tail, not recorded again, and the tail stays.
+    bpy.ops.ed.redo()
+    s = core_session()
+    assert s.cursor == n0 + 2 and sw_objects()[2].name == "Lid" and s.ops_jsonl() == want_ops
+    bpy.ops.ed.redo()
+    s = core_session()
+    assert s.cursor == n0 + 3 and s.ops_jsonl() == want_ops, s.ops_jsonl()
+    assert_synced()
+    # A name the core refuses (a control character) is put back.
+    sw_objects()[2].name = "bad\x07name"
+    bpy.context.view_layer.update()
+    assert sw_objects()[2].name == "Lid" and core_session().ops_jsonl() == want_ops
+    names = {1: "Mug body", 2: "Lid", 3: "SW3"}
+
+    def check_names(where: str) -> None:
+        s = core_session()
+        got = {oid: o.name for oid, o in sw_objects().items()}
+        assert got == names, (where, got)
+        assert [s.object_name(i) for i in (1, 2, 3)] == ["Mug body", "Lid", ""], where
+        assert s.ops_jsonl() == want_ops, (where, s.ops_jsonl())
+        assert_synced()
+
+    # Save and reopen: the .blend and the usda beside it.
+    path = work / "renamed.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    check_names("reopened .blend")
+    beside = sw.load_usd(str(work / "renamed.shapewright.usda"), verify_history=True)
+    assert beside.object_name(1) == "Mug body" and beside.ops_jsonl() == want_ops
+    # Blender's own USD export and import (the prim is "Mug_body").
+    bpy.ops.wm.usd_export(filepath=str(work / "renamed_blender.usda"), selected_objects_only=False)
+    assert "Mug_body" in (work / "renamed_blender.usda").read_text()
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.ed.undo_push(message="empty")
+    bpy.ops.wm.usd_import(filepath=str(work / "renamed_blender.usda"))
+    bpy.ops.ed.undo_push(message="import")
+    addon().usd_hook.finish_imports()
+    bpy.context.view_layer.update()
+    check_names("Blender's USD import")
+    # After reopening, the rename is undone past the load point too.
+    for _ in range(2):
+        assert bpy.ops.shapewright.undo() == {"FINISHED"}
+    assert core_session().object_name(2) == "" and sw_objects()[2].name == "SW2"
+    assert sw_objects()[1].name == "Mug body"
+
+
 def arc_stroke(radius: float = 0.12, n: int = 38) -> list[list[float]]:
     return [
         [radius * (1 - math.cos(0.5 * math.pi * i / n)), 0.0, radius * math.sin(0.5 * math.pi * i / n)]

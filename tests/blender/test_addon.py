@@ -31,6 +31,7 @@ import pytest
         "sketch_edits",
         "conventions",
         "export_job",
+        "rename",
         # issue 15: the op table agrees with the core's op schema
         "op_schema",
     ],
