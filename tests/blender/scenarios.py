@@ -629,6 +629,50 @@ def scenario_usd_make(work: Path) -> None:
         assert back.content_hash() == s.content_hash() and back.ops_jsonl() == s.ops_jsonl(), ext
 
 
+def scenario_smoke(work: Path) -> None:
+    """A short check of the extension in another Blender (CI runs it in the
+    newest bpy too, `scripts/blender_newest.sh`): build a mug, rename it
+    in Blender (an op), write it with Blender's USD exporter and read it
+    back with Blender's importer into an empty scene: the same log, and
+    the panel's undo three times and redo give the original's hashes;
+    the printable export writes a closed mesh."""
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.ed.undo_push(message="empty")
+    build_mug()
+    sw_objects()[1].name = "Mug"
+    bpy.context.view_layer.update()
+    bpy.ops.ed.undo_push(message="rename")
+    assert last_op() == {"op": "rename_object", "id": 1, "name": "Mug"}, last_op()
+    s = core_session()
+    want, c, hashes = s.ops_jsonl(), s.cursor, history_hashes(s)
+    path = work / "smoke.usdc"
+    bpy.ops.wm.usd_export(filepath=str(path), selected_objects_only=False)
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.ed.undo_push(message="empty")
+    assert not bpy.context.scene.shapewright.ops
+    bpy.ops.wm.usd_import(filepath=str(path))
+    bpy.ops.ed.undo_push(message="import")
+    addon().usd_hook.finish_imports()
+    s = core_session()
+    assert s.ops_jsonl() == want and s.cursor == c and s.content_hash() == hashes[c]
+    assert sw_objects()[1].name == "Mug"
+    assert_synced()
+    for k in range(1, 4):
+        assert bpy.ops.shapewright.undo() == {"FINISHED"}
+        s = core_session()
+        assert s.cursor == c - k and s.content_hash() == hashes[c - k], (k, s.cursor)
+        assert_synced()
+    assert sw_objects()[1].name == "SW1", "the rename is undone"
+    assert bpy.ops.shapewright.redo() == {"FINISHED"}
+    assert core_session().content_hash() == hashes[c - 2]
+    assert_synced()
+    stl = work / "smoke.stl"
+    bpy.context.view_layer.objects.active = sw_objects()[1]
+    assert bpy.ops.shapewright.export_mesh(filepath=str(stl)) == {"FINISHED"}
+    assert stl.stat().st_size > 84 * 10
+    print(f"smoke: Blender {bpy.app.version_string}, {c} ops, undo/redo through Blender's USD ok")
+
+
 def bezier_curve_points(obj, samples: int = 24) -> list[np.ndarray]:
     """Points of each curve of a Blender NURBS Curves object whose curves
     use the ENDPOINT_BEZIER knot mode, evaluated from Blender's own data:
