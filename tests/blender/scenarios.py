@@ -1147,7 +1147,7 @@ def scenario_conventions(work: Path) -> None:
     assert last_op()["id"] == 4, last_op()
     # Poll: solid edits need a solid; GC edits a GC (or a script's id).
     activate(3)
-    assert not ops.edit_solid.poll() and not ops.move.poll()
+    assert not ops.edit_solid.poll() and ops.move.poll() and ops.commit_transform.poll()
     assert ops.gc_bend.poll() and not ops.sdf_update.poll() and not ops.curve_fill_auto.poll()
     activate(1)
     assert ops.edit_solid.poll()
@@ -1173,6 +1173,58 @@ def scenario_conventions(work: Path) -> None:
     else:
         raise AssertionError("NaN must be refused")
     assert core_session().content_hash() == h
+
+
+def scenario_transform_kinds(work: Path) -> None:
+    """G/R/S in Blender on an object of every kind, then Commit Transform:
+    one `transform_by` op per moved object, in one undo step; each core
+    mesh lands where Blender's matrix had put it (same triangles, vertices
+    within 1e-5 m) with the matrix back to the identity; one undo puts
+    the document and the meshes back. SW_PNG=path renders the moved
+    scene there, for looking at."""
+    from mathutils import Matrix
+
+    kinds = op_scene()
+    bpy.ops.ed.undo_push(message="scene")
+    sync = addon().sync
+    s = core_session()
+    n0, h0 = len(s), s.content_hash()
+    m = Matrix.Translation((0.1, -0.05, 0.02)) @ Matrix.Rotation(math.pi / 2, 4, "Z") @ Matrix.Scale(1.25, 4)
+    mm = np.array(m, dtype=np.float64)
+    want = {}
+    for oid, obj in sw_objects().items():
+        pos, tri = sync.read_mesh(obj.data)
+        if not len(tri):
+            continue  # the CSG volume with a pending operand has no mesh yet
+        obj.matrix_world = m
+        obj.select_set(True)
+        want[oid] = (pos @ mm[:3, :3].T + mm[:3, 3], tri)
+    assert len(want) >= 3, sorted(want)
+    bpy.context.view_layer.objects.active = sw_objects()[kinds["gc_assembly"]]
+    step(bpy.ops.shapewright.commit_transform(), "commit transform")
+    s = core_session()
+    lines = [json.loads(x) for x in s.ops_jsonl().splitlines()]
+    assert s.cursor == n0 + len(want) and [o["op"] for o in lines[n0:]] == ["transform_by"] * len(want)
+    assert sorted(o["id"] for o in lines[n0:]) == sorted(want)
+    for oid, (pos_want, tri_want) in want.items():
+        obj = sw_objects()[oid]
+        assert obj.matrix_world == Matrix.Identity(4), oid
+        pos, tri = sync.read_mesh(obj.data)
+        assert np.array_equal(tri, tri_want), f"object {oid} ({s.object_kind(oid)}): triangles differ"
+        err = float(np.abs(pos - pos_want).max())
+        assert err < 1e-5, f"object {oid} ({s.object_kind(oid)}): {err} m from Blender's move"
+    assert_synced()
+    # Nothing moved: nothing recorded.
+    assert bpy.ops.shapewright.commit_transform() == {"CANCELLED"}
+    assert len(core_session()) == n0 + len(want)
+    import os
+
+    if os.environ.get("SW_PNG"):
+        assert bpy.ops.shapewright.render_png(filepath=os.environ["SW_PNG"], resolution=640) == {"FINISHED"}
+    bpy.ops.ed.undo()
+    s = core_session()
+    assert s.cursor == n0 and s.content_hash() == h0
+    assert_synced()
 
 
 def scenario_export_job(work: Path) -> None:
