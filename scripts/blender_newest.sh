@@ -12,14 +12,21 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 BPY_NEWEST="${SHAPEWRIGHT_BPY_NEWEST:-5.2.3}"
 venv="$root/.venv/bpy-newest"
-py313="$(command -v python3.13 || true)"
-if [ -z "$py313" ] && command -v pyenv >/dev/null 2>&1; then
+# A Python 3.13 that runs (pyenv's shim on PATH may only say it exists).
+py313=""
+cands=(python3.13)
+if command -v pyenv >/dev/null 2>&1; then
   for v in $(pyenv versions --bare 2>/dev/null | grep '^3\.13' | sort -V -r); do
-    py313="$(pyenv root)/versions/$v/bin/python3.13"
-    [ -x "$py313" ] && break
+    cands+=("$(pyenv root)/versions/$v/bin/python3.13")
   done
 fi
-if [ -z "$py313" ] || [ ! -x "$py313" ]; then
+for c in "${cands[@]}"; do
+  if "$c" -c 'import sys; assert sys.version_info[:2] == (3, 13)' >/dev/null 2>&1; then
+    py313="$c"
+    break
+  fi
+done
+if [ -z "$py313" ]; then
   echo "blender_newest: no Python 3.13 (bpy $BPY_NEWEST needs it); install one (pyenv install 3.13)" >&2
   exit 1
 fi
