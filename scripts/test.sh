@@ -26,6 +26,10 @@ echo "== pytest"
 cargo build --release -q -p shapewright-xr
 # `cargo test` above built the usd_tool example the USD tests drive.
 USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q tests/python tests/usd tests/blender
+# blender (issue 20): the extension in the newest bpy too (5.2.3, Python
+# 3.13, own venv): a smoke scenario with the zip the pytest run built.
+echo "== blender newest"
+bash scripts/blender_newest.sh
 # io: every reader fuzzed for a fixed budget over its seed corpus (issue 22);
 # long runs: bash scripts/fuzz.sh 1800 (see fuzz/README.md).
 echo "== fuzz"

@@ -49,6 +49,9 @@ def run_scenario(addon_zip: Path, tmp_path: Path) -> Callable[..., str]:
         )
         assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
         assert f"scenario {name}: ok" in r.stdout
+        # A Python error in Blender's handlers, timers or operators prints
+        # a traceback without failing the call that caused it.
+        assert "Traceback" not in r.stderr + r.stdout, r.stderr[-3000:]
         return r.stdout
 
     return run

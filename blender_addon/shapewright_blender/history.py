@@ -35,6 +35,16 @@ by the OpenXR host) or the scene has no log. A timer autosaves the log to
 whenever it changed; Blender timers keep running while our modal
 operators run, which is when Blender skips its own autosave.
 
+Renames made in Blender (the outliner, F2, `obj.name = ...` in a script)
+become `rename_object` ops (`adopt_renames`, run by a
+`depsgraph_update_post` handler, which Blender calls after any rename,
+and after every undo, redo and load). Blender pushes the rename's undo
+step before the handler records the op, so that step holds the new name
+with the old log; when Blender's undo or redo comes back to it, the op is
+found as the next op of the session's redo tail and redone (keeping the
+tail), so the name and the log agree again and one Ctrl-Z undoes the
+rename. A name the core refuses is put back, with the reason printed.
+
 The History panel's validation is computed on a worker thread (the core
 releases the GIL) on a snapshot of the session, cached by the scene's log
 state, and only recomputed when that changes.
@@ -42,6 +52,7 @@ state, and only recomputed when that changes.
 
 from __future__ import annotations
 
+import json
 import os
 import threading
 from dataclasses import dataclass
@@ -224,11 +235,80 @@ def reconcile_all() -> None:
             usd_hook.finish_import(scene)  # an import's undo step came back
         elif props.ops or scene.name in _sessions:
             sync.sync_scene(scene, session(scene))
+            adopt_renames(scene)
+
+
+def renamed_objects(scene: bpy.types.Scene) -> list[tuple[int, str, bpy.types.Object]]:
+    """Shapewright objects of `scene` whose Blender name is no longer the
+    one the add-on gave them: (id, new name, object), by id."""
+    coll = bpy.data.collections.get(sync.COLLECTION)
+    if coll is None or coll.name not in scene.collection.children:
+        return []
+    out = []
+    for obj in coll.objects:
+        oid = obj.get(sync.ID_PROP)
+        shown = sync.shown_name(obj)
+        if oid is not None and shown is not None and obj.name != shown:
+            out.append((int(oid), obj.name, obj))
+    return sorted(out, key=lambda r: r[0])
+
+
+def _next_op(s: sw.Session) -> dict | None:
+    """The op a redo would apply (None at the end of the log)."""
+    if not s.can_redo:
+        return None
+    lines = s.ops_jsonl().splitlines()
+    return json.loads(lines[s.cursor]) if s.cursor < len(lines) else None
+
+
+_adopting = False
+
+
+def adopt_renames(scene: bpy.types.Scene) -> int:
+    """Records Blender renames of Shapewright objects as `rename_object`
+    ops (see the module doc); returns how many were recorded or redone."""
+    global _adopting
+    props = scene.shapewright
+    if _adopting or not props.ops or props.import_fixup:
+        return 0
+    renamed = renamed_objects(scene)
+    if not renamed:
+        return 0
+    _adopting = True
+    try:
+        s = session(scene)
+        ids = set(s.object_ids())
+        done = 0
+        for oid, name, obj in renamed:
+            if oid not in ids:
+                continue
+            op = {"op": "rename_object", "id": oid, "name": name}
+            if _next_op(s) == op:
+                s.redo()
+            else:
+                try:
+                    sw.apply(s, op)
+                except sw.ShapewrightError as e:
+                    print(f"Shapewright: {name!r} not taken as the name of object {oid}: {e}")
+                    obj.name = sync.shown_name(obj)
+                    continue
+            done += 1
+        if done:
+            record(scene, s)
+        return done
+    finally:
+        _adopting = False
 
 
 @persistent
 def _on_undo_redo(*_args) -> None:
     reconcile_all()
+
+
+@persistent
+def _on_depsgraph_update(scene, depsgraph) -> None:
+    if scene is not None and scene.shapewright.ops and depsgraph.id_type_updated("OBJECT"):
+        adopt_renames(scene)
 
 
 @persistent
@@ -383,6 +463,7 @@ _handlers = (
     (bpy.app.handlers.load_pre, _on_load_pre),
     (bpy.app.handlers.load_post, _on_load_post),
     (bpy.app.handlers.save_post, _on_save_post),
+    (bpy.app.handlers.depsgraph_update_post, _on_depsgraph_update),
 )
 
 

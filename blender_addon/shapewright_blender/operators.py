@@ -44,6 +44,7 @@ from bpy.props import (
     IntProperty,
     StringProperty,
 )
+from mathutils import Matrix
 
 from . import history, op_table, schema, sync
 
@@ -241,6 +242,9 @@ class SHAPEWRIGHT_OT_edit_solid(_ShapeProps, bpy.types.Operator):
         return run_op(self, context, op)
 
 
+IDENTITY = Matrix.Identity(4)
+
+
 def _transform_op(oid: int, loc, rot, scale) -> dict:
     return {
         "op": "transform_by",
@@ -250,7 +254,7 @@ def _transform_op(oid: int, loc, rot, scale) -> dict:
 
 
 class SHAPEWRIGHT_OT_commit_transform(bpy.types.Operator):
-    """Record the Blender transform (moved with G/R/S) of the selected solids as ops"""
+    """Record the Blender transform (moved with G/R/S) of the selected Shapewright objects as ops"""
 
     bl_idname = "shapewright.commit_transform"
     bl_label = "Commit Transform"
@@ -258,20 +262,26 @@ class SHAPEWRIGHT_OT_commit_transform(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return bool(selected_ids(context, "solid"))
+        return bool(selected_ids(context))
 
     def execute(self, context):
+        # Synced meshes are in world space with an identity matrix: a
+        # matrix that is not the identity is a move made in Blender. Every
+        # kind has a placement (`transform_by`), so every kind moves.
         ops = []
-        for oid in selected_ids(context, "solid"):
+        for oid in selected_ids(context):
             obj = sync.object_for(context.scene, oid)
-            if obj is not None:
+            if obj is not None and obj.matrix_world != IDENTITY:
                 loc, rot, scale = obj.matrix_world.decompose()
                 ops.append(_transform_op(oid, loc, rot, scale))
+        if not ops:
+            self.report({"INFO"}, "Nothing moved: the selected objects are where their ops put them")
+            return {"CANCELLED"}
         return run_op(self, context, ops)
 
 
 class SHAPEWRIGHT_OT_move(bpy.types.Operator):
-    """Move, rotate (about Z) or scale the selected solids by exact amounts"""
+    """Move, rotate (about Z) or scale the selected Shapewright objects by exact amounts"""
 
     bl_idname = "shapewright.move"
     bl_label = "Move Object"
@@ -293,7 +303,7 @@ class SHAPEWRIGHT_OT_move(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return bool(selected_ids(context, "solid"))
+        return bool(selected_ids(context))
 
     def execute(self, context):
         h = self.angle_z / 2
@@ -307,7 +317,7 @@ class SHAPEWRIGHT_OT_move(bpy.types.Operator):
                     "scale": [self.scale] * 3,
                 },
             }
-            for oid in selected_ids(context, "solid")
+            for oid in selected_ids(context)
         ]
         return run_op(self, context, ops)
 

@@ -55,8 +55,8 @@ class VIEW3D_PT_shapewright(_Sidebar, bpy.types.Panel):
             box.label(text=f"{KIND_LABELS.get(kind, kind)} #{obj[sync.ID_PROP]}")
             if kind == "solid":
                 box.operator("shapewright.edit_solid")
-                box.operator("shapewright.move")
-                box.operator("shapewright.commit_transform")
+            box.operator("shapewright.move")
+            box.operator("shapewright.commit_transform")
             row = box.row(align=True)
             row.operator("shapewright.duplicate")
             row.operator("shapewright.delete")

@@ -1,7 +1,8 @@
 """Core meshes into Blender meshes, with `foreach_set` (no Python loops over
 vertices). Each core object is a mesh object in the "Shapewright"
 collection carrying its core id and kind, named by the core's name
-(`rename_object`) or `SW<id>`; only objects whose content hash changed
+(`rename_object`) or `SW<id>` (renaming the Blender object records a
+`rename_object` op: `history.adopt_renames`); only objects whose content hash changed
 are rewritten.
 
 With the scene's "Show parametric parts" on, the parametric data of GC
@@ -27,6 +28,10 @@ KIND_PROP = "shapewright_kind"
 OWNER_PROP = "shapewright_owner"
 PART_PROP = "shapewright_parametric"
 NAME_PROP = "shapewright_name"
+# The Blender name the add-on last gave the object (Blender may add a
+# `.001` suffix to the core's name); a different name is a rename made in
+# Blender, which `history.adopt_renames` turns into a `rename_object` op.
+SHOWN_PROP = "shapewright_shown_name"
 
 # Blender's knot mode value `KnotsMode::NURBS_KNOT_MODE_ENDPOINT_BEZIER`.
 KNOTS_ENDPOINT_BEZIER = 3
@@ -96,6 +101,11 @@ def object_for(scene: bpy.types.Scene, object_id: int) -> bpy.types.Object | Non
     return None
 
 
+def shown_name(obj: bpy.types.Object) -> str | None:
+    """The name the add-on last gave a Shapewright object in Blender."""
+    return obj.get(SHOWN_PROP, obj.get(NAME_PROP))
+
+
 def kind_of(obj: bpy.types.Object | None) -> str | None:
     """The core kind of a Shapewright object (None for other objects)."""
     if obj is None or ID_PROP not in obj:
@@ -140,11 +150,12 @@ def sync_scene(scene: bpy.types.Scene, s: sw.Session) -> None:
         if obj.get(KIND_PROP) is None:
             obj[KIND_PROP] = s.object_kind(object_id)
         # The core's name (`rename_object`) names the Blender object; a
-        # name given in Blender stays until the core's name changes.
+        # rename in Blender becomes that op (`history.adopt_renames`).
         want = s.object_name(object_id) or f"SW{object_id}"
         if obj.get(NAME_PROP) != want:
             obj.name = want
             obj[NAME_PROP] = want
+            obj[SHOWN_PROP] = obj.name
         if obj.get(HASH_PROP) != digest:
             pos, tri, _ = sw.mesh_arrays(s, object_id)
             write_mesh(obj.data, pos, tri)

@@ -30,7 +30,8 @@ Blender's USD Python module (`pxr`) must be Blender's own: Blender hands
 the hook a stage of its USD build. Inside Blender it is the `pxr` on
 `sys.path`; with `bpy` as a Python module (tests) a separately installed
 `usd-core` may shadow it, so `blender_pxr` loads Blender's from its
-resource folder instead.
+resource folder instead, and `_make_pxr_importable` lets Blender's C++
+side find it where `bpy` 5.2 keeps it off `sys.path`.
 """
 
 from __future__ import annotations
@@ -281,7 +282,10 @@ def finish_import(scene: bpy.types.Scene) -> None:
         obj.parent = None
         obj.matrix_world = mw
         obj[sync.ID_PROP] = int(oid)
-        for prop in (sync.HASH_PROP, sync.KIND_PROP):
+        # Blender's importer brings our custom properties back; the name
+        # props go too, so the log's name names the object (a prim name is
+        # a valid identifier: "My mug" came in as "My_mug").
+        for prop in (sync.HASH_PROP, sync.KIND_PROP, sync.NAME_PROP, sync.SHOWN_PROP):
             if prop in obj:
                 del obj[prop]
         for c in list(obj.users_collection):
@@ -332,7 +336,26 @@ class SHAPEWRIGHT_USD_hook(bpy.types.USDHook):
         return import_document(_stage(import_context), import_context.get_prim_map())
 
 
+def _make_pxr_importable() -> None:
+    """`bpy` 5.2 as a Python module keeps its own site-packages (where its
+    `pxr` is) off `sys.path`; Blender's C++ side of the USD hooks then
+    fails to import `pxr` and aborts the process on the first USD export
+    or import. Appending that folder (last, so nothing is shadowed) lets
+    the import find Blender's own `pxr`. Blender itself has it on the path
+    already, and a `pxr` found elsewhere is left as it is."""
+    pkg = _bundled_pxr()
+    if pkg is None or importlib.util.find_spec("pxr") is not None:
+        return
+    site = str(pkg.parent)
+    if site not in sys.path:
+        sys.path.append(site)
+
+
 classes = (SHAPEWRIGHT_USD_hook,)
 
+_register, unregister = bpy.utils.register_classes_factory(classes)
 
-register, unregister = bpy.utils.register_classes_factory(classes)
+
+def register() -> None:
+    _make_pxr_importable()
+    _register()

@@ -629,6 +629,50 @@ def scenario_usd_make(work: Path) -> None:
         assert back.content_hash() == s.content_hash() and back.ops_jsonl() == s.ops_jsonl(), ext
 
 
+def scenario_smoke(work: Path) -> None:
+    """A short check of the extension in another Blender (CI runs it in the
+    newest bpy too, `scripts/blender_newest.sh`): build a mug, rename it
+    in Blender (an op), write it with Blender's USD exporter and read it
+    back with Blender's importer into an empty scene: the same log, and
+    the panel's undo three times and redo give the original's hashes;
+    the printable export writes a closed mesh."""
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.ed.undo_push(message="empty")
+    build_mug()
+    sw_objects()[1].name = "Mug"
+    bpy.context.view_layer.update()
+    bpy.ops.ed.undo_push(message="rename")
+    assert last_op() == {"op": "rename_object", "id": 1, "name": "Mug"}, last_op()
+    s = core_session()
+    want, c, hashes = s.ops_jsonl(), s.cursor, history_hashes(s)
+    path = work / "smoke.usdc"
+    bpy.ops.wm.usd_export(filepath=str(path), selected_objects_only=False)
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.ed.undo_push(message="empty")
+    assert not bpy.context.scene.shapewright.ops
+    bpy.ops.wm.usd_import(filepath=str(path))
+    bpy.ops.ed.undo_push(message="import")
+    addon().usd_hook.finish_imports()
+    s = core_session()
+    assert s.ops_jsonl() == want and s.cursor == c and s.content_hash() == hashes[c]
+    assert sw_objects()[1].name == "Mug"
+    assert_synced()
+    for k in range(1, 4):
+        assert bpy.ops.shapewright.undo() == {"FINISHED"}
+        s = core_session()
+        assert s.cursor == c - k and s.content_hash() == hashes[c - k], (k, s.cursor)
+        assert_synced()
+    assert sw_objects()[1].name == "SW1", "the rename is undone"
+    assert bpy.ops.shapewright.redo() == {"FINISHED"}
+    assert core_session().content_hash() == hashes[c - 2]
+    assert_synced()
+    stl = work / "smoke.stl"
+    bpy.context.view_layer.objects.active = sw_objects()[1]
+    assert bpy.ops.shapewright.export_mesh(filepath=str(stl)) == {"FINISHED"}
+    assert stl.stat().st_size > 84 * 10
+    print(f"smoke: Blender {bpy.app.version_string}, {c} ops, undo/redo through Blender's USD ok")
+
+
 def bezier_curve_points(obj, samples: int = 24) -> list[np.ndarray]:
     """Points of each curve of a Blender NURBS Curves object whose curves
     use the ENDPOINT_BEZIER knot mode, evaluated from Blender's own data:
@@ -838,6 +882,107 @@ def scenario_reopen_undo(work: Path) -> None:
     assert_synced()
 
 
+def scenario_rename(work: Path) -> None:
+    """Renaming a Shapewright object in Blender (`obj.name = ...`, which is
+    what the outliner and F2 set) records a `rename_object` op; one undo
+    takes the rename back, redo brings it again (the log keeps its redo
+    tail); a name the core refuses is put back; the name survives a .blend
+    reload, the usda beside it, and Blender's own USD export and import."""
+    import shapewright as sw
+
+    add("sphere", 0.0, radius=0.1)
+    add("box", 0.6)
+    s = core_session()
+    n0 = len(s)
+    assert sw_objects()[1].name == "SW1" and s.object_name(1) == ""
+    # A script's rename, the depsgraph update Blender runs after it, then
+    # the undo push the UI makes.
+    sw_objects()[1].name = "Mug body"
+    bpy.context.view_layer.update()
+    bpy.ops.ed.undo_push(message="rename body")
+    s = core_session()
+    assert last_op() == {"op": "rename_object", "id": 1, "name": "Mug body"}, last_op()
+    assert len(s) == n0 + 1 and s.cursor == n0 + 1 and s.object_name(1) == "Mug body"
+    assert sw_objects()[1].name == "Mug body"
+    assert_synced()
+    bpy.ops.ed.undo()
+    s = core_session()
+    assert s.cursor == n0 and s.object_name(1) == "" and sw_objects()[1].name == "SW1"
+    assert_synced()
+    bpy.ops.ed.redo()
+    s = core_session()
+    assert s.cursor == n0 + 1 and s.object_name(1) == "Mug body" and sw_objects()[1].name == "Mug body"
+    # The UI's order (outliner, F2): the rename's undo step is pushed
+    # before the depsgraph update records the op (headless, the push
+    # itself evaluates the depsgraph: the handler is held back for it).
+    handlers = bpy.app.handlers.depsgraph_update_post
+    handler = addon().history._on_depsgraph_update
+    handlers.remove(handler)
+    sw_objects()[2].name = "Lid"
+    bpy.ops.ed.undo_push(message="rename lid")
+    handlers.append(handler)
+    assert '"Lid"' not in bpy.context.scene.shapewright.ops
+    sw_objects()[2].update_tag()
+    bpy.context.view_layer.update()
+    s = core_session()
+    assert last_op() == {"op": "rename_object", "id": 2, "name": "Lid"}, last_op()
+    assert s.cursor == n0 + 2 == len(s)
+    step(bpy.ops.shapewright.add_solid(shape="cone", use_cursor=False, location=(1.2, 0, 0)), "cone")
+    want_ops = core_session().ops_jsonl()
+    # One undo takes the rename back (the panel's Undo, then Blender's).
+    assert bpy.ops.shapewright.undo() == {"FINISHED"}
+    assert bpy.ops.shapewright.undo() == {"FINISHED"}
+    s = core_session()
+    assert s.cursor == n0 + 1 and s.object_name(2) == "" and sw_objects()[2].name == "SW2", s.cursor
+    assert_synced()
+    # Redo returns to the step Blender pushed with the old log: the op is
+    # redone from the log's tail, not recorded again, and the tail stays.
+    bpy.ops.ed.redo()
+    s = core_session()
+    assert s.cursor == n0 + 2 and sw_objects()[2].name == "Lid" and s.ops_jsonl() == want_ops
+    bpy.ops.ed.redo()
+    s = core_session()
+    assert s.cursor == n0 + 3 and s.ops_jsonl() == want_ops, s.ops_jsonl()
+    assert_synced()
+    # A name the core refuses (a control character) is put back.
+    sw_objects()[2].name = "bad\x07name"
+    bpy.context.view_layer.update()
+    assert sw_objects()[2].name == "Lid" and core_session().ops_jsonl() == want_ops
+    names = {1: "Mug body", 2: "Lid", 3: "SW3"}
+
+    def check_names(where: str) -> None:
+        s = core_session()
+        got = {oid: o.name for oid, o in sw_objects().items()}
+        assert got == names, (where, got)
+        assert [s.object_name(i) for i in (1, 2, 3)] == ["Mug body", "Lid", ""], where
+        assert s.ops_jsonl() == want_ops, (where, s.ops_jsonl())
+        assert_synced()
+
+    # Save and reopen: the .blend and the usda beside it.
+    path = work / "renamed.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    check_names("reopened .blend")
+    beside = sw.load_usd(str(work / "renamed.shapewright.usda"), verify_history=True)
+    assert beside.object_name(1) == "Mug body" and beside.ops_jsonl() == want_ops
+    # Blender's own USD export and import (the prim is "Mug_body").
+    bpy.ops.wm.usd_export(filepath=str(work / "renamed_blender.usda"), selected_objects_only=False)
+    assert "Mug_body" in (work / "renamed_blender.usda").read_text()
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.ed.undo_push(message="empty")
+    bpy.ops.wm.usd_import(filepath=str(work / "renamed_blender.usda"))
+    bpy.ops.ed.undo_push(message="import")
+    addon().usd_hook.finish_imports()
+    bpy.context.view_layer.update()
+    check_names("Blender's USD import")
+    # After reopening, the rename is undone past the load point too.
+    for _ in range(2):
+        assert bpy.ops.shapewright.undo() == {"FINISHED"}
+    assert core_session().object_name(2) == "" and sw_objects()[2].name == "SW2"
+    assert sw_objects()[1].name == "Mug body"
+
+
 def arc_stroke(radius: float = 0.12, n: int = 38) -> list[list[float]]:
     return [
         [radius * (1 - math.cos(0.5 * math.pi * i / n)), 0.0, radius * math.sin(0.5 * math.pi * i / n)]
@@ -1002,7 +1147,7 @@ def scenario_conventions(work: Path) -> None:
     assert last_op()["id"] == 4, last_op()
     # Poll: solid edits need a solid; GC edits a GC (or a script's id).
     activate(3)
-    assert not ops.edit_solid.poll() and not ops.move.poll()
+    assert not ops.edit_solid.poll() and ops.move.poll() and ops.commit_transform.poll()
     assert ops.gc_bend.poll() and not ops.sdf_update.poll() and not ops.curve_fill_auto.poll()
     activate(1)
     assert ops.edit_solid.poll()
@@ -1028,6 +1173,58 @@ def scenario_conventions(work: Path) -> None:
     else:
         raise AssertionError("NaN must be refused")
     assert core_session().content_hash() == h
+
+
+def scenario_transform_kinds(work: Path) -> None:
+    """G/R/S in Blender on an object of every kind, then Commit Transform:
+    one `transform_by` op per moved object, in one undo step; each core
+    mesh lands where Blender's matrix had put it (same triangles, vertices
+    within 1e-5 m) with the matrix back to the identity; one undo puts
+    the document and the meshes back. SW_PNG=path renders the moved
+    scene there, for looking at."""
+    from mathutils import Matrix
+
+    kinds = op_scene()
+    bpy.ops.ed.undo_push(message="scene")
+    sync = addon().sync
+    s = core_session()
+    n0, h0 = len(s), s.content_hash()
+    m = Matrix.Translation((0.1, -0.05, 0.02)) @ Matrix.Rotation(math.pi / 2, 4, "Z") @ Matrix.Scale(1.25, 4)
+    mm = np.array(m, dtype=np.float64)
+    want = {}
+    for oid, obj in sw_objects().items():
+        pos, tri = sync.read_mesh(obj.data)
+        if not len(tri):
+            continue  # the CSG volume with a pending operand has no mesh yet
+        obj.matrix_world = m
+        obj.select_set(True)
+        want[oid] = (pos @ mm[:3, :3].T + mm[:3, 3], tri)
+    assert len(want) >= 3, sorted(want)
+    bpy.context.view_layer.objects.active = sw_objects()[kinds["gc_assembly"]]
+    step(bpy.ops.shapewright.commit_transform(), "commit transform")
+    s = core_session()
+    lines = [json.loads(x) for x in s.ops_jsonl().splitlines()]
+    assert s.cursor == n0 + len(want) and [o["op"] for o in lines[n0:]] == ["transform_by"] * len(want)
+    assert sorted(o["id"] for o in lines[n0:]) == sorted(want)
+    for oid, (pos_want, tri_want) in want.items():
+        obj = sw_objects()[oid]
+        assert obj.matrix_world == Matrix.Identity(4), oid
+        pos, tri = sync.read_mesh(obj.data)
+        assert np.array_equal(tri, tri_want), f"object {oid} ({s.object_kind(oid)}): triangles differ"
+        err = float(np.abs(pos - pos_want).max())
+        assert err < 1e-5, f"object {oid} ({s.object_kind(oid)}): {err} m from Blender's move"
+    assert_synced()
+    # Nothing moved: nothing recorded.
+    assert bpy.ops.shapewright.commit_transform() == {"CANCELLED"}
+    assert len(core_session()) == n0 + len(want)
+    import os
+
+    if os.environ.get("SW_PNG"):
+        assert bpy.ops.shapewright.render_png(filepath=os.environ["SW_PNG"], resolution=640) == {"FINISHED"}
+    bpy.ops.ed.undo()
+    s = core_session()
+    assert s.cursor == n0 and s.content_hash() == h0
+    assert_synced()
 
 
 def scenario_export_job(work: Path) -> None:

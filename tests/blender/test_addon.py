@@ -31,6 +31,10 @@ import pytest
         "sketch_edits",
         "conventions",
         "export_job",
+        "rename",
+        "transform_kinds",
+        # issue 20: also run in the newest bpy by scripts/blender_newest.sh
+        "smoke",
         # issue 15: the op table agrees with the core's op schema
         "op_schema",
     ],
