@@ -200,6 +200,8 @@ impl Actions {
 pub struct SessionInput {
     base: Option<xr::Space>,
     measuring: Option<(xr::Space, xr::Space)>,
+    /// Display time of the first attempt to measure, and the attempts.
+    measuring_since: Option<(xr::Time, u32)>,
     /// The base space kind and the floor offset (known once `base` is).
     pub base_kind: Option<(BaseKind, f32)>,
     /// Reference spaces the session offered.
@@ -272,6 +274,7 @@ impl SessionInput {
         Ok(Self {
             base,
             measuring,
+            measuring_since: None,
             base_kind,
             offered_spaces: offered,
             view,
@@ -298,7 +301,9 @@ impl SessionInput {
     }
 
     /// Makes sure the base space exists (measuring LOCAL in STAGE when
-    /// that is the plan). Returns whether it does.
+    /// that is the plan, for at most [`spaces::MEASURE_PATIENCE_S`] of
+    /// display time or [`spaces::MEASURE_PATIENCE_FRAMES`] frames, then LOCAL at the assumed eye height, said in the
+    /// log). Returns whether it does.
     pub fn establish<G: xr::Graphics>(
         &mut self,
         session: &xr::Session<G>,
@@ -313,6 +318,20 @@ impl SessionInput {
         if let Some((base, h)) = spaces::measure(session, local, stage, time)? {
             self.base = Some(base);
             self.base_kind = Some((BaseKind::LocalMeasured, h));
+            self.measuring = None;
+            return Ok(true);
+        }
+        let (since, tries) = self.measuring_since.get_or_insert((time, 0));
+        *tries += 1;
+        let waited = (time.as_nanos() - since.as_nanos()) as f64 * 1e-9;
+        if waited > spaces::MEASURE_PATIENCE_S || *tries > spaces::MEASURE_PATIENCE_FRAMES {
+            eprintln!(
+                "shapewright-xr: LOCAL could not be located in STAGE ({tries} frames, {waited:.1} s); \
+                 using LOCAL lowered by an assumed eye height of {} m",
+                spaces::ASSUMED_EYE_HEIGHT
+            );
+            self.base = Some(spaces::local_assumed(session)?);
+            self.base_kind = Some((BaseKind::LocalAssumed, spaces::ASSUMED_EYE_HEIGHT));
             self.measuring = None;
         }
         Ok(self.base.is_some())

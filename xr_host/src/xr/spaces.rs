@@ -11,6 +11,11 @@
 //!    measured once when both locate (the extension's own emulation
 //!    recipe): LOCAL_FLOOR by another road. STAGE itself is not the base,
 //!    since its origin is the play area's centre, wherever the user stands.
+//!    A runtime that offers STAGE but cannot locate LOCAL in it within
+//!    [`MEASURE_PATIENCE_S`] of display time or [`MEASURE_PATIENCE_FRAMES`]
+//!    frames, whichever comes first (tracking lost at start, a play area
+//!    never set up, a clock that only moves with input) gets the fallback
+//!    below rather than a session without input.
 //! 3. LOCAL lowered by an assumed standing eye height
 //!    ([`ASSUMED_EYE_HEIGHT`]), said plainly in the log and the report.
 //!
@@ -22,6 +27,14 @@ use serde::{Deserialize, Serialize};
 
 /// Eye height assumed when nothing measures it (metres).
 pub const ASSUMED_EYE_HEIGHT: f32 = 1.6;
+
+/// How long (runtime display time, seconds) the host tries to measure
+/// LOCAL in STAGE before it falls back to [`ASSUMED_EYE_HEIGHT`].
+pub const MEASURE_PATIENCE_S: f64 = 2.0;
+
+/// How many frames the host tries to measure LOCAL in STAGE before it
+/// falls back (2 s at 90 Hz).
+pub const MEASURE_PATIENCE_FRAMES: u32 = 180;
 
 /// Which base space a session uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -59,6 +72,11 @@ pub enum BasePlan {
     },
 }
 
+/// LOCAL lowered by [`ASSUMED_EYE_HEIGHT`].
+pub fn local_assumed<G>(session: &xr::Session<G>) -> xr::Result<xr::Space> {
+    local_lowered(session, ASSUMED_EYE_HEIGHT)
+}
+
 fn local_lowered<G>(session: &xr::Session<G>, h: f32) -> xr::Result<xr::Space> {
     let pose = xr::Posef {
         orientation: xr::Quaternionf::IDENTITY,
@@ -88,7 +106,7 @@ pub fn plan<G>(
             stage: session.create_reference_space(xr::ReferenceSpaceType::STAGE, id)?,
         }
     } else {
-        let s = local_lowered(session, ASSUMED_EYE_HEIGHT)?;
+        let s = local_assumed(session)?;
         BasePlan::Ready(s, BaseKind::LocalAssumed, ASSUMED_EYE_HEIGHT)
     };
     Ok((plan, names))

@@ -880,7 +880,7 @@ pub(crate) unsafe extern "system" fn locate_space(
     };
     with_rt(|rt| {
         let profile = rt.script.profile.clone();
-        let current = rt.script.at(rt.step);
+        let current = rt.script.live(rt.step);
         let Some(i) = rt.instance.as_mut() else {
             return sys::Result::ERROR_HANDLE_INVALID;
         };

@@ -819,7 +819,7 @@ pub(crate) unsafe extern "system" fn locate_views(
     };
     with_rt(|rt| {
         let profile = rt.script.profile.clone();
-        let current = rt.script.at(rt.step);
+        let current = rt.script.live(rt.step);
         done(sess(rt, session).and_then(|i| {
             if info.ty != sys::ViewLocateInfo::TYPE {
                 return Err(sys::Result::ERROR_VALIDATION_FAILURE);

@@ -195,6 +195,15 @@ impl Script {
             .unwrap_or_default()
     }
 
+    /// What the devices track at `step` for reference spaces and views,
+    /// which a real runtime tracks whether or not the app has synced: the
+    /// keyframe in force, or the first keyframe before it starts (the
+    /// headset is somewhere before the first `xrSyncActions`).
+    pub fn live(&self, step: u64) -> Keyframe {
+        let first = self.keyframes.iter().map(|k| k.at).min().unwrap_or(0);
+        self.at(step.max(first))
+    }
+
     /// Reads the script named by `SHAPEWRIGHT_TESTRT_SCRIPT` (default script
     /// if unset or unreadable; a parse error is reported on stderr).
     pub fn from_env() -> Self {
@@ -310,6 +319,18 @@ mod tests {
         };
         assert!(s.at(0).head.is_some() && s.at(4).head.is_some());
         assert!(s.at(5).head.is_none() && s.at(99).head.is_none());
+        let late = Script {
+            keyframes: s
+                .keyframes
+                .iter()
+                .map(|k| Keyframe {
+                    at: k.at + 3,
+                    ..k.clone()
+                })
+                .collect(),
+            ..Default::default()
+        };
+        assert!(late.at(0).head.is_none() && late.live(0).head.is_some());
         let parsed: Script =
             serde_json::from_str(r#"{"keyframes":[{"at":1,"right":{"grip":{"p":[1,2,3]}}}]}"#)
                 .unwrap();
