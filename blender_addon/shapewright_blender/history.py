@@ -45,6 +45,28 @@ found as the next op of the session's redo tail and redone (keeping the
 tail), so the name and the log agree again and one Ctrl-Z undoes the
 rename. A name the core refuses is put back, with the reason printed.
 
+Moves made in Blender (G/R/S and the transform gizmo, the N panel's
+fields, snapping, scripts setting `location`, `rotation_*`, `scale` or
+`matrix_world`) become `transform_by` ops (`adopt_moves`). Synced meshes
+are in world space under an identity matrix, so a Shapewright object
+whose placement is not the identity has been moved in Blender. A modal
+transform works from the matrices it started with and Blender pushes its
+undo step only when it ends, so nothing may be recorded while it runs:
+the `depsgraph_update_post` handler only notices the move and starts a
+timer (`moves_tick`), which records once no transform modal runs in any
+window (`Window.modal_operators`, Blender 4.2+) and the matrices did not
+change since its last look (dragging an N-panel field is not a modal
+operator; it keeps changing them while it lasts). All objects moved
+together become one `record`, so one undo step. Blender's undo step of
+the move holds the moved matrix with the old log, like a rename's: coming
+back to it by undo or redo finds the op as the next op of the redo tail
+and redoes it (keeping the tail) instead of recording it again, and a
+step before the move has identity matrices, so nothing is recorded. An op
+that runs (`apply`, `undo_step`, `redo_step`) first records a move still
+waiting, so ops stay in the order they were made. A move the core
+refuses (a non-uniform scale of a rotated object, a zero scale) is put
+back, with the reason printed.
+
 The History panel's validation is computed on a worker thread (the core
 releases the GIL) on a snapshot of the session, cached by the scene's log
 state, and only recomputed when that changes.
@@ -119,6 +141,7 @@ def record(scene: bpy.types.Scene, s: sw.Session, in_place: bool = False) -> Non
         props.gen = _next_gen(scene)
     props.ops = s.ops_jsonl()
     props.cursor = s.cursor
+    scene.update_tag()
     sync.sync_scene(scene, s)
 
 
@@ -135,11 +158,15 @@ def apply(scene: bpy.types.Scene, op: dict) -> int | None:
 
 def finish_pending(scene: bpy.types.Scene) -> None:
     """Finishes an import whose object work is still pending (Blender runs
-    the timer that does it only after the import, in its event loop)."""
+    the timer that does it only after the import, in its event loop), and
+    records a move made in Blender that is still waiting for its timer
+    (unless a transform modal is still running)."""
     if scene.shapewright.import_fixup:
         from . import usd_hook
 
         usd_hook.finish_import(scene)
+    if scene.shapewright.ops and not transform_running(_windows()) and moved_objects(scene):
+        adopt_moves(scene)
 
 
 def mark_base(scene: bpy.types.Scene) -> None:
@@ -219,6 +246,7 @@ def forget() -> None:
     _sessions.clear()
     _bases.clear()
     _validation.clear()
+    _move_seen.clear()
 
 
 def reconcile_all() -> None:
@@ -236,6 +264,7 @@ def reconcile_all() -> None:
         elif props.ops or scene.name in _sessions:
             sync.sync_scene(scene, session(scene))
             adopt_renames(scene)
+            adopt_moves(scene)  # no modal runs during an undo, redo or load
 
 
 def renamed_objects(scene: bpy.types.Scene) -> list[tuple[int, str, bpy.types.Object]]:
@@ -300,6 +329,182 @@ def adopt_renames(scene: bpy.types.Scene) -> int:
         _adopting = False
 
 
+# Moves made in Blender (see the module doc).
+
+# Modal operators during which objects are being moved: every transform
+# (G/R/S, the gizmo, snapping, "Transform" tools), the gizmo drag that
+# starts them and the interactive "Align to Transform Target".
+MOVING_MODALS = ("TRANSFORM_OT_", "GIZMOGROUP_OT_gizmo_tweak", "OBJECT_OT_transform_axis_target")
+MOVES_TICK = 0.15  # seconds between looks while a move is in progress
+_identity = None
+
+
+def _is_identity(m) -> bool:
+    global _identity
+    if _identity is None:
+        from mathutils import Matrix
+
+        _identity = Matrix.Identity(4)
+    return m == _identity
+
+
+def placement(obj: bpy.types.Object):
+    """The object's world matrix as Blender's data says it now: from its
+    location, rotation and scale (deltas included) without a parent or
+    constraints, so a script's `obj.location = ...` counts before the
+    depsgraph runs; else the evaluated `matrix_world`."""
+    if obj.parent is None and not obj.constraints:
+        return obj.matrix_basis
+    return obj.matrix_world
+
+
+def moved_objects(scene: bpy.types.Scene) -> list[tuple[int, bpy.types.Object]]:
+    """Shapewright objects of `scene` whose placement is not the identity
+    (moved in Blender, not recorded yet): (id, object), by id."""
+    coll = bpy.data.collections.get(sync.COLLECTION)
+    if coll is None or coll.name not in scene.collection.children:
+        return []
+    out = [
+        (int(o[sync.ID_PROP]), o)
+        for o in coll.objects
+        if sync.ID_PROP in o and not _is_identity(placement(o))
+    ]
+    return sorted(out, key=lambda r: r[0])
+
+
+def moves_signature(scene: bpy.types.Scene) -> tuple:
+    """The moved objects and their matrices, to see whether a move is
+    still changing them."""
+    return tuple((oid, tuple(tuple(row) for row in placement(obj))) for oid, obj in moved_objects(scene))
+
+
+def modal_idname(op) -> str:
+    """A running modal operator's id as `window.modal_operators` gives it
+    (`TRANSFORM_OT_translate`; Python operators may say `transform.x`)."""
+    name = getattr(op, "bl_idname", "") or ""
+    if "." in name and "_OT_" not in name:
+        mod, _, rest = name.partition(".")
+        name = f"{mod.upper()}_OT_{rest}"
+    return name
+
+
+def transform_running(windows) -> bool:
+    """Whether a modal operator that moves objects runs in any of
+    `windows` (objects with `modal_operators`, Blender 4.2+)."""
+    for window in windows:
+        for op in getattr(window, "modal_operators", ()) or ():
+            if modal_idname(op).startswith(MOVING_MODALS):
+                return True
+    return False
+
+
+def move_decision(windows, signature: tuple, last_signature: tuple | None) -> str:
+    """What the move timer does now: `idle` (nothing moved), `wait` (a
+    transform modal runs, or the matrices changed since the last look) or
+    `record`."""
+    if not signature:
+        return "idle"
+    if transform_running(windows) or signature != last_signature:
+        return "wait"
+    return "record"
+
+
+def _windows() -> list:
+    wm = bpy.context.window_manager
+    return list(wm.windows) if wm is not None else []
+
+
+def _transform_op(oid: int, matrix) -> dict:
+    loc, rot, scale = matrix.decompose()
+    return {
+        "op": "transform_by",
+        "id": oid,
+        "transform": {
+            "translate": [loc.x, loc.y, loc.z],
+            "rotate": [rot.x, rot.y, rot.z, rot.w],
+            "scale": [scale.x, scale.y, scale.z],
+        },
+    }
+
+
+def _reset_placement(obj: bpy.types.Object) -> None:
+    # Through `matrix_world`: it sets location, rotation and scale (under
+    # a parent too) and the world matrix itself, which the depsgraph would
+    # otherwise only update at its next evaluation.
+    obj.matrix_world.identity()
+
+
+def adopt_moves(scene: bpy.types.Scene) -> int:
+    """Records the moves made in Blender of Shapewright objects as
+    `transform_by` ops, all in one `record` (see the module doc); returns
+    how many were recorded or redone."""
+    global _adopting
+    props = scene.shapewright
+    if _adopting or not props.ops or props.import_fixup:
+        return 0
+    moved = moved_objects(scene)
+    if not moved:
+        return 0
+    _adopting = True
+    try:
+        s = session(scene)
+        ids = set(s.object_ids())
+        done = []
+        for oid, obj in moved:
+            if oid not in ids:
+                continue
+            op = _transform_op(oid, placement(obj))
+            if _next_op(s) == json.loads(json.dumps(op)):
+                s.redo()
+            else:
+                try:
+                    sw.apply(s, op)
+                except sw.ShapewrightError as e:
+                    print(f"Shapewright: the move of {obj.name!r} is not taken: {e}")
+                    _reset_placement(obj)
+                    continue
+            done.append(obj)
+        if done:
+            record(scene, s)
+            for obj in done:  # sync resets it when the mesh changed; always
+                if not _is_identity(placement(obj)):
+                    _reset_placement(obj)
+        _move_seen.pop(scene.name, None)
+        return len(done)
+    finally:
+        _adopting = False
+
+
+_move_seen: dict[str, tuple] = {}
+
+
+def moves_tick() -> float | None:
+    """The move timer (a bpy.app.timers callback): records the moves of
+    each scene once `move_decision` says so; runs again while a move is
+    in progress."""
+    again = False
+    windows = _windows()
+    for scene in bpy.data.scenes:
+        if not scene.shapewright.ops:
+            continue
+        sig = moves_signature(scene)
+        decision = move_decision(windows, sig, _move_seen.get(scene.name))
+        if decision == "idle":
+            _move_seen.pop(scene.name, None)
+        elif decision == "wait":
+            _move_seen[scene.name] = sig
+            again = True
+        else:
+            adopt_moves(scene)
+    return MOVES_TICK if again else None
+
+
+def watch_moves() -> None:
+    """Starts the move timer unless it runs."""
+    if not bpy.app.timers.is_registered(moves_tick):
+        bpy.app.timers.register(moves_tick, first_interval=MOVES_TICK)
+
+
 @persistent
 def _on_undo_redo(*_args) -> None:
     reconcile_all()
@@ -309,6 +514,8 @@ def _on_undo_redo(*_args) -> None:
 def _on_depsgraph_update(scene, depsgraph) -> None:
     if scene is not None and scene.shapewright.ops and depsgraph.id_type_updated("OBJECT"):
         adopt_renames(scene)
+        if not _adopting and moved_objects(scene):
+            watch_moves()
 
 
 @persistent
@@ -481,6 +688,7 @@ def unregister() -> None:
             lst.remove(fn)
     if bpy.app.timers.is_registered(autosave_tick):
         bpy.app.timers.unregister(autosave_tick)
-    if bpy.app.timers.is_registered(_poll_validation):
-        bpy.app.timers.unregister(_poll_validation)
+    for timer in (_poll_validation, moves_tick):
+        if bpy.app.timers.is_registered(timer):
+            bpy.app.timers.unregister(timer)
     forget()

@@ -44,7 +44,6 @@ from bpy.props import (
     IntProperty,
     StringProperty,
 )
-from mathutils import Matrix
 
 from . import history, op_table, schema, sync
 
@@ -173,6 +172,7 @@ def run_op(operator, context, op: dict | list[dict]) -> set[str]:
     active and only selected one."""
     ops = op if isinstance(op, list) else [op]
     scene = context.scene
+    history.finish_pending(scene)  # a move made just before comes first
     try:
         if len(ops) > 1:
             # All or none: try them on a copy first.
@@ -240,44 +240,6 @@ class SHAPEWRIGHT_OT_edit_solid(_ShapeProps, bpy.types.Operator):
             "segments": self.segments,
         }
         return run_op(self, context, op)
-
-
-IDENTITY = Matrix.Identity(4)
-
-
-def _transform_op(oid: int, loc, rot, scale) -> dict:
-    return {
-        "op": "transform_by",
-        "id": oid,
-        "transform": {"translate": list(loc), "rotate": [rot.x, rot.y, rot.z, rot.w], "scale": list(scale)},
-    }
-
-
-class SHAPEWRIGHT_OT_commit_transform(bpy.types.Operator):
-    """Record the Blender transform (moved with G/R/S) of the selected Shapewright objects as ops"""
-
-    bl_idname = "shapewright.commit_transform"
-    bl_label = "Commit Transform"
-    bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context):
-        return bool(selected_ids(context))
-
-    def execute(self, context):
-        # Synced meshes are in world space with an identity matrix: a
-        # matrix that is not the identity is a move made in Blender. Every
-        # kind has a placement (`transform_by`), so every kind moves.
-        ops = []
-        for oid in selected_ids(context):
-            obj = sync.object_for(context.scene, oid)
-            if obj is not None and obj.matrix_world != IDENTITY:
-                loc, rot, scale = obj.matrix_world.decompose()
-                ops.append(_transform_op(oid, loc, rot, scale))
-        if not ops:
-            self.report({"INFO"}, "Nothing moved: the selected objects are where their ops put them")
-            return {"CANCELLED"}
-        return run_op(self, context, ops)
 
 
 class SHAPEWRIGHT_OT_move(bpy.types.Operator):
@@ -372,6 +334,7 @@ class SHAPEWRIGHT_OT_run_script(bpy.types.Operator):
         except OSError as e:
             self.report({"ERROR"}, f"cannot read {self.filepath}: {e}")
             return {"CANCELLED"}
+        history.finish_pending(context.scene)
         s = history.session(context.scene)
         trial = s.snapshot()
         try:
@@ -914,7 +877,6 @@ class SHAPEWRIGHT_OT_render_png(bpy.types.Operator):
 classes = (
     SHAPEWRIGHT_OT_add_solid,
     SHAPEWRIGHT_OT_edit_solid,
-    SHAPEWRIGHT_OT_commit_transform,
     SHAPEWRIGHT_OT_move,
     SHAPEWRIGHT_OT_duplicate,
     SHAPEWRIGHT_OT_delete,

@@ -56,7 +56,6 @@ class VIEW3D_PT_shapewright(_Sidebar, bpy.types.Panel):
             if kind == "solid":
                 box.operator("shapewright.edit_solid")
             box.operator("shapewright.move")
-            box.operator("shapewright.commit_transform")
             row = box.row(align=True)
             row.operator("shapewright.duplicate")
             row.operator("shapewright.delete")

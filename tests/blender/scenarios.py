@@ -1147,7 +1147,10 @@ def scenario_conventions(work: Path) -> None:
     assert last_op()["id"] == 4, last_op()
     # Poll: solid edits need a solid; GC edits a GC (or a script's id).
     activate(3)
-    assert not ops.edit_solid.poll() and ops.move.poll() and ops.commit_transform.poll()
+    assert not ops.edit_solid.poll() and ops.move.poll()
+    registered = {c.bl_rna.identifier for c in bpy.types.Operator.__subclasses__()}
+    assert "SHAPEWRIGHT_OT_move" in registered, sorted(registered)[:5]
+    assert "SHAPEWRIGHT_OT_commit_transform" not in registered, "moves are recorded without a button"
     assert ops.gc_bend.poll() and not ops.sdf_update.poll() and not ops.curve_fill_auto.poll()
     activate(1)
     assert ops.edit_solid.poll()
@@ -1175,12 +1178,23 @@ def scenario_conventions(work: Path) -> None:
     assert core_session().content_hash() == h
 
 
+def settle_moves() -> int:
+    """Runs the add-on's move timer as Blender's event loop would, until
+    it stops; returns how many times it ran."""
+    hist = addon().history
+    for n in range(1, 20):
+        if hist.moves_tick() is None:
+            return n
+    raise AssertionError("the move timer never settles")
+
+
 def scenario_transform_kinds(work: Path) -> None:
-    """G/R/S in Blender on an object of every kind, then Commit Transform:
-    one `transform_by` op per moved object, in one undo step; each core
-    mesh lands where Blender's matrix had put it (same triangles, vertices
-    within 1e-5 m) with the matrix back to the identity; one undo puts
-    the document and the meshes back. SW_PNG=path renders the moved
+    """G/R/S in Blender on an object of every kind, several at once: one
+    `transform_by` op per moved object, recorded by the move timer in one
+    undo step, with no button; each core mesh lands where Blender's matrix
+    had put it (same triangles, vertices within 1e-5 m) with the matrix
+    back to the identity; one undo puts the document and the meshes back,
+    redo redoes the ops from the log's tail. SW_PNG=path renders the moved
     scene there, for looking at."""
     from mathutils import Matrix
 
@@ -1191,21 +1205,27 @@ def scenario_transform_kinds(work: Path) -> None:
     n0, h0 = len(s), s.content_hash()
     m = Matrix.Translation((0.1, -0.05, 0.02)) @ Matrix.Rotation(math.pi / 2, 4, "Z") @ Matrix.Scale(1.25, 4)
     mm = np.array(m, dtype=np.float64)
-    want = {}
+    want, before = {}, {}
     for oid, obj in sw_objects().items():
         pos, tri = sync.read_mesh(obj.data)
+        before[oid] = (pos, tri)
         if not len(tri):
             continue  # the CSG volume with a pending operand has no mesh yet
         obj.matrix_world = m
-        obj.select_set(True)
         want[oid] = (pos @ mm[:3, :3].T + mm[:3, 3], tri)
     assert len(want) >= 3, sorted(want)
     bpy.context.view_layer.objects.active = sw_objects()[kinds["gc_assembly"]]
-    step(bpy.ops.shapewright.commit_transform(), "commit transform")
+    # The UI's order: the transform's undo step, then the timer records.
+    bpy.context.view_layer.update()
+    bpy.ops.ed.undo_push(message="move")
+    assert len(core_session()) == n0, "nothing is recorded before the timer runs"
+    settle_moves()
     s = core_session()
     lines = [json.loads(x) for x in s.ops_jsonl().splitlines()]
     assert s.cursor == n0 + len(want) and [o["op"] for o in lines[n0:]] == ["transform_by"] * len(want)
     assert sorted(o["id"] for o in lines[n0:]) == sorted(want)
+    moved_ops = s.ops_jsonl()
+    h1 = s.content_hash()
     for oid, (pos_want, tri_want) in want.items():
         obj = sw_objects()[oid]
         assert obj.matrix_world == Matrix.Identity(4), oid
@@ -1214,16 +1234,164 @@ def scenario_transform_kinds(work: Path) -> None:
         err = float(np.abs(pos - pos_want).max())
         assert err < 1e-5, f"object {oid} ({s.object_kind(oid)}): {err} m from Blender's move"
     assert_synced()
-    # Nothing moved: nothing recorded.
-    assert bpy.ops.shapewright.commit_transform() == {"CANCELLED"}
-    assert len(core_session()) == n0 + len(want)
+    # Nothing moved since: nothing more recorded.
+    bpy.context.view_layer.update()
+    settle_moves()
+    assert core_session().ops_jsonl() == moved_ops
     import os
 
     if os.environ.get("SW_PNG"):
         assert bpy.ops.shapewright.render_png(filepath=os.environ["SW_PNG"], resolution=640) == {"FINISHED"}
+    # One undo takes all the moves back.
     bpy.ops.ed.undo()
     s = core_session()
     assert s.cursor == n0 and s.content_hash() == h0
+    for oid, obj in sw_objects().items():
+        assert obj.matrix_world == Matrix.Identity(4), oid
+        pos, tri = sync.read_mesh(obj.data)
+        assert np.array_equal(pos, before[oid][0]) and np.array_equal(tri, before[oid][1]), oid
+    assert_synced()
+    # Redo returns to the step that holds the moved matrices with the old
+    # log: the ops are redone from the tail, not recorded again.
+    bpy.ops.ed.redo()
+    settle_moves()
+    s = core_session()
+    assert s.cursor == n0 + len(want) and s.ops_jsonl() == moved_ops and s.content_hash() == h1
+    assert all(o.matrix_world == Matrix.Identity(4) for o in sw_objects().values())
+    assert_synced()
+
+
+class FakeOp:
+    def __init__(self, idname: str) -> None:
+        self.bl_idname = idname
+
+
+class FakeWindow:
+    def __init__(self, *idnames: str) -> None:
+        self.modal_operators = [FakeOp(i) for i in idnames]
+
+
+def scenario_transform_auto(work: Path) -> None:
+    """Moves made in Blender without any button: `location`, rotation and
+    `scale` set on a solid, a GC and a curve network give exactly one
+    `transform_by` op each, not while a transform modal runs (a simulated
+    one: headless Blender has no window to run one) nor while the
+    matrices still change; undo restores the content hash, the meshes and
+    the identity matrix, redo reapplies without recording again, and save
+    and reopen keep it. A move the core refuses is put back; an op run
+    right after a move comes after it in the log."""
+    from mathutils import Matrix
+
+    hist = addon().history
+    sync = addon().sync
+    assert "modal_operators" in bpy.types.Window.bl_rna.properties, "Blender without Window.modal_operators"
+    # The decision, on fake window lists.
+    sig = ((1, ((1.0,),)),)
+    assert hist.move_decision([], (), None) == "idle"
+    assert hist.move_decision([FakeWindow("TRANSFORM_OT_translate")], sig, sig) == "wait"
+    two = [FakeWindow(), FakeWindow("VIEW3D_OT_rotate", "TRANSFORM_OT_resize")]
+    assert hist.move_decision(two, sig, sig) == "wait"
+    assert hist.move_decision([FakeWindow("transform.rotate")], sig, sig) == "wait"
+    assert hist.move_decision([FakeWindow("GIZMOGROUP_OT_gizmo_tweak")], sig, sig) == "wait"
+    assert hist.move_decision([FakeWindow("VIEW3D_OT_rotate", "SHAPEWRIGHT_OT_sketch")], sig, sig) == "record"
+    assert hist.move_decision([], sig, None) == "wait", "the first look waits for the matrices to settle"
+    assert hist.move_decision([], sig, ((1, ((2.0,),)),)) == "wait"
+    assert hist.move_decision([], sig, sig) == "record"
+
+    kinds = op_scene()
+    bpy.ops.ed.undo_push(message="scene")
+    moves = [
+        ("solid", "location", (0.1, -0.2, 0.05)),
+        ("gc_assembly", "rotation_euler", (0.0, 0.0, 0.6)),
+        ("curve_network", "scale", (1.5, 1.5, 1.5)),
+    ]
+    windows = hist._windows
+    hashes = [core_session().content_hash()]
+    meshes = [{oid: sync.read_mesh(o.data) for oid, o in sw_objects().items()}]
+    try:
+        for k, (kind, attr, value) in enumerate(moves):
+            oid = kinds[kind]
+            obj = sw_objects()[oid]
+            n = len(core_session())
+            pos0, tri0 = sync.read_mesh(obj.data)
+            fake = [FakeWindow("TRANSFORM_OT_transform")]
+            hist._windows = lambda fake=fake: fake
+            setattr(obj, attr, value)
+            bpy.context.view_layer.update()
+            assert bpy.app.timers.is_registered(hist.moves_tick), "the depsgraph handler starts the timer"
+            m = np.array(obj.matrix_world, dtype=np.float64)
+            for _ in range(4):
+                assert hist.moves_tick() == hist.MOVES_TICK, "waits while the modal runs"
+            assert len(core_session()) == n and obj.matrix_world != Matrix.Identity(4)
+            # An op run meanwhile does not take a move that is still going.
+            hist.finish_pending(bpy.context.scene)
+            assert len(core_session()) == n
+            fake.clear()  # the modal ends
+            if k == 1:
+                bpy.ops.ed.undo_push(message=f"move {kind}")  # the UI's order
+            assert settle_moves() == 1, "the matrices were already settled"
+            if k != 1:
+                bpy.ops.ed.undo_push(message=f"move {kind}")  # a script's order
+            s = core_session()
+            assert len(s) == n + 1 and s.cursor == n + 1, (kind, len(s), n)
+            assert last_op()["op"] == "transform_by" and last_op()["id"] == oid, last_op()
+            assert obj.matrix_world == Matrix.Identity(4) and tuple(getattr(obj, attr)) != tuple(value)
+            pos, tri = sync.read_mesh(obj.data)
+            assert np.array_equal(tri, tri0)
+            err = float(np.abs(pos - (pos0 @ m[:3, :3].T + m[:3, 3])).max())
+            assert err < 1e-5, f"{kind}: {err} m from Blender's move"
+            assert_synced()
+            hashes.append(s.content_hash())
+            meshes.append({i: sync.read_mesh(o.data) for i, o in sw_objects().items()})
+    finally:
+        hist._windows = windows
+    want_ops = core_session().ops_jsonl()
+    n3 = len(core_session())
+
+    def check(k: int, where: str) -> None:
+        s = core_session()
+        assert s.content_hash() == hashes[k], (where, k)
+        assert s.ops_jsonl() == want_ops, (where, "the log changed")
+        for oid, obj in sw_objects().items():
+            assert obj.matrix_world == Matrix.Identity(4), (where, oid)
+            pos, tri = sync.read_mesh(obj.data)
+            assert np.array_equal(pos, meshes[k][oid][0]), (where, k, oid)
+        assert_synced()
+
+    for k in (2, 1, 0):
+        bpy.ops.ed.undo()
+        settle_moves()
+        check(k, "undo")
+    for k in (1, 2, 3):
+        bpy.ops.ed.redo()
+        settle_moves()
+        check(k, "redo")
+    # Save and reopen.
+    path = work / "moved.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    settle_moves()
+    check(3, "reopened")
+    # A move the core refuses (a non-uniform scale of the rotated GC) is
+    # put back, and nothing is recorded.
+    gc = sw_objects()[kinds["gc_assembly"]]
+    gc.scale = (1.0, 2.0, 1.0)
+    bpy.context.view_layer.update()
+    settle_moves()
+    assert tuple(gc.scale) == (1.0, 1.0, 1.0) and len(core_session()) == n3, (tuple(gc.scale), last_op())
+    bpy.context.view_layer.update()
+    settle_moves()
+    assert gc.matrix_world == Matrix.Identity(4) and len(core_session()) == n3
+    check(3, "refused")
+    # An op right after a move (before the timer ran): the move first.
+    sw_objects()[kinds["solid"]].location = (0.0, 0.0, 0.3)
+    step(bpy.ops.shapewright.add_solid(shape="box", use_cursor=False, location=(2.0, 0.0, 0.0)), "box")
+    lines = [json.loads(x) for x in core_session().ops_jsonl().splitlines()]
+    assert [o["op"] for o in lines[n3:]] == ["transform_by", "add_solid"], lines[n3:]
+    assert lines[n3]["id"] == kinds["solid"]
+    assert np.allclose(lines[n3]["transform"]["translate"], [0.0, 0.0, 0.3], atol=1e-7), lines[n3]
+    assert sw_objects()[kinds["solid"]].matrix_world == Matrix.Identity(4)
     assert_synced()
 
 

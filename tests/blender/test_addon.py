@@ -33,6 +33,7 @@ import pytest
         "export_job",
         "rename",
         "transform_kinds",
+        "transform_auto",
         # issue 20: also run in the newest bpy by scripts/blender_newest.sh
         "smoke",
         # issue 15: the op table agrees with the core's op schema
