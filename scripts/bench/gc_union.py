@@ -148,7 +148,7 @@ def run(reps: int = 7, bin_path: str | None = None) -> list[dict]:
                     "ratio": ours["ms"][0] / p["ms"][0],
                     "goal": "<= 1.0x" if same else "",
                     "note": f"out: ours {ours['output_triangles']} tris genus {ours['genus']} closed {ours['closed']}, "
-                    f"manifold3d {p['output_triangles']} tris genus {p['genus']} ({p['threads']} process threads)"
+                    f"manifold3d {p['output_triangles']} tris genus {p['genus']} (process threads: {p['threads']})"
                     + ("; both pinned to 1 CPU" if same else ""),
                     "load_before": load_before,
                     "load_after": load_after,
