@@ -84,7 +84,7 @@ def run(bin_path=None, reps=5):
         start = time.perf_counter()
         np_t = pick_numpy(tris, origins, d)
         ts.append((time.perf_counter() - start) * 1e6 / len(origins))
-    q = statistics.quantiles(ts, n=4, method="inclusive")
+    q = statistics.quantiles(ts, n=4, method="inclusive") if len(ts) > 1 else [ts[0]] * 3
     agree = bool(
         np.all((rust_t < 0) == (np_t < 0)) and np.allclose(rust_t[rust_t >= 0], np_t[np_t >= 0], atol=1e-5)
     )

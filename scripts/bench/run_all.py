@@ -317,7 +317,7 @@ def other_rows(ex: Path, quick: bool) -> list[dict]:
     import print as print_bench
 
     out = []
-    found = interact.run(str(ex / "interact_pick"))
+    found = interact.run(str(ex / "interact_pick"), reps=1 if quick else 5)
     if quick:
         # The 1M-triangle validation alone takes most of a minute.
         out.append(
