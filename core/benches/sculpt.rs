@@ -4,7 +4,9 @@
 //! one `sculpt_stroke` op (clone, index, frames, re-evaluation), then a
 //! Criterion measurement of single frames at 150k.
 //!
-//! Run: `cargo bench -p shapewright --bench sculpt`.
+//! Run: `cargo bench -p shapewright --bench sculpt`. The stroke is
+//! `fixtures/sculpt_stroke.rs`; the 2M / 5M goal rows of the honest bench
+//! (`scripts/bench/run_all.py`) time the same stroke in `perf_goals`.
 
 use std::time::Instant;
 
@@ -13,112 +15,11 @@ use shapewright::doc::{Create, Edit, ObjectId, Op, OpLog};
 use shapewright::math::{DQuat, DVec3};
 use shapewright::sculpt::base::geodesic_sphere;
 use shapewright::sculpt::stroke::{FrameInput, Sculptor};
-use shapewright::sculpt::{
-    BrushPose, BrushShape, Falloff, HalfEdgeMesh, SculptBase, SculptCreate, SculptStroke,
-    StrokeSample, StrokeSettings, Warp,
-};
+use shapewright::sculpt::{BrushPose, HalfEdgeMesh, SculptBase, SculptCreate, SculptStroke, Warp};
 
-const FRAMES: usize = 200;
-
-fn settings(n: u32) -> StrokeSettings {
-    // Edges of the n-frequency sphere are about 1.05 / n (up to ~1.2x that);
-    // keep them inside [min, max] so only the stroke adapts the mesh.
-    let brush = BrushShape::Sphere { radius: 0.1 };
-    let nominal = 1.0515 / n as f64;
-    StrokeSettings {
-        brush,
-        brush_scale: 1.0,
-        influence: 0.1,
-        falloff: Falloff::Smooth,
-        warp: Warp::Drag,
-        max_edge_rel: 2.0 * nominal / 0.1,
-        min_edge_rel: 0.4 * nominal / 0.1,
-    }
-}
-
-/// A drag that grabs the surface at +z and pulls it out along a gentle arc.
-fn samples() -> Vec<StrokeSample> {
-    (0..FRAMES)
-        .map(|i| {
-            let t = i as f64 / FRAMES as f64;
-            let p = DVec3::new(0.25 * t, 0.1 * (t * 6.0).sin(), 1.05 + 0.3 * t);
-            StrokeSample {
-                position: p.to_array(),
-                rotation: DQuat::from_rotation_x(0.3 * t).to_array(),
-                pressure: 1.0,
-            }
-        })
-        .collect()
-}
-
-/// Nanoseconds this thread has run on a CPU (Linux schedstat), so the
-/// stroke's time can be told apart from time spent waiting for a core on a
-/// busy machine. `None` where the file does not exist.
-fn cpu_ns() -> Option<u64> {
-    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    s.split_whitespace().next()?.parse().ok()
-}
-
-fn pct(sorted: &[f64], q: f64) -> f64 {
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
-}
-
-/// One run of the stroke's frames on a fresh sculptor: wall ms, on-CPU ms
-/// (when available) and stats per frame, the sculptor after it, and the
-/// index build time.
-struct Run {
-    times: Vec<f64>,
-    cpu: Vec<f64>,
-    per_frame: Vec<(usize, usize, usize)>,
-    sculptor: Sculptor,
-    index_ms: f64,
-}
-
-fn run_frames(mesh: HalfEdgeMesh, s: &StrokeSettings) -> Run {
-    let t0 = Instant::now();
-    let mut sc = Sculptor::new(mesh, 0.25 * (s.brush_size() + s.influence));
-    let index_ms = t0.elapsed().as_secs_f64() * 1e3;
-    sc.begin_stroke();
-    let smp = samples();
-    let size = s.brush_size();
-    let mut times = Vec::with_capacity(FRAMES);
-    let mut per_frame = Vec::with_capacity(FRAMES);
-    let mut cpu = Vec::with_capacity(FRAMES);
-    for i in 0..FRAMES {
-        let pose = |k: usize| BrushPose {
-            position: DVec3::from_array(smp[k].position),
-            rotation: DQuat::from_array(smp[k].rotation),
-            scale: 1.0,
-        };
-        let input = FrameInput {
-            shape: &s.brush,
-            prev: pose(i.saturating_sub(1)),
-            pose: pose(i),
-            pressure: 1.0,
-            influence: s.influence,
-            falloff: s.falloff,
-            warp: s.warp,
-            max_len: s.max_edge_rel * size,
-            min_len: s.min_edge_rel * size,
-        };
-        let c = cpu_ns();
-        let t = Instant::now();
-        let st = sc.apply_frame(&input);
-        times.push(t.elapsed().as_secs_f64() * 1e3);
-        if let (Some(a), Some(b)) = (c, cpu_ns()) {
-            cpu.push((b - a) as f64 / 1e6);
-        }
-        per_frame.push((st.moved, st.splits, st.collapses));
-    }
-    sc.mesh().check().unwrap();
-    Run {
-        times,
-        cpu,
-        per_frame,
-        sculptor: sc,
-        index_ms,
-    }
-}
+#[path = "fixtures/sculpt_stroke.rs"]
+mod stroke;
+use stroke::{pct, run_frames, samples, settings, Run, FRAMES};
 
 /// Repetitions of the stroke; each frame's cost is deterministic, so the
 /// per-frame minimum over repetitions filters out time spent preempted on

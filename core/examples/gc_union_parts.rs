@@ -1,15 +1,45 @@
 //! Runs a GC example script, writes the part meshes of assembly object 1
-//! as binary STL files into a directory, and times our union of them
-//! (`mesh::union`, manifold-rust): median of `runs` runs, printed as JSON
-//! for scripts/bench/gc_union.py.
+//! into a directory, and times our union of them for
+//! `scripts/bench/gc_union.py` (the manifold3d peer unites the same files).
+//!
+//! Each part is written as `partNN.pos.f64` (vertex positions, x y z,
+//! little-endian f64: our `TriMesh` holds f64) and `partNN.tri.u32`
+//! (triangle indices), the arrays our union imports; the peer builds its
+//! `Mesh64` from exactly these arrays. `partNN.stl` too, to look at.
+//!
+//! Timed, per rep: one [`shapewright::mesh::union`] of the part meshes,
+//! which covers (1) the import: checking indices and coordinates, building
+//! a `MeshGL64` per part and `Manifold::from_mesh_gl64` (Manifold's own
+//! merge and manifold check), status checked; (2) the batch union;
+//! (3) the export back to a `TriMesh` (positions, triangles, per-triangle
+//! sources, and vertex normals, which the peer does not compute). Not
+//! timed: meshing the parts (the peer gets them as files). One untimed
+//! warm-up rep first, as the peer does.
+//!
+//! Threads: one. manifold-rust is built without its `parallel` feature
+//! (see `core/src/mesh/boolean.rs`: determinism), so the union runs on the
+//! calling thread. Allocator: mimalloc, the hosts'.
+//!
+//! Prints one JSON line: median and 25th–75th percentiles in ms, parts,
+//! input and output triangles, and whether the result is closed and its
+//! genus.
 //!
 //! `cargo run --release -p shapewright --example gc_union_parts -- SCRIPT OUT_DIR RUNS`
 
 use std::time::Instant;
 
+#[global_allocator]
+static ALLOC: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use shapewright::doc::{parse_script, run_script, ObjectId, ObjectKind, OpLog};
 use shapewright::gc::mesh_gc;
 use shapewright::mesh::{union, validate, write_stl, TriMesh};
+
+/// Median, 25th and 75th percentiles (nearest rank) of sorted values.
+fn quartiles(sorted: &[f64]) -> [f64; 3] {
+    let at = |q: f64| sorted[((sorted.len() - 1) as f64 * q).round() as usize];
+    [at(0.5), at(0.25), at(0.75)]
+}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
@@ -23,30 +53,46 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ObjectKind::GcAssembly(asm) = &log.document().get(ObjectId(1))?.kind else {
         return Err("object 1 is not a GC assembly".into());
     };
-    std::fs::create_dir_all(&args[2])?;
+    let dir = &args[2];
+    std::fs::create_dir_all(dir)?;
     let mut parts: Vec<TriMesh> = Vec::new();
     for (i, p) in asm.parts.iter().enumerate() {
         let m = mesh_gc(&p.gc)?;
-        let mut f = std::fs::File::create(format!("{}/part{i:02}.stl", args[2]))?;
+        let mut f = std::fs::File::create(format!("{dir}/part{i:02}.stl"))?;
         write_stl(&m, &mut f)?;
+        let pos: Vec<u8> = m
+            .positions
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        std::fs::write(format!("{dir}/part{i:02}.pos.f64"), pos)?;
+        let tri: Vec<u8> = m
+            .triangles
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        std::fs::write(format!("{dir}/part{i:02}.tri.u32"), tri)?;
         parts.push(m);
     }
     let refs: Vec<&TriMesh> = parts.iter().collect();
+    let mut out = union(&refs)?; // warm-up, untimed
     let mut times = Vec::new();
-    let mut out = TriMesh::default();
     for _ in 0..runs.max(1) {
         let t = Instant::now();
         out = union(&refs)?;
-        times.push(t.elapsed().as_secs_f64());
+        times.push(t.elapsed().as_secs_f64() * 1e3);
     }
     times.sort_by(f64::total_cmp);
+    let [med, p25, p75] = quartiles(&times);
     let r = validate(&out, &Default::default());
     println!(
-        "{{\"parts\": {}, \"input_triangles\": {}, \"output_triangles\": {}, \"median_s\": {}, \"closed\": {}, \"genus\": {}}}",
+        "{{\"parts\": {}, \"input_triangles\": {}, \"output_triangles\": {}, \"ms\": [{med:.4}, {p25:.4}, {p75:.4}], \"runs\": {}, \"threads\": 1, \"closed\": {}, \"genus\": {}}}",
         parts.len(),
         parts.iter().map(|m| m.triangles.len()).sum::<usize>(),
         out.triangles.len(),
-        times[times.len() / 2],
+        times.len(),
         r.is_closed(),
         r.genus.unwrap_or(-1)
     );

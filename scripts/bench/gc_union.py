@@ -1,7 +1,34 @@
-"""Teapot and chair: our final union (manifold-rust, via the Rust example
-gc_union_parts) vs manifold3d (PyPI, C++ Manifold) on the same part meshes
-in the same run; prints times and the ratio ours / manifold3d.
+"""Assembly union, ours vs manifold3d, on the same part meshes in the same
+run (issue 21: "union: at most 1.0x manifold3d with the same threads,
+import included").
 
+The Rust example `gc_union_parts` runs the teapot and chair GC scripts,
+writes each part mesh of the assembly as raw arrays (f64 positions, u32
+triangles: what our `TriMesh` holds) and times our union of them. The peer
+(manifold3d, PyPI: C++ Manifold 3.5.4, the version manifold-rust is checked
+against) unites the same arrays.
+
+What each side's timer covers, per rep (one untimed warm-up rep on each
+side first):
+- ours (`shapewright::mesh::union`): import of every part (index and
+  coordinate checks, `MeshGL64`, `Manifold::from_mesh_gl64` with Manifold's
+  merge and manifold check, status checked), the batch union, export back
+  to a `TriMesh` (positions, triangles, per-triangle sources, and vertex
+  normals, which the peer does not compute);
+- peer: import of every part (`Mesh64` from the position array and the
+  triangle array widened to u64, `Manifold(mesh)`, status checked), the
+  batch union (`Manifold.batch_boolean(..., Add)`), export (`to_mesh64()`
+  and its position and triangle arrays as NumPy arrays).
+Not timed on either side: meshing the parts, reading the files.
+
+Threads: ours runs on one thread (manifold-rust is built without its
+`parallel` feature). manifold3d parallelises with oneTBB, which sizes its
+pool from the process's CPU affinity; the goal row confines both processes
+to the same single CPU (`os.sched_setaffinity`) so manifold3d runs one
+thread (checked: the process reports its thread count), and a second row
+gives manifold3d every CPU (its default) against our one thread.
+
+`run(reps)` returns rows for scripts/bench/run_all.py.
 Usage: python scripts/bench/gc_union.py [RUNS]   (needs manifold3d, numpy)
 """
 
@@ -16,60 +43,135 @@ import tempfile
 import time
 from pathlib import Path
 
-import manifold3d
-import numpy as np
-
 ROOT = Path(__file__).resolve().parents[2]
+WORKLOADS = ("teapot", "chair")
 
 
-def read_stl(path: Path):
-    data = path.read_bytes()
-    n = int.from_bytes(data[80:84], "little")
-    rec = np.frombuffer(
-        data[84 : 84 + 50 * n], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
-    )
-    verts, inv = np.unique(rec["v"].reshape(-1, 3), axis=0, return_inverse=True)
-    return verts.astype(np.float32), inv.reshape(-1, 3).astype(np.uint32)
+def spread(ts: list[float]) -> list[float]:
+    """Median, 25th and 75th percentiles."""
+    q = statistics.quantiles(ts, n=4, method="inclusive") if len(ts) > 1 else [ts[0]] * 3
+    return [statistics.median(ts), q[0], q[2]]
 
 
-def main() -> None:
-    runs = int(sys.argv[1]) if len(sys.argv) > 1 else 5
-    subprocess.run(
-        ["cargo", "build", "--release", "-q", "-p", "shapewright", "--example", "gc_union_parts"],
-        cwd=ROOT,
-        check=True,
-    )
-    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-    exe = target / "release" / "examples" / "gc_union_parts"
-    for name in ("teapot", "chair"):
-        with tempfile.TemporaryDirectory() as d:
-            out = subprocess.run(
-                [str(exe), str(ROOT / "tests" / "data" / f"{name}.jsonl"), d, str(runs)],
-                check=True,
-                capture_output=True,
-                text=True,
-            ).stdout
-            ours = json.loads(out)
-            parts = []
-            for p in sorted(Path(d).glob("part*.stl")):
-                v, t = read_stl(p)
-                m = manifold3d.Manifold(manifold3d.Mesh(vert_properties=v, tri_verts=t))
-                assert m.status() == manifold3d.Error.NoError, (p, m.status())
-                parts.append(m)
-            times = []
-            for _ in range(runs):
-                t0 = time.perf_counter()
-                u = manifold3d.Manifold.batch_boolean(parts, manifold3d.OpType.Add)
-                u.num_tri()  # force evaluation
-                times.append(time.perf_counter() - t0)
-            theirs = statistics.median(times)
-            print(
-                f"{name}: {ours['parts']} parts, {ours['input_triangles']} input triangles -> "
-                f"ours {ours['output_triangles']} tris {ours['median_s'] * 1e3:.1f} ms (closed {ours['closed']}, genus {ours['genus']}), "
-                f"manifold3d {u.num_tri()} tris {theirs * 1e3:.1f} ms (genus {u.genus()}), "
-                f"ratio ours/manifold3d = {ours['median_s'] / theirs:.2f}"
+def peer(d: str, reps: int, cpus: int | None) -> dict:
+    """The manifold3d side, in its own process (called via `--peer`): with
+    `cpus`, the process is confined to that many CPUs before manifold3d
+    (and its TBB pool) is loaded."""
+    if cpus is not None:
+        os.sched_setaffinity(0, sorted(os.sched_getaffinity(0))[:cpus])
+    import manifold3d
+    import numpy as np
+
+    parts = []
+    for p in sorted(Path(d).glob("part*.pos.f64")):
+        pos = np.fromfile(p, dtype="<f8").reshape(-1, 3)
+        tri = np.fromfile(str(p).replace(".pos.f64", ".tri.u32"), dtype="<u4").reshape(-1, 3)
+        parts.append((pos, tri))
+
+    def once():
+        ms = []
+        for pos, tri in parts:
+            m = manifold3d.Manifold(manifold3d.Mesh64(vert_properties=pos, tri_verts=tri.astype(np.uint64)))
+            if m.status() != manifold3d.Error.NoError:
+                raise RuntimeError(f"manifold3d refused a part: {m.status()}")
+            ms.append(m)
+        u = manifold3d.Manifold.batch_boolean(ms, manifold3d.OpType.Add)
+        out = u.to_mesh64()
+        return u, np.asarray(out.vert_properties), np.asarray(out.tri_verts)
+
+    once()  # warm-up, untimed
+    times = []
+    for _ in range(reps):
+        t = time.perf_counter()
+        u, _, tris = once()
+        times.append((time.perf_counter() - t) * 1e3)
+    threads = int(next(ln.split()[1] for ln in open("/proc/self/status") if ln.startswith("Threads:")))
+    return {
+        "ms": spread(times),
+        "output_triangles": len(tris),
+        "genus": u.genus(),
+        "threads": threads,
+        "cpus": len(os.sched_getaffinity(0)),
+    }
+
+
+def _pin(cpus: int):
+    def f():
+        os.sched_setaffinity(0, sorted(os.sched_getaffinity(0))[:cpus])
+
+    return f
+
+
+def run(reps: int = 7, bin_path: str | None = None) -> list[dict]:
+    """Both sides on the teapot and the chair; rows for run_all.py."""
+    if bin_path is None:
+        subprocess.run(
+            ["cargo", "build", "--release", "-q", "-p", "shapewright", "--example", "gc_union_parts"],
+            cwd=ROOT,
+            check=True,
+        )
+        target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+        bin_path = str(target / "release" / "examples" / "gc_union_parts")
+    rows = []
+    for name in WORKLOADS:
+        with tempfile.TemporaryDirectory(prefix="gc_union_") as d:
+            load_before = os.getloadavg()
+            script = str(ROOT / "tests" / "data" / f"{name}.jsonl")
+            ours = json.loads(
+                subprocess.run(
+                    [bin_path, script, d, str(reps)],
+                    check=True,
+                    capture_output=True,
+                    text=True,
+                    preexec_fn=_pin(ours_threads := 1),
+                ).stdout
             )
+            peers = {}
+            for label, cpus in (("same", ours_threads), ("default", None)):
+                cmd = [sys.executable, __file__, "--peer", d, str(reps)] + ([str(cpus)] if cpus else [])
+                peers[label] = json.loads(
+                    subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+                )
+            load_after = os.getloadavg()
+        for label, p in peers.items():
+            same = label == "same"
+            rows.append(
+                {
+                    "workload": f"union {name} ({ours['parts']} parts, {ours['input_triangles']} tris)"
+                    + ("" if same else ", manifold3d default threads"),
+                    "unit": "ms",
+                    "ours": ours["ms"],
+                    "ours_threads": ours["threads"],
+                    "peer": "manifold3d " + ("1 CPU" if same else f"{p['cpus']} CPUs"),
+                    "peer_value": p["ms"],
+                    "peer_threads": p["cpus"],
+                    "ratio": ours["ms"][0] / p["ms"][0],
+                    "goal": "<= 1.0x" if same else "",
+                    "note": f"out: ours {ours['output_triangles']} tris genus {ours['genus']} closed {ours['closed']}, "
+                    f"manifold3d {p['output_triangles']} tris genus {p['genus']} (process threads: {p['threads']})"
+                    + ("; both pinned to 1 CPU" if same else ""),
+                    "load_before": load_before,
+                    "load_after": load_after,
+                }
+            )
+    return rows
+
+
+def main() -> int:
+    if len(sys.argv) > 1 and sys.argv[1] == "--peer":
+        cpus = int(sys.argv[4]) if len(sys.argv) > 4 else None
+        print(json.dumps(peer(sys.argv[2], int(sys.argv[3]), cpus)))
+        return 0
+    reps = int(sys.argv[1]) if len(sys.argv) > 1 else 7
+    for r in run(reps):
+        o, p = r["ours"], r["peer_value"]
+        print(
+            f"{r['workload']}: ours {o[0]:.1f} ms ({o[1]:.1f}-{o[2]:.1f}, {r['ours_threads']} thr) vs {r['peer']} "
+            f"{p[0]:.1f} ms ({p[1]:.1f}-{p[2]:.1f}, {r['peer_threads']} thr): ratio {r['ratio']:.2f}; {r['note']}; "
+            f"load {r['load_before'][0]:.2f} -> {r['load_after'][0]:.2f}"
+        )
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -3,6 +3,10 @@ Moller-Trumbore over all triangles (the usual Python approach), on the
 same scene (16 spheres, 64 segments) and the same 32x32 ray grid, in the
 same run. Prints both times and their ratio, and checks the hits agree.
 
+`run(bin_path)` returns one row for scripts/bench/run_all.py: ours is the
+mean over the example's 5 passes over the ray grid (it prints no spread),
+the peer's median and 25th-75th percentiles over 5 passes; one thread each.
+
 Usage: python scripts/bench/interact.py   (needs numpy)
 """
 
@@ -45,6 +49,59 @@ def pick_numpy(tris, origins, d):
         hit = ok & (u >= 0) & (u <= 1) & (v >= 0) & (u + v <= 1) & (t >= 0) & (t <= 10)
         out.append(t[hit].min() if hit.any() else -1.0)
     return np.array(out)
+
+
+def run(bin_path=None, reps=5):
+    """Both sides on the same scene and rays; one row for run_all.py."""
+    import statistics
+
+    if bin_path is None:
+        subprocess.run(
+            ["cargo", "build", "--release", "-q", "-p", "shapewright", "--example", "interact_pick"],
+            cwd=ROOT,
+            check=True,
+        )
+        bin_path = str(
+            pathlib.Path(os.environ.get("CARGO_TARGET_DIR", str(ROOT / "target")))
+            / "release"
+            / "examples"
+            / "interact_pick"
+        )
+    load_before = os.getloadavg()[0]
+    with tempfile.TemporaryDirectory() as tmp:
+        stl, hits = f"{tmp}/scene.stl", f"{tmp}/hits.txt"
+        res = subprocess.run([bin_path, stl, hits], check=True, capture_output=True, text=True).stdout.split()
+        rust_us = float(res[res.index("ns_per_ray") + 1]) / 1e3
+        rust_t = np.loadtxt(hits)
+        tris = read_stl(stl)
+    g = np.arange(32 * 32)
+    origins = np.stack(
+        [-0.2 + 1.3 * (g % 32) / 31.0, -0.2 + 1.3 * (g // 32) / 31.0, np.full(g.shape, 2.0)], axis=1
+    )
+    d = np.array([0.0, 0.0, -1.0])
+    ts = []
+    for _ in range(reps):
+        start = time.perf_counter()
+        np_t = pick_numpy(tris, origins, d)
+        ts.append((time.perf_counter() - start) * 1e6 / len(origins))
+    q = statistics.quantiles(ts, n=4, method="inclusive") if len(ts) > 1 else [ts[0]] * 3
+    agree = bool(
+        np.all((rust_t < 0) == (np_t < 0)) and np.allclose(rust_t[rust_t >= 0], np_t[np_t >= 0], atol=1e-5)
+    )
+    return [
+        {
+            "workload": f"ray pick, {len(tris)} tris, {len(origins)} rays (per ray)",
+            "unit": "us",
+            "ours": [rust_us] * 3,
+            "ours_threads": 1,
+            "peer": "NumPy vectorised Moller-Trumbore",
+            "peer_value": [statistics.median(ts), q[0], q[2]],
+            "peer_threads": 1,
+            "note": f"ours: mean of 5 passes, no spread; hits agree: {agree}",
+            "load_before": load_before,
+            "load_after": os.getloadavg()[0],
+        }
+    ]
 
 
 def main():

@@ -54,17 +54,31 @@ def load():
     return os.getloadavg()[0]
 
 
-def build_systems(out: str) -> list[dict]:
-    cmd = ["cargo", "run", "--release", "-q", "-p", "shapewright", "--example", "styling_systems", "--", out]
+def build_systems(out: str, bin_path: str | None = None) -> list[dict]:
+    if bin_path:
+        cmd = [bin_path, out]
+    else:
+        cmd = [
+            "cargo",
+            "run",
+            "--release",
+            "-q",
+            "-p",
+            "shapewright",
+            "--example",
+            "styling_systems",
+            "--",
+            out,
+        ]
     res = subprocess.run(cmd, cwd=ROOT, check=True, capture_output=True, text=True)
     return [json.loads(line) for line in res.stdout.splitlines() if line.startswith("{")]
 
 
-def run(reps_scale: float = 1.0) -> list[dict]:
+def run(reps_scale: float = 1.0, bin_path: str | None = None) -> list[dict]:
     """Builds and times both sides; one row per system."""
     out = tempfile.mkdtemp(prefix="styling_systems_")
     load_before = load()
-    rows = build_systems(out)
+    rows = build_systems(out, bin_path)
     result = []
     for r in rows:
         name = r["name"]
