@@ -13,6 +13,9 @@
 //! | `sdf_update` | *update*: fuse the queue, one extraction (§5.4) |
 //! | `sdf_import_component` | add a user mesh to the library (§3) |
 //! | `sdf_set_step` | the step setting (§5.4) |
+//! | `sdf_move_fused` | move the fused result `M` (Fig. 2: `M` shrunk to `D`) |
+//! | `sdf_copy_fused` | copy (§4.4) the fused result as a new operand: the result used as a component |
+//! | `sdf_component_from_object` | "users are allowed to freely augment the dataset" (§3): any document object as a component |
 //!
 //! Copying and deleting whole volumes are the document's `duplicate` and
 //! `delete` ops.
@@ -20,11 +23,13 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use super::cache::SdfCache;
 use super::csg::CsgOp;
 use super::placement::ScaleAxis;
-use super::volume::{check_step, Component, Operand, SdfVolume, UserMesh};
+use super::volume::{check_step, default_cache, Component, Operand, SdfVolume, UserMesh};
 use super::SdfError;
-use crate::math::Transform;
+use crate::id::ObjectId;
+use crate::math::{DAffine3, DVec3, Transform};
 use crate::mesh::{validate, TriMesh};
 
 /// The index of a pending operand in its volume's queue. Serialized as a
@@ -139,6 +144,51 @@ pub struct SdfSetStep {
     /// New step, 0.004..=0.012.
     #[schemars(range(min = 0.004, max = 0.012), extend("x-unit" = "m"))]
     pub step: f64,
+}
+
+/// Move the fused result: every fused operand placed at `transform ∘ Tᵢ`
+/// and the grid rebuilt (pending operands stay where they are).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SdfMoveFused {
+    /// The motion, in the volume's own frame: a similarity (rotation,
+    /// translation, one scale for all three axes); a per-axis scale is
+    /// refused (copy the result with `sdf_copy_fused` and scale the copy).
+    pub transform: Transform,
+}
+
+/// Copy the fused result: its surface becomes user component `name` of the
+/// volume and is queued as a new operand at `transform ∘ (where the result
+/// is)`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SdfCopyFused {
+    /// The new component's name (not empty, not already a component).
+    #[schemars(length(min = 1, max = 256))]
+    pub name: String,
+    /// How the copy combines with what came before.
+    pub csg: CsgOp,
+    /// Where the copy goes, relative to the result (identity: on it).
+    #[serde(default)]
+    pub transform: Transform,
+}
+
+/// Make a component from any closed object of the document (its mesh as
+/// the document has it, taken into the volume's own frame), optionally
+/// queued as an operand exactly where the object is.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SdfComponentFromObject {
+    /// The object whose mesh becomes the component (any kind; its mesh
+    /// must be a closed oriented 2-manifold).
+    pub object: ObjectId,
+    /// The component's name (not empty, not already a component).
+    #[schemars(length(min = 1, max = 256))]
+    pub name: String,
+    /// If given, the component is also queued as an operand, combined this
+    /// way, placed where the object is.
+    #[serde(default)]
+    pub csg: Option<CsgOp>,
 }
 
 fn check_index(v: &SdfVolume, index: OperandIndex) -> Result<usize, SdfError> {
@@ -257,6 +307,96 @@ impl SdfSetStep {
         let mut n = v.without_state();
         n.step = self.step;
         n.state()?;
+        *v = n;
+        Ok(())
+    }
+}
+
+impl SdfMoveFused {
+    /// Moves the fused result.
+    pub fn apply_to(&self, v: &mut SdfVolume) -> Result<(), SdfError> {
+        *v = v.with_fused_moved(&self.transform, default_cache())?;
+        Ok(())
+    }
+}
+
+impl SdfCopyFused {
+    /// Queues the copy of the fused result.
+    pub fn apply_to(&self, v: &mut SdfVolume) -> Result<(), SdfError> {
+        if self.name.is_empty() {
+            return Err(SdfError::EmptyComponentName);
+        }
+        *v = v.with_fused_copy(&self.name, &self.transform, self.csg, default_cache())?;
+        Ok(())
+    }
+}
+
+impl SdfComponentFromObject {
+    /// Adds `mesh` (the object's model-space mesh) as a component of `v`,
+    /// whose placement is `placement` (its own frame to model space).
+    pub fn apply_to(
+        &self,
+        v: &mut SdfVolume,
+        mesh: &TriMesh,
+        placement: &DAffine3,
+    ) -> Result<(), SdfError> {
+        self.apply_with(v, mesh, placement, default_cache())
+    }
+
+    /// [`Self::apply_to`] with an explicit cache.
+    pub fn apply_with(
+        &self,
+        v: &mut SdfVolume,
+        mesh: &TriMesh,
+        placement: &DAffine3,
+        cache: &SdfCache,
+    ) -> Result<(), SdfError> {
+        if self.name.is_empty() {
+            return Err(SdfError::EmptyComponentName);
+        }
+        if v.user_components.contains_key(&self.name) {
+            return Err(SdfError::DuplicateComponent(self.name.clone()));
+        }
+        if mesh.triangles.is_empty() {
+            return Err(SdfError::EmptyResult);
+        }
+        let local = if *placement == DAffine3::IDENTITY {
+            mesh.clone()
+        } else {
+            let inv = placement.inverse();
+            if !inv.to_cols_array().iter().all(|x| x.is_finite()) {
+                return Err(SdfError::BadMesh(
+                    "the volume's placement cannot be inverted".into(),
+                ));
+            }
+            let mut m = TriMesh::new(
+                mesh.positions
+                    .iter()
+                    .map(|p| inv.transform_point3(DVec3::from_array(*p)).to_array())
+                    .collect(),
+                mesh.triangles.clone(),
+            );
+            if inv.matrix3.determinant() < 0.0 {
+                for t in &mut m.triangles {
+                    t.swap(1, 2);
+                }
+            }
+            m
+        };
+        let (user, back) = super::reuse::component_from_mesh(&local, cache)?;
+        let mut n = v.clone();
+        n.user_components.insert(self.name.clone(), user);
+        if let Some(csg) = self.csg {
+            let o = Operand::new(
+                Component::User {
+                    name: self.name.clone(),
+                },
+                csg,
+                back,
+            );
+            n.placed_with(&o, cache)?;
+            n = n.with_pending(|p| p.push(o));
+        }
         *v = n;
         Ok(())
     }

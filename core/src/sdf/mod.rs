@@ -52,8 +52,9 @@ pub use cache::SdfCache;
 pub use csg::CsgOp;
 pub use dense::DenseSdf;
 pub use edits::{
-    OperandIndex, SdfAddOperand, SdfCancelOperand, SdfCopyOperand, SdfCreate, SdfImportComponent,
-    SdfScaleTwoHand, SdfSetOperandTransform, SdfSetStep, SdfUpdate,
+    OperandIndex, SdfAddOperand, SdfCancelOperand, SdfComponentFromObject, SdfCopyFused,
+    SdfCopyOperand, SdfCreate, SdfImportComponent, SdfMoveFused, SdfScaleTwoHand,
+    SdfSetOperandTransform, SdfSetStep, SdfUpdate,
 };
 pub use error::SdfError;
 pub use mesh_sdf::mesh_to_sdf;

@@ -9,10 +9,12 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use crate::math::DVec3;
+use crate::id::ObjectId;
+use crate::math::{DAffine3, DQuat, DVec3};
 
 use super::attract::{AttractParams, Attractor};
 use super::curve::{fit_curve, FitMode};
+use super::frame::{stroke_in_held_frame, ModelingFrame};
 use super::network::{CurveNetwork, Piece};
 use super::surface::SurfaceWeights;
 use super::tools::{check_path, CurveSession, PullParams, SharpenLimits, SmoothParams, StopReason};
@@ -75,6 +77,41 @@ pub struct CurveDraw {
     /// Tracked samples (at least 4, finite, no consecutive duplicates).
     #[schemars(extend("x-unit" = "m"))]
     pub samples: Vec<[f64; 3]>,
+    /// Interpolate or approximate to a tolerance.
+    pub fit: FitMode,
+    /// Arc-length resampling spacing applied first, if any.
+    #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
+    pub resample: Option<f64>,
+    /// Closest approach under which an existing curve is intersected.
+    #[schemars(extend("x-unit" = "m"), range(min = 0.0))]
+    pub snap_tol: f64,
+}
+
+/// Draw a curve in the modeling frame held by the non-dominant hand
+/// (paper 3 §5.4): the network is held in the frame and moves with it, so
+/// each sample is taken in the frame as it was at that sample (see
+/// [`super::frame::stroke_in_held_frame`]); after the stroke the
+/// network's placement has moved with the frame. Holding the frame
+/// without drawing is `transform_by` of the network by the hand's motion.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveDrawInFrame {
+    /// The curve network object drawn into (held in the frame).
+    pub id: ObjectId,
+    /// Tracked samples of the drawing hand, model space (at least 4,
+    /// finite, no consecutive duplicates once in the frame).
+    #[schemars(extend("x-unit" = "m"))]
+    pub samples: Vec<[f64; 3]>,
+    /// The modeling frame held by the other hand: one for the whole
+    /// stroke (a frame fixed in place) or one per sample.
+    pub frames: Vec<ModelingFrame>,
+    /// Project each sample on its frame's drawing plane (local `z = 0`).
+    #[serde(default)]
+    pub onto_plane: bool,
+    /// Also draw the stroke's mirror image across the frame's symmetry
+    /// plane (local `x = 0`).
+    #[serde(default)]
+    pub mirror: bool,
     /// Interpolate or approximate to a tolerance.
     pub fit: FitMode,
     /// Arc-length resampling spacing applied first, if any.
@@ -237,6 +274,32 @@ impl CurveDraw {
         let work = (c.n() * net.curves.len()) as u64;
         net.add_curve(c, self.snap_tol)?;
         Ok(work)
+    }
+}
+
+impl CurveDrawInFrame {
+    /// Adds the stroke (and its mirror) to `net`, whose placement at the
+    /// stroke's start is `placement`. Returns the work done and the
+    /// frame's motion over the stroke (the placement moves by it).
+    pub fn apply_to(
+        &self,
+        net: &mut CurveNetwork,
+        placement: &DAffine3,
+    ) -> Result<(u64, Option<(DVec3, DQuat)>), StylingError> {
+        let held = stroke_in_held_frame(
+            &self.samples,
+            &self.frames,
+            placement,
+            self.onto_plane,
+            self.mirror,
+        )?;
+        let mut work = 0;
+        for stroke in std::iter::once(&held.local).chain(held.mirrored.as_ref()) {
+            let c = fit_curve(stroke, self.fit, self.resample)?;
+            work += (c.n() * (net.curves.len() + 1)) as u64;
+            net.add_curve(c, self.snap_tol)?;
+        }
+        Ok((work, held.motion))
     }
 }
 

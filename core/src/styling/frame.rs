@@ -25,13 +25,20 @@
 //!   `z = 0` plane as the drawing plane, its `x = 0` plane as a symmetry
 //!   plane.
 //!
-//! Frames are not stored in the network: after the ops move (issue 15) an
-//! object's `placement` is its frame, and a held frame's motion is a
-//! `transform_by` of the network's placement; until then [`carried`]
-//! moves the curves themselves.
+//! - [`stroke_in_held_frame`]: what the `curve_draw_in_frame` op does: the
+//!   network object is held in the frame, so its placement moves with the
+//!   frame during the stroke and each sample lands in the network's own
+//!   frame as it was placed at that sample.
+//!
+//! Frames are not stored in the network: a network object's `placement`
+//! is where its frame holds it, a held frame's motion without drawing is a
+//! `transform_by` of the network's placement, and `curve_draw_in_frame`
+//! moves the placement by the frame's motion over its stroke. [`carried`]
+//! moves the curves themselves (for hosts working without placements).
 //!
 //! [`carried`]: CurveNetwork::carried
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::math::{DAffine3, DQuat, DVec3};
@@ -40,10 +47,11 @@ use super::network::CurveNetwork;
 use super::StylingError;
 
 /// A rigid frame: origin and orientation in model space.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModelingFrame {
     /// Origin (model units).
+    #[schemars(extend("x-unit" = "m"))]
     pub origin: [f64; 3],
     /// Orientation quaternion `[x, y, z, w]` (normalized on use; must not
     /// be zero).
@@ -213,4 +221,84 @@ impl CurveNetwork {
     ) -> Result<CurveNetwork, StylingError> {
         self.transformed(&from.motion_to(to)?)
     }
+}
+
+/// A stroke drawn in a held modeling frame, taken into a network's own
+/// frame (what the `curve_draw_in_frame` op fits and adds).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeldStroke {
+    /// The stroke in the network's own frame.
+    pub local: Vec<[f64; 3]>,
+    /// Its mirror image across the frame's symmetry plane, in the
+    /// network's own frame, when asked for.
+    pub mirrored: Option<Vec<[f64; 3]>>,
+    /// The rigid motion of the frame over the stroke (`F_last ∘ F_0⁻¹`,
+    /// model space) as `(translation, rotation)`, or `None` when the frame
+    /// did not move (one frame given, or the last equal to the first).
+    pub motion: Option<(DVec3, DQuat)>,
+}
+
+/// The stroke `samples` (model space) drawn while the network placed at
+/// `placement` (its own frame to model space, at the stroke's start) is
+/// held in the modeling frame `frames` (one for the whole stroke, or one
+/// per sample): the network moves with the frame, so sample `i` lands at
+/// `P⁻¹ ∘ F_0 ∘ F_i⁻¹ (s_i)` in the network's own frame (the paper's
+/// drawing on a sheet turned by the other hand). With `onto_plane` each
+/// sample is first projected on its frame's drawing plane (local `z = 0`);
+/// with `mirror` the stroke's image across the frame's symmetry plane
+/// (local `x = 0`) is returned too. The network's placement after the
+/// stroke is `motion ∘ P`.
+pub fn stroke_in_held_frame(
+    samples: &[[f64; 3]],
+    frames: &[ModelingFrame],
+    placement: &DAffine3,
+    onto_plane: bool,
+    mirror: bool,
+) -> Result<HeldStroke, StylingError> {
+    if !placement.to_cols_array().iter().all(|v| v.is_finite())
+        || !(placement.matrix3.determinant().abs() > 1e-300)
+    {
+        return Err(StylingError::NonFinite("network placement"));
+    }
+    let (Some(first), Some(last)) = (frames.first(), frames.last()) else {
+        return Err(StylingError::BadParameter(
+            "give one modeling frame for the stroke or one per sample",
+        ));
+    };
+    let in_frame = stroke_in_frame(samples, frames)?;
+    let a = placement.inverse() * first.affine()?;
+    let flat = |p: &[f64; 3]| {
+        let mut l = DVec3::from_array(*p);
+        if onto_plane {
+            l.z = 0.0;
+        }
+        l
+    };
+    let local = in_frame
+        .iter()
+        .map(|p| a.transform_point3(flat(p)).to_array())
+        .collect();
+    let mirrored = mirror.then(|| {
+        in_frame
+            .iter()
+            .map(|p| {
+                let l = flat(p);
+                a.transform_point3(DVec3::new(-l.x, l.y, l.z)).to_array()
+            })
+            .collect()
+    });
+    let motion = if frames.len() == 1 || first == last {
+        None
+    } else {
+        let q0 = first.quat()?;
+        let q1 = last.quat()?;
+        let q = (q1 * q0.conjugate()).normalize();
+        let t = DVec3::from_array(last.origin) - q * DVec3::from_array(first.origin);
+        Some((t, q))
+    };
+    Ok(HeldStroke {
+        local,
+        mirrored,
+        motion,
+    })
 }

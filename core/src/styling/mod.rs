@@ -54,11 +54,12 @@ pub use attract::{AttractParams, Attractor};
 pub use budget::Budget;
 pub use curve::{fit_curve, fit_curve_within, FitMode, SplineCurve};
 pub use edits::{
-    CurveAttract, CurveDelete, CurveDraw, CurveFillAuto, CurveFillLoop, CurveId,
+    CurveAttract, CurveDelete, CurveDraw, CurveDrawInFrame, CurveFillAuto, CurveFillLoop, CurveId,
     CurveNetworkCreate, CurvePull, CurveSharpen, CurveSmooth, PatchId, SurfaceEquilibrium,
     SurfacePull, SurfaceSharpen, SurfaceSmooth,
 };
 pub use error::StylingError;
+pub use frame::{stroke_in_held_frame, HeldStroke, ModelingFrame};
 pub use network::{CurveNetwork, Node, Patch, Piece};
 
 #[cfg(test)]

@@ -181,3 +181,207 @@ fn drawing_plane_and_symmetry_plane() {
     );
     assert!(project_to_drawing_plane(&s, &zero).is_err());
 }
+
+mod op {
+    //! The `curve_draw_in_frame` op: through the log, replayed, undone.
+
+    use super::*;
+    use crate::doc::{
+        parse_script, LogError, ObjectId, ObjectKind, Op, OpError, OpLog, ScriptCommand,
+    };
+    use crate::styling::{CurveDrawInFrame, CurveNetwork};
+
+    fn network(log: &OpLog) -> (CurveNetwork, crate::math::Transform) {
+        let o = log.document().get(ObjectId(1)).unwrap();
+        match &o.kind {
+            ObjectKind::CurveNetwork(n) => (n.clone(), o.placement),
+            _ => unreachable!(),
+        }
+    }
+
+    /// An arc drawn in local coordinates, and the model-space samples the
+    /// hand produced while the frame moved (`frame(t)` at each sample).
+    fn held_arc(count: usize) -> (Vec<DVec3>, Vec<[f64; 3]>, Vec<ModelingFrame>) {
+        let local: Vec<DVec3> = (0..count)
+            .map(|i| {
+                let a = 2.0 * i as f64 / count as f64;
+                DVec3::new(0.05 + 0.1 * a.cos(), 0.1 * a.sin(), 0.02 * a)
+            })
+            .collect();
+        let frames: Vec<ModelingFrame> =
+            (0..count).map(|i| frame(i as f64 / count as f64)).collect();
+        let world = local
+            .iter()
+            .zip(&frames)
+            .map(|(p, f)| f.affine().unwrap().transform_point3(*p).to_array())
+            .collect();
+        (local, world, frames)
+    }
+
+    fn draw(world: &[[f64; 3]], frames: &[ModelingFrame], plane: bool, mirror: bool) -> Op {
+        Op::CurveDrawInFrame(CurveDrawInFrame {
+            id: ObjectId(1),
+            samples: world.to_vec(),
+            frames: frames.to_vec(),
+            onto_plane: plane,
+            mirror,
+            fit: FitMode::Interpolate,
+            resample: None,
+            snap_tol: 1e-3,
+        })
+    }
+
+    fn new_log() -> OpLog {
+        let mut log = OpLog::new();
+        log.apply(
+            serde_json::from_str(r#"{"op":"curve_network_create","resolution":8,"surface_n":6}"#)
+                .unwrap(),
+        )
+        .unwrap();
+        log
+    }
+
+    #[test]
+    fn a_stroke_on_the_held_frame_lands_in_it_and_the_network_moves_with_it() {
+        let mut log = new_log();
+        let (local, world, frames) = held_arc(40);
+        let before = log.document().content_hash();
+        log.apply(draw(&world, &frames, false, false)).unwrap();
+        let (net, placement) = network(&log);
+        // The network's curve is the arc as drawn on the frame, expressed
+        // where the frame held the network at the stroke's start (F_0).
+        let f0 = frames[0].affine().unwrap();
+        let want: Vec<[f64; 3]> = local
+            .iter()
+            .map(|p| f0.transform_point3(*p).to_array())
+            .collect();
+        let fit = fit_curve(&want, FitMode::Interpolate, None).unwrap();
+        let got = net.curve(0).unwrap();
+        assert_eq!(got.ctrl.len(), fit.ctrl.len());
+        for (a, b) in got.ctrl.iter().zip(&fit.ctrl) {
+            assert!(DVec3::from_array(*a).distance(DVec3::from_array(*b)) < 1e-12);
+        }
+        // The network moved with the frame: placed now, its last drawn
+        // point is exactly under the pen's last sample, and its first is
+        // where the frame carried the first sample.
+        let p = placement.to_affine().unwrap();
+        let last = p.transform_point3(DVec3::from_array(want[39]));
+        assert!(
+            last.distance(DVec3::from_array(world[39])) < 1e-12,
+            "{last}"
+        );
+        let motion = frames[0].motion_to(&frames[39]).unwrap();
+        let first = p.transform_point3(DVec3::from_array(want[0]));
+        assert!(first.distance(motion.transform_point3(DVec3::from_array(world[0]))) < 1e-12);
+        assert!(placement != crate::math::Transform::IDENTITY);
+        // Replayed: the same bits. Undone: the document before the op.
+        let hash = log.document().content_hash();
+        let replayed = OpLog::replay(log.ops().to_vec(), log.len()).unwrap();
+        assert_eq!(replayed.document().content_hash(), hash);
+        assert_eq!(network(&replayed).1, placement);
+        log.undo().unwrap();
+        assert_eq!(log.document().content_hash(), before);
+        assert_eq!(network(&log).1, crate::math::Transform::IDENTITY);
+        log.redo().unwrap();
+        assert_eq!(log.document().content_hash(), hash);
+        // The op is one `.jsonl` line and back.
+        let line = serde_json::to_string(&log.ops()[1]).unwrap();
+        let back = parse_script(&line).unwrap();
+        assert_eq!(back[0].command, ScriptCommand::Op(log.ops()[1].clone()));
+    }
+
+    #[test]
+    fn a_fixed_frame_keeps_the_placement_and_plane_and_mirror_hold() {
+        let mut log = new_log();
+        // The network was moved before: strokes land in its own frame.
+        log.apply(serde_json::from_str(r#"{"op":"set_transform","id":1,"transform":{"translate":[0.1,0.2,0.3],"rotate":[0,0,0.3826834323650898,0.9238795325112867],"scale":[2,2,2]}}"#).unwrap())
+            .unwrap();
+        let (_, p0) = network(&log);
+        let f = frame(0.4);
+        // A stroke off the drawing plane, on the +x side of the symmetry
+        // plane.
+        let world: Vec<[f64; 3]> = (0..30)
+            .map(|i| {
+                let a = 2.0 * i as f64 / 30.0;
+                let l = DVec3::new(0.25 + 0.1 * a.cos(), 0.1 * a.sin(), 0.01 * (i as f64).sin());
+                f.affine().unwrap().transform_point3(l).to_array()
+            })
+            .collect();
+        log.apply(draw(&world, &[f], true, true)).unwrap();
+        let (net, p1) = network(&log);
+        assert_eq!(p1, p0, "a frame fixed in place does not move the network");
+        assert_eq!(
+            net.curves.iter().flatten().count(),
+            2,
+            "the stroke and its mirror"
+        );
+        let to_frame = f.affine().unwrap().inverse() * p0.to_affine().unwrap();
+        let a = net.curve(0).unwrap();
+        let b = net.curve(1).unwrap();
+        for (ca, cb) in a.ctrl.iter().zip(&b.ctrl) {
+            let la = to_frame.transform_point3(DVec3::from_array(*ca));
+            let lb = to_frame.transform_point3(DVec3::from_array(*cb));
+            // On the drawing plane, and mirrored across the symmetry plane.
+            assert!(la.z.abs() < 1e-12 && lb.z.abs() < 1e-12, "{la} {lb}");
+            assert!((la.x + lb.x).abs() < 1e-12 && (la.y - lb.y).abs() < 1e-12);
+            assert!(la.x > 0.1, "the stroke sits on the +x side: {la}");
+        }
+        // Placed, the curve is the model-space stroke projected on the
+        // frame's plane.
+        let placed = p0.to_affine().unwrap();
+        let proj = project_to_drawing_plane(&world, &f).unwrap();
+        let fit = fit_curve(&proj, FitMode::Interpolate, None).unwrap();
+        for (ca, cf) in a.ctrl.iter().zip(&fit.ctrl) {
+            let m = placed.transform_point3(DVec3::from_array(*ca));
+            assert!(m.distance(DVec3::from_array(*cf)) < 1e-9, "{m}");
+        }
+    }
+
+    #[test]
+    fn bad_frames_are_typed_errors_that_change_nothing() {
+        let mut log = new_log();
+        let (_, world, frames) = held_arc(20);
+        let hash = log.document().content_hash();
+        let cases = [
+            (draw(&world, &frames[..3], false, false), "one per sample"),
+            (draw(&world, &[], false, false), "one per sample"),
+            (
+                draw(
+                    &world,
+                    &[ModelingFrame {
+                        origin: [0.0; 3],
+                        rotation: [0.0; 4],
+                    }],
+                    false,
+                    false,
+                ),
+                "zero quaternion",
+            ),
+        ];
+        for (op, says) in cases {
+            let e = log.apply(op).unwrap_err();
+            assert!(
+                matches!(&e, LogError::Op(OpError::Styling(StylingError::BadParameter(m))) if m.contains(says)),
+                "{e}"
+            );
+            assert_eq!(log.document().content_hash(), hash);
+        }
+        // Not a network: typed.
+        log.apply(
+            serde_json::from_str(r#"{"op":"add_solid","shape":{"kind":"sphere","radius":0.1}}"#)
+                .unwrap(),
+        )
+        .unwrap();
+        let mut op = draw(&world, &frames, false, false);
+        if let Op::CurveDrawInFrame(d) = &mut op {
+            d.id = ObjectId(2);
+        }
+        assert!(
+            matches!(
+                log.apply(op).unwrap_err(),
+                LogError::Op(OpError::WrongKind { .. })
+            ),
+            "wrong kind"
+        );
+    }
+}

@@ -52,6 +52,8 @@ pub struct OpOutcome {
 /// them), and a place to record work that meshing does not show.
 pub struct EditCx<'a> {
     doc: &'a Document,
+    /// The object edited (`None` for creations).
+    target: Option<ObjectId>,
     work: u64,
 }
 
@@ -60,6 +62,15 @@ impl EditCx<'_> {
     /// before this op.
     pub fn mesh(&self, id: ObjectId) -> Result<&TriMesh, OpError> {
         Ok(&self.doc.get(id)?.mesh)
+    }
+
+    /// The placement of the object being edited (its own frame to model
+    /// space; identity for creations).
+    pub fn target_placement(&self) -> Result<crate::math::Transform, OpError> {
+        match self.target {
+            Some(id) => Ok(self.doc.get(id)?.transform()),
+            None => Ok(crate::math::Transform::IDENTITY),
+        }
     }
 
     /// Records `amount` units of work beyond meshing (see
@@ -134,7 +145,11 @@ impl<T: ObjectEdit> Apply for Edit<T> {
     const KIND: &'static str = <T::Target as KindOf>::NAME;
     fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
         let mut target = doc.get_as::<T::Target>(self.id)?.clone();
-        let mut cx = EditCx { doc, work: 0 };
+        let mut cx = EditCx {
+            doc,
+            target: Some(self.id),
+            work: 0,
+        };
         self.edit.apply(&mut target, &mut cx)?;
         let work = cx.work;
         doc.add_work(work);
@@ -259,7 +274,11 @@ impl<T: JsonSchema> JsonSchema for Create<T> {
 impl<T: ObjectCreate> Apply for Create<T> {
     const KIND: &'static str = <T::Target as KindOf>::NAME;
     fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
-        let mut cx = EditCx { doc, work: 0 };
+        let mut cx = EditCx {
+            doc,
+            target: None,
+            work: 0,
+        };
         let kind = self.0.build(&mut cx)?;
         let work = cx.work;
         doc.add_work(work);
@@ -371,10 +390,22 @@ ops! {
     "sdf_import_component" => SdfImportComponent(Edit<sd::SdfImportComponent>),
     /// Change the grid step (re-fuses everything).
     "sdf_set_step" => SdfSetStep(Edit<sd::SdfSetStep>),
+    /// Move the fused result (a similarity; every fused operand moves and
+    /// the grid is rebuilt).
+    "sdf_move_fused" => SdfMoveFused(Edit<sd::SdfMoveFused>),
+    /// Copy the fused result as a new user component, queued as an operand
+    /// where the result is (moved by a transform).
+    "sdf_copy_fused" => SdfCopyFused(Edit<sd::SdfCopyFused>),
+    /// Make a user component from any closed object of the document,
+    /// optionally queued where the object is.
+    "sdf_component_from_object" => SdfComponentFromObject(Edit<sd::SdfComponentFromObject>),
     /// Create an empty curve network (styling).
     "curve_network_create" => CurveNetworkCreate(Create<st::CurveNetworkCreate>),
     /// Draw a curve into a network from tracked samples.
     "curve_draw" => CurveDraw(Edit<st::CurveDraw>),
+    /// Draw a curve in the modeling frame held by the other hand; the
+    /// network moves with the frame.
+    "curve_draw_in_frame" => CurveDrawInFrame(st::CurveDrawInFrame),
     /// Curve smoother held along a pointer path.
     "curve_smooth" => CurveSmooth(Edit<st::CurveSmooth>),
     /// Curve sharpener held along a pointer path.

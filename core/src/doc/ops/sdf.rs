@@ -32,5 +32,22 @@ volume_edits!(
     sdf::SdfCopyOperand,
     sdf::SdfUpdate,
     sdf::SdfImportComponent,
-    sdf::SdfSetStep
+    sdf::SdfSetStep,
+    sdf::SdfMoveFused,
+    sdf::SdfCopyFused
 );
+
+/// The object's mesh is read from the document before the op, taken into
+/// the volume's own frame (its placement inverted).
+impl ObjectEdit for sdf::SdfComponentFromObject {
+    type Target = SdfVolume;
+    const ID_FIELD: &'static str = "volume";
+    fn apply(&self, v: &mut SdfVolume, cx: &mut EditCx<'_>) -> Result<(), OpError> {
+        let placement = cx.target_placement()?.to_affine()?;
+        let mesh = cx.mesh(self.object)?;
+        let work = mesh.triangles.len() as u64;
+        self.apply_to(v, mesh, &placement)?;
+        cx.add_work(work);
+        Ok(())
+    }
+}

@@ -1,8 +1,10 @@
 //! The styling ops (paper 3): the payloads of [`crate::styling::edits`]
 //! applied to a document's [`CurveNetwork`].
 
-use super::{EditCx, ObjectCreate, ObjectEdit};
-use crate::doc::OpError;
+use super::object::compose;
+use super::{Apply, EditCx, ObjectCreate, ObjectEdit, OpOutcome};
+use crate::doc::{Document, KindOf, OpError};
+use crate::math::Transform;
 use crate::styling::{self as st, CurveNetwork};
 
 impl ObjectCreate for st::CurveNetworkCreate {
@@ -38,3 +40,27 @@ network_edits!(
     st::SurfaceSharpen => |op, net| op.0.apply_to(net, true),
     st::SurfacePull => |op, net| op.apply_to(net),
 );
+
+/// Drawing in the held modeling frame changes the network's curves and its
+/// placement (the network moves with the frame), so it is a document op
+/// rather than an [`ObjectEdit`]; both land together or not at all (the
+/// log applies ops to a copy).
+impl Apply for st::CurveDrawInFrame {
+    const KIND: &'static str = CurveNetwork::NAME;
+    fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
+        let placement = doc.get(self.id)?.transform();
+        let mut net = doc.get_as::<CurveNetwork>(self.id)?.clone();
+        let (work, motion) = self.apply_to(&mut net, &placement.to_affine()?)?;
+        doc.add_work(work);
+        doc.replace(self.id, net.into_kind())?;
+        if let Some((t, q)) = motion {
+            let m = Transform {
+                translate: t.to_array(),
+                rotate: q.to_array(),
+                scale: [1.0; 3],
+            };
+            doc.set_placement(self.id, compose(&m, &placement)?)?;
+        }
+        Ok(OpOutcome::default())
+    }
+}

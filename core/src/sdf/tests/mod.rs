@@ -1,5 +1,6 @@
 mod library;
 mod mc;
 mod mesh_sdf;
+mod reuse_ops;
 mod scenes;
 mod volume;
