@@ -154,7 +154,10 @@ def cases():
     (trace text), `info` (a usda file or text), `import` (usda text)."""
     far = [0.0, 0.0, 0.0]
     create, draw = curve_base()
-    ring = [[0.1 * math.cos(2 * math.pi * i / 1e5), 0.1 * math.sin(2 * math.pi * i / 1e5), 0.0] for i in range(100_000)]
+    ring = [
+        [0.1 * math.cos(2 * math.pi * i / 1e5), 0.1 * math.sin(2 * math.pi * i / 1e5), 0.0]
+        for i in range(100_000)
+    ]
     yield "gc resolution 4096x4096", True, "apply", ABUSE / "gc_resolution_4096.jsonl"
     yield "gc resolution 4096x4", True, "apply", gc_with(resolution=(4096, 4))
     yield "gc resolution 4x4096", True, "apply", gc_with(resolution=(4, 4096))
@@ -174,24 +177,52 @@ def cases():
         "gc 1024-gon sections at 4096x1000",
         False,
         "apply",
-        gc_with(sections=4, resolution=(4096, 1000), profile=lambda i: {"template": "polygon", "sides": 1024, "radius": 0.04}),
+        gc_with(
+            sections=4,
+            resolution=(4096, 1000),
+            profile=lambda i: {"template": "polygon", "sides": 1024, "radius": 0.04},
+        ),
     )
     ins = mug_gc()
     yield (
         "gc_insert_section x300",
         False,
         "apply",
-        [ins] + [{"op": "gc_insert_section", "id": 1, "part": 0, "v": 0.5 + 0.4 * (i + 1) / 301} for i in range(300)],
+        [ins]
+        + [
+            {"op": "gc_insert_section", "id": 1, "part": 0, "v": 0.5 + 0.4 * (i + 1) / 301}
+            for i in range(300)
+        ],
     )
     yield "curve_draw resample 1e-9", True, "apply", ABUSE / "curve_draw_resample_tiny.jsonl"
     yield "curve_draw sample 1e12 m away", True, "apply", ABUSE / "curve_draw_far_sample.jsonl"
-    yield "curve_draw sample 9999 m away, resample 1 mm", True, "apply", curve_case(samples=draw["samples"] + [[9999.0, 0.0, 0.0]], resample=0.001)
+    yield (
+        "curve_draw sample 9999 m away, resample 1 mm",
+        True,
+        "apply",
+        curve_case(samples=draw["samples"] + [[9999.0, 0.0, 0.0]], resample=0.001),
+    )
     yield "curve_draw samples +-1e200", True, "apply", ABUSE / "styling_curve_huge_sample.jsonl"
     yield "curve_draw 1e5 samples", True, "apply", curve_case(samples=ring, resample=None)
     yield "curve_draw 1e5 samples, resample 1e-4", False, "apply", curve_case(samples=ring, resample=1e-4)
-    yield "replay curve trace at model scale 1e-9", False, "replay", trace_at_scale("curve_network.trace.jsonl", 1e-9)
-    yield "replay curve trace at model scale 1e-4", False, "replay", trace_at_scale("curve_network.trace.jsonl", 1e-4)
-    yield "replay curve trace at model scale 1e4", False, "replay", trace_at_scale("curve_network.trace.jsonl", 1e4)
+    yield (
+        "replay curve trace at model scale 1e-9",
+        False,
+        "replay",
+        trace_at_scale("curve_network.trace.jsonl", 1e-9),
+    )
+    yield (
+        "replay curve trace at model scale 1e-4",
+        False,
+        "replay",
+        trace_at_scale("curve_network.trace.jsonl", 1e-4),
+    )
+    yield (
+        "replay curve trace at model scale 1e4",
+        False,
+        "replay",
+        trace_at_scale("curve_network.trace.jsonl", 1e4),
+    )
     yield "replay sculpt trace at model scale 1e-4", False, "replay", trace_at_scale("bust.trace.jsonl", 1e-4)
     yield "sculpt max_edge_rel 1e-4", True, "apply", ABUSE / "sculpt_small_max_edge.jsonl"
     yield "sculpt max_edge_rel 1e-3 (the floor)", True, "apply", sculpt_case(max_edge_rel=1e-3)
@@ -329,7 +360,15 @@ def main():
         elif kind == "import":
             inp = stem.with_suffix(".usda")
             inp.write_text(payload)
-            argv = [exe, "import", str(inp), "--as", "component", "--into", str(stem.with_suffix(".doc.usda"))]
+            argv = [
+                exe,
+                "import",
+                str(inp),
+                "--as",
+                "component",
+                "--into",
+                str(stem.with_suffix(".doc.usda")),
+            ]
         else:
             raise ValueError(kind)
         outcome, secs, rss = run(argv, limit, a.timeout)
