@@ -105,7 +105,9 @@ pub struct GcAddChild {
     #[serde(default = "default_tolerance")]
     #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
     pub end_tolerance: f64,
-    /// Key sections, `v` in `[0, 1]` along the spine.
+    /// Key sections, `v` in `[0, 1]` along the spine (2 to 256: see
+    /// `gc::budget`).
+    #[schemars(length(min = 2, max = 256))]
     pub sections: Vec<SectionSpec>,
     /// Shape type.
     #[serde(default = "default_shape")]

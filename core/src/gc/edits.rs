@@ -88,7 +88,8 @@ pub struct GcCreate {
     /// Normal of the spine plane.
     #[schemars(with = "[f64; 3]")]
     pub plane_normal: DVec3,
-    /// Key sections (at least 2).
+    /// Key sections (2 to 256: see `gc::budget`).
+    #[schemars(length(min = 2, max = 256))]
     pub sections: Vec<SectionSpec>,
     /// Shape type.
     #[serde(default = "default_shape")]

@@ -109,6 +109,19 @@ pub enum GcError {
         /// Samples along the spine.
         v: u32,
     },
+    /// The GC would take more memory or work than the budget allows
+    /// ([`super::budget`]): reduce the parameter named.
+    #[error("{parameter}: {what} would be {estimate:e}, over the limit of {limit:e}")]
+    OverBudget {
+        /// The op parameter that sized the request.
+        parameter: &'static str,
+        /// What was estimated.
+        what: &'static str,
+        /// The estimate.
+        estimate: f64,
+        /// The limit.
+        limit: f64,
+    },
     /// A NURBS construction failed.
     #[error(transparent)]
     Nurbs(#[from] NurbsError),

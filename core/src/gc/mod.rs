@@ -11,6 +11,9 @@
 //! section) are plain values the document applies to the object kind
 //! [`GcAssembly`].
 //!
+//! [`budget`] bounds the sections, skinning work and mesh grid of one GC
+//! (issue 22); [`Gc::validate`] applies it.
+//!
 //! Choices: sections are stored in their local frames (profile, scale,
 //! twist, spine parameter) and placed at evaluation, so spine edits
 //! re-frame them, as the paper's bend does; the `v`-interpolation is
@@ -20,6 +23,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod assembly;
+pub mod budget;
 mod edit;
 pub mod edits;
 mod error;

@@ -13,7 +13,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::{GcError, KeySection};
+use super::{budget, GcError, KeySection};
 use crate::math::{rmf_step, Frame};
 use crate::nurbs::{interpolate, skin, NurbsCurve, NurbsSurface, ParamMethod, SkinV};
 
@@ -257,10 +257,12 @@ impl Gc {
         if k < 2 {
             return Err(GcError::TooFewSections { got: k });
         }
+        budget::check_sections(k)?;
         let (a, b) = self.spine.curve.domain();
+        let mut profiles = Vec::with_capacity(k);
         for (i, s) in self.sections.iter().enumerate() {
             s.validate()?;
-            s.profile.curve()?;
+            profiles.push(s.profile.curve()?);
             let lo = if i == 0 { a } else { self.sections[i - 1].v };
             let hi = if i + 1 == k {
                 b
@@ -278,7 +280,7 @@ impl Gc {
                 });
             }
         }
-        Ok(())
+        budget::check_cost(&profiles, self.resolution)
     }
 
     /// The frames along the spine.

@@ -89,6 +89,19 @@ pub enum SculptError {
         /// The limit.
         limit: u64,
     },
+    /// A stroke would take more memory or work than the budget allows
+    /// ([`super::budget`]): reduce or fix the parameter named.
+    #[error("{field}: {what} would be {estimate:e}, over the limit of {limit:e}")]
+    OverBudget {
+        /// The parameter that sized the request.
+        field: String,
+        /// What was estimated.
+        what: &'static str,
+        /// The estimate (may be infinite).
+        estimate: f64,
+        /// The limit.
+        limit: f64,
+    },
     /// The half-edge structure failed its validity check (an internal
     /// invariant; reported rather than panicking).
     #[error("half-edge mesh invalid: {0}")]

@@ -13,6 +13,8 @@
 //!   its region's adaptation is in `region_adapt` (§5.3), its parallel
 //!   passes in `par`.
 //! - [`stroke`]: strokes as whole paths or sample by sample (§4.1).
+//! - [`budget`]: the memory and work a stroke may ask for (issue 22),
+//!   estimated before the first frame and backed by a face limit.
 //! - [`render`]: the changed-region API: slot-indexed render buffers a
 //!   host updates each frame from what the frame changed (§5.2).
 //! - [`base`]: base meshes (geodesic sphere, box, slab).
@@ -49,6 +51,7 @@
 pub mod adapt;
 pub mod base;
 pub mod brush;
+pub mod budget;
 mod error;
 pub mod grid;
 pub mod halfedge;

@@ -245,7 +245,7 @@ impl SculptStroke {
         // twice the vertices within reach instead of about three times.
         let cell = 0.25 * (settings.brush_size() + settings.influence) / scale;
         let mut sculptor = Sculptor::new(target.surface.clone(), cell);
-        run_stroke(&mut sculptor, &settings.brush, settings, scale, &poses);
+        run_stroke(&mut sculptor, &settings.brush, settings, scale, &poses)?;
         target.surface = sculptor.into_mesh();
         Ok(())
     }

@@ -16,6 +16,10 @@
 //!
 //! Hence the walk makes exactly the edits of the plain sequential scan, on
 //! any number of threads.
+//!
+//! Splitting stops once the mesh has the sculptor's face limit
+//! ([`super::budget::MAX_TRIANGLES`]) and flags the sculptor over budget
+//! (the stroke then fails; the count is deterministic, so replays agree).
 
 use glam::DVec3;
 
@@ -121,6 +125,10 @@ impl Sculptor {
                 want
             };
             if need {
+                if self.mesh.face_count() >= self.face_limit {
+                    self.over_budget = true;
+                    break;
+                }
                 self.split_face(face, dirty, &mut created, &mut queue, stats);
             }
         }
@@ -129,7 +137,14 @@ impl Sculptor {
         while i < queue.len() {
             let face = queue[i];
             i += 1;
+            if self.over_budget {
+                break;
+            }
             if self.wants_split(face, max2, lo, hi) {
+                if self.mesh.face_count() >= self.face_limit {
+                    self.over_budget = true;
+                    break;
+                }
                 self.split_face(face, dirty, &mut created, &mut queue, stats);
             }
         }

@@ -110,6 +110,11 @@ pub struct Sculptor {
     /// Faces removed since the last `sync_render`.
     pub(super) removed_faces: Vec<FaceId>,
     id_scratch: Vec<u32>,
+    /// Faces past which refinement stops and the stroke fails
+    /// ([`super::budget::MAX_TRIANGLES`] unless set).
+    pub(super) face_limit: usize,
+    /// Whether a frame stopped refining at `face_limit`.
+    pub(super) over_budget: bool,
 }
 
 impl Sculptor {
@@ -152,7 +157,22 @@ impl Sculptor {
             change_stamp: 1,
             removed_faces: Vec::new(),
             id_scratch: Vec::new(),
+            face_limit: super::budget::MAX_TRIANGLES,
+            over_budget: false,
         }
+    }
+
+    /// Sets the face count past which refinement stops (see
+    /// [`super::budget`]); a frame that reaches it leaves
+    /// [`Self::over_budget`] set.
+    pub fn set_face_limit(&mut self, faces: usize) {
+        self.face_limit = faces;
+    }
+
+    /// Whether a frame stopped refining at the face limit (the surface is
+    /// then valid but under-refined: a stroke fails).
+    pub fn over_budget(&self) -> bool {
+        self.over_budget
     }
 
     /// The surface.
@@ -167,6 +187,7 @@ impl Sculptor {
 
     /// Starts a new stroke (resets which vertices count as touched).
     pub fn begin_stroke(&mut self) {
+        self.over_budget = false;
         self.stroke_stamp = self.stroke_stamp.wrapping_add(1).max(1);
         if self.stroke_stamp == 1 {
             self.stroke_mark.fill(0);

@@ -61,7 +61,8 @@ pub struct StrokeSettings {
     /// Warp operator.
     pub warp: Warp,
     /// Max edge length as a fraction of the brush size (scaled bound
-    /// radius of the brush shape).
+    /// radius of the brush shape); at least 1e-3 (see `sculpt::budget`).
+    #[schemars(range(min = 0.001))]
     pub max_edge_rel: f64,
     /// Min edge length as a fraction of the brush size; must be below half
     /// of `max_edge_rel`, so a bisected edge is never collapsed again.
@@ -75,6 +76,13 @@ impl StrokeSettings {
         positive("brush_scale", self.brush_scale)?;
         positive("influence", self.influence)?;
         positive("max_edge_rel", self.max_edge_rel)?;
+        if self.max_edge_rel < super::budget::MIN_MAX_EDGE_REL {
+            return Err(SculptError::OutOfRange {
+                field: "max_edge_rel".into(),
+                value: self.max_edge_rel,
+                range: "at least 1e-3 (finer edges than a thousandth of the brush size ask for billions of triangles)",
+            });
+        }
         positive("min_edge_rel", self.min_edge_rel)?;
         if let Warp::Explode { delta } = self.warp {
             check_finite("warp.delta", &[delta])?;
@@ -156,17 +164,29 @@ impl<'a> StrokeFrames<'a> {
     }
 }
 
-/// Applies a whole stroke of model-space poses and pressures.
+/// Applies a whole stroke of model-space poses and pressures, after
+/// checking its estimated cost ([`super::budget::check_stroke`], with
+/// `settings` holding the resolved brush `shape`); fails with
+/// [`SculptError::OverBudget`] before any frame when the estimate is over
+/// the budget, or after the frame that reached the sculptor's face limit
+/// (the sculptor's surface is then valid but the stroke unfinished).
 pub fn run_stroke(
     sculptor: &mut Sculptor,
     shape: &BrushShape,
     settings: &StrokeSettings,
     model_scale: f64,
     poses: &[(BrushPose, f64)],
-) -> FrameStats {
+) -> Result<FrameStats, SculptError> {
+    super::budget::check_stroke(settings, model_scale, poses)?;
+    let limit = super::budget::face_limit(sculptor.mesh().face_count());
+    sculptor.set_face_limit(limit);
     let mut frames = StrokeFrames::begin(sculptor, shape, settings, model_scale);
     for &(pose, pressure) in poses {
         frames.frame(sculptor, pose, pressure);
+        if sculptor.over_budget() {
+            let faces = sculptor.mesh().face_count();
+            return Err(super::budget::too_many_faces(faces, limit));
+        }
     }
-    frames.total()
+    Ok(frames.total())
 }

@@ -270,7 +270,7 @@ fn full_pressure_drag_moves_the_inner_region_rigidly() {
         .collect();
     assert!(inner.len() > 20);
     let mut sc = Sculptor::new(m, 0.7);
-    run_stroke(&mut sc, &shape, &s, 1.0, &poses);
+    run_stroke(&mut sc, &shape, &s, 1.0, &poses).unwrap();
     let out = sc.mesh();
     let mut checked = 0;
     for (v, x) in &inner {
@@ -619,7 +619,7 @@ proptest! {
                 poses.push((BrushPose { position: p, rotation: q, scale: brush_scale }, *pr));
             }
             let before = sc.mesh().clone();
-            run_stroke(&mut sc, &brush, &s, 1.0, &poses);
+            run_stroke(&mut sc, &brush, &s, 1.0, &poses).unwrap();
             check_stroke(&before, &sc, &brush, warp, h, &poses, max_len, min_len)?;
         }
     }
@@ -747,7 +747,14 @@ fn absurd_sizes_are_refused_or_handled_without_panics() {
         scale: 1.0,
     };
     let mut sc = Sculptor::new(m, 0.5);
-    run_stroke(&mut sc, &shape, &s, 1.0, &[(pose, 0.5)]);
+    // Refused by the stroke budget before any frame (issue 22), the
+    // surface untouched.
+    let before = sc.mesh().to_trimesh();
+    assert!(matches!(
+        run_stroke(&mut sc, &shape, &s, 1.0, &[(pose, 0.5)]),
+        Err(SculptError::OverBudget { ref field, .. }) if field == "max_edge_rel"
+    ));
+    assert_eq!(sc.mesh().to_trimesh(), before);
     assert_closed(sc.mesh());
     let mut log = OpLog::new();
     let huge = Op::SculptCreate(Create(SculptCreate {
@@ -774,4 +781,50 @@ fn absurd_sizes_are_refused_or_handled_without_panics() {
         log.apply(huge),
         Err(LogError::Op(OpError::Sculpt(SculptError::TooLarge { .. })))
     ));
+}
+
+/// The hard face limit behind the stroke estimate (issue 22): a frame that
+/// reaches it stops refining, leaves a valid closed surface and flags the
+/// sculptor; the next stroke starts unflagged.
+#[test]
+fn refinement_stops_at_the_face_limit_with_a_valid_surface() {
+    let m = sphere_he(3);
+    let start = m.face_count();
+    let shape = BrushShape::Sphere { radius: 0.5 };
+    let mut s = settings(shape.clone(), 0.5, Warp::Drag);
+    s.max_edge_rel = 0.02;
+    s.min_edge_rel = 0.005;
+    let mut sc = Sculptor::new(m, 0.5);
+    sc.set_face_limit(start + 200);
+    let mut frames = super::stroke::StrokeFrames::begin(&mut sc, &shape, &s, 1.0);
+    let pose = |z: f64| BrushPose {
+        position: DVec3::new(0.0, 0.0, z),
+        rotation: DQuat::IDENTITY,
+        scale: 1.0,
+    };
+    frames.frame(&mut sc, pose(1.0), 1.0);
+    frames.frame(&mut sc, pose(1.1), 1.0);
+    assert!(sc.over_budget());
+    // A conforming split adds at most a few faces past the limit.
+    let faces = sc.mesh().face_count();
+    assert!(
+        faces >= start + 200 && faces <= start + 216,
+        "{start} -> {faces}"
+    );
+    assert_closed(sc.mesh());
+    sc.begin_stroke();
+    assert!(!sc.over_budget());
+    // run_stroke turns the flag into the typed error (here the estimate
+    // passes and the limit of a whole stroke is far away: it succeeds).
+    let mut sc = Sculptor::new(sphere_he(3), 0.5);
+    s.max_edge_rel = 0.2;
+    s.min_edge_rel = 0.05;
+    let stats = run_stroke(
+        &mut sc,
+        &shape,
+        &s,
+        1.0,
+        &[(pose(1.0), 1.0), (pose(1.1), 1.0)],
+    );
+    assert!(stats.unwrap().splits > 0);
 }
