@@ -87,7 +87,12 @@ def curve_case(samples=None, resample=None, fit=None):
 
 
 def sculpt_base():
-    return [o for o in ops_of(ABUSE / "sculpt_far_sample.jsonl")]
+    """The far-sample reproducer with its last sample brought back next to
+    the one before (a sane drag), so each case varies one thing only."""
+    create, stroke = ops_of(ABUSE / "sculpt_far_sample.jsonl")
+    samples = stroke["samples"]
+    samples[-1]["position"] = [p + 0.01 for p in samples[-2]["position"]]
+    return [create, stroke]
 
 
 def sculpt_case(max_edge_rel=None, min_edge_rel=None, last=None, warp=None, samples=None):
@@ -161,7 +166,8 @@ def cases():
     yield "gc resolution 4096x4096", True, "apply", ABUSE / "gc_resolution_4096.jsonl"
     yield "gc resolution 4096x4", True, "apply", gc_with(resolution=(4096, 4))
     yield "gc resolution 4x4096", True, "apply", gc_with(resolution=(4, 4096))
-    yield "gc resolution 2000x2000 (under the grid limit)", False, "apply", gc_with(resolution=(2000, 2000))
+    yield "gc resolution 2000x2000", True, "apply", gc_with(resolution=(2000, 2000))
+    yield "gc resolution 1000x1000 (under the grid limit)", False, "apply", gc_with(resolution=(1000, 1000))
     yield "gc resolution 2048x2048", True, "apply", gc_with(resolution=(2048, 2048))
     yield "gc 256 sections (the limit)", False, "apply", gc_with(sections=256)
     yield "gc 257 sections", True, "apply", gc_with(sections=257)

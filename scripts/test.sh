@@ -28,6 +28,8 @@ cargo build --release -q -p shapewright-xr
 USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q tests/python tests/usd tests/blender
 # blender (issue 20): the extension in the newest bpy too (5.2.3, Python
 # 3.13, own venv): a smoke scenario with the zip the pytest run built.
+echo "== abuse sweep (quick subset; the full sweep is run by hand)"
+.venv/bin/python scripts/abuse_sweep.py --quick --bin target/release/shapewright-xr
 echo "== blender newest"
 bash scripts/blender_newest.sh
 # io: every reader fuzzed for a fixed budget over its seed corpus (issue 22);

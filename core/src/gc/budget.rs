@@ -18,9 +18,12 @@
 //!   sample), the points at most `resolution.u + ` the distinct knots (every
 //!   knot is a sample). A shell or container has two walls. Each grid point
 //!   costs about 150 bytes through sampling, meshing, validation and the
-//!   assembly's union; [`MAX_GRID_POINTS`] (4 Mi, about 8 M triangles a
-//!   wall) keeps one GC under about 1.5 GB. The accepted 4096 × 4096
-//!   resolution (16.8 M points a wall) aborted with an allocation failure.
+//!   assembly's union; [`MAX_GRID_POINTS`] (1 Mi, about 2 M triangles a
+//!   wall, far past what a printer resolves on a hand-sized part) keeps
+//!   one GC under about 400 MB and its export under a minute. The accepted
+//!   4096 × 4096 resolution (16.8 M points a wall) aborted with an
+//!   allocation failure; a first limit of 4 Mi still let 2000 × 2000
+//!   through, which took over 60 s and 4.9 GB to export (abuse sweep).
 //!
 //! Each resolution axis stays declared as 4..=4096 in the op schema (a
 //! long cable wants many rings and few points around); the product is what
@@ -38,7 +41,7 @@ pub const MAX_SECTIONS: usize = 256;
 /// Most flops the skin's `v` solves may take (about a second).
 pub const MAX_SKIN_FLOPS: f64 = 2e9;
 /// Most side-surface grid points one wall of a GC may have.
-pub const MAX_GRID_POINTS: f64 = (1u64 << 22) as f64;
+pub const MAX_GRID_POINTS: f64 = (1u64 << 20) as f64;
 
 fn over(parameter: &'static str, what: &'static str, estimate: f64, limit: f64) -> GcError {
     GcError::OverBudget {
