@@ -5,11 +5,16 @@ Rust example print_validate) against manifold3d's import of the same STL
 files in the same run (its manifold check; it has no self-intersection
 search, so the ratio compares our full check with its partial one).
 
-`run(runs, threads, bin_path)` returns one row per mesh for
-scripts/bench/run_all.py: ours is the example's median (it prints min and
-max, not quartiles: they are in the note), the peer's median and
-25th-75th percentiles; ours on `threads` (default all CPUs), manifold3d on
-its default (oneTBB, all CPUs).
+Also the teapot's whole `print_document` (union + checks at float32) and
+the edit-time fold check (issue 17: GC and sculpt edits that would fold
+their object are refused) per edit on the teapot, chair and bust scripts
+and the teapot and bust traces, beside each edit's apply time.
+
+`run(runs, threads, bin_path)` returns one row per workload for
+scripts/bench/run_all.py: `ours` is [median, min, max] (the example
+prints min and max, not quartiles; the note says so), the peer's median
+and 25th-75th percentiles; ours on `threads` (default all CPUs),
+manifold3d on its default (oneTBB, all CPUs).
 
 Usage: python scripts/bench/print.py [RUNS] [THREADS]   (needs manifold3d, numpy)
 """
@@ -41,28 +46,46 @@ def read_stl(path: Path):
     return verts.astype(np.float32), inv.reshape(-1, 3).astype(np.uint32)
 
 
+def build() -> str:
+    subprocess.run(
+        ["cargo", "build", "--release", "-q", "--workspace", "--example", "print_validate"],
+        cwd=ROOT,
+        check=True,
+    )
+    return str(
+        Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release" / "examples" / "print_validate"
+    )
+
+
 def run(runs: int = 5, threads: int | None = None, bin_path: str | None = None) -> list[dict]:
-    """Our full validation vs manifold3d's import of the same STL; rows for run_all.py."""
+    """One dict per row (the run_all.py contract: workload, unit, ours, ours_threads,
+    peer, peer_value, peer_threads, note, load_before, load_after)."""
     threads = threads or os.cpu_count() or 1
-    if bin_path is None:
-        subprocess.run(
-            ["cargo", "build", "--release", "-q", "-p", "shapewright", "--example", "print_validate"],
-            cwd=ROOT,
-            check=True,
-        )
-        bin_path = str(
-            Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-            / "release"
-            / "examples"
-            / "print_validate"
-        )
-    rows = []
+    bin_path = bin_path or build()
+    rows: list[dict] = []
     load_before = os.getloadavg()[0]
-    with tempfile.TemporaryDirectory() as d:
+    with tempfile.TemporaryDirectory(prefix="print_bench_") as d:
         out = subprocess.run(
             [bin_path, d, str(runs), str(threads)], check=True, capture_output=True, text=True
         )
         ours = json.loads(out.stdout)
+
+        def span(s):
+            return [s["median"], s["min"], s["max"]]
+
+        doc_ms = ours["teapot_print_document_ms"]
+        rows.append(
+            {
+                "workload": "print_document teapot (union + checks at float32)",
+                "unit": "ms",
+                "ours": [doc_ms] * 3,
+                "ours_threads": threads,
+                "peer": "",
+                "peer_value": None,
+                "peer_threads": "",
+                "note": "one run",
+            }
+        )
         for name in ("teapot", "sphere_1m"):
             o = ours[name]
             verts, tris = read_stl(Path(o["stl"]))
@@ -78,53 +101,50 @@ def run(runs: int = 5, threads: int | None = None, bin_path: str | None = None) 
                 {
                     "workload": f"printable validation {name} ({o['triangles']} tris)",
                     "unit": "ms",
-                    "ours": [v["median"]] * 3,
+                    "ours": span(v),
                     "ours_threads": threads,
                     "peer": "manifold3d import (manifold check only)",
                     "peer_value": [statistics.median(times), q[0], q[2]],
                     "peer_threads": os.cpu_count(),
-                    "note": f"ours: full check incl. exact self-intersection search, {runs} runs, min {v['min']:.2f} max {v['max']:.2f}; "
-                    f"topology only {o['topology_ms']['median']:.2f} ms",
-                    "load_before": load_before,
-                    "load_after": os.getloadavg()[0],
+                    "note": f"ours: full check incl. exact self-intersection search, {runs} runs, spread is min-max; "
+                    f"topology only {o['topology_ms']['median']:.2f} ms, "
+                    f"self-intersection {o['self_intersection_ms']['median']:.2f} ms",
                 }
             )
+        for source, e in ours["edit_check"].items():
+            if not e.get("edits"):
+                continue
+            c = e["check_over_apply"]
+            rows.append(
+                {
+                    "workload": f"edit-time fold check per GC/sculpt edit, {source}",
+                    "unit": "ms",
+                    "ours": span(e["check_ms"]),
+                    "ours_threads": threads,
+                    "peer": "",
+                    "peer_value": None,
+                    "peer_threads": "",
+                    "note": f"{e['edits']} edits, spread min-max; check/apply median {c['median']:.3f} (max {c['max']:.3f}), "
+                    f"apply median {e['apply_ms']['median']:.2f} ms",
+                }
+            )
+    load_after = os.getloadavg()[0]
+    for r in rows:
+        r["load_before"], r["load_after"] = load_before, load_after
     return rows
 
 
 def main() -> None:
     runs = int(sys.argv[1]) if len(sys.argv) > 1 else 5
-    threads = sys.argv[2] if len(sys.argv) > 2 else "2"
-    subprocess.run(
-        ["cargo", "build", "--release", "-q", "-p", "shapewright", "--example", "print_validate"],
-        cwd=ROOT,
-        check=True,
-    )
-    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-    exe = target / "release" / "examples" / "print_validate"
+    threads = int(sys.argv[2]) if len(sys.argv) > 2 else None
     print("load average:", os.getloadavg())
-    with tempfile.TemporaryDirectory() as d:
-        out = subprocess.run([str(exe), d, str(runs), threads], check=True, capture_output=True, text=True)
-        ours = json.loads(out.stdout)
-        print(
-            f"teapot print_document (union + checks): {ours['teapot_print_document_ms']} ms, {threads} threads"
-        )
-        for name in ("teapot", "sphere_1m"):
-            o = ours[name]
-            verts, tris = read_stl(Path(o["stl"]))
-            times = []
-            for _ in range(runs):
-                t = time.perf_counter()
-                m = manifold3d.Manifold(manifold3d.Mesh(vert_properties=verts, tri_verts=tris))
-                assert m.status() == manifold3d.Error.NoError
-                times.append((time.perf_counter() - t) * 1e3)
-            peer = statistics.median(times)
-            print(f"{name} ({o['triangles']} triangles):")
-            for key in ("topology_ms", "self_intersection_ms", "validate_ms", "at_float32_ms"):
-                s = o[key]
-                print(f"  ours {key[:-3]:<18} {s['median']:9.2f} ms (min {s['min']:.2f}, max {s['max']:.2f})")
-            print(f"  manifold3d import  {peer:9.2f} ms (min {min(times):.2f}, max {max(times):.2f})")
-            print(f"  ratio validate / manifold3d import: {o['validate_ms']['median'] / peer:.2f}")
+    for r in run(runs, threads):
+        med, lo, hi = r["ours"]
+        line = f"{r['workload']}: ours {med:.2f} ms [{lo:.2f}-{hi:.2f}], {r['ours_threads']} threads"
+        if r["peer_value"]:
+            p = r["peer_value"][0]
+            line += f"; {r['peer']} {p:.2f} ms, {r['peer_threads']} threads; ratio {med / p:.2f}"
+        print(line + f" ({r['note']})")
     print("load average:", os.getloadavg())
 
 

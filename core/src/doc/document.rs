@@ -8,11 +8,13 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use super::{ContentHasher, KindOf, Object, ObjectId, ObjectKind, OpError};
 use crate::math::Transform;
 use crate::mesh::{union, BooleanError, TriMesh};
+use crate::print::PrintSetup;
 
 /// Objects by stable id, plus the id counter. Cloning is cheap: objects
 /// are shared until one is changed.
 ///
-/// Serialized as `{"last_id": N, "objects": [{"id": 1, "kind": {...}}, ...]}`:
+/// Serialized as `{"last_id": N, "objects": [{"id": 1, "kind": {...}}, ...]}`
+/// (plus `"print": {...}` when the print setup is not the default):
 /// kinds only, never meshes. Deserializing re-evaluates every mesh (ops are
 /// deterministic, so the meshes come back bit-identical) and refuses ids that
 /// are zero, repeated, out of order or above `last_id`.
@@ -21,6 +23,7 @@ pub struct Document {
     objects: BTreeMap<ObjectId, Arc<Object>>,
     next_id: u32,
     work: u64,
+    print: PrintSetup,
 }
 
 impl Document {
@@ -148,6 +151,19 @@ impl Document {
             .ok_or(OpError::BadId(id))
     }
 
+    /// The document's print settings (wall thickness, self-intersection
+    /// policy).
+    pub fn print_setup(&self) -> &PrintSetup {
+        &self.print
+    }
+
+    /// Replaces the print settings (validated first).
+    pub fn set_print_setup(&mut self, setup: PrintSetup) -> Result<(), OpError> {
+        setup.validate()?;
+        self.print = setup;
+        Ok(())
+    }
+
     /// Work done on this document so far: triangles meshed by evaluations.
     /// Not content (not hashed, not saved); the log uses it to place
     /// checkpoints deterministically.
@@ -206,6 +222,15 @@ impl Document {
     pub fn content_hash(&self) -> u64 {
         let mut h = ContentHasher::new();
         h.u64(self.next_id as u64);
+        // Hashed only when changed, so older documents keep their hashes.
+        if !self.print.is_default() {
+            h.bytes(b"print");
+            h.bytes(
+                serde_json::to_string(&self.print)
+                    .unwrap_or_default()
+                    .as_bytes(),
+            );
+        }
         for (id, obj) in &self.objects {
             h.u64(id.0 as u64);
             hash_object(&mut h, obj);
@@ -260,6 +285,8 @@ fn place(local: &Arc<TriMesh>, t: &Transform) -> Result<Arc<TriMesh>, OpError> {
 #[derive(Serialize)]
 struct DocumentOut<'a> {
     last_id: u32,
+    #[serde(skip_serializing_if = "PrintSetup::is_default")]
+    print: PrintSetup,
     objects: Vec<ObjectOut<'a>>,
 }
 
@@ -281,6 +308,8 @@ fn is_identity(t: &Transform) -> bool {
 #[serde(deny_unknown_fields)]
 struct DocumentIn {
     last_id: u32,
+    #[serde(default)]
+    print: PrintSetup,
     objects: Vec<ObjectIn>,
 }
 
@@ -299,6 +328,7 @@ impl Serialize for Document {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         DocumentOut {
             last_id: self.next_id,
+            print: self.print,
             objects: self
                 .objects
                 .iter()
@@ -318,10 +348,15 @@ impl<'de> Deserialize<'de> for Document {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         use serde::de::Error;
         let input = DocumentIn::deserialize(d)?;
+        input
+            .print
+            .validate()
+            .map_err(|e| D::Error::custom(e.to_string()))?;
         let mut doc = Document {
             objects: BTreeMap::new(),
             next_id: input.last_id,
             work: 0,
+            print: input.print,
         };
         let mut prev = 0;
         for o in input.objects {

@@ -72,6 +72,11 @@ pub enum OpError {
     /// An assembly op failed, or the union of an assembly's parts.
     #[error(transparent)]
     Assembly(#[from] crate::assembly::AssemblyError),
+    /// The edit would make its object not printable (it would pass through
+    /// itself, refused under the document's self-intersection policy), or
+    /// a print setting is out of range.
+    #[error(transparent)]
+    Print(#[from] crate::print::PrintError),
 }
 
 impl OpError {

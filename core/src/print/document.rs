@@ -17,9 +17,11 @@ pub fn document_parts(doc: &Document) -> Vec<PrintPart<'_>> {
         .collect()
 }
 
-/// The printable model of `doc`: [`printable`] over [`document_parts`].
-/// Hosts write `Printable::mesh` in the format whose precision they passed
-/// in `settings`, or show the error as it is.
+/// The printable model of `doc`: [`printable`] over [`document_parts`],
+/// with the document's wall thickness ([`Document::print_setup`]) in place
+/// of `settings.wall_thickness`. Hosts write `Printable::mesh` in the
+/// format whose precision they passed in `settings`, or show the error as
+/// it is.
 pub fn print_document(doc: &Document, settings: &PrintSettings) -> Result<Printable, PrintError> {
-    printable(&document_parts(doc), settings)
+    printable(&document_parts(doc), &doc.print_setup().apply_to(settings))
 }

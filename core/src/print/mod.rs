@@ -13,8 +13,8 @@
 //!    USD snapshot holding 1e39).
 //! 2. **Make surfaces solid** ([`thicken`]): an open surface (any object
 //!    whose mesh has a boundary: curve-network patches, an open sculpt base)
-//!    becomes a shell of [`PrintSettings::wall_thickness`] (2 mm by
-//!    default), offset both ways from the surface (or inward or outward)
+//!    becomes a shell of the document's wall thickness ([`PrintSetup`], set
+//!    by the `set_wall_thickness` op; 2 mm by default), offset both ways from the surface (or inward or outward)
 //!    with walls along its open boundaries. A closed curve network prints
 //!    filled by default, or hollowed to the wall thickness
 //!    ([`ClosedSurfaces`]).
@@ -32,6 +32,13 @@
 //!    tolerance (at most 256 float32 steps of the largest coordinate: 3 µm
 //!    on a part 10 cm from the origin) and validated again; if it is still
 //!    invalid, the error names the objects whose triangles are at fault.
+//!
+//! **At edit time** ([`check_edit`]): GC and sculpt ops (the ones that can
+//! fold an object through itself) are checked after they apply; under the
+//! document's [`SelfIntersectionPolicy`] (`refuse` by default, set by the
+//! `set_self_intersection_policy` op) an edit that makes its object
+//! intersect itself is refused with [`PrintError::SelfIntersecting`]; under
+//! `flag` it applies and every print exit names the object.
 //!
 //! The result is the mesh as written (its coordinates are exactly the
 //! file's values), with a [`PrintReport`] listing what was done to each
@@ -53,7 +60,10 @@ mod thicken;
 
 pub use document::{document_parts, print_document};
 pub use error::PrintError;
-pub use pipeline::{check_part, printable, PrintPart, Printable};
+pub use pipeline::{check_edit, check_part, printable, PrintPart, Printable};
 pub use report::{PartReport, PrintReport, Treatment};
-pub use settings::{ClosedSurfaces, PrintSettings, ShellOffset};
+pub use settings::{
+    ClosedSurfaces, PrintSettings, PrintSetup, SelfIntersectionPolicy, SetSelfIntersectionPolicy,
+    SetWallThickness, ShellOffset, MAX_WALL_THICKNESS, MIN_WALL_THICKNESS,
+};
 pub use thicken::{thicken, ThickenError};

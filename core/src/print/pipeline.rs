@@ -166,6 +166,38 @@ pub fn check_part(part: &PrintPart, settings: &PrintSettings) -> Result<Treatmen
     Ok(treatment)
 }
 
+/// The edit-time check of GC and sculpt ops under
+/// [`super::SelfIntersectionPolicy::Refuse`]: `Err` when the edited
+/// object's mesh `after` passes through itself and its mesh `before` the
+/// edit did not (so an object that already intersected itself, made under
+/// `flag`, can still be edited, e.g. to unfold it). `before` is `None` for
+/// a creation. A mesh the exact search cannot check (non-finite or beyond
+/// its coordinate range) passes here; the print path refuses it.
+///
+/// Cost: one exact self-intersection search of the edited object's mesh
+/// (a BVH over its triangles; see [`crate::mesh::self_intersections`]),
+/// plus one of the old mesh only when the new one fails.
+pub fn check_edit(
+    label: &str,
+    before: Option<&TriMesh>,
+    after: &TriMesh,
+) -> Result<(), PrintError> {
+    let s = self_intersections(after);
+    if !s.checked || s.pairs.is_empty() {
+        return Ok(());
+    }
+    if let Some(b) = before {
+        let old = self_intersections(b);
+        if !old.checked || !old.pairs.is_empty() {
+            return Ok(());
+        }
+    }
+    Err(PrintError::SelfIntersecting {
+        object: label.to_string(),
+        pairs: s.pairs.len(),
+    })
+}
+
 /// Range checks, classification, thickening. `None` mesh: skipped.
 fn prepare(
     part: &PrintPart,

@@ -1,7 +1,9 @@
 //! [`PrintSettings`]: what the printable path needs to know besides the
-//! objects. The wall thickness becomes a document setting (an op sets it);
-//! until then hosts pass it here.
+//! objects; [`PrintSetup`]: the part of it the document stores (set by the
+//! `set_wall_thickness` and `set_self_intersection_policy` ops, saved with
+//! the document, replayed like any op).
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::PrintError;
@@ -40,6 +42,8 @@ pub enum ClosedSurfaces {
 pub struct PrintSettings {
     /// Wall thickness of thickened surfaces, in model units (metres):
     /// 0.002 (2 mm) by default, enough for FDM and resin printers.
+    /// [`super::print_document`] takes it from the document's
+    /// [`PrintSetup`]; [`super::printable`] uses it as given.
     pub wall_thickness: f64,
     /// Where the wall lies relative to an open surface.
     pub shell_offset: ShellOffset,
@@ -107,4 +111,102 @@ impl PrintSettings {
         }
         Ok(())
     }
+}
+
+/// Smallest wall thickness the document setting accepts, in metres
+/// (0.1 mm: about the finest wall a resin printer makes).
+pub const MIN_WALL_THICKNESS: f64 = 1e-4;
+/// Largest wall thickness the document setting accepts, in metres (10 cm:
+/// beyond it a "wall" is a block; a larger value is a unit mistake).
+pub const MAX_WALL_THICKNESS: f64 = 0.1;
+
+/// What an edit that would make its object pass through itself does (a GC
+/// spine bent tighter than its sections, a warp that folds a sculpt). The
+/// issue leaves the choice to the user; the default is [`Self::Refuse`],
+/// because a refused edit costs one undo-free retry while a folded object
+/// found at export time costs hunting back through the history.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum SelfIntersectionPolicy {
+    /// The edit is refused with [`super::PrintError::SelfIntersecting`]
+    /// naming the object; the document is unchanged. An object that
+    /// already intersected itself before the edit (loaded from a file made
+    /// under `flag`) may still be edited.
+    #[default]
+    Refuse,
+    /// The edit applies; the object is not printable until fixed, and
+    /// every print exit (`info`, export, save) names it and says why.
+    Flag,
+}
+
+/// The print settings a document stores. Default: 2 mm walls, folding
+/// edits refused.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PrintSetup {
+    /// Wall thickness of surfaces made solid for printing, in metres, in
+    /// [`MIN_WALL_THICKNESS`]..=[`MAX_WALL_THICKNESS`].
+    pub wall_thickness: f64,
+    /// What an edit that would fold its object does.
+    pub on_self_intersection: SelfIntersectionPolicy,
+}
+
+impl Default for PrintSetup {
+    fn default() -> Self {
+        Self {
+            wall_thickness: PrintSettings::default().wall_thickness,
+            on_self_intersection: SelfIntersectionPolicy::Refuse,
+        }
+    }
+}
+
+impl PrintSetup {
+    /// True for the default setup (documents that never changed it
+    /// serialize and hash as before it existed).
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// Refuses a wall thickness that is not finite or outside its range,
+    /// naming the field.
+    pub fn validate(&self) -> Result<(), PrintError> {
+        let t = self.wall_thickness;
+        if !(t.is_finite() && (MIN_WALL_THICKNESS..=MAX_WALL_THICKNESS).contains(&t)) {
+            return Err(PrintError::Settings {
+                field: "wall_thickness",
+                value: t,
+                reason: "must be between 0.0001 m (0.1 mm) and 0.1 m; the model is in metres (2 mm is 0.002)",
+            });
+        }
+        Ok(())
+    }
+
+    /// `settings` with this document's wall thickness.
+    pub fn apply_to(&self, settings: &PrintSettings) -> PrintSettings {
+        PrintSettings {
+            wall_thickness: self.wall_thickness,
+            ..*settings
+        }
+    }
+}
+
+/// Set the document's wall thickness for printing surfaces (curve
+/// networks' patches, open sculpts) as solids.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SetWallThickness {
+    /// The wall thickness in metres (2 mm is 0.002).
+    #[schemars(range(min = 0.0001, max = 0.1), extend("x-unit" = "m"))]
+    pub thickness: f64,
+}
+
+/// Choose what a GC or sculpt edit that would make its object pass
+/// through itself does: refuse it (default) or apply it and flag the
+/// object as not printable.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SetSelfIntersectionPolicy {
+    /// `refuse` (the edit fails, the document is unchanged) or `flag` (the
+    /// edit applies; printing names the object until it is fixed).
+    pub policy: SelfIntersectionPolicy,
 }

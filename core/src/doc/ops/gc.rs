@@ -1,6 +1,8 @@
 //! The generalized-cylinder ops (paper 1): `gc_create` and the part edits
 //! of [`crate::gc::edits`], and the assembly edits of
 //! [`crate::assembly::edit`], applied to a document's [`GcAssembly`].
+//! Every one is checked for folds after it applies (a spine bent tighter
+//! than its sections; see [`crate::print::check_edit`]).
 
 use super::{EditCx, ObjectCreate, ObjectEdit};
 use crate::assembly::{GcAddChild, GcCopy, GcEditPart, GcTransformPart};
@@ -9,6 +11,7 @@ use crate::gc::{self, GcAssembly};
 
 impl ObjectCreate for gc::GcCreate {
     type Target = GcAssembly;
+    const CHECK_FOLDS: bool = true;
     fn build(&self, _: &mut EditCx<'_>) -> Result<GcAssembly, OpError> {
         Ok(GcAssembly::single(gc::GcCreate::build(self)?))
     }
@@ -18,6 +21,7 @@ macro_rules! part_edits {
     ($($ty:ty),*) => {$(
         impl ObjectEdit for $ty {
             type Target = GcAssembly;
+            const CHECK_FOLDS: bool = true;
             fn apply(&self, asm: &mut GcAssembly, _: &mut EditCx<'_>) -> Result<(), OpError> {
                 Ok(gc::edit_part_gc(asm, self)?)
             }
@@ -42,6 +46,7 @@ macro_rules! assembly_edits {
     ($($ty:ty),*) => {$(
         impl ObjectEdit for $ty {
             type Target = GcAssembly;
+            const CHECK_FOLDS: bool = true;
             fn apply(&self, asm: &mut GcAssembly, _: &mut EditCx<'_>) -> Result<(), OpError> {
                 Ok(self.apply_to(asm)?)
             }

@@ -32,6 +32,7 @@ use crate::mesh::TriMesh;
 
 mod gc;
 pub mod object;
+mod print;
 mod sculpt;
 mod sdf;
 pub mod solid;
@@ -86,6 +87,10 @@ pub trait ObjectEdit {
     type Target: KindOf;
     /// The JSON field that names the object (`id`; SDF ops say `volume`).
     const ID_FIELD: &'static str = "id";
+    /// True for edits that can fold an object through itself (GC and
+    /// sculpt edits): after the edit, the object's mesh is checked under
+    /// the document's self-intersection policy ([`crate::print::check_edit`]).
+    const CHECK_FOLDS: bool = false;
     /// Edits `target` (a copy of the object's kind; stored only on success).
     fn apply(&self, target: &mut Self::Target, cx: &mut EditCx<'_>) -> Result<(), OpError>;
 }
@@ -94,6 +99,9 @@ pub trait ObjectEdit {
 pub trait ObjectCreate {
     /// The kind created.
     type Target: KindOf;
+    /// True for creations that can make an object passing through itself
+    /// (see [`ObjectEdit::CHECK_FOLDS`]).
+    const CHECK_FOLDS: bool = false;
     /// Builds the new object's kind.
     fn build(&self, cx: &mut EditCx<'_>) -> Result<Self::Target, OpError>;
 }
@@ -153,7 +161,11 @@ impl<T: ObjectEdit> Apply for Edit<T> {
         self.edit.apply(&mut target, &mut cx)?;
         let work = cx.work;
         doc.add_work(work);
+        let before = T::CHECK_FOLDS.then(|| doc.get(self.id).map(|o| o.mesh.clone()));
         doc.replace(self.id, target.into_kind())?;
+        if let Some(before) = before {
+            print::check_fold(doc, self.id, Some(&before?))?;
+        }
         Ok(OpOutcome::default())
     }
 }
@@ -283,6 +295,9 @@ impl<T: ObjectCreate> Apply for Create<T> {
         let work = cx.work;
         doc.add_work(work);
         let id = doc.insert(kind.into_kind())?;
+        if T::CHECK_FOLDS {
+            print::check_fold(doc, id, None)?;
+        }
         Ok(OpOutcome { created: Some(id) })
     }
 }
@@ -331,7 +346,7 @@ macro_rules! ops {
     };
 }
 
-use crate::{assembly as asm, gc as g, sculpt as sc, sdf as sd, styling as st};
+use crate::{assembly as asm, gc as g, print as pr, sculpt as sc, sdf as sd, styling as st};
 
 ops! {
     /// Create a parametric solid.
@@ -437,4 +452,9 @@ ops! {
     "gc_edit_part" => GcEditPart(Edit<asm::GcEditPart>),
     /// Give an object a name (hosts show it; it does not change geometry).
     "rename_object" => RenameObject(RenameObject),
+    /// Set the document's wall thickness for printing surfaces as solids.
+    "set_wall_thickness" => SetWallThickness(pr::SetWallThickness),
+    /// Choose whether an edit that folds its object through itself is
+    /// refused or applied and flagged as not printable.
+    "set_self_intersection_policy" => SetSelfIntersectionPolicy(pr::SetSelfIntersectionPolicy),
 }
