@@ -129,6 +129,7 @@ fn long_history_keeps_checkpoints_and_undo_matches_replay() {
     let mut log = OpLog::with_policy(CheckpointPolicy {
         every_ops: 10,
         every_work: u64::MAX,
+        ..Default::default()
     });
     log.apply(sphere(0.5)).unwrap();
     let mut hashes = vec![
@@ -140,6 +141,42 @@ fn long_history_keeps_checkpoints_and_undo_matches_replay() {
         hashes.push(log.document().content_hash());
     }
     assert!(log.checkpoint_count() >= 9, "{}", log.checkpoint_count());
+    for k in (0..log.len()).rev() {
+        log.undo().unwrap();
+        assert_eq!(log.document().content_hash(), hashes[k], "undo to {k}");
+    }
+    for (k, h) in hashes.iter().enumerate().skip(1) {
+        log.redo().unwrap();
+        assert_eq!(log.document().content_hash(), *h, "redo to {k}");
+    }
+}
+
+/// Issue 21: old checkpoints are thinned (the newest `dense` kept, older
+/// ones at doubling gaps), so their number grows with the log's logarithm;
+/// undo all the way back still matches replay at every step.
+#[test]
+fn old_checkpoints_thin_out_and_undo_still_matches_replay() {
+    let policy = CheckpointPolicy {
+        every_ops: 5,
+        every_work: u64::MAX,
+        dense: 4,
+    };
+    let mut log = OpLog::with_policy(policy);
+    log.apply(sphere(0.5)).unwrap();
+    let mut hashes = vec![
+        Document::new().content_hash(),
+        log.document().content_hash(),
+    ];
+    let mut most = 0;
+    for i in 0..600 {
+        log.apply(moved(1, 0.001 * i as f64)).unwrap();
+        hashes.push(log.document().content_hash());
+        most = most.max(log.checkpoint_count());
+    }
+    // 120 checkpoints taken; kept: 0, the 4 newest, and at most one per
+    // doubling of the gap (600 / 10 < 2^6).
+    assert!(most <= 1 + 4 + 7, "{most}");
+    assert!(log.checkpoint_count() > 4, "{}", log.checkpoint_count());
     for k in (0..log.len()).rev() {
         log.undo().unwrap();
         assert_eq!(log.document().content_hash(), hashes[k], "undo to {k}");

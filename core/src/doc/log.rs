@@ -15,6 +15,15 @@ pub struct CheckpointPolicy {
     /// replays more than about this much. Work, not wall time, keeps the
     /// checkpoint positions deterministic.
     pub every_work: u64,
+    /// How many of the newest checkpoints are always kept as taken. Older
+    /// ones are thinned out so that, walking back in time, each kept one
+    /// is at least twice as far from the next newer kept one as the
+    /// previous gap ([`OpLog::apply`]): memory grows with the log's
+    /// logarithm, not its length (issue 21), and undo stays flat over the
+    /// last `dense` intervals. Undoing farther back replays one longer gap
+    /// once and leaves checkpoints behind, so the undos after it are
+    /// bounded again.
+    pub dense: usize,
 }
 
 impl Default for CheckpointPolicy {
@@ -22,6 +31,7 @@ impl Default for CheckpointPolicy {
         Self {
             every_ops: 32,
             every_work: 400_000,
+            dense: 8,
         }
     }
 }
@@ -287,7 +297,35 @@ impl OpLog {
             });
             self.ops_since = 0;
             self.work_since = 0;
+            self.thin_checkpoints();
         }
+    }
+
+    /// Drops old checkpoints (see [`CheckpointPolicy::dense`]); the one at
+    /// 0 always stays. Depends only on op positions: deterministic.
+    fn thin_checkpoints(&mut self) {
+        let n = self.checkpoints.len();
+        let dense = self.policy.dense.max(1);
+        if n <= dense + 1 {
+            return;
+        }
+        let mut keep = vec![false; n];
+        keep[0] = true;
+        for k in keep.iter_mut().skip(n - dense) {
+            *k = true;
+        }
+        let mut last = self.checkpoints[n - dense].at;
+        let mut gap = 2 * self.policy.every_ops.max(1);
+        for i in (1..n - dense).rev() {
+            let at = self.checkpoints[i].at;
+            if last - at >= gap {
+                keep[i] = true;
+                last = at;
+                gap = gap.saturating_mul(2);
+            }
+        }
+        let mut k = keep.into_iter();
+        self.checkpoints.retain(|_| k.next().unwrap_or(true));
     }
 
     fn insert_checkpoint(&mut self, c: Checkpoint) {

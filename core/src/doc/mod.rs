@@ -19,9 +19,13 @@
 //!   field's name before any geometry code sees it.
 //! - **Checkpoints** are whole-document snapshots (again `Arc`-shared), taken
 //!   every [`CheckpointPolicy::every_ops`] ops or once the ops since the last
-//!   one did [`CheckpointPolicy::every_work`] work. Undo restores the
-//!   nearest checkpoint at or before the target and replays at most that
-//!   many ops, so its cost does not grow with the session.
+//!   one did [`CheckpointPolicy::every_work`] work, and thinned out with
+//!   age (the newest [`CheckpointPolicy::dense`] kept, older ones at
+//!   doubling gaps), so history memory grows with the log's logarithm.
+//!   Undo restores the nearest checkpoint at or before the target and
+//!   replays from it, so the cost of recent undos does not grow with the
+//!   session; a far jump back replays one long gap once and leaves
+//!   checkpoints behind it.
 
 mod document;
 mod error;
@@ -42,6 +46,6 @@ pub use ops::{
     Op, OpOutcome, RenameObject, SetTransform, TransformBy, OP_KINDS, OP_NAMES,
 };
 pub use script::{
-    parse_script, run_script, ScriptCommand, ScriptError, ScriptErrorKind, ScriptLine,
-    OP_FORMAT_VERSION,
+    parse_script, run_script, run_script_with, ScriptCommand, ScriptError, ScriptErrorKind,
+    ScriptLine, OP_FORMAT_VERSION,
 };
