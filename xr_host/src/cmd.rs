@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use shapewright::doc::{parse_script, run_script, Document, OpLog};
+use shapewright::doc::{parse_script, run_script_with, Document, OpLog};
 use shapewright::mesh::{self, MeshFormat, Precision, TriMesh, ValidationReport};
 use shapewright::print::{print_document, PrintSettings, Printable};
 pub use shapewright_xr::files::read_mesh;
@@ -15,7 +15,10 @@ pub fn apply(script: &Path, out: &Path) -> Result<()> {
         std::fs::read_to_string(script).with_context(|| format!("reading {}", script.display()))?;
     let lines = parse_script(&text).with_context(|| format!("in {}", script.display()))?;
     let mut log = OpLog::new();
-    run_script(&mut log, &lines).with_context(|| format!("in {}", script.display()))?;
+    let mut progress = shapewright_xr::progress::Progress::new("applying ops");
+    run_script_with(&mut log, &lines, |done, total| progress.step(done, total))
+        .with_context(|| format!("in {}", script.display()))?;
+    progress.finish(lines.len());
     let doc = log.document();
     if crate::usd_cmd::is_usd(out) {
         let saved = shapewright_usd::save_file(out, &log, &shapewright_usd::SaveOptions::default())

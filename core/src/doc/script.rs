@@ -147,7 +147,17 @@ fn parse_line(text: &str) -> Result<ScriptCommand, ScriptErrorKind> {
 /// Runs parsed script lines on `log`, stopping at the first failure. The
 /// failing line changes nothing; earlier lines stay applied.
 pub fn run_script(log: &mut OpLog, lines: &[ScriptLine]) -> Result<(), ScriptError> {
-    for l in lines {
+    run_script_with(log, lines, |_, _| {})
+}
+
+/// [`run_script`], calling `progress(done, total)` after each line (hosts
+/// show progress for long scripts with it).
+pub fn run_script_with(
+    log: &mut OpLog,
+    lines: &[ScriptLine],
+    mut progress: impl FnMut(usize, usize),
+) -> Result<(), ScriptError> {
+    for (k, l) in lines.iter().enumerate() {
         let result = match &l.command {
             ScriptCommand::Op(op) => log.apply(op.clone()).map(|_| ()),
             ScriptCommand::Undo => log.undo(),
@@ -157,6 +167,7 @@ pub fn run_script(log: &mut OpLog, lines: &[ScriptLine]) -> Result<(), ScriptErr
             line: l.line,
             kind: e.into(),
         })?;
+        progress(k + 1, lines.len());
     }
     Ok(())
 }
