@@ -144,6 +144,12 @@ fn edits(id: ObjectId) -> Vec<Op> {
 #[test]
 fn undo_redo_replay_are_bit_identical() {
     let mut log = OpLog::new();
+    // The bend folds the shell through itself: flagged, not refused (this
+    // test is about history; print_setup.rs tests the refusal).
+    log.apply(
+        serde_json::from_str(r#"{"op":"set_self_intersection_policy","policy":"flag"}"#).unwrap(),
+    )
+    .unwrap();
     let id = log
         .apply(create(ShapeType::Shell { thickness: 0.02 }))
         .unwrap()

@@ -9,6 +9,7 @@ use shapewright::doc::{Edit as DocEdit, LogError, ObjectId, Op, OpError, OpLog};
 use shapewright::gc::*;
 use shapewright::gc::{ClosedEnd, GcError, Profile, Resolution, ShapeType};
 use shapewright::mesh::validate;
+use shapewright::print::PrintError;
 
 fn profile() -> impl Strategy<Value = Profile> {
     prop_oneof![
@@ -218,7 +219,11 @@ fn check_closed(log: &OpLog, what: &str) {
 }
 
 fn typed(e: &LogError) -> bool {
-    matches!(e, LogError::Op(OpError::Gc(_)))
+    matches!(
+        e,
+        LogError::Op(OpError::Gc(_))
+            | LogError::Op(OpError::Print(PrintError::SelfIntersecting { .. }))
+    )
 }
 
 proptest! {
@@ -267,6 +272,9 @@ fn most_random_gcs_and_edits_succeed() {
         let out = match log.apply(Op::GcCreate(shapewright::doc::Create(c.clone()))) {
             Ok(out) => out,
             Err(err) => {
+                let s = format!("{err:?}");
+                let key = s.split(['{', ' ']).next().unwrap_or(&s).to_string();
+                *errors.entry(format!("create: {key}")).or_default() += 1;
                 // Random thicknesses reach 0.15 and random radii go down
                 // to 0.1, and random spines bend more tightly than random
                 // sections are wide: the only acceptable reasons to refuse.
@@ -275,7 +283,7 @@ fn most_random_gcs_and_edits_succeed() {
                         err,
                         LogError::Op(OpError::Gc(
                             GcError::ThicknessTooLarge { .. } | GcError::InvalidMesh(_)
-                        ))
+                        )) | LogError::Op(OpError::Print(PrintError::SelfIntersecting { .. }))
                     ),
                     "create failed: {err:?} {}",
                     serde_json::to_string(&c).unwrap()

@@ -292,9 +292,10 @@ fn an_open_network_beside_a_closed_part_prints_both() {
 fn a_folded_sculpt_is_refused_naming_it() {
     // One drag frame pulls the top of the sphere rigidly straight down
     // through the bottom: each triangle keeps its shape (the stroke's local
-    // fold guard is satisfied) but the surface passes through itself. By
-    // default the stroke is refused at the op (print_setup.rs); under the
-    // `flag` policy it applies and printing refuses naming the object.
+    // fold guard is satisfied) but the surface passes through itself. Under
+    // `refuse` the stroke is refused at the op (print_setup.rs); under the
+    // `flag` policy (the default) it applies and printing refuses naming
+    // the object.
     let text = "{\"op\":\"set_self_intersection_policy\",\"policy\":\"flag\"}\n\
         {\"op\":\"sculpt_create\",\"base\":{\"kind\":\"sphere\",\"radius\":1.0,\"edge_length\":0.1}}\n\
         {\"op\":\"sculpt_stroke\",\"id\":1,\"settings\":{\"brush\":{\"kind\":\"sphere\",\"radius\":0.3},\"brush_scale\":1.0,\"influence\":0.2,\"falloff\":\"smooth\",\"warp\":{\"kind\":\"drag\"},\"max_edge_rel\":0.5,\"min_edge_rel\":0.1},\"samples\":[\
@@ -315,8 +316,10 @@ fn a_folded_sculpt_is_refused_naming_it() {
         Err(e) => panic!("expected a self-intersection, got {e}"),
         Ok(p) => panic!("a folded sculpt printed: {}", p.report.checks.problems()),
     }
-    // Without `flag`, the folding stroke never gets into the document.
-    let lines = parse_script(text.split_once('\n').unwrap().1).unwrap();
+    // Under `refuse`, the folding stroke never gets into the document.
+    let refuse = text.replacen("\"flag\"", "\"refuse\"", 1);
+    assert_ne!(refuse, text);
+    let lines = parse_script(&refuse).unwrap();
     let mut log = OpLog::new();
     let e = run_script(&mut log, &lines).unwrap_err().to_string();
     assert!(

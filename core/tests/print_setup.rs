@@ -132,16 +132,13 @@ fn the_setting_survives_snapshot_replay_and_undo_bit_identically() {
     let text = serde_json::to_string(log.document()).unwrap();
     assert!(!text.contains("\"print\""), "{text}");
     log.apply(thickness_op(0.003)).unwrap();
-    log.apply(op(
-        r#"{"op":"set_self_intersection_policy","policy":"flag"}"#,
-    ))
-    .unwrap();
+    log.apply(op(REFUSE)).unwrap();
     let doc = log.document();
     assert_ne!(doc.content_hash(), default_hash, "the setting is content");
     assert_eq!(doc.print_setup().wall_thickness, 0.003);
     assert_eq!(
         doc.print_setup().on_self_intersection,
-        SelfIntersectionPolicy::Flag
+        SelfIntersectionPolicy::Refuse
     );
     let vol = printed_volume(&log);
     // Snapshot (what a USD file stores beside the ops).
@@ -176,6 +173,8 @@ fn tube() -> &'static str {
 const CROSSING_SPINE: &str = r#"{"op":"gc_replace_spine","id":1,"points":[[0,0,0],[0,0,0.1],[0.1,0,0.1]],"plane_normal":[0,1,0]}"#;
 const MILD_SPINE: &str = r#"{"op":"gc_replace_spine","id":1,"points":[[0,0,0],[0.01,0,0.1],[0,0,0.2]],"plane_normal":[0,1,0]}"#;
 
+const REFUSE: &str = r#"{"op":"set_self_intersection_policy","policy":"refuse"}"#;
+
 fn refused_as_folding(r: Result<shapewright::doc::OpOutcome, LogError>, label: &str) {
     match r {
         Err(LogError::Op(OpError::Print(e @ PrintError::SelfIntersecting { .. }))) => {
@@ -186,8 +185,13 @@ fn refused_as_folding(r: Result<shapewright::doc::OpOutcome, LogError>, label: &
 }
 
 #[test]
-fn a_gc_spine_bent_tighter_than_its_sections_is_refused_by_default() {
-    let mut log = run(tube());
+fn a_gc_spine_bent_tighter_than_its_sections_is_refused_under_refuse() {
+    assert_eq!(
+        Document::new().print_setup().on_self_intersection,
+        SelfIntersectionPolicy::Flag,
+        "flag is the default"
+    );
+    let mut log = run(&format!("{REFUSE}\n{}", tube()));
     log.apply(op(MILD_SPINE)).unwrap();
     let before = log.document().content_hash();
     let (ops_before, cursor_before) = (log.ops().len(), log.cursor());
@@ -222,7 +226,7 @@ fn a_gc_spine_bent_tighter_than_its_sections_is_refused_by_default() {
 #[test]
 fn a_gc_created_bent_through_itself_is_refused() {
     let text = r#"{"op":"gc_create","spine":[[0,0,0],[0,0,0.1],[0.1,0,0.1]],"plane_normal":[0,1,0],"sections":[{"profile":{"template":"circle","radius":0.08},"v":0.0},{"profile":{"template":"circle","radius":0.08},"v":1.0}]}"#;
-    let mut log = OpLog::new();
+    let mut log = run(REFUSE);
     refused_as_folding(log.apply(op(text)), "#1 gc_assembly");
     assert!(log.document().is_empty());
 }
@@ -237,8 +241,12 @@ const SPHERE: &str =
     r#"{"op":"sculpt_create","base":{"kind":"sphere","radius":1.0,"edge_length":0.1}}"#;
 
 #[test]
-fn a_folding_sculpt_stroke_is_refused_by_default_and_flagged_on_request() {
-    let mut log = run(SPHERE);
+fn a_folding_sculpt_stroke_is_refused_under_refuse_and_applies_by_default() {
+    // By default (flag) the stroke applies; printing names the object.
+    let mut free = run(SPHERE);
+    free.apply(op(FOLDING_STROKE)).unwrap();
+    assert!(print_document(free.document(), &PrintSettings::default()).is_err());
+    let mut log = run(&format!("{REFUSE}\n{SPHERE}"));
     let before = log.document().content_hash();
     refused_as_folding(log.apply(op(FOLDING_STROKE)), "#1 sculpt_mesh");
     assert_eq!(log.document().content_hash(), before);

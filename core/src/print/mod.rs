@@ -35,7 +35,7 @@
 //!
 //! **At edit time** ([`check_edit`]): GC and sculpt ops (the ones that can
 //! fold an object through itself) are checked after they apply; under the
-//! document's [`SelfIntersectionPolicy`] (`refuse` by default, set by the
+//! document's [`SelfIntersectionPolicy`] (`flag` by default, set by the
 //! `set_self_intersection_policy` op) an edit that makes its object
 //! intersect itself is refused with [`PrintError::SelfIntersecting`]; under
 //! `flag` it applies and every print exit names the object.
