@@ -81,7 +81,7 @@ pub fn check_cost(profiles: &[NurbsCurve], res: Resolution) -> Result<(), GcErro
     let columns = distinct * (degree + 1) as f64;
     let kk = (k + 2) as f64;
     let flops = columns * kk * kk * kk / 3.0;
-    if !(flops <= MAX_SKIN_FLOPS) {
+    if flops.is_nan() || flops > MAX_SKIN_FLOPS {
         return Err(over(
             "sections",
             "the skinning work (control columns × (sections + 2)³ / 3 flops)",
@@ -92,7 +92,7 @@ pub fn check_cost(profiles: &[NurbsCurve], res: Resolution) -> Result<(), GcErro
     let rings = f64::from(res.v) + k as f64 + 1.0;
     let around = f64::from(res.u) + distinct;
     let points = rings * around;
-    if !(points <= MAX_GRID_POINTS) {
+    if points.is_nan() || points > MAX_GRID_POINTS {
         return Err(over(
             "resolution",
             "the mesh grid points ((resolution.v + sections) × (resolution.u + profile knots))",

@@ -117,8 +117,8 @@ pub fn check_stroke(
         let reached = 4.0 * PI * reach * reach / tri;
         let stretched = (2.0 * PI * reach * stretch + 4.0 * PI * stretch * stretch) / tri;
         let frame = reached + stretched;
-        if !(frame <= MAX_FRAME_TRIANGLES) {
-            let field = if !(reached <= MAX_FRAME_TRIANGLES / 2.0) {
+        if frame.is_nan() || frame > MAX_FRAME_TRIANGLES {
+            let field = if reached.is_nan() || reached > MAX_FRAME_TRIANGLES / 2.0 {
                 "max_edge_rel".to_string()
             } else if matches!(settings.warp, Warp::Explode { .. }) {
                 "warp.delta".to_string()
@@ -134,7 +134,7 @@ pub fn check_stroke(
         }
         total += frame;
     }
-    if !(total <= MAX_STROKE_WORK) {
+    if total.is_nan() || total > MAX_STROKE_WORK {
         return Err(over(
             "samples".into(),
             "the triangles the stroke's frames refine, summed",
