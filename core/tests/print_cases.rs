@@ -10,8 +10,6 @@
 //! run on the same kind of files); every failure is a typed error naming
 //! the object(s).
 
-use std::path::Path;
-
 use shapewright::doc::{
     parse_script, run_script, AddSolid, Document, LogError, Op, OpError, OpLog,
 };
@@ -23,19 +21,8 @@ use shapewright::print::{
 };
 use shapewright::solid::SolidShape;
 
-fn data(name: &str) -> String {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data")
-        .join(name);
-    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-fn run(text: &str) -> OpLog {
-    let lines = parse_script(text).unwrap_or_else(|e| panic!("{e}"));
-    let mut log = OpLog::new();
-    run_script(&mut log, &lines).unwrap_or_else(|e| panic!("{e}"));
-    log
-}
+mod common;
+use common::{data, run};
 
 /// Writes the printable mesh as STL, reads it back and checks it with both
 /// checkers; returns the read-back mesh.

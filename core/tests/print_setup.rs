@@ -12,9 +12,7 @@
 //! the document unchanged; under `flag` they apply and printing refuses
 //! naming the object.
 
-use std::path::Path;
-
-use shapewright::doc::{parse_script, run_script, Document, LogError, Op, OpError, OpLog};
+use shapewright::doc::{Document, LogError, Op, OpError, OpLog};
 use shapewright::mesh::{
     manifold_accepts, read_stl, self_intersections, validate, write_stl, ValidationSettings,
 };
@@ -23,19 +21,8 @@ use shapewright::print::{
     MAX_WALL_THICKNESS, MIN_WALL_THICKNESS,
 };
 
-fn data(name: &str) -> String {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data")
-        .join(name);
-    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-fn run(text: &str) -> OpLog {
-    let lines = parse_script(text).unwrap_or_else(|e| panic!("{e}"));
-    let mut log = OpLog::new();
-    run_script(&mut log, &lines).unwrap_or_else(|e| panic!("{e}"));
-    log
-}
+mod common;
+use common::{data, run};
 
 fn op(json: &str) -> Op {
     serde_json::from_str(json).unwrap_or_else(|e| panic!("{json}: {e}"))
