@@ -205,10 +205,13 @@ class GenField:
     items: tuple[str, ...] = ()
 
 
-def _default(kind: str, s: dict, info: Info, size: int) -> Any:
+def _default(kind: str, s: dict, info: Info, size: int, items: tuple[str, ...] = ()) -> Any:
     if "default" in s:
         d = s["default"]
         return tuple(d) if kind == "vec" else d
+    if kind == "enum":
+        # Blender's EnumProperty needs a default among its items.
+        return items[0] if items else ""
     if kind == "int":
         lo = info.minimum if info.minimum is not None else 0
         return int(lo)
@@ -283,7 +286,7 @@ def fields(op: str) -> tuple[GenField, ...]:
                         (f["name"], k),
                         kind,
                         inf,
-                        _default(kind, sub, inf, size),
+                        _default(kind, sub, inf, size, items),
                         f["required"] and k in req,
                         size,
                         items,
@@ -292,9 +295,6 @@ def fields(op: str) -> tuple[GenField, ...]:
             continue
         kind, size, items = _classify(s)
         inf = info_of(s)
-        out.append(
-            GenField(
-                f["name"], (f["name"],), kind, inf, _default(kind, s, inf, size), f["required"], size, items
-            )
-        )
+        default = _default(kind, s, inf, size, items)
+        out.append(GenField(f["name"], (f["name"],), kind, inf, default, f["required"], size, items))
     return tuple(out)

@@ -1807,6 +1807,20 @@ BASE_OPS = {
         "fit": {"mode": "interpolate"},
         "snap_tol": 0.002,
     },
+    "curve_draw_in_frame": {
+        "id": 1,
+        "samples": [
+            [0.3, 0.0, 0.0],
+            [0.32, 0.0, 0.01],
+            [0.34, 0.0, 0.015],
+            [0.36, 0.0, 0.01],
+            [0.38, 0.0, 0.0],
+        ],
+        "frames": [{"origin": [0.0, 0.0, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0]}],
+        "fit": {"mode": "interpolate"},
+        "snap_tol": 0.002,
+    },
+    "set_wall_thickness": {"thickness": 0.002},
     "curve_attract": {
         "id": 1,
         "curve": 1,
