@@ -126,7 +126,7 @@ pub const MAX_WALL_THICKNESS: f64 = 0.1;
 /// modelling is never blocked mid-gesture and every print exit names the
 /// object and why. `refuse` catches the fold at the edit, while the object
 /// is in the user's hand, but costs an exact self-intersection search on
-/// every GC or sculpt commit (up to 6x the edit itself on the teapot trace
+/// every GC or sculpt commit (a median of 6x the edit itself on the teapot trace
 /// in the bench) and refused 85 of the 300 random GCs `gc_proptest` makes
 /// (issue 17): a choice for users who print every object.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema)]
