@@ -124,6 +124,19 @@ fn undo_and_redo_at_the_ends_are_errors() {
     assert_eq!(log.seek(3), Err(LogError::BadCursor { cursor: 3, len: 0 }));
 }
 
+/// Undoes every op, then redoes every op, checking the content hash after
+/// each step against `hashes` (the document after 0, 1, ... ops).
+fn undo_all_then_redo_all(log: &mut OpLog, hashes: &[u64]) {
+    for k in (0..log.len()).rev() {
+        log.undo().unwrap();
+        assert_eq!(log.document().content_hash(), hashes[k], "undo to {k}");
+    }
+    for (k, h) in hashes.iter().enumerate().skip(1) {
+        log.redo().unwrap();
+        assert_eq!(log.document().content_hash(), *h, "redo to {k}");
+    }
+}
+
 #[test]
 fn long_history_keeps_checkpoints_and_undo_matches_replay() {
     let mut log = OpLog::with_policy(CheckpointPolicy {
@@ -141,14 +154,7 @@ fn long_history_keeps_checkpoints_and_undo_matches_replay() {
         hashes.push(log.document().content_hash());
     }
     assert!(log.checkpoint_count() >= 9, "{}", log.checkpoint_count());
-    for k in (0..log.len()).rev() {
-        log.undo().unwrap();
-        assert_eq!(log.document().content_hash(), hashes[k], "undo to {k}");
-    }
-    for (k, h) in hashes.iter().enumerate().skip(1) {
-        log.redo().unwrap();
-        assert_eq!(log.document().content_hash(), *h, "redo to {k}");
-    }
+    undo_all_then_redo_all(&mut log, &hashes);
 }
 
 /// Issue 21: old checkpoints are thinned (the newest `dense` kept, older
@@ -177,14 +183,7 @@ fn old_checkpoints_thin_out_and_undo_still_matches_replay() {
     // doubling of the gap (600 / 10 < 2^6).
     assert!(most <= 1 + 4 + 7, "{most}");
     assert!(log.checkpoint_count() > 4, "{}", log.checkpoint_count());
-    for k in (0..log.len()).rev() {
-        log.undo().unwrap();
-        assert_eq!(log.document().content_hash(), hashes[k], "undo to {k}");
-    }
-    for (k, h) in hashes.iter().enumerate().skip(1) {
-        log.redo().unwrap();
-        assert_eq!(log.document().content_hash(), *h, "redo to {k}");
-    }
+    undo_all_then_redo_all(&mut log, &hashes);
 }
 
 #[test]

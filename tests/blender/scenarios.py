@@ -1766,6 +1766,9 @@ def operator_property_problems(work: Path) -> list[str]:
 # (ids: 1 curve network, 2 solid, 3 GC, 4 CSG volume).
 CIRCLE = {"template": "circle", "radius": 0.04}
 SMOOTH_PATH = [[0.0, -0.13, 0.1]] * 4
+# A short arc drawn into the network (curve_draw, curve_draw_in_frame).
+ARC_SAMPLES = [[0.3, 0.0, 0.0], [0.32, 0.0, 0.01], [0.34, 0.0, 0.015], [0.36, 0.0, 0.01], [0.38, 0.0, 0.0]]
+
 BASE_OPS = {
     "add_solid": {"shape": {"kind": "sphere", "radius": 0.1}, "segments": 64},
     "edit_solid": {"id": 2, "shape": {"kind": "sphere", "radius": 0.1}, "segments": 64},
@@ -1797,25 +1800,13 @@ BASE_OPS = {
     "curve_network_create": {"resolution": 24, "surface_n": 8},
     "curve_draw": {
         "id": 1,
-        "samples": [
-            [0.3, 0.0, 0.0],
-            [0.32, 0.0, 0.01],
-            [0.34, 0.0, 0.015],
-            [0.36, 0.0, 0.01],
-            [0.38, 0.0, 0.0],
-        ],
+        "samples": ARC_SAMPLES,
         "fit": {"mode": "interpolate"},
         "snap_tol": 0.002,
     },
     "curve_draw_in_frame": {
         "id": 1,
-        "samples": [
-            [0.3, 0.0, 0.0],
-            [0.32, 0.0, 0.01],
-            [0.34, 0.0, 0.015],
-            [0.36, 0.0, 0.01],
-            [0.38, 0.0, 0.0],
-        ],
+        "samples": ARC_SAMPLES,
         "frames": [{"origin": [0.0, 0.0, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0]}],
         "fit": {"mode": "interpolate"},
         "snap_tol": 0.002,
