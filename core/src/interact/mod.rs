@@ -18,7 +18,8 @@
 //!   paper-1 GC tool, the paper-2 CSG, paper-3 curve and paper-4 brush tools.
 //! - [`trace`]: recorded input traces and their replay.
 //! - `session`: one frame through the stages (sanitize, classify, run the
-//!   active tool).
+//!   active tool); a modeler session holds every tool and the off hand's
+//!   [`palette`] that switches them.
 //! - `testkit` (feature `testkit`): the scripted puppet, labelled hand
 //!   sequences and the puppet scripts of the checked-in traces.
 //!
@@ -27,6 +28,9 @@
 
 pub mod gesture;
 pub mod input;
+#[cfg(test)]
+mod modeler_tests;
+pub mod palette;
 mod session;
 #[cfg(any(test, feature = "testkit"))]
 pub mod testkit;
@@ -51,6 +55,7 @@ pub use input::{
     HandSource, InputFrame, Joint, JointSample, Pose, Sanitizer, SanitizerSettings, SanitizerStats,
     JOINT_COUNT,
 };
+pub use palette::{ChoiceGroup, PaletteAction, PaletteItem, PaletteView, Snap};
 pub use session::Session;
 pub use tools::brush_tool::{BrushPreset, BrushTool, BrushToolSettings};
 pub use tools::csg_tool::{CsgTool, CsgToolSettings, SceneOperate};

@@ -2,14 +2,57 @@
 //! gesture classifier per hand, and the active tool. For a tool that reads
 //! hands, an untracked hand with a controller is made from the controller
 //! ([`crate::interact::gesture::controller_hand`]).
+//!
+//! Two kinds of session:
+//! - [`Session::modeler`] (what `run` and the Blender VR session use): every
+//!   tool of [`TOOL_NAMES`] at once, switched through the off hand's
+//!   [`crate::interact::palette`] without losing the document, the history or
+//!   any tool's choices. The off hand's controller `menu` button toggles
+//!   the palette; a tracked off hand held palm up shows it while it stays
+//!   up. The dominant hand picks: its controller ray and the trigger's
+//!   press edge, or its index fingertip touching an item. While the
+//!   pointer is on the palette, the active tool does not see the dominant
+//!   hand's buttons (a pick is never also an edit), and the off hand's
+//!   `menu` press never reaches a tool.
+//! - [`Session::new`]: one tool, no palette (single-tool traces recorded
+//!   before the modeler, and tools under test).
 
 use crate::doc::{Document, ScriptCommand};
 
 use crate::interact::gesture::controller_hand::controller_hand;
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::gesture::{GestureClassifier, GestureState};
-use crate::interact::input::{Frame, Hand, InputFrame, Sanitizer};
-use crate::interact::tools::{Preview, Tool, ToolContext};
+use crate::interact::input::{ControllerButtons, Frame, Hand, InputFrame, Joint, Sanitizer};
+use crate::interact::palette::{
+    self, facing, LayoutInput, PaletteAction, PaletteView, Snap, ANGLE_STEPS, GRID_STEPS, LIFT,
+    TOUCH,
+};
+use crate::interact::tools::{tool_named, Preview, Tool, ToolContext, UnknownTool, TOOL_NAMES};
+
+/// Palm normal · world up above which an off hand counts as palm up.
+const PALM_UP: f64 = 0.7;
+
+/// The palette state of a modeler session.
+struct Modeler {
+    dominant: Hand,
+    /// Opened by the menu button (stays until pressed again).
+    open_by_button: bool,
+    /// Shown because the off hand is palm up.
+    open_by_palm: bool,
+    /// The page shown of each tool's groups.
+    pages: Vec<Vec<usize>>,
+    snap: Snap,
+    view: Option<PaletteView>,
+    prev_menu: bool,
+    prev_select: bool,
+    /// The fingertip was in the touch zone last frame.
+    touching: bool,
+    /// The dominant trigger went down on the palette and is still held:
+    /// its buttons stay hidden from the tools until it is released, even
+    /// if the palette changed shape or closed under it.
+    held: bool,
+    saves: u32,
+}
 
 /// Raw frames in, at most one command per frame out.
 pub struct Session {
@@ -17,14 +60,53 @@ pub struct Session {
     classifiers: [GestureClassifier; 2],
     gestures: [GestureState; 2],
     model: Similarity,
-    tool: Box<dyn Tool>,
+    tools: Vec<Box<dyn Tool>>,
+    active: usize,
+    modeler: Option<Modeler>,
     last_frame: Option<Frame>,
 }
 
 impl Session {
-    /// A session running `tool`, with the document placed in the world by
-    /// `model` (model to stage space).
+    /// A session running `tool` alone, with the document placed in the
+    /// world by `model` (model to stage space).
     pub fn new(tool: Box<dyn Tool>, model: Similarity) -> Self {
+        Self::with_tools(vec![tool], 0, None, model)
+    }
+
+    /// A modeler session: every tool, `start` active, the palette on the
+    /// hand other than `dominant`.
+    pub fn modeler(start: &str, dominant: Hand, model: Similarity) -> Result<Self, UnknownTool> {
+        let tools = TOOL_NAMES
+            .iter()
+            .map(|n| tool_named(n))
+            .collect::<Result<Vec<_>, _>>()?;
+        let active = TOOL_NAMES
+            .iter()
+            .position(|n| *n == start)
+            .ok_or_else(|| UnknownTool(start.to_string()))?;
+        let pages = tools.iter().map(|t| vec![0; t.choices().len()]).collect();
+        let m = Modeler {
+            dominant,
+            open_by_button: false,
+            open_by_palm: false,
+            pages,
+            snap: Snap::default(),
+            view: None,
+            prev_menu: false,
+            prev_select: false,
+            touching: false,
+            held: false,
+            saves: 0,
+        };
+        Ok(Self::with_tools(tools, active, Some(m), model))
+    }
+
+    fn with_tools(
+        tools: Vec<Box<dyn Tool>>,
+        active: usize,
+        modeler: Option<Modeler>,
+        model: Similarity,
+    ) -> Self {
         let classifiers = [GestureClassifier::default(), GestureClassifier::default()];
         let gestures = [classifiers[0].state(), classifiers[1].state()];
         Self {
@@ -32,7 +114,9 @@ impl Session {
             classifiers,
             gestures,
             model,
-            tool,
+            tools,
+            active,
+            modeler,
             last_frame: None,
         }
     }
@@ -41,7 +125,12 @@ impl Session {
     /// and returns `None`.
     pub fn step(&mut self, raw: &InputFrame, doc: &Document) -> Option<ScriptCommand> {
         let mut frame = self.sanitizer.accept(raw)?;
-        if self.tool.uses_hands() {
+        let mut palette_cmd = None;
+        if self.modeler.is_some() {
+            palette_cmd = self.palette_step(&mut frame, doc);
+        }
+        let tool = &mut self.tools[self.active];
+        if tool.uses_hands() {
             for hand in Hand::BOTH {
                 let i = hand.index();
                 if frame.hands[i].is_none() {
@@ -54,26 +143,225 @@ impl Session {
         for (i, c) in self.classifiers.iter_mut().enumerate() {
             self.gestures[i] = c.update(frame.time, frame.hands[i].as_ref(), frame.head.as_ref());
         }
-        let cx = ToolContext {
-            frame: &frame,
-            gestures: &self.gestures,
-            doc,
-            model: &self.model,
+        let out = if palette_cmd.is_some() {
+            // At most one command per frame: the pick's. The tool skips
+            // this frame (its buttons were masked anyway).
+            palette_cmd
+        } else {
+            let cx = ToolContext {
+                frame: &frame,
+                gestures: &self.gestures,
+                doc,
+                model: &self.model,
+                snap: self.modeler.as_ref().map_or(Snap::default(), |m| m.snap),
+            };
+            tool.update(&cx)
         };
-        let out = self.tool.update(&cx);
         self.last_frame = Some(frame);
         out
     }
 
-    /// Switches to another tool, cancelling any gesture of the old one.
+    /// The palette part of a modeler frame: open or close it, lay it out,
+    /// point at it, pick. Masks the inputs the palette consumed.
+    fn palette_step(&mut self, frame: &mut Frame, doc: &Document) -> Option<ScriptCommand> {
+        let m = self.modeler.as_mut()?;
+        let off = m.dominant.other().index();
+        let dom = m.dominant.index();
+        // The off hand's menu button toggles; the press never reaches a tool.
+        let menu = frame.controllers[off]
+            .as_ref()
+            .and_then(|c| c.buttons)
+            .is_some_and(|b| b.menu);
+        if menu && !m.prev_menu {
+            m.open_by_button = !m.open_by_button;
+        }
+        m.prev_menu = menu;
+        if let Some(b) = frame.controllers[off]
+            .as_mut()
+            .and_then(|c| c.buttons.as_mut())
+        {
+            b.menu = false;
+        }
+        // A tracked off hand palm up shows it.
+        let palm = frame.hands[off].as_ref().and_then(|h| h.pose(Joint::Palm));
+        m.open_by_palm =
+            palm.is_some_and(|p| (p.orientation * -glam::DVec3::Y).dot(glam::DVec3::Y) > PALM_UP);
+        let select = select_of(frame, dom);
+        m.held &= select;
+        if m.held {
+            mask_buttons(frame, dom);
+        }
+        if !(m.open_by_button || m.open_by_palm) {
+            m.view = None;
+            m.touching = false;
+            m.prev_select = select;
+            return None;
+        }
+        let anchor = frame.controllers[off]
+            .as_ref()
+            .and_then(|c| c.grip)
+            .map(|g| g.position)
+            .or(palm.map(|p| p.position));
+        let Some(anchor) = anchor else {
+            // Nothing to hold it: hide it until the off hand is back.
+            m.view = None;
+            return None;
+        };
+        let center = anchor + glam::DVec3::Y * LIFT;
+        let head = frame.head.map(|h| h.position);
+        let groups = self.tools[self.active].choices();
+        let pages = &mut m.pages[self.active];
+        pages.resize(groups.len(), 0);
+        let (items, size) = palette::layout(&LayoutInput {
+            tools: &TOOL_NAMES,
+            active_tool: self.active,
+            groups: &groups,
+            pages,
+            snap: m.snap,
+        });
+        let mut view = PaletteView {
+            pose: crate::interact::input::Pose::new(center, facing(center, head)),
+            size,
+            items,
+            hovered: None,
+            pointer: None,
+        };
+        // Point: the dominant controller's aim ray, else its fingertip.
+        let mut picked = false;
+        let aim = frame.controllers[dom].as_ref().and_then(|c| c.aim);
+        if let Some(aim) = aim {
+            let dir = aim.orientation * -glam::DVec3::Z;
+            if let Some((x, y, t)) = view.ray_hit(aim.position, dir) {
+                view.pointer = Some(aim.position + dir * t);
+                view.hovered = view.item_at(x, y);
+                picked = select && !m.prev_select;
+                m.held |= picked;
+                mask_buttons(frame, dom);
+            }
+            m.touching = false;
+        } else if let Some(tip) = frame.hands[dom]
+            .as_ref()
+            .and_then(|h| h.pos(Joint::IndexTip))
+        {
+            let l = view.local(tip);
+            let inside = l.x.abs() <= view.size[0] / 2.0 && l.y.abs() <= view.size[1] / 2.0;
+            let near = inside && l.z > -2.0 * TOUCH && l.z < 4.0 * TOUCH;
+            let touching = inside && l.z > -2.0 * TOUCH && l.z < TOUCH;
+            if near {
+                view.pointer = Some(view.to_world(l.x, l.y));
+                view.hovered = view.item_at(l.x, l.y);
+                picked = touching && !m.touching;
+                frame.hands[dom] = None;
+            }
+            m.touching = touching;
+        }
+        m.prev_select = select;
+        let action = view
+            .hovered
+            .filter(|_| picked)
+            .map(|i| view.items[i].action);
+        m.view = Some(view);
+        let action = action?;
+        self.apply(action, doc)
+    }
+
+    /// Does what a picked item says.
+    fn apply(&mut self, action: PaletteAction, doc: &Document) -> Option<ScriptCommand> {
+        let m = self.modeler.as_mut()?;
+        match action {
+            PaletteAction::Tool(i) if i < self.tools.len() => {
+                if i != self.active {
+                    self.tools[self.active].cancel();
+                    self.active = i;
+                }
+                None
+            }
+            PaletteAction::Choice { group, option } => {
+                self.tools[self.active].choose(doc, group, option)
+            }
+            PaletteAction::Page { group, delta } => {
+                let n = self.tools[self.active]
+                    .choices()
+                    .get(group)
+                    .map_or(1, |g| g.options.len().div_ceil(palette::PAGE).max(1));
+                if let Some(p) = m.pages[self.active].get_mut(group) {
+                    *p = (*p as i64 + delta as i64).rem_euclid(n as i64) as usize;
+                }
+                None
+            }
+            PaletteAction::Undo => Some(ScriptCommand::Undo),
+            PaletteAction::Redo => Some(ScriptCommand::Redo),
+            PaletteAction::Save => {
+                m.saves += 1;
+                None
+            }
+            PaletteAction::Grid => {
+                m.snap.grid = next_step(&GRID_STEPS, m.snap.grid);
+                None
+            }
+            PaletteAction::Angle => {
+                m.snap.angle = next_step(&ANGLE_STEPS, m.snap.angle);
+                None
+            }
+            PaletteAction::Tool(_) | PaletteAction::None => None,
+        }
+    }
+
+    /// Switches the active tool's slot to another tool, cancelling any
+    /// gesture of the old one.
     pub fn set_tool(&mut self, tool: Box<dyn Tool>) {
-        self.tool.cancel();
-        self.tool = tool;
+        self.tools[self.active].cancel();
+        self.tools[self.active] = tool;
+    }
+
+    /// Makes the tool named `name` active (a modeler session: the tool
+    /// keeps its choices; a single-tool session: a fresh tool).
+    pub fn select_tool(&mut self, name: &str) -> Result<(), UnknownTool> {
+        match self.tools.iter().position(|t| t.name() == name) {
+            Some(i) if self.modeler.is_some() => {
+                if i != self.active {
+                    self.tools[self.active].cancel();
+                    self.active = i;
+                }
+                Ok(())
+            }
+            _ => {
+                let t = tool_named(name)?;
+                if self.modeler.is_some() {
+                    return Err(UnknownTool(name.to_string()));
+                }
+                self.set_tool(t);
+                Ok(())
+            }
+        }
+    }
+
+    /// The active tool.
+    pub fn tool(&self) -> &dyn Tool {
+        self.tools[self.active].as_ref()
     }
 
     /// The active tool's preview.
     pub fn preview(&self) -> &Preview {
-        self.tool.preview()
+        self.tools[self.active].preview()
+    }
+
+    /// The palette to draw, when open (modeler sessions only).
+    pub fn palette(&self) -> Option<&PaletteView> {
+        self.modeler.as_ref()?.view.as_ref()
+    }
+
+    /// Snapping now (off outside a modeler session).
+    pub fn snap(&self) -> Snap {
+        self.modeler.as_ref().map_or(Snap::default(), |m| m.snap)
+    }
+
+    /// Saves asked for through the palette since the last call (the host
+    /// saves; the core has no files).
+    pub fn take_save_requests(&mut self) -> u32 {
+        self.modeler
+            .as_mut()
+            .map_or(0, |m| std::mem::take(&mut m.saves))
     }
 
     /// The gestures of the left and right hand.
@@ -95,4 +383,27 @@ impl Session {
     pub fn model(&self) -> &Similarity {
         &self.model
     }
+}
+
+fn select_of(frame: &Frame, hand: usize) -> bool {
+    frame.controllers[hand]
+        .as_ref()
+        .and_then(|c| c.buttons)
+        .is_some_and(|b| b.select > 0.5)
+}
+
+fn mask_buttons(frame: &mut Frame, hand: usize) {
+    if let Some(b) = frame.controllers[hand]
+        .as_mut()
+        .and_then(|c| c.buttons.as_mut())
+    {
+        *b = ControllerButtons::default();
+    }
+}
+
+/// The step after `now` in `steps`, wrapping (the first when `now` is not
+/// one of them).
+fn next_step(steps: &[f64], now: f64) -> f64 {
+    let i = steps.iter().position(|s| *s == now).map_or(0, |i| i + 1);
+    steps[i % steps.len()]
 }

@@ -223,6 +223,11 @@ impl Puppet {
         self
     }
 
+    /// The frames recorded so far.
+    pub fn frames(&self) -> &[InputFrame] {
+        &self.frames
+    }
+
     /// The recorded trace.
     pub fn trace(&self, model: ModelPlacement, note: &str) -> Trace {
         Trace {
@@ -233,6 +238,7 @@ impl Puppet {
                 model,
                 tool: "object".to_string(),
                 note: note.to_string(),
+                modeler: false,
             },
             frames: self.frames.clone(),
         }

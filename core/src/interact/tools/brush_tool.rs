@@ -40,6 +40,7 @@ use crate::interact::gesture::bimanual::{ModelFrame, OrientGrab};
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
 use crate::interact::input::{Hand, Pose};
+use crate::interact::palette::ChoiceGroup;
 use crate::interact::tools::{BrushPreview, Preview, Tool, ToolContext};
 
 /// A named brush of the preset menu; sizes in world metres.
@@ -460,4 +461,41 @@ impl Tool for BrushTool {
     fn preview(&self) -> &Preview {
         &self.preview
     }
+
+    fn choices(&self) -> Vec<ChoiceGroup> {
+        vec![
+            ChoiceGroup {
+                name: "Brush",
+                options: self
+                    .settings
+                    .presets
+                    .iter()
+                    .map(|p| p.name.clone())
+                    .collect(),
+                active: self.preset,
+            },
+            ChoiceGroup {
+                name: "Size",
+                options: SIZES.iter().map(|s| format!("x{s}")).collect(),
+                active: SIZES
+                    .iter()
+                    .position(|s| *s == self.size)
+                    .unwrap_or(usize::MAX),
+            },
+        ]
+    }
+
+    fn choose(&mut self, _doc: &Document, group: usize, option: usize) -> Option<ScriptCommand> {
+        match group {
+            0 if option < self.settings.presets.len() => self.preset = option,
+            1 if option < SIZES.len() => self.size = SIZES[option],
+            _ => return None,
+        }
+        self.update_mode();
+        None
+    }
 }
+
+/// Brush size factors the palette offers (the stick flick scales by 1.25
+/// in between).
+const SIZES: [f64; 6] = [0.5, 0.8, 1.0, 1.25, 1.6, 2.0];

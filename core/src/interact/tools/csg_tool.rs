@@ -48,13 +48,14 @@ use crate::sdf::volume::DEFAULT_STEP;
 use crate::sdf::{Component, CsgOp, ScaleAxis, SdfVolume};
 use crate::sdf::{
     OperandIndex, SdfAddOperand, SdfCancelOperand, SdfCopyOperand, SdfCreate, SdfScaleTwoHand,
-    SdfSetOperandTransform, SdfUpdate,
+    SdfSetOperandTransform, SdfSetStep, SdfUpdate,
 };
 use crate::solid::SolidShape;
 
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
 use crate::interact::input::{Hand, Pose};
+use crate::interact::palette::ChoiceGroup;
 use crate::interact::tools::pick::{pick, Ray};
 use crate::interact::tools::{OperandPreview, Preview, PreviewRay, Tool, ToolContext};
 
@@ -322,6 +323,8 @@ pub struct CsgTool {
     scene_op: SceneOperate,
     axis: ScaleAxis,
     volume: Option<ObjectId>,
+    /// The volume's grid step, as of the last frame.
+    step: Option<f64>,
     selected: Option<Target>,
     last_select: [Option<(f64, Target)>; 2],
     drag: Option<OperandDrag>,
@@ -347,6 +350,7 @@ impl CsgTool {
             scene_op: SceneOperate::Union,
             axis: ScaleAxis::Uniform,
             volume: None,
+            step: None,
             selected: None,
             last_select: [None; 2],
             drag: None,
@@ -368,11 +372,9 @@ impl CsgTool {
     }
 
     fn update_mode(&mut self) {
-        let comp = match self.component() {
-            Some(Component::Solid { shape }) => shape.name().to_string(),
-            Some(Component::Library { name } | Component::User { name }) => name.clone(),
-            None => "-".to_string(),
-        };
+        let comp = self
+            .component()
+            .map_or_else(|| "-".to_string(), component_name);
         let axis = match self.axis {
             ScaleAxis::X => "x",
             ScaleAxis::Y => "y",
@@ -757,6 +759,7 @@ impl Tool for CsgTool {
         let inputs = Hand::BOTH.map(|h| CtlInput::read(cx, h));
         let vol = volume(cx.doc, self.volume);
         self.volume = vol.map(|(id, _)| id);
+        self.step = vol.map(|(_, v)| v.step);
         match vol {
             Some((id, v)) => self.boxes.refresh(id, v),
             None => self.boxes = OperandBoxes::default(),
@@ -797,5 +800,84 @@ impl Tool for CsgTool {
 
     fn preview(&self) -> &Preview {
         &self.preview
+    }
+
+    fn choices(&self) -> Vec<ChoiceGroup> {
+        let axis = AXES.iter().position(|a| *a == self.axis).unwrap_or(0);
+        let step = GRID_STEPS
+            .iter()
+            .position(|s| Some(*s) == self.step)
+            .unwrap_or(usize::MAX);
+        vec![
+            ChoiceGroup {
+                name: "Component",
+                options: self
+                    .settings
+                    .components
+                    .iter()
+                    .map(component_name)
+                    .collect(),
+                active: self.component,
+            },
+            ChoiceGroup {
+                name: "Operation",
+                options: SceneOperate::ALL
+                    .iter()
+                    .map(|o| o.name().to_string())
+                    .collect(),
+                active: SceneOperate::ALL
+                    .iter()
+                    .position(|o| *o == self.scene_op)
+                    .unwrap_or(0),
+            },
+            ChoiceGroup {
+                name: "Scale axis",
+                options: ["x", "y", "z", "all"].map(String::from).to_vec(),
+                active: axis,
+            },
+            ChoiceGroup {
+                name: "Grid step",
+                options: GRID_STEPS
+                    .iter()
+                    .map(|s| crate::interact::palette::length_label(*s))
+                    .collect(),
+                active: step,
+            },
+        ]
+    }
+
+    fn choose(&mut self, doc: &Document, group: usize, option: usize) -> Option<ScriptCommand> {
+        match group {
+            0 if option < self.settings.components.len() => self.component = option,
+            1 if option < SceneOperate::ALL.len() => self.scene_op = SceneOperate::ALL[option],
+            2 if option < AXES.len() => self.axis = AXES[option],
+            3 if option < GRID_STEPS.len() => {
+                let (id, v) = volume(doc, self.volume)?;
+                let step = GRID_STEPS[option];
+                if v.step == step {
+                    return None;
+                }
+                return Some(ScriptCommand::Op(Op::SdfSetStep(Edit::new(
+                    id,
+                    SdfSetStep { step },
+                ))));
+            }
+            _ => return None,
+        }
+        self.update_mode();
+        None
+    }
+}
+
+/// The scale axes in palette order.
+const AXES: [ScaleAxis; 4] = [ScaleAxis::X, ScaleAxis::Y, ScaleAxis::Z, ScaleAxis::Uniform];
+/// SDF grid steps the palette offers (metres; the op's range is 4 to 12 mm).
+const GRID_STEPS: [f64; 5] = [0.004, 0.006, 0.008, DEFAULT_STEP, 0.012];
+
+/// A component's label.
+fn component_name(c: &Component) -> String {
+    match c {
+        Component::Solid { shape } => shape.name().to_string(),
+        Component::Library { name } | Component::User { name } => name.clone(),
     }
 }

@@ -57,6 +57,7 @@ use crate::styling::{
 };
 
 use crate::interact::input::{Hand, Pose};
+use crate::interact::palette::ChoiceGroup;
 use crate::interact::tools::{Preview, PreviewRay, Tool, ToolContext, ToolPreview};
 
 /// Settings of the curve tool. Lengths are metres in the world.
@@ -254,6 +255,8 @@ pub struct CurveNetworkTool {
     stroke: Option<Stroke>,
     /// Commands waiting for a frame of their own (a mirrored stroke).
     pending: std::collections::VecDeque<ScriptCommand>,
+    /// The palette's trigger mode (index into [`MODES`]; 0: Table 1).
+    forced: usize,
 }
 
 impl Default for CurveNetworkTool {
@@ -288,6 +291,7 @@ impl CurveNetworkTool {
             stick_armed: [true; 2],
             stroke: None,
             pending: Default::default(),
+            forced: 0,
         }
     }
 
@@ -334,7 +338,17 @@ impl CurveNetworkTool {
         })
     }
 
-    fn mode_of(target: Option<&CurveTarget>) -> CurveMode {
+    /// What the trigger starts at `target`: the palette's forced mode, or
+    /// Table 1's choice by distance and angle ("auto").
+    fn mode_of(&self, target: Option<&CurveTarget>) -> CurveMode {
+        let forced = match MODES.get(self.forced).map(|m| m.1) {
+            Some(Some(CurveMode::Draw)) => return CurveMode::Draw,
+            Some(Some(CurveMode::Edit(t))) => Some(t),
+            _ => None,
+        };
+        if let (Some(t), Some(_)) = (forced, target) {
+            return CurveMode::Edit(t);
+        }
         match target.and_then(|t| t.tool) {
             Some(
                 t @ (TableTool::EditDataPoint
@@ -357,10 +371,11 @@ impl CurveNetworkTool {
         let symmetry = offered.filter(|_| other.trigger && !other.grab);
         self.preview.highlighted = target.filter(|t| t.tool.is_some()).map(|t| t.network);
         {
+            let mode = self.mode_of(target.as_ref());
             let cp = self.cp();
             cp.tip = tip.map(|t| t.0);
             cp.target = target;
-            cp.mode = tip.map(|_| Self::mode_of(target.as_ref()));
+            cp.mode = tip.map(|_| mode);
             cp.plane = plane;
             cp.symmetry = symmetry;
             cp.path.clear();
@@ -371,7 +386,7 @@ impl CurveNetworkTool {
         }
         if now.trigger && !was.trigger {
             let (p, _) = tip?;
-            let mode = Self::mode_of(target.as_ref());
+            let mode = self.mode_of(target.as_ref());
             let start = match mode {
                 CurveMode::Draw => plane.map_or(p, |pl| pl.project(p)),
                 CurveMode::Edit(_) => p,
@@ -627,4 +642,30 @@ impl Tool for CurveNetworkTool {
     fn preview(&self) -> &Preview {
         &self.preview
     }
+
+    fn choices(&self) -> Vec<ChoiceGroup> {
+        vec![ChoiceGroup {
+            name: "Trigger",
+            options: MODES.iter().map(|m| m.0.to_string()).collect(),
+            active: self.forced,
+        }]
+    }
+
+    fn choose(&mut self, _doc: &Document, group: usize, option: usize) -> Option<ScriptCommand> {
+        if group == 0 && option < MODES.len() {
+            self.forced = option;
+        }
+        None
+    }
 }
+
+/// The trigger's modes in the palette: "auto" lets Table 1 choose by the
+/// pen's distance and angle to the curve; the others force one tool on
+/// the pointed curve (drawing when no curve is pointed).
+const MODES: [(&str, Option<CurveMode>); 5] = [
+    ("auto", None),
+    ("draw", Some(CurveMode::Draw)),
+    ("smooth", Some(CurveMode::Edit(TableTool::SmoothSegment))),
+    ("sharpen", Some(CurveMode::Edit(TableTool::SharpenSegment))),
+    ("pull", Some(CurveMode::Edit(TableTool::EditDataPoint))),
+];

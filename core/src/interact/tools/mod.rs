@@ -30,6 +30,7 @@ use crate::solid::SolidShape;
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::gesture::GestureState;
 use crate::interact::input::Frame;
+use crate::interact::palette::{ChoiceGroup, Snap};
 
 /// What a tool sees each frame.
 pub struct ToolContext<'a> {
@@ -41,6 +42,9 @@ pub struct ToolContext<'a> {
     pub doc: &'a Document,
     /// Model-to-world placement of the document (stage space, metres).
     pub model: &'a Similarity,
+    /// Snapping of drags (the palette's settings; off outside a modeler
+    /// session).
+    pub snap: Snap,
 }
 
 /// A ray to draw (world space).
@@ -88,6 +92,9 @@ pub struct Preview {
     /// The tool's current choices, for a status line (e.g. the CSG tool's
     /// SceneOperate operation, menu component and scale axis).
     pub mode: String,
+    /// A live readout of the drag in progress (distance, angle, scale and
+    /// what it snapped to); empty when nothing is dragged.
+    pub readout: String,
     /// What only the active tool shows.
     pub tool: ToolPreview,
 }
@@ -210,6 +217,18 @@ pub trait Tool {
     /// ([`crate::interact::gesture::controller_hand`]).
     fn uses_hands(&self) -> bool {
         false
+    }
+    /// The choices the palette shows for this tool (shape type, component,
+    /// brush, ...), each with its active option.
+    fn choices(&self) -> Vec<ChoiceGroup> {
+        Vec::new()
+    }
+    /// Picks `option` of choice group `group` (indices into
+    /// [`Tool::choices`]). A choice that is a document setting (the SDF
+    /// grid step) returns its op; out-of-range indices change nothing.
+    fn choose(&mut self, doc: &Document, group: usize, option: usize) -> Option<ScriptCommand> {
+        let _ = (doc, group, option);
+        None
     }
 }
 

@@ -32,7 +32,9 @@
 //!   a new press;
 //! - NaN samples never reach the tool (the sanitizer drops them).
 
-use crate::doc::{AddSolid, Delete, Duplicate, ObjectId, Op, ScriptCommand, SetTransform};
+use crate::doc::{
+    AddSolid, Delete, Document, Duplicate, ObjectId, Op, ScriptCommand, SetTransform,
+};
 use crate::math::{DVec3, Transform};
 use crate::solid::SolidShape;
 
@@ -40,6 +42,7 @@ use crate::interact::gesture::bimanual::HandleBar;
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::gesture::Gesture;
 use crate::interact::input::{Hand, Joint, Pose};
+use crate::interact::palette::{ChoiceGroup, Snap};
 use crate::interact::tools::pick::{pick, Ray};
 use crate::interact::tools::{MovingPreview, Preview, PreviewRay, Tool, ToolContext, ToolPreview};
 
@@ -275,7 +278,8 @@ impl ObjectTool {
             if now.grab && !was.grab && now.tracked {
                 if let (Some(hit), Some(grip)) = (hits[i], now.grip) {
                     if let Ok(obj) = cx.doc.get(hit.id) {
-                        if let Some(base) = placement(&obj.kind) {
+                        {
+                            let base = obj.transform();
                             self.drag = Some(Drag {
                                 id: hit.id,
                                 base,
@@ -382,10 +386,11 @@ impl ObjectTool {
         if let Some(m) = drag.motion_now(&grips) {
             drag.current = m;
         }
-        let motion = cx.model.conjugate(&drag.current);
+        let (transform, motion) = snapped(cx, &drag);
+        self.preview.readout = readout(&drag.base, &motion, cx.snap);
         self.preview.moving = Some(MovingPreview {
             id: drag.id,
-            transform: motion.then_transform(&drag.base),
+            transform,
             motion,
         });
         for hand in Hand::BOTH {
@@ -397,8 +402,8 @@ impl ObjectTool {
 
     fn commit(&mut self, cx: &ToolContext, drag: &Drag) -> Option<ScriptCommand> {
         self.preview.moving = None;
-        let motion = cx.model.conjugate(&drag.current);
-        let transform = motion.then_transform(&drag.base);
+        self.preview.readout.clear();
+        let (transform, _) = snapped(cx, drag);
         if transform.validate().is_err() || transform == drag.base {
             return None;
         }
@@ -409,13 +414,41 @@ impl ObjectTool {
     }
 }
 
-/// The placement of an object the tool can move.
-fn placement(kind: &crate::doc::ObjectKind) -> Option<Transform> {
-    match kind {
-        crate::doc::ObjectKind::Solid(s) => Some(s.transform),
-        #[allow(unreachable_patterns)]
-        _ => None,
+/// The placement a drag would give now and its model-space motion, with
+/// the session's snapping: the rotation to the angle step (relative to
+/// where the drag began), then the position to the model-space grid.
+fn snapped(cx: &ToolContext, drag: &Drag) -> (Transform, Similarity) {
+    let mut motion = cx.model.conjugate(&drag.current);
+    motion.rotate = cx.snap.rotate(motion.rotate);
+    let mut t = motion.then_transform(&drag.base);
+    let base = DVec3::from_array(drag.base.translate);
+    let at = cx.snap.translate(DVec3::from_array(t.translate));
+    t.translate = at.to_array();
+    motion.translate = at - motion.rotate * (base * motion.scale);
+    (t, motion)
+}
+
+/// What a drag has done so far, for the readout next to the hand:
+/// distance moved, angle turned, scale, and the snapping in effect.
+pub(crate) fn readout(base: &Transform, motion: &Similarity, snap: Snap) -> String {
+    let moved = motion.apply(DVec3::from_array(base.translate)) - DVec3::from_array(base.translate);
+    let angle = motion.rotate.to_axis_angle().1.to_degrees();
+    let mut s = format!(
+        "{:.1} cm  {:.0}°  x{:.2}",
+        moved.length() * 100.0,
+        angle,
+        motion.scale
+    );
+    if snap.grid > 0.0 {
+        s += &format!(
+            "  grid {}",
+            crate::interact::palette::length_label(snap.grid)
+        );
     }
+    if snap.angle > 0.0 {
+        s += &format!("  snap {}°", snap.angle);
+    }
+    s
 }
 
 impl Tool for ObjectTool {
@@ -448,5 +481,26 @@ impl Tool for ObjectTool {
 
     fn preview(&self) -> &Preview {
         &self.preview
+    }
+
+    fn choices(&self) -> Vec<ChoiceGroup> {
+        vec![ChoiceGroup {
+            name: "Shape",
+            options: self
+                .settings
+                .palette
+                .iter()
+                .map(|s| s.name().to_string())
+                .collect(),
+            active: self.palette_index,
+        }]
+    }
+
+    fn choose(&mut self, _doc: &Document, group: usize, option: usize) -> Option<ScriptCommand> {
+        if group == 0 && option < self.settings.palette.len() {
+            self.palette_index = option;
+            *self.preview.placing_mut() = Some(self.settings.palette[option]);
+        }
+        None
     }
 }

@@ -86,6 +86,23 @@ pub struct TraceHeader {
     /// What the trace shows.
     #[serde(default)]
     pub note: String,
+    /// A modeler session: every tool, switched through the palette, with
+    /// [`TraceHeader::tool`] active first ([`Session::modeler`]); `false`
+    /// (and absent, in traces written before it): that tool alone.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub modeler: bool,
+}
+
+impl TraceHeader {
+    /// A fresh session as this header describes it.
+    pub fn session(&self) -> Result<Session, TraceError> {
+        let model = self.model.similarity().ok_or(TraceError::Model)?;
+        Ok(if self.modeler {
+            Session::modeler(&self.tool, crate::interact::input::Hand::Right, model)?
+        } else {
+            Session::new(tool_named(&self.tool)?, model)
+        })
+    }
 }
 
 /// A recorded session.
@@ -186,15 +203,18 @@ pub struct Replay {
     /// Commands the log refused: (index into `commands`, why). A refused
     /// command changes nothing.
     pub rejected: Vec<(usize, LogError)>,
+    /// Saves asked for through the palette: the number of commands
+    /// produced before each.
+    pub saves: Vec<usize>,
 }
 
 /// Replays `trace` through a fresh session onto an empty log.
 pub fn replay(trace: &Trace) -> Result<Replay, TraceError> {
-    let model = trace.header.model.similarity().ok_or(TraceError::Model)?;
-    let mut session = Session::new(tool_named(&trace.header.tool)?, model);
+    let mut session = trace.header.session()?;
     let mut log = OpLog::new();
     let mut commands = Vec::new();
     let mut rejected = Vec::new();
+    let mut saves = Vec::new();
     for frame in &trace.frames {
         if let Some(cmd) = session.step(frame, log.document()) {
             if let Err(e) = apply_command(&mut log, &cmd) {
@@ -202,10 +222,14 @@ pub fn replay(trace: &Trace) -> Result<Replay, TraceError> {
             }
             commands.push(cmd);
         }
+        for _ in 0..session.take_save_requests() {
+            saves.push(commands.len());
+        }
     }
     Ok(Replay {
         commands,
         log,
         rejected,
+        saves,
     })
 }
