@@ -47,6 +47,7 @@ use shapewright::interact::{
 use shapewright::mesh::TriMesh;
 use shapewright_usd::Autosaver;
 
+use crate::gfx::text::Font;
 use crate::gfx::{LineVertex, Scene};
 use crate::xr::{FrameSink, Haptic, LifecycleEvent, Notice};
 
@@ -78,6 +79,8 @@ pub struct InteractionStats {
     pub save_errors: Vec<String>,
     /// Haptic pulses asked for.
     pub haptics: u64,
+    /// Saves asked for through the palette.
+    pub save_requests: u64,
 }
 
 /// The state the commit thread owns (the frame thread locks it only to
@@ -155,6 +158,19 @@ fn document_mesh(doc: &Document) -> Option<Arc<TriMesh>> {
         m.compute_normals();
         Arc::new(m)
     })
+}
+
+/// The document without `hidden` (the object being dragged: its preview
+/// stands in for it, so the two never overlap on screen).
+fn document_mesh_without(doc: &Document, hidden: shapewright::doc::ObjectId) -> Arc<TriMesh> {
+    let mut m = TriMesh::default();
+    for (id, o) in doc.objects() {
+        if id != hidden {
+            m.append(&o.mesh);
+        }
+    }
+    m.compute_normals();
+    Arc::new(m)
 }
 
 /// How often the commit thread checks the autosave timer when idle.
@@ -241,6 +257,12 @@ pub struct Interaction {
     haptics: Vec<Haptic>,
     /// Whether each ray hit something last frame.
     ray_hit: [bool; 2],
+    /// The font of the palette and messages.
+    font: Font,
+    /// The last refused edit and the frame time it came back at.
+    refused: Option<(String, f64)>,
+    /// The object left out of the drawn document (being dragged).
+    hidden: Option<shapewright::doc::ObjectId>,
 }
 
 const RAY_COLORS: [[f32; 3]; 2] = [[0.3, 0.6, 1.0], [1.0, 0.5, 0.2]];
@@ -252,8 +274,8 @@ fn to_mat4(s: &Similarity) -> Mat4 {
 }
 
 impl Interaction {
-    /// Runs the tool named `tool` on `log` (empty, or loaded to continue
-    /// its history), the document placed in the stage by `model`.
+    /// Runs the tool named `tool` alone on `log` (empty, or loaded to
+    /// continue its history), the document placed in the stage by `model`.
     pub fn new(
         tool: &str,
         model: Similarity,
@@ -261,6 +283,17 @@ impl Interaction {
         autosave: Option<Autosaver>,
     ) -> Result<Self, InteractionError> {
         let session = Session::new(tool_named(tool).map_err(TraceError::from)?, model);
+        Self::with_session(session, log, autosave)
+    }
+
+    /// Runs `session` (a modeler session: every tool and the palette) on
+    /// `log`.
+    pub fn with_session(
+        session: Session,
+        log: OpLog,
+        autosave: Option<Autosaver>,
+    ) -> Result<Self, InteractionError> {
+        let model = *session.model();
         let doc = log.document().clone();
         let scene = Scene {
             version: 1,
@@ -293,6 +326,9 @@ impl Interaction {
             stats: InteractionStats::default(),
             haptics: Vec::new(),
             ray_hit: [false; 2],
+            font: Font::bundled(),
+            refused: None,
+            hidden: None,
         })
     }
 
@@ -331,6 +367,13 @@ impl Interaction {
             let hands = self.acting_hands();
             self.pending.push_back(hands);
         }
+        // The palette's Save: after every command so far, off the frame
+        // (the result shows in the stats and, if it fails, in the headset).
+        for _ in 0..self.session.take_save_requests() {
+            let (tx, _ignored) = mpsc::channel();
+            self.send(Job::Save(tx));
+            self.stats.save_requests += 1;
+        }
         self.update_preview();
         // A tick when a ray starts pointing at something.
         let hits = self
@@ -366,11 +409,17 @@ impl Interaction {
         let hands = self.pending.pop_front().unwrap_or([true, true]);
         self.stats.commit_ms.push(c.ms);
         match c.error {
-            Some(e) => self.stats.rejected.push(e),
+            Some(e) => {
+                let now = self.session.last_frame().map_or(0.0, |f| f.time);
+                self.refused = Some((e.clone(), now));
+                self.stats.rejected.push(e);
+            }
             None => {
                 self.doc = c.doc;
                 self.scene.document = c.mesh;
                 self.scene.version += 1;
+                // A drag still in progress keeps its object hidden.
+                self.hidden = None;
                 for (h, _) in hands.iter().enumerate().filter(|(_, &on)| on) {
                     self.haptics.push(Haptic {
                         hand: h,
@@ -409,6 +458,16 @@ impl Interaction {
 
     fn update_preview(&mut self) {
         let p = self.session.preview();
+        // While an object is dragged, the document is drawn without it.
+        let moving = p.moving.as_ref().map(|m| m.id);
+        if moving != self.hidden {
+            self.hidden = moving;
+            self.scene.document = match moving {
+                Some(id) => Some(document_mesh_without(&self.doc, id)),
+                None => document_mesh(&self.doc),
+            };
+            self.scene.version += 1;
+        }
         self.scene.preview = p.preview_mesh(&self.doc).map(|m| {
             let mut m = Arc::unwrap_or_clone(m);
             m.compute_normals();
@@ -432,6 +491,15 @@ impl Interaction {
             lines.push(v(model.apply(w[0]), SKETCH_COLOR));
             lines.push(v(model.apply(w[1]), SKETCH_COLOR));
         }
+        let now = self.session.last_frame().map_or(0.0, |f| f.time);
+        let message = self
+            .refused
+            .as_ref()
+            .map(|(m, t)| (m.as_str(), now - t))
+            .filter(|(_, age)| *age < crate::ui::MESSAGE_SECS);
+        let wrapped = message.map(|(m, age)| (wrap(m, 56), age));
+        let message = wrapped.as_ref().map(|(m, age)| (m.as_str(), *age));
+        crate::ui::overlay(&mut self.font, &self.session, message, &mut self.scene.ui);
     }
 
     /// Changes not yet on disk (0 without an autosaver), once every

@@ -12,4 +12,5 @@ pub mod interaction;
 pub mod progress;
 pub mod render;
 pub mod sdf_store;
+pub mod ui;
 pub mod xr;

@@ -187,7 +187,13 @@ pub fn render_mesh(
         model: Mat4::IDENTITY,
         color: [r, g, b, 1.0],
     };
-    Ok(target.render(&cams, settings.background, &[draw], gpu_lines.as_ref())?)
+    Ok(target.render(
+        &cams,
+        settings.background,
+        &[draw],
+        None,
+        gpu_lines.as_ref(),
+    )?)
 }
 
 /// Encodes `image` as an 8-bit RGBA PNG at `path` (parent folders
@@ -224,3 +230,60 @@ pub fn render_mesh_png(
     write_png(&image, path)?;
     Ok(image)
 }
+
+/// Renders what the headset shows of `scene` from a head at `head` (an
+/// eye between the two, `fov_y_deg` vertical, the image's aspect): the
+/// document, the drag preview, the palette and text, rays and sketches,
+/// with the headset's colours — the view a test or the README shows.
+pub fn render_scene(
+    ctx: &Arc<GpuContext>,
+    scene: &crate::gfx::Scene,
+    head: (Vec3, Quat),
+    width: u32,
+    height: u32,
+    fov_y_deg: f32,
+) -> Result<RgbaImage, RenderError> {
+    let target = OffscreenTarget::new(ctx, width, height, 1)?;
+    let r = target.renderer();
+    let half_y = (fov_y_deg.clamp(5.0, 150.0) * 0.5).to_radians();
+    let half_x = (half_y.tan() * width as f32 / height.max(1) as f32).atan();
+    let cam = eye_camera(
+        head.0,
+        head.1,
+        [-half_x, half_x, half_y, -half_y],
+        0.05,
+        50.0,
+    );
+    let doc = scene
+        .document
+        .as_ref()
+        .map(|m| r.upload_mesh(m))
+        .transpose()?;
+    let preview = scene
+        .preview
+        .as_ref()
+        .map(|m| r.upload_mesh(m))
+        .transpose()?;
+    let mut draws = Vec::new();
+    for (mesh, color) in [(doc.as_ref(), DOC_COLOR), (preview.as_ref(), PREVIEW_COLOR)] {
+        if let Some(mesh) = mesh {
+            draws.push(MeshDraw {
+                mesh,
+                model: scene.model_to_world,
+                color,
+            });
+        }
+    }
+    let upload = |v: &[LineVertex]| (!v.is_empty()).then(|| r.upload_lines(v)).transpose();
+    let ui = upload(&scene.ui)?;
+    let lines = upload(&scene.lines)?;
+    let mut images = target.render(&[cam], CLEAR, &draws, ui.as_ref(), lines.as_ref())?;
+    Ok(images.remove(0))
+}
+
+/// The headset's background (opaque blend).
+pub const CLEAR: [f32; 4] = [0.02, 0.025, 0.035, 1.0];
+/// The document's colour in the headset.
+pub const DOC_COLOR: [f32; 4] = [0.62, 0.66, 0.72, 1.0];
+/// The drag preview's colour in the headset.
+pub const PREVIEW_COLOR: [f32; 4] = [0.95, 0.75, 0.35, 1.0];

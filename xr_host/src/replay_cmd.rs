@@ -34,9 +34,18 @@ pub struct ReplayArgs {
     /// Render the model to this PNG with the host's Vulkan renderer.
     #[arg(long)]
     pub png: Option<PathBuf>,
-    /// Run this tool instead of the one the trace header names.
+    /// Run this tool alone instead of the session the trace header
+    /// describes.
     #[arg(long)]
     pub tool: Option<String>,
+    /// Render the headset view (from the recorded head, with the palette
+    /// and text as the headset shows them) at this trace time (seconds;
+    /// default: the last frame) to this PNG.
+    #[arg(long)]
+    pub view_png: Option<PathBuf>,
+    /// The trace time of `--view-png` (seconds from the first frame).
+    #[arg(long)]
+    pub view_at: Option<f64>,
 }
 
 /// `replay`.
@@ -52,14 +61,30 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
         )
     })?;
     let tool = args.tool.as_deref().unwrap_or(&trace.header.tool);
-    let mut it = Interaction::new(tool, model, OpLog::new(), None)
-        .with_context(|| format!("in {}", path.display()))?;
+    let mut it = match args.tool.as_deref() {
+        Some(tool) => Interaction::new(tool, model, OpLog::new(), None)
+            .with_context(|| format!("in {}", path.display()))?,
+        None => {
+            let session = trace
+                .header
+                .session()
+                .with_context(|| format!("in {}", path.display()))?;
+            Interaction::with_session(session, OpLog::new(), None)?
+        }
+    };
     let mut frame_ms = Vec::with_capacity(trace.frames.len());
     let mut names = Vec::new();
+    let t_first = trace.frames.first().map_or(0.0, |f| f.time);
+    let view_at = args.view_at.map(|t| t_first + t);
+    let mut view = None;
     for f in &trace.frames {
         let t0 = Instant::now();
         let cmd = it.step(f);
         frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        if args.view_png.is_some() && view_at.is_none_or(|t| f.time <= t) {
+            let head = it.session().last_frame().and_then(|f| f.head);
+            view = head.map(|h| (it.scene().clone(), h));
+        }
         // The headset loop lets commits finish in the background; a replay
         // waits for each, so the tool sees what the core's replay shows it.
         it.flush();
@@ -106,6 +131,16 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
             }
             written.push(path.display().to_string());
         }
+    }
+    if let (Some(png), Some((scene, head))) = (&args.view_png, view) {
+        let ctx = std::sync::Arc::new(shapewright_xr::gfx::GpuContext::new_offscreen()?);
+        let pose = (
+            head.position.as_vec3(),
+            head.orientation.as_quat().normalize(),
+        );
+        let image = shapewright_xr::render::render_scene(&ctx, &scene, pose, 1280, 800, 70.0)?;
+        shapewright_xr::render::write_png(&image, png)?;
+        written.push(png.display().to_string());
     }
     if let Some(png) = &args.png {
         let m = match &printed {

@@ -23,7 +23,8 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use shapewright::doc::OpLog;
 use shapewright::interact::{
-    InputFrame, ModelPlacement, SanitizerStats, Trace, TraceHeader, TRACE_FORMAT, TRACE_VERSION,
+    Hand, InputFrame, ModelPlacement, SanitizerStats, Session, Trace, TraceHeader, TRACE_FORMAT,
+    TRACE_VERSION,
 };
 use shapewright_usd::{load_file, AutosaveSettings, Autosaver, LoadOptions, SaveOptions};
 use shapewright_xr::gfx::Scene;
@@ -56,7 +57,9 @@ pub struct RunArgs {
     /// Stop instead of recreating the session after LOSS_PENDING.
     #[arg(long)]
     pub no_recreate: bool,
-    /// The tool the session runs (any name the core's tool registry knows).
+    /// The tool active at the start (any name the core's tool registry
+    /// knows); every tool is in the session, switched with the off hand's
+    /// palette.
     #[arg(long, default_value = "object")]
     pub tool: String,
     /// Continue a Shapewright USD file: its history is loaded (undo works)
@@ -255,7 +258,8 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let model = placement
         .similarity()
         .context("the default model placement is invalid")?;
-    let interaction = Interaction::new(&args.tool, model, log, Some(saver))?;
+    let session = Session::modeler(&args.tool, Hand::Right, model)?;
+    let interaction = Interaction::with_session(session, log, Some(saver))?;
     let out = match &args.record {
         Some(p) => Some(BufWriter::new(
             std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?,
@@ -271,6 +275,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
             model: placement,
             tool: args.tool.clone(),
             note: "recorded by shapewright-xr run".into(),
+            modeler: true,
         })
     });
     let mut sink = RunSink {

@@ -24,9 +24,13 @@ fn the_palette_reaches_every_tool_and_every_choice() {
         .session()
         .palette()
         .expect("the left menu button opens it");
-    for name in TOOL_NAMES {
-        assert!(view.labels().contains(&name), "{name} missing");
+    for label in crate::interact::palette::TOOL_LABELS {
+        assert!(view.labels().contains(&label), "{label} missing");
     }
+    assert_eq!(
+        TOOL_NAMES.len(),
+        crate::interact::palette::TOOL_LABELS.len()
+    );
     let mut picked = 0;
     for name in TOOL_NAMES {
         d.pick_tool(name).unwrap();

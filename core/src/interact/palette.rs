@@ -203,15 +203,20 @@ impl PaletteView {
 }
 
 /// The palette's orientation for an off hand at `anchor` seen from `head`:
-/// +Z toward the head (horizontally when the head is straight above),
-/// +Y as close to world up as that allows.
-pub fn facing(anchor: DVec3, head: Option<DVec3>) -> DQuat {
-    let mut z = head.map_or(DVec3::Z, |h| h - anchor);
+/// +Z toward the head, +Y as close to the head's up as that allows (so
+/// the panel reads upright in the view, not rolled by the perspective);
+/// world up without a head.
+pub fn facing(anchor: DVec3, head: Option<Pose>) -> DQuat {
+    let mut z = head.map_or(DVec3::Z, |h| h.position - anchor);
     if z.length_squared() < 1e-12 || !z.is_finite() {
         z = DVec3::Z;
     }
     let z = z.normalize();
-    let mut x = DVec3::Y.cross(z);
+    let up = head.map_or(DVec3::Y, |h| h.orientation * DVec3::Y);
+    let mut x = up.cross(z);
+    if x.length_squared() < 1e-9 || !x.is_finite() {
+        x = DVec3::Y.cross(z);
+    }
     if x.length_squared() < 1e-9 {
         x = DVec3::X;
     }
@@ -219,6 +224,9 @@ pub fn facing(anchor: DVec3, head: Option<DVec3>) -> DQuat {
     let y = z.cross(x);
     DQuat::from_mat3(&glam::DMat3::from_cols(x, y, z)).normalize()
 }
+
+/// The palette's labels of [`crate::interact::TOOL_NAMES`], in order.
+pub const TOOL_LABELS: [&str; 5] = ["Object", "GC", "CSG", "Curve", "Sculpt"];
 
 /// What the layout needs to know.
 pub struct LayoutInput<'a> {
@@ -417,13 +425,16 @@ mod tests {
         let head = DVec3::new(0.3, 1.6, 0.4);
         let anchor = DVec3::new(-0.2, 1.1, -0.3);
         let view = PaletteView {
-            pose: Pose::new(anchor, facing(anchor, Some(head))),
+            pose: Pose::new(
+                anchor,
+                facing(anchor, Some(Pose::new(head, DQuat::IDENTITY))),
+            ),
             size,
             items,
             hovered: None,
             pointer: None,
         };
-        // Upright: +Y has no sideways tilt, +Z points at the head.
+        // Upright for a level head: +X is level, +Z points at the head.
         let q = view.pose.orientation;
         assert!((q * DVec3::X).y.abs() < 1e-12);
         assert!((q * DVec3::Z).dot((head - anchor).normalize()) > 1.0 - 1e-12);

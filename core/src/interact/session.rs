@@ -208,12 +208,12 @@ impl Session {
             return None;
         };
         let center = anchor + glam::DVec3::Y * LIFT;
-        let head = frame.head.map(|h| h.position);
+        let head = frame.head;
         let groups = self.tools[self.active].choices();
         let pages = &mut m.pages[self.active];
         pages.resize(groups.len(), 0);
         let (items, size) = palette::layout(&LayoutInput {
-            tools: &TOOL_NAMES,
+            tools: &palette::TOOL_LABELS,
             active_tool: self.active,
             groups: &groups,
             pages,

@@ -13,6 +13,7 @@ mod offscreen;
 mod renderer;
 mod resource;
 mod scene;
+pub mod text;
 pub mod xr_raw;
 
 pub use context::{GpuContext, VK_API_VERSION};

@@ -108,6 +108,7 @@ impl OffscreenTarget {
         views: &[ViewCamera],
         clear: [f32; 4],
         meshes: &[MeshDraw<'_>],
+        ui: Option<&GpuLines>,
         lines: Option<&GpuLines>,
     ) -> Result<Vec<RgbaImage>, GfxError> {
         self.renderer.set_views(views)?;
@@ -115,7 +116,7 @@ impl OffscreenTarget {
         let ctx = self.renderer.context();
         ctx.submit_and_wait(|dev, cmd| {
             self.renderer
-                .record(cmd, &self.framebuffer, clear, meshes, lines);
+                .record(cmd, &self.framebuffer, clear, meshes, ui, lines);
             let region = vk::BufferImageCopy {
                 buffer_offset: 0,
                 buffer_row_length: 0,

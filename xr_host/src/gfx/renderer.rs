@@ -124,6 +124,9 @@ pub struct Renderer {
     layout: vk::PipelineLayout,
     mesh_pipeline: vk::Pipeline,
     line_pipeline: vk::Pipeline,
+    /// Flat triangles with per-vertex colour (the palette, text): the line
+    /// shaders with a triangle topology.
+    flat_pipeline: vk::Pipeline,
     ubo: HostBuffer,
 }
 
@@ -190,6 +193,7 @@ impl Renderer {
             layout: vk::PipelineLayout::null(),
             mesh_pipeline: vk::Pipeline::null(),
             line_pipeline: vk::Pipeline::null(),
+            flat_pipeline: vk::Pipeline::null(),
             ubo,
         };
         let view_mask = (1u32 << view_count) - 1;
@@ -345,6 +349,16 @@ impl Renderer {
             LINE_VERT,
             LINE_FRAG,
             vk::PrimitiveTopology::LINE_LIST,
+            &[
+                (0, vk::Format::R32G32B32_SFLOAT, 0),
+                (1, vk::Format::R32G32B32_SFLOAT, 12),
+            ],
+            std::mem::size_of::<LineVertex>() as u32,
+        )?;
+        this.flat_pipeline = this.pipeline(
+            LINE_VERT,
+            LINE_FRAG,
+            vk::PrimitiveTopology::TRIANGLE_LIST,
             &[
                 (0, vk::Format::R32G32B32_SFLOAT, 0),
                 (1, vk::Format::R32G32B32_SFLOAT, 12),
@@ -508,13 +522,16 @@ impl Renderer {
         self.ubo.write(0, &[ubo])
     }
 
-    /// Records the render pass into `cmd`: clear, meshes, then lines.
+    /// Records the render pass into `cmd`: clear, meshes, flat triangles
+    /// (`ui`: the palette and text, in a [`GpuLines`] buffer read as a
+    /// triangle list), then lines.
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
         fb: &Framebuffer,
         clear: [f32; 4],
         meshes: &[MeshDraw<'_>],
+        ui: Option<&GpuLines>,
         lines: Option<&GpuLines>,
     ) {
         let dev = self.ctx.device();
@@ -566,6 +583,12 @@ impl Renderer {
                 dev.cmd_bind_vertex_buffers(cmd, 0, &[d.mesh.vertices.handle()], &[0]);
                 dev.cmd_draw(cmd, d.mesh.vertex_count, 1, 0, 0);
             }
+            if let Some(u) = ui.filter(|u| u.vertex_count > 0) {
+                dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.flat_pipeline);
+                self.push(cmd, Mat4::IDENTITY, [1.0; 4]);
+                dev.cmd_bind_vertex_buffers(cmd, 0, &[u.vertices.handle()], &[0]);
+                dev.cmd_draw(cmd, u.vertex_count, 1, 0, 0);
+            }
             if let Some(l) = lines.filter(|l| l.vertex_count > 0) {
                 dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.line_pipeline);
                 self.push(cmd, Mat4::IDENTITY, [1.0; 4]);
@@ -611,6 +634,7 @@ impl Drop for Renderer {
             let _ = dev.device_wait_idle();
             dev.destroy_pipeline(self.mesh_pipeline, None);
             dev.destroy_pipeline(self.line_pipeline, None);
+            dev.destroy_pipeline(self.flat_pipeline, None);
             dev.destroy_pipeline_layout(self.layout, None);
             dev.destroy_descriptor_pool(self.pool, None);
             dev.destroy_descriptor_set_layout(self.set_layout, None);

@@ -25,4 +25,7 @@ pub struct Scene {
     pub preview: Option<Arc<TriMesh>>,
     /// Rays and the sketch in progress (world space), as segment pairs.
     pub lines: Vec<LineVertex>,
+    /// Flat triangles (world space): the palette, its labels, the active
+    /// tool next to the hand, readouts and messages.
+    pub ui: Vec<LineVertex>,
 }

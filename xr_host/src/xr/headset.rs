@@ -330,7 +330,7 @@ impl Graphics for Headset<'_> {
         let gpu_model = &self.gpu_model;
         let gpu_doc = &mut self.gpu_doc;
         let clear = if blend == xr::EnvironmentBlendMode::OPAQUE {
-            [0.02, 0.025, 0.035, 1.0]
+            crate::render::CLEAR
         } else {
             [0.0, 0.0, 0.0, 0.0]
         };
@@ -351,6 +351,10 @@ impl Graphics for Headset<'_> {
                     }
                 }
             }
+            let ui = match scene.filter(|s| !s.ui.is_empty()) {
+                Some(s) => Some(stereo.renderer.upload_lines(&s.ui)?),
+                None => None,
+            };
             let preview = match scene.and_then(|s| s.preview.as_ref()) {
                 Some(m) => Some(stereo.renderer.upload_mesh(m)?),
                 None => None,
@@ -365,8 +369,8 @@ impl Graphics for Headset<'_> {
                 })
                 .collect();
             for (m, color) in [
-                (gpu_doc.as_ref().map(|d| &d.1), [0.62, 0.66, 0.72, 1.0]),
-                (preview.as_ref(), [0.95, 0.75, 0.35, 1.0]),
+                (gpu_doc.as_ref().map(|d| &d.1), crate::render::DOC_COLOR),
+                (preview.as_ref(), crate::render::PREVIEW_COLOR),
             ] {
                 if let Some(mesh) = m {
                     draws.push(MeshDraw {
@@ -382,7 +386,7 @@ impl Graphics for Headset<'_> {
             stereo.renderer.context().submit_and_wait(|_, cmd| {
                 stereo
                     .renderer
-                    .record(cmd, fb, clear, &draws, lines.as_ref());
+                    .record(cmd, fb, clear, &draws, ui.as_ref(), lines.as_ref());
             })
         })();
         stereo

@@ -25,7 +25,7 @@ fn data(name: &str) -> std::path::PathBuf {
 }
 
 /// The desk placement as a model frame.
-fn desk() -> ModelFrame {
+pub(crate) fn desk() -> ModelFrame {
     let d = ModelPlacement::desk();
     ModelFrame {
         pose: Pose::new(DVec3::from_array(d.translate), DQuat::from_array(d.rotate)),
@@ -34,14 +34,14 @@ fn desk() -> ModelFrame {
 }
 
 /// A level controller at the stage point of model point `p`.
-fn at_model(view: &ModelFrame, p: [f64; 3]) -> Pose {
+pub(crate) fn at_model(view: &ModelFrame, p: [f64; 3]) -> Pose {
     Pose::new(view.to_world(DVec3::from_array(p)), DQuat::IDENTITY)
 }
 
 /// Two-hand gesture: both hands at `a0`/`b0` (model points), grab
 /// (`first` then the other), move to `a1`/`b1`, release. `axis_flick`
 /// pushes the right stick during the gesture (the scale axis quadrant).
-fn two_hand(
+pub(crate) fn two_hand(
     p: &mut Puppet,
     v: &ModelFrame,
     first: Hand,

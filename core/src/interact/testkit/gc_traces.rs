@@ -74,6 +74,23 @@ impl Rig {
         Self::start(place, true)
     }
 
+    /// A controller rig on an existing puppet (a mixed session hands its
+    /// puppet over for the GC part and takes it back with `r.p`).
+    #[cfg(test)]
+    pub(crate) fn on(p: Puppet, place: ModelPlacement) -> Rig {
+        let model = place.similarity().unwrap_or(Similarity::IDENTITY);
+        let mut r = Rig {
+            p,
+            place,
+            model,
+            q: look_along(DVec3::new(0.0, -0.5, -1.0)),
+            palm: DVec3::new(0.15, 1.15, -0.25),
+            controller: true,
+        };
+        r.go(0.3);
+        r
+    }
+
     fn start(place: ModelPlacement, controller: bool) -> Rig {
         let model = place.similarity().unwrap_or(Similarity::IDENTITY);
         let q = look_along(DVec3::new(0.0, -0.5, -1.0));

@@ -16,6 +16,8 @@ mod puppet;
 pub(crate) mod ctl_traces;
 #[cfg(test)]
 mod gesture_accuracy;
+#[cfg(test)]
+mod lamp_trace;
 
 pub use gc_traces::{mug_controller_trace, mug_trace, teapot_controller_trace, teapot_trace};
 pub use hand_sequences::{

@@ -11,7 +11,7 @@ use super::{Button, Puppet};
 use crate::interact::input::{Hand, Pose};
 use crate::interact::palette::{PaletteAction, PaletteItem, PaletteView};
 use crate::interact::session::Session;
-use crate::interact::tools::apply_command;
+use crate::interact::tools::{apply_command, TOOL_NAMES};
 use crate::interact::trace::{ModelPlacement, Trace, TraceHeader, TRACE_FORMAT, TRACE_VERSION};
 
 const R: Hand = Hand::Right;
@@ -37,14 +37,16 @@ pub struct Driver {
 
 impl Driver {
     /// A modeler session at `fps` with `start` active, the model on the
-    /// desk, both controllers in front of the user (left lower, holding
-    /// the palette).
+    /// desk, the head looking down at it, both controllers in front of the
+    /// user (left lower, holding the palette).
     pub fn new(fps: f64, start: &str) -> Driver {
         let model = ModelPlacement::desk();
         let session = Session::modeler(start, R, model.similarity().expect("desk placement"))
             .expect("a registered tool");
         let mut puppet = Puppet::new(fps);
+        // Looking down at the desk, where the model and the hands are.
         puppet
+            .look_at(DVec3::new(0.0, 0.95, -0.5))
             .controller(L, Pose::new(DVec3::new(-0.25, 1.05, -0.3), DQuat::IDENTITY))
             .controller(R, Pose::new(DVec3::new(0.2, 1.1, -0.3), DQuat::IDENTITY));
         Driver {
@@ -136,7 +138,11 @@ impl Driver {
 
     /// Picks the tool called `name`.
     pub fn pick_tool(&mut self, name: &str) -> Result<&mut Self, String> {
-        self.pick(|i| matches!(i.action, PaletteAction::Tool(_)) && i.label == name)
+        let k = TOOL_NAMES
+            .iter()
+            .position(|n| *n == name)
+            .ok_or_else(|| format!("no tool {name}"))?;
+        self.pick(|i| i.action == PaletteAction::Tool(k))
     }
 
     /// Picks `action` (undo, redo, save, grid, angle).

@@ -57,6 +57,17 @@ impl Puppet {
         }
     }
 
+    /// Turns the head (keeping its position) to look at `target` with
+    /// world +Y up.
+    pub fn look_at(&mut self, target: DVec3) -> &mut Self {
+        let z = (self.head.position - target).normalize();
+        let x = DVec3::Y.cross(z).normalize();
+        let y = z.cross(x);
+        self.head.orientation =
+            DQuat::from_mat3(&crate::math::DMat3::from_cols(x, y, z)).normalize();
+        self
+    }
+
     /// Gives `hand` a controller at `pose`, all buttons released.
     pub fn controller(&mut self, hand: Hand, pose: Pose) -> &mut Self {
         self.controllers[hand.index()] = Some(ControllerSample {

@@ -29,7 +29,7 @@ fn desk() -> Similarity {
 }
 
 /// The stage pose with the tip at model point `p` aiming along model `dir`.
-fn pen(p: DVec3, dir: DVec3) -> Pose {
+pub(crate) fn pen(p: DVec3, dir: DVec3) -> Pose {
     let m = desk();
     let q = DQuat::from_rotation_arc(DVec3::NEG_Z, m.apply_dir(dir.normalize()));
     Pose::new(m.apply(p), q)
@@ -41,7 +41,7 @@ fn v(x: f64, y: f64, z: f64) -> DVec3 {
 
 /// Draws from `a` to `b` bowed by `bow` at the middle, pressing with the
 /// pen aimed along `dir`: 40 one-frame steps.
-fn stroke(p: &mut Puppet, a: DVec3, b: DVec3, bow: DVec3, dir: DVec3) {
+pub(crate) fn stroke(p: &mut Puppet, a: DVec3, b: DVec3, bow: DVec3, dir: DVec3) {
     p.move_to(R, pen(a, dir), 0.25).set(R, Button::Select, true);
     for k in 1..=40 {
         let s = k as f64 / 40.0;

@@ -13,7 +13,7 @@ pub(crate) mod csg_tool;
 mod ctl_tool_tests;
 pub(crate) mod curve_tool;
 #[cfg(test)]
-mod curve_tool_tests;
+pub(crate) mod curve_tool_tests;
 pub(crate) mod gc_tool;
 pub(crate) mod object_tool;
 pub(crate) mod pick;

@@ -1,0 +1,164 @@
+//! What the headset shows besides the model: the off hand's palette (from
+//! the core's [`PaletteView`]: panel, buttons, labels, hover and pointer),
+//! the active tool and its choices next to the dominant hand, the live
+//! readout of a drag, and refused edits as short red messages that fade.
+//! All of it is flat triangles in world space ([`Scene::ui`]); the layout
+//! and picking are the core's, so this only draws.
+
+use glam::{DVec3, Quat, Vec3};
+use shapewright::interact::{palette::facing, Hand, PaletteAction, PaletteView, Session};
+
+use crate::gfx::text::{quad, Font};
+use crate::gfx::LineVertex;
+
+const PANEL: [f32; 3] = [0.05, 0.055, 0.07];
+const BUTTON: [f32; 3] = [0.2, 0.22, 0.27];
+const ACTIVE: [f32; 3] = [0.18, 0.42, 0.78];
+const HOVER: [f32; 3] = [0.95, 0.62, 0.2];
+const LABEL: [f32; 3] = [0.95, 0.96, 0.98];
+const HEADER: [f32; 3] = [0.6, 0.66, 0.74];
+const STATUS: [f32; 3] = [0.85, 0.9, 0.95];
+const READOUT: [f32; 3] = [0.98, 0.8, 0.4];
+const REFUSED: [f32; 3] = [1.0, 0.35, 0.3];
+/// Seconds a refused-edit message stays, the last of them fading.
+pub const MESSAGE_SECS: f64 = 4.0;
+
+/// The em height of palette labels (metres).
+const LABEL_EM: f32 = 0.0105;
+/// The em height of the status line next to the hand (metres).
+const STATUS_EM: f32 = 0.012;
+
+fn v3(v: DVec3) -> Vec3 {
+    v.as_vec3()
+}
+
+/// Draws the palette into `out`.
+pub fn palette(font: &mut Font, view: &PaletteView, out: &mut Vec<LineVertex>) {
+    let q = view.pose.orientation.as_quat();
+    let (x, y, z) = (q * Vec3::X, q * Vec3::Y, q * Vec3::Z);
+    let c = v3(view.pose.position);
+    let at = |px: f64, py: f64, dz: f32| c + x * px as f32 + y * py as f32 + z * dz;
+    let (w, h) = (view.size[0] as f32, view.size[1] as f32);
+    quad(
+        out,
+        at(0.0, 0.0, -0.001) - x * (w / 2.0) - y * (h / 2.0),
+        x * w,
+        y * h,
+        PANEL,
+    );
+    for (k, it) in view.items.iter().enumerate() {
+        let [x0, y0, x1, y1] = it.rect;
+        let (bw, bh) = ((x1 - x0) as f32, (y1 - y0) as f32);
+        let header = it.action == PaletteAction::None;
+        if !header {
+            let color = if view.hovered == Some(k) {
+                HOVER
+            } else if it.active {
+                ACTIVE
+            } else {
+                BUTTON
+            };
+            quad(out, at(x0, y0, 0.0), x * bw, y * bh, color);
+        }
+        // Fit the label: shrink long ones to the button's width.
+        let pad = 0.003;
+        let mut em = LABEL_EM;
+        let tw = font.width(&it.label, em);
+        if tw > bw - 2.0 * pad {
+            em *= (bw - 2.0 * pad) / tw;
+        }
+        let tw = font.width(&it.label, em);
+        let left = if header {
+            x0 as f32
+        } else {
+            x0 as f32 + (bw - tw) / 2.0
+        };
+        let base = y0 as f32 + (bh - font.cap_height() * em) / 2.0;
+        let origin = c + x * left + y * base + z * 0.0008;
+        let color = if header { HEADER } else { LABEL };
+        font.push(out, &it.label, origin, x, y, em, color);
+    }
+    if let Some(p) = view.pointer {
+        let s = 0.003;
+        quad(
+            out,
+            v3(p) + z * 0.0015 - (x + y) * (s / 2.0),
+            x * s,
+            y * s,
+            HOVER,
+        );
+    }
+}
+
+/// Text lines stacked upward above `anchor`, facing `head`.
+fn lines_at(
+    font: &mut Font,
+    anchor: DVec3,
+    head: Option<shapewright::interact::Pose>,
+    lines: &[(&str, [f32; 3])],
+    out: &mut Vec<LineVertex>,
+) {
+    let q: Quat = facing(anchor, head).as_quat();
+    let (x, y, z) = (q * Vec3::X, q * Vec3::Y, q * Vec3::Z);
+    let mut base = v3(anchor) + y * 0.05 + z * 0.01;
+    for (text, color) in lines.iter().rev() {
+        if text.is_empty() {
+            continue;
+        }
+        let w = font.width(text, STATUS_EM);
+        // A dark backing so the text reads against the model.
+        let m = STATUS_EM * 0.3;
+        quad(
+            out,
+            base - x * (w / 2.0 + m) - y * m - z * 0.001,
+            x * (w + 2.0 * m),
+            y * (STATUS_EM + m),
+            PANEL,
+        );
+        font.push(out, text, base - x * (w / 2.0), x, y, STATUS_EM, *color);
+        base += y * (STATUS_EM * 1.5);
+    }
+}
+
+/// Where the dominant hand is (controller grip, else tracked palm).
+fn hand_position(session: &Session, hand: Hand) -> Option<DVec3> {
+    let f = session.last_frame()?;
+    f.controller(hand)
+        .and_then(|c| c.grip)
+        .map(|g| g.position)
+        .or_else(|| {
+            f.hand(hand)
+                .and_then(|h| h.pos(shapewright::interact::Joint::Palm))
+        })
+}
+
+/// Builds the whole overlay of a frame: palette (when open), the status
+/// line with the readout next to the dominant hand, and `message` (a
+/// refused edit, wrapped into lines, with its age in seconds) while it is
+/// fresh.
+pub fn overlay(
+    font: &mut Font,
+    session: &Session,
+    message: Option<(&str, f64)>,
+    out: &mut Vec<LineVertex>,
+) {
+    out.clear();
+    if let Some(view) = session.palette() {
+        palette(font, view, out);
+    }
+    let head = session.last_frame().and_then(|f| f.head);
+    let Some(hand) = hand_position(session, Hand::Right) else {
+        return;
+    };
+    let p = session.preview();
+    let status = format!("{}  {}", session.tool().name().to_uppercase(), p.mode);
+    let mut lines: Vec<(&str, [f32; 3])> = Vec::new();
+    if let Some((m, age)) = message {
+        let k = (1.0 - age / MESSAGE_SECS).clamp(0.0, 1.0) as f32;
+        let color = REFUSED.map(|c| c * k + PANEL[0] * (1.0 - k));
+        lines.extend(m.lines().map(|l| (l, color)));
+    }
+    lines.push((status.trim_end(), STATUS));
+    lines.push((&p.readout, READOUT));
+    lines_at(font, hand, head, &lines, out);
+}
