@@ -8,7 +8,9 @@
 #   out/teapot.usda  the model with its whole op log (reopen it to undo),
 #   out/teapot.stl   the printable union: one closed 2-manifold,
 #   out/teapot.png   a picture from the host's own Vulkan renderer (lavapipe),
-# and prints a one-screen summary.
+# and prints a one-screen summary. Then the lamp session (issue 19): the
+# same outputs as out/lamp.*, plus out/lamp_headset.png, the headset view
+# with the palette open.
 #   bash scripts/demo.sh [TRACE.trace.jsonl]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -25,3 +27,12 @@ echo
 "$bin" info "out/$name.usda"
 echo
 echo "demo: out/$name.usda (model + op log), out/$name.stl (printable), out/$name.png (host render)"
+if [ $# -eq 0 ]; then
+    # The second picture: a desk lamp made in one modeler session (every
+    # tool switched through the off hand's palette), and the headset view
+    # with the palette open while the shade is dragged.
+    echo
+    "$bin" replay tests/data/lamp_session.trace.jsonl --out out/lamp.usda --stl out/lamp.stl \
+        --png out/lamp.png --view-png out/lamp_headset.png --view-at 43.5
+    echo "demo: out/lamp.usda, out/lamp.stl, out/lamp.png, out/lamp_headset.png (the headset view)"
+fi

@@ -8,7 +8,14 @@ from __future__ import annotations
 
 import bpy
 
-_state: dict = {"sketch": [], "rays": [], "preview": None}
+_state: dict = {"sketch": [], "rays": [], "preview": None, "palette": None}
+# Palette colours (the headset host's, linear RGB).
+_COLORS = {
+    "panel": (0.05, 0.055, 0.07, 1.0),
+    "button": (0.2, 0.22, 0.27, 1.0),
+    "active": (0.18, 0.42, 0.78, 1.0),
+    "hover": (0.95, 0.62, 0.2, 1.0),
+}
 _handles: list = []
 
 
@@ -24,6 +31,11 @@ def set_rays(rays: list[tuple[tuple, tuple, float, bool]]) -> None:
 def set_preview(triangles: list[tuple] | None) -> None:
     """Triangle-soup corners (world space) of the object being dragged."""
     _state["preview"] = triangles
+
+
+def set_palette(palette: dict | None) -> None:
+    """The open palette as `xr.palette_geometry` builds it, or None."""
+    _state["palette"] = palette
 
 
 def state() -> dict:
@@ -52,8 +64,37 @@ def _draw() -> None:
         shader.uniform_float("color", (0.3, 0.7, 1.0, 0.35))
         batch.draw(shader)
         gpu.state.blend_set("NONE")
+    if _state["palette"]:
+        _draw_palette(shader, batch_for_shader)
     gpu.state.depth_test_set("NONE")
     gpu.state.line_width_set(1.0)
+
+
+def _draw_palette(shader, batch_for_shader) -> None:
+    import blf
+    import gpu
+    from mathutils import Matrix, Vector
+
+    for corners, kind in _state["palette"]["quads"]:
+        a, b, c, d = corners
+        batch = batch_for_shader(shader, "TRIS", {"pos": [a, b, c, a, c, d]})
+        shader.uniform_float("color", _COLORS[kind])
+        batch.draw(shader)
+    # Labels: blf draws in the current matrix; one unit of font size maps
+    # to the label's height.
+    font, size = 0, 64
+    for text, origin, right_end, top in _state["palette"]["labels"]:
+        o = Vector(origin)
+        right, up = Vector(right_end) - o, Vector(top) - o
+        em = min(up.length * 0.55, 0.0105)
+        x, y = right.normalized() * em / size, up.normalized() * em / size
+        m = Matrix(((x[0], y[0], 0, o[0]), (x[1], y[1], 0, o[1]), (x[2], y[2], 0, o[2]), (0, 0, 0, 1)))
+        with gpu.matrix.push_pop():
+            gpu.matrix.multiply_matrix(m)
+            blf.size(font, size)
+            blf.color(font, 0.95, 0.96, 0.98, 1.0)
+            blf.position(font, 0, 0, 0)
+            blf.draw(font, text)
 
 
 def register() -> None:
@@ -73,3 +114,4 @@ def unregister() -> None:
     set_sketch([])
     set_rays([])
     set_preview(None)
+    set_palette(None)

@@ -75,8 +75,16 @@ def hand_index(user_path: str) -> int:
 class XrDriver:
     """Latest controller state, turned into core input frames."""
 
-    def __init__(self, tool: str = "object") -> None:
-        self.input = sw.InputSession(tool, json.dumps(PLACEMENT))
+    def __init__(self, tool: str = "object", modeler: bool = True) -> None:
+        # A modeler session (every tool, the left hand's palette), as the
+        # headset host runs; `modeler=False` runs one tool alone (traces
+        # recorded before the palette).
+        placement = json.dumps(PLACEMENT)
+        if modeler:
+            self.input = sw.InputSession.modeler(tool, placement)
+        else:
+            self.input = sw.InputSession(tool, placement)
+        self.saves = 0
         self.poses: list[dict] = [{}, {}]
         self.buttons: list[dict] = [{}, {}]
         self.head: dict | None = None
@@ -130,6 +138,12 @@ class XrDriver:
         s = history.session(scene)
         out = self.input.step(s, json.dumps(self.frame(t)))
         self.show(s)
+        for _ in range(self.input.take_save_requests()):
+            # The palette's Save: the .blend (and the log's USD beside it,
+            # written by the save handler) when the file has a path.
+            self.saves += 1
+            if bpy.data.filepath:
+                bpy.ops.wm.save_mainfile()
         if out is None:
             return None
         self.commands.append(out)
@@ -150,6 +164,48 @@ class XrDriver:
                 rays.append((o, d, r[2], r[3]))
         draw.set_rays(rays)
         draw.set_sketch(p["sketch"])
+        draw.set_palette(palette_geometry(self.input.palette()))
+
+
+def _stage_point(p) -> tuple:
+    return from_stage({"p": list(p), "q": [0, 0, 0, 1]})[0]
+
+
+def palette_geometry(view: dict | None) -> dict | None:
+    """The core's palette (stage space, plane coordinates) as Blender-world
+    geometry for the draw handler: the panel and button quads with their
+    colours, and each label's baseline origin, right and up vectors."""
+    if view is None:
+        return None
+    pose = json.loads(view["pose"])
+    c, (qw, qx, qy, qz) = pose["p"], (pose["q"][3], *pose["q"][:3])
+
+    def rot(v):
+        # Rotates v by the stage quaternion (x, y, z, w).
+        x, y, z = v
+        tx, ty, tz = 2 * (qy * z - qz * y), 2 * (qz * x - qx * z), 2 * (qx * y - qy * x)
+        return (
+            x + qw * tx + qy * tz - qz * ty,
+            y + qw * ty + qz * tx - qx * tz,
+            z + qw * tz + qx * ty - qy * tx,
+        )
+
+    def at(x, y, dz=0.0):
+        r = rot((x, y, dz))
+        return _stage_point((c[0] + r[0], c[1] + r[1], c[2] + r[2]))
+
+    w, h = view["size"]
+    back = -0.001
+    corners = [(-w / 2, -h / 2), (w / 2, -h / 2), (w / 2, h / 2), (-w / 2, h / 2)]
+    quads = [([at(x, y, back) for x, y in corners], "panel")]
+    labels = []
+    for k, (label, (x0, y0, x1, y1), active, pickable) in enumerate(view["items"]):
+        if pickable:
+            kind = "hover" if view["hovered"] == k else ("active" if active else "button")
+            quads.append(([at(x0, y0), at(x1, y0), at(x1, y1), at(x0, y1)], kind))
+        base, lift = (y0 + y1) / 2 - 0.004, 0.0008
+        labels.append((label, at(x0 + 0.003, base, lift), at(x1, base, lift), at(x0 + 0.003, y1, lift)))
+    return {"quads": quads, "labels": labels}
 
 
 _driver: XrDriver | None = None

@@ -431,11 +431,18 @@ def drive_xr_trace(trace: Path, tolerance: float) -> list[str]:
     lines = trace.read_text().splitlines()
     header = json.loads(lines[0])
     want_doc = sw.Session()
-    want = sw.InputSession(header["tool"], json.dumps(header["model"]))
+    modeler = header.get("modeler", False)
+    model = json.dumps(header["model"])
+    if modeler:
+        want = sw.InputSession.modeler(header["tool"], model)
+    else:
+        want = sw.InputSession(header["tool"], model)
     for line in lines[1:]:
         want.step(want_doc, line)
     xr = addon().xr
-    d = xr.XrDriver(header["tool"])
+    d = xr.XrDriver(header["tool"], modeler)
+    global last_driver
+    last_driver = d
     scene = bpy.context.scene
     for ev in trace_events(trace):
         for hand, p in enumerate(ev["poses"]):
@@ -480,6 +487,44 @@ def scenario_xr_trace(work: Path) -> None:
     ):
         assert f"/interaction_profiles/{p}" in profiles, p
     assert xr.create_actions in bpy.app.handlers.xr_session_start_pre
+
+
+last_driver = None
+
+
+def scenario_xr_lamp_session(work: Path) -> None:
+    """Issue 19 in Blender's VR session: the lamp made in one modeler
+    session (every tool switched through the palette, undo/redo, two
+    saves) driven through the add-on's VR input path gives the core's
+    document; the palette reaches the draw handler as geometry with its
+    labels."""
+    names = drive_xr_trace(DATA / "lamp_session.trace.jsonl", 1e-4)
+    for op in ("sculpt_stroke", "set_transform", "gc_add_child", "sdf_update", "curve_fill_auto"):
+        assert op in names, (op, names)
+    assert names.count("undo") == 1 and names.count("redo") == 1, names
+    assert last_driver is not None and last_driver.saves == 2, last_driver and last_driver.saves
+    s = core_session()
+    kinds = sorted(s.object_kind(i) for i in s.object_ids())
+    assert kinds == ["curve_network", "gc_assembly", "sculpt_mesh", "sdf_volume"], kinds
+    # The palette as the draw handler gets it: open the palette (left menu)
+    # on a fresh modeler driver and look at the geometry.
+    xr = addon().xr
+    d = xr.XrDriver("csg")
+    d.set_pose(0, "grip", (-0.25, 0.3, 1.05), (1.0, 0.0, 0.0, 0.0))
+    d.set_pose(1, "grip", (0.2, 0.3, 1.1), (1.0, 0.0, 0.0, 0.0))
+    d.set_head((0.0, 0.0, 1.6), (1.0, 0.0, 0.0, 0.0))
+    d.step(bpy.context.scene, 0.0)
+    d.on_action("menu", "/user/hand/left", 1.0, False)
+    d.step(bpy.context.scene, 0.02)
+    pal = addon().draw.state()["palette"]
+    assert pal is not None
+    texts = [t for t, *_ in pal["labels"]]
+    for label in ("Object", "GC", "CSG", "Curve", "Sculpt", "Undo", "Save", "Component"):
+        assert label in texts, texts
+    assert ("active" in [k for _, k in pal["quads"]]), pal["quads"][:3]
+    # Blender world: the panel floats above the left hand (Z up).
+    zs = [p[2] for p in pal["quads"][0][0]]
+    assert min(zs) > 1.05, zs
 
 
 def scenario_xr_gc_trace(work: Path) -> None:

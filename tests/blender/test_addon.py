@@ -24,6 +24,8 @@ import pytest
         "sketch_projection",
         "xr_trace",
         "xr_gc_trace",
+        # issue 19: the lamp modeler session through the VR input path
+        "xr_lamp_session",
         "history_usd",
         # issue 20
         "reopen_undo",

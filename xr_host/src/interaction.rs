@@ -468,7 +468,10 @@ impl Interaction {
             };
             self.scene.version += 1;
         }
-        self.scene.preview = p.preview_mesh(&self.doc).map(|m| {
+        // The dragged object where it would land, or the GC part as the
+        // gesture would leave it.
+        let gc_mesh = p.gc().and_then(|g| g.mesh.clone());
+        self.scene.preview = p.preview_mesh(&self.doc).or(gc_mesh).map(|m| {
             let mut m = Arc::unwrap_or_clone(m);
             m.compute_normals();
             Arc::new(m)
@@ -491,6 +494,8 @@ impl Interaction {
             lines.push(v(model.apply(w[0]), SKETCH_COLOR));
             lines.push(v(model.apply(w[1]), SKETCH_COLOR));
         }
+        crate::ui::tool_marks(&self.session, lines);
+        crate::ui::hands_and_controllers(&self.session, lines);
         let now = self.session.last_frame().map_or(0.0, |f| f.time);
         let message = self
             .refused

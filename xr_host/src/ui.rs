@@ -162,3 +162,126 @@ pub fn overlay(
     lines.push((&p.readout, READOUT));
     lines_at(font, hand, head, &lines, out);
 }
+
+fn line(out: &mut Vec<LineVertex>, a: Vec3, b: Vec3, color: [f32; 3]) {
+    out.push(LineVertex {
+        pos: a.to_array(),
+        color,
+    });
+    out.push(LineVertex {
+        pos: b.to_array(),
+        color,
+    });
+}
+
+/// A circle of `r` about `c` in the plane spanned by unit `u`, `v`.
+fn circle(out: &mut Vec<LineVertex>, c: Vec3, u: Vec3, v: Vec3, r: f32, color: [f32; 3]) {
+    let n = 32;
+    let at = |k: usize| {
+        let a = k as f32 / n as f32 * std::f32::consts::TAU;
+        c + (u * a.cos() + v * a.sin()) * r
+    };
+    for k in 0..n {
+        line(out, at(k), at(k + 1), color);
+    }
+}
+
+const MARK: [f32; 3] = [1.0, 0.55, 0.15];
+const BRUSH: [f32; 3] = [0.5, 0.85, 1.0];
+const BONE: [f32; 3] = [0.75, 0.8, 0.85];
+
+/// What the active tool acts on, as lines (world space): the GC tool's
+/// target (a cross at the key point, section or surface point; a ring
+/// filling up during a 3 s hold), the sculpt brush (its sphere, solid
+/// while stroking), the CSG tool's selected operand (its axes).
+pub fn tool_marks(session: &Session, out: &mut Vec<LineVertex>) {
+    let p = session.preview();
+    let model = p.view.unwrap_or(*session.model());
+    if let Some(g) = p.gc() {
+        let world = g.view.map_or(model, |v| v.compose(&model));
+        if let Some(t) = &g.target {
+            let c = world.apply(t.point()).as_vec3();
+            let s = 0.012;
+            for d in [Vec3::X, Vec3::Y, Vec3::Z] {
+                line(out, c - d * s, c + d * s, MARK);
+            }
+            if g.hold > 0.0 {
+                let r = 0.02;
+                let n = (32.0 * g.hold).ceil() as usize;
+                for k in 0..n {
+                    let a0 = k as f32 / 32.0 * std::f32::consts::TAU;
+                    let a1 = (k + 1) as f32 / 32.0 * std::f32::consts::TAU;
+                    let at = |a: f32| c + (Vec3::X * a.cos() + Vec3::Y * a.sin()) * r;
+                    line(out, at(a0), at(a1), MARK);
+                }
+            }
+        }
+    }
+    if let Some(Some(b)) = p.brush() {
+        let c = b.position.as_vec3();
+        let r = b.radius as f32;
+        let color = if b.stroking { MARK } else { BRUSH };
+        circle(out, c, Vec3::X, Vec3::Y, r, color);
+        circle(out, c, Vec3::Y, Vec3::Z, r, color);
+        circle(out, c, Vec3::Z, Vec3::X, r, color);
+    }
+    if let Some(m) = p.csg().and_then(|c| c.moving_operand) {
+        let t = &m.transform;
+        let at = model.apply(DVec3::from_array(t.translate)).as_vec3();
+        let q = model.rotate * glam::DQuat::from_array(t.rotate);
+        for (d, color) in [
+            (DVec3::X, [1.0, 0.3, 0.3]),
+            (DVec3::Y, [0.3, 1.0, 0.3]),
+            (DVec3::Z, [0.3, 0.5, 1.0]),
+        ] {
+            line(out, at, at + (q * d).as_vec3() * 0.06, color);
+        }
+    }
+}
+
+/// The hands as skeletons (wrist to each finger's tip) and controllers as
+/// small boxes at their grips, so the user sees what the system tracks.
+pub fn hands_and_controllers(session: &Session, out: &mut Vec<LineVertex>) {
+    use shapewright::interact::Joint;
+    let Some(f) = session.last_frame() else {
+        return;
+    };
+    for h in f.hands.iter().flatten() {
+        // OpenXR joint order: palm, wrist, then five fingers of 4 (thumb)
+        // or 5 joints from metacarpal to tip.
+        let chains: [std::ops::Range<usize>; 5] = [2..6, 6..11, 11..16, 16..21, 21..26];
+        let at = |i: usize| h.joints[i].map(|p| p.position.as_vec3());
+        let wrist = at(Joint::Wrist.index());
+        for chain in chains {
+            let mut prev = wrist;
+            for i in chain {
+                let cur = at(i);
+                if let (Some(a), Some(b)) = (prev, cur) {
+                    line(out, a, b, BONE);
+                }
+                prev = cur;
+            }
+        }
+    }
+    for c in f.controllers.iter().flatten() {
+        let Some(g) = c.grip else { continue };
+        let q = g.orientation.as_quat();
+        let o = g.position.as_vec3();
+        let half = Vec3::new(0.02, 0.015, 0.05);
+        let corner = |i: usize| {
+            let s = Vec3::new(
+                if i & 1 == 0 { -1.0 } else { 1.0 },
+                if i & 2 == 0 { -1.0 } else { 1.0 },
+                if i & 4 == 0 { -1.0 } else { 1.0 },
+            );
+            o + q * (s * half)
+        };
+        for i in 0..8usize {
+            for bit in [1, 2, 4] {
+                if i & bit == 0 {
+                    line(out, corner(i), corner(i | bit), BONE);
+                }
+            }
+        }
+    }
+}

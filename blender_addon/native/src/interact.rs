@@ -8,8 +8,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use shapewright::doc::ScriptCommand;
 use shapewright::interact::{
-    apply_command, tool_named, ActionMap, InputFrame, ModelPlacement, Preview, Session as Driver,
-    TRACE_FORMAT, TRACE_VERSION,
+    apply_command, tool_named, ActionMap, Hand, InputFrame, ModelPlacement, PaletteAction, Preview,
+    Session as Driver, TRACE_FORMAT, TRACE_VERSION,
 };
 
 use crate::doc::Session;
@@ -67,11 +67,65 @@ impl InputSession {
         Ok(Some((line, refused.map(|e| log_err(e).to_string()))))
     }
 
-    /// Switches to the tool named `tool`, cancelling any gesture in progress.
+    /// A modeler driver: every tool, `start` active, the palette on the
+    /// left hand (the headset host's session; see `core::interact::palette`).
+    #[staticmethod]
+    fn modeler(start: &str, placement_json: &str) -> PyResult<Self> {
+        let placement: ModelPlacement =
+            serde_json::from_str(placement_json).map_err(|e| parse_err("placement", e))?;
+        let model = placement
+            .similarity()
+            .ok_or_else(|| ParseError::new_err("placement must be finite with a positive scale"))?;
+        Driver::modeler(start, Hand::Right, model)
+            .map(Self)
+            .map_err(|e| parse_err("tool", e))
+    }
+
+    /// Makes the tool named `tool` active (a modeler driver keeps every
+    /// tool's choices; a one-tool driver gets a fresh tool), cancelling
+    /// any gesture in progress.
     fn set_tool(&mut self, tool: &str) -> PyResult<()> {
-        let tool = tool_named(tool).map_err(|e| parse_err("tool", e))?;
-        self.0.set_tool(tool);
-        Ok(())
+        self.0.select_tool(tool).map_err(|e| parse_err("tool", e))
+    }
+
+    /// The active tool's name.
+    fn tool(&self) -> &'static str {
+        self.0.tool().name()
+    }
+
+    /// The palette to draw, when open: `pose` (stage `{"p","q"}`: centre,
+    /// +X right, +Y up, +Z toward the head), `size` `[w, h]` (metres),
+    /// `items` (`(label, [x0, y0, x1, y1], active, pickable)` in the plane),
+    /// `hovered` (item index or None), `pointer` (stage point or None).
+    fn palette<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(v) = self.0.palette() else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        let pose = serde_json::to_string(&v.pose).map_err(|e| parse_err("pose", e))?;
+        d.set_item("pose", pose)?; // JSON text: {"p": [x, y, z], "q": [x, y, z, w]}
+        d.set_item("size", v.size)?;
+        let items: Vec<(String, [f64; 4], bool, bool)> = v
+            .items
+            .iter()
+            .map(|i| {
+                (
+                    i.label.clone(),
+                    i.rect,
+                    i.active,
+                    i.action != PaletteAction::None,
+                )
+            })
+            .collect();
+        d.set_item("items", items)?;
+        d.set_item("hovered", v.hovered)?;
+        d.set_item("pointer", v.pointer.map(|p| p.to_array()))?;
+        Ok(Some(d))
+    }
+
+    /// Saves asked for through the palette since the last call.
+    fn take_save_requests(&mut self) -> u32 {
+        self.0.take_save_requests()
     }
 
     /// What to draw now: `rays` (per hand `None` or `(origin, dir, length,
