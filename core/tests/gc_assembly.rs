@@ -7,6 +7,7 @@
 use glam::DVec3;
 use shapewright::assembly::{
     anchor_frame, detect_relations, mirror_plane, reflect, symmetry_twins, AssemblyError,
+    RelationKind,
 };
 use shapewright::assembly::{ChildEnd, GcAddChild, GcEditPart, GcTransformPart, PartEdit};
 use shapewright::doc::{
@@ -138,19 +139,39 @@ fn editing_a_chair_leg_moves_its_twin_identically() {
     let after = assembly(&log);
     assert_eq!(after.parts[1].gc.sections[0].scale, 1.2);
     assert_mirror_twins(&after, 1, 2);
-    // sliding a leg along the seat moves its twin the mirrored way
-    log.apply(Op::GcTransformPart(Edit::new(
-        ObjectId(1),
-        GcTransformPart {
-            part: PartId(1),
-            translate: DVec3::new(-0.02, -0.01, 0.0),
-            rotate: [0.0, 0.0, 0.0, 1.0],
-            tolerance: 1e-6,
-        },
-    )))
-    .expect("transform");
+    // Sliding a leg out of the plane it shares with the other legs on its
+    // side (and the back post) would break that recorded coplanarity: a
+    // typed error naming it, the document unchanged.
+    let slide = |translate: DVec3| {
+        Op::GcTransformPart(Edit::new(
+            ObjectId(1),
+            GcTransformPart {
+                part: PartId(1),
+                translate,
+                rotate: [0.0, 0.0, 0.0, 1.0],
+                tolerance: 1e-6,
+            },
+        ))
+    };
+    let hash = log.document().content_hash();
+    match log.apply(slide(DVec3::new(-0.02, -0.01, 0.0))) {
+        Err(LogError::Op(OpError::Assembly(AssemblyError::RelationBroken {
+            relation: RelationKind::Coplanar,
+            parts,
+        }))) => assert!(parts.0 == 1 || parts.1 == 1, "{parts:?}"),
+        other => panic!("expected a coplanarity refusal, got {other:?}"),
+    }
+    assert_eq!(log.document().content_hash(), hash);
+    // sliding a leg along the seat, in its plane, moves its twin the mirrored way
+    log.apply(slide(DVec3::new(-0.02, 0.0, 0.0)))
+        .expect("transform");
     let after = assembly(&log);
     assert_mirror_twins(&after, 1, 2);
+    let moved = after.parts[1].gc.key_points()[0] - asm.parts[1].gc.key_points()[0];
+    assert!(
+        (moved - DVec3::new(-0.02, 0.0, 0.0)).length() < 1e-12,
+        "{moved}"
+    );
     let r = validate(
         &log.document().printable_mesh().expect("union"),
         &Default::default(),

@@ -41,6 +41,7 @@ mod error;
 mod propagate;
 mod relations;
 mod rigid;
+mod structure;
 mod union;
 
 pub mod edit;
@@ -50,7 +51,11 @@ pub use edit::{ChildEnd, GcAddChild, GcCopy, GcEditPart, GcTransformPart, PartEd
 pub use error::AssemblyError;
 pub use propagate::{descendants_bfs, reattach_descendants};
 pub use relations::{children_of, detect_relations, symmetry_twins, Relations};
-pub use rigid::{mirror_gc, mirror_plane, reflect, transform_gc};
+pub use rigid::{flip_profile, mirror_gc, mirror_plane, reflect, transform_gc};
+pub use structure::{
+    check_relations, ensure_recorded, propagate_edit, record_new_part, GcRelease, MirrorEdit,
+    RecordedRelations, RelationKind, RELATION_TOLERANCE,
+};
 pub use union::union_mesh;
 
 #[cfg(test)]
