@@ -411,7 +411,7 @@ pub struct GcTransformPart {
 
 impl GcTransformPart {
     /// Applies the op to `asm`: the part slides (a child over its parent,
-    /// re-oriented with the surface normal; see [`slide`]), its recorded
+    /// re-oriented with the surface normal), its recorded
     /// twins get the mirrored motion, the descendants follow, and every
     /// recorded relation is checked.
     pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {

@@ -235,8 +235,8 @@ pub fn check_relations(asm: &GcAssembly) -> Result<(), AssemblyError> {
             index: p,
             count: asm.parts.len(),
         })?;
-        if !surfaces.contains_key(&p) {
-            surfaces.insert(p, parent.gc.surface()?);
+        if let std::collections::btree_map::Entry::Vacant(e) = surfaces.entry(p) {
+            e.insert(parent.gc.surface()?);
         }
         let surf = &surfaces[&p];
         let (s, e) = spine_ends(&part.gc);
