@@ -8,14 +8,17 @@ use glam::{DAffine3, DQuat, DVec3};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use super::structure::{end_radius, RelationKind};
 use super::{
-    anchor_frame, descendants_bfs, mirror_gc, mirror_plane, project_to_surface,
-    reattach_descendants, reflect, symmetry_twins, transform_gc, Anchor, AssemblyError, Attachment,
+    anchor_frame, check_relations, descendants_bfs, ensure_recorded, mirror_gc, mirror_plane,
+    project_to_surface, propagate_edit, reattach_descendants, record_new_part, reflect,
+    symmetry_twins, transform_gc, Anchor, AssemblyError, Attachment,
 };
 use crate::gc::{
     build_gc, Gc, GcAssembly, GcError, GcPart, PartId, Resolution, SectionIndex, SectionSpec,
     ShapeType,
 };
+use crate::nurbs::NurbsSurface;
 
 fn default_tolerance() -> f64 {
     1e-4
@@ -121,7 +124,9 @@ impl GcAddChild {
     /// Adds the child part to `asm`.
     pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
         let part = self.build(asm)?;
+        ensure_recorded(asm);
         asm.parts.push(part);
+        record_new_part(asm, asm.parts.len() - 1, None);
         Ok(())
     }
 
@@ -247,35 +252,37 @@ fn reanchor_attachment(
 }
 
 impl GcCopy {
-    /// Applies the op to `asm`.
+    /// Applies the op to `asm`: the subtree is copied (mirrored about the
+    /// parent's spine plane when asked), then the copy is moved by
+    /// `rotate` and `translate` the way [`GcTransformPart`] moves a part:
+    /// a child slides over its parent to where it was dropped and turns
+    /// with the surface normal there. The copy is recorded as its
+    /// source's twin only when it was mirrored (and does not lie on it).
     pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
         check_part(asm, self.part)?;
         let part = self.part.0;
         positive("tolerance", self.tolerance)?;
         let r = rigid(self.translate, self.rotate)?;
+        ensure_recorded(asm);
         let parent = asm.parts[part].parent;
         let (o, n) = mirror_plane(&asm.parts[parent.unwrap_or(part)].gc);
         let mirror = self.mirror;
-        let map = move |p: DVec3| {
-            let q = if mirror { reflect(p, o, n) } else { p };
-            r.transform_point3(q)
-        };
+        let map = move |p: DVec3| if mirror { reflect(p, o, n) } else { p };
         let mut subtree = vec![part];
         subtree.extend(descendants_bfs(asm, &[part]));
         let base = asm.parts.len();
         let new_index = |i: usize| subtree.iter().position(|&s| s == i).map(|k| base + k);
         for &i in &subtree {
             let src = asm.parts[i].clone();
-            let g = if mirror {
+            let gc = if mirror {
                 mirror_gc(&src.gc, o, n)
             } else {
                 src.gc.clone()
             };
-            let gc = transform_gc(&g, &r);
             gc.validate()?;
             let new_parent = src.parent.map(|p| new_index(p).unwrap_or(p));
             let attach = match (src.parent, new_parent, src.attach) {
-                (Some(p), Some(np), Some(att)) => {
+                (Some(p), Some(np), Some(att)) if mirror => {
                     let (old_pg, new_pg) = (&asm.parts[p].gc, &asm.parts[np].gc);
                     Some(reanchor_attachment(
                         att,
@@ -285,6 +292,7 @@ impl GcCopy {
                         self.tolerance,
                     )?)
                 }
+                (Some(_), Some(_), Some(att)) => Some(att),
                 _ => None,
             };
             asm.parts.push(GcPart {
@@ -293,8 +301,90 @@ impl GcCopy {
                 attach,
             });
         }
-        Ok(())
+        // Now move the copy as a transform would (its descendants follow).
+        let placed = asm.clone();
+        let (gc, attach) = slide(&placed, base, &r, self.tolerance)?;
+        asm.parts[base].gc = gc;
+        asm.parts[base].attach = attach;
+        reattach_descendants(&placed, asm, &[base])?;
+        for (k, &i) in subtree.iter().enumerate() {
+            let source = (k == 0).then_some((i, mirror));
+            record_new_part(asm, base + k, source);
+        }
+        check_relations(asm)
     }
+}
+
+/// Part `i` of `asm` moved by `m`. A root moves rigidly. A child slides:
+/// its anchor point moves by `m` and is projected back on the parent
+/// (within `tolerance`), the part turns about its anchor point by `m`'s
+/// rotation and then follows the anchor frame `(n, t, n x t)` from the
+/// old anchor to the new one, so it re-orients with the surface normal; a
+/// handle's end then lands on its own slid anchor (rotated and scaled
+/// about its start, as in [`reattach_descendants`]).
+fn slide(
+    asm: &GcAssembly,
+    i: usize,
+    m: &DAffine3,
+    tolerance: f64,
+) -> Result<(Gc, Option<Attachment>), AssemblyError> {
+    let src = &asm.parts[i];
+    let (Some(p), Some(att)) = (src.parent, src.attach) else {
+        return Ok((transform_gc(&src.gc, m), src.attach));
+    };
+    let pg = &asm.parts[p].gc;
+    let surf = pg.surface()?;
+    let p0 = surf.point(att.start.u, att.start.v);
+    let start = project_moved(&surf, p0, m, tolerance)?;
+    let f_old = anchor_frame(pg, &surf, att.start)?;
+    let f_new = anchor_frame(pg, &surf, start)?;
+    let turn = DAffine3::from_translation(p0)
+        * DAffine3::from_mat3(m.matrix3)
+        * DAffine3::from_translation(-p0);
+    let motion = f_new * f_old.inverse() * turn;
+    let mut gc = transform_gc(&src.gc, &motion);
+    let end = match att.end {
+        None => None,
+        Some(e) => {
+            let (a, b) = src.gc.spine.curve.domain();
+            let e_old = src.gc.spine.curve.point(b);
+            let pe = surf.point(e.u, e.v);
+            let proj = project_to_surface(&surf, m.transform_point3(pe));
+            if !(proj.distance <= end_radius(&src.gc, false)) {
+                return Err(AssemblyError::RelationBroken {
+                    relation: RelationKind::Connected,
+                    parts: (i, p),
+                });
+            }
+            let local = anchor_frame(pg, &surf, e)?
+                .inverse()
+                .transform_point3(e_old);
+            let target = anchor_frame(pg, &surf, proj.anchor)?.transform_point3(local);
+            let s = gc.spine.curve.point(a);
+            let e_r = motion.transform_point3(e_old);
+            let sim = super::propagate::similarity_about(s, e_r - s, target - s);
+            gc = transform_gc(&gc, &sim);
+            Some(proj.anchor)
+        }
+    };
+    gc.validate()?;
+    Ok((gc, Some(Attachment { start, end })))
+}
+
+fn project_moved(
+    surf: &NurbsSurface,
+    p0: DVec3,
+    m: &DAffine3,
+    tolerance: f64,
+) -> Result<Anchor, AssemblyError> {
+    let proj = project_to_surface(surf, m.transform_point3(p0));
+    if !(proj.distance <= tolerance) {
+        return Err(AssemblyError::OffSurface {
+            distance: proj.distance,
+            tolerance,
+        });
+    }
+    Ok(proj.anchor)
 }
 
 /// Move part `part` rigidly (rotation `rotate`, then `translate`); its
@@ -320,12 +410,16 @@ pub struct GcTransformPart {
 }
 
 impl GcTransformPart {
-    /// Applies the op to `asm`.
+    /// Applies the op to `asm`: the part slides (a child over its parent,
+    /// re-oriented with the surface normal), its recorded
+    /// twins get the mirrored motion, the descendants follow, and every
+    /// recorded relation is checked.
     pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
         check_part(asm, self.part)?;
         let part = self.part.0;
         positive("tolerance", self.tolerance)?;
         let r = rigid(self.translate, self.rotate)?;
+        ensure_recorded(asm);
         let old = asm.clone();
         let twins = symmetry_twins(&old, part);
         let mut moved = vec![(part, r)];
@@ -338,16 +432,13 @@ impl GcTransformPart {
             moved.extend(twins.iter().map(|&t| (t, mr)));
         }
         for &(i, m) in &moved {
-            let src = &old.parts[i];
-            asm.parts[i].gc = transform_gc(&src.gc, &m);
-            if let (Some(p), Some(att)) = (src.parent, src.attach) {
-                let pg = &old.parts[p].gc;
-                let map = |q: DVec3| m.transform_point3(q);
-                asm.parts[i].attach = Some(reanchor_attachment(att, pg, pg, &map, self.tolerance)?);
-            }
+            let (gc, attach) = slide(&old, i, &m, self.tolerance)?;
+            asm.parts[i].gc = gc;
+            asm.parts[i].attach = attach;
         }
         let roots: Vec<usize> = moved.iter().map(|(i, _)| *i).collect();
-        reattach_descendants(&old, asm, &roots)
+        reattach_descendants(&old, asm, &roots)?;
+        check_relations(asm)
     }
 }
 
@@ -390,32 +481,6 @@ pub enum PartEdit {
     },
 }
 
-impl PartEdit {
-    fn apply(&self, gc: &mut Gc) -> Result<(), GcError> {
-        match *self {
-            Self::Bend { section, to } => gc.bend(section.0, to),
-            Self::Resize { section, factor } => gc.resize(section.0, factor),
-            Self::Shift { section, v } => gc.shift(section.0, v),
-            Self::Twist { section, angle } => gc.twist(section.0, angle),
-        }
-    }
-
-    /// The same edit seen in a mirror about the plane `(o, n)`.
-    fn mirrored(&self, o: DVec3, n: DVec3) -> Self {
-        match *self {
-            Self::Bend { section, to } => Self::Bend {
-                section,
-                to: reflect(to, o, n),
-            },
-            Self::Twist { section, angle } => Self::Twist {
-                section,
-                angle: -angle,
-            },
-            ref other => other.clone(),
-        }
-    }
-}
-
 /// Structure-aware edit: `edit` is applied to part `part`, mirrored to
 /// its symmetry twins (same parent, mirrored about the parent's spine
 /// plane), and then every descendant of the edited parts is re-placed on
@@ -430,22 +495,9 @@ pub struct GcEditPart {
 }
 
 impl GcEditPart {
-    /// Applies the op to `asm`.
+    /// Applies the op to `asm` ([`propagate_edit`]).
     pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
         check_part(asm, self.part)?;
-        let part = self.part.0;
-        let old = asm.clone();
-        let twins = symmetry_twins(&old, part);
-        self.edit.apply(&mut asm.parts[part].gc)?;
-        if let Some(p) = old.parts[part].parent {
-            let (o, n) = mirror_plane(&old.parts[p].gc);
-            let m = self.edit.mirrored(o, n);
-            for &t in &twins {
-                m.apply(&mut asm.parts[t].gc)?;
-            }
-        }
-        let mut roots = vec![part];
-        roots.extend(twins);
-        reattach_descendants(&old, asm, &roots)
+        propagate_edit(asm, self)
     }
 }

@@ -48,6 +48,24 @@ pub enum AssemblyError {
     /// A rotation quaternion of zero length.
     #[error("the rotation quaternion has zero length")]
     ZeroRotation,
+    /// The edit would break a relation recorded between two parts (§3.3:
+    /// a child left its parent, coplanar spines left their plane, ...).
+    #[error("the edit would break the {relation} relation between parts {} and {}", parts.0, parts.1)]
+    RelationBroken {
+        /// Which relation.
+        relation: super::RelationKind,
+        /// The two parts (child first for `connected`, else the smaller index first).
+        parts: (usize, usize),
+    },
+    /// `gc_release` named a relation the assembly does not record
+    /// (connectivity is never recorded: it is the parent link).
+    #[error("parts {} and {} have no recorded {relation} relation to release", parts.0, parts.1)]
+    NotRecorded {
+        /// Which relation.
+        relation: super::RelationKind,
+        /// The two parts.
+        parts: (usize, usize),
+    },
     /// A generalized cylinder could not be built, edited or meshed.
     #[error(transparent)]
     Gc(#[from] GcError),

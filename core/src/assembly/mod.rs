@@ -17,10 +17,14 @@
 //!   ([`edit::GcTransformPart`]);
 //! - automatic detection of connectivity, coplanarity, concentricity and
 //!   symmetry ([`detect_relations`]);
-//! - structure-aware propagation ([`edit::GcEditPart`]): an edit reaches
-//!   the part's symmetry group (mirrored), then descendants breadth-first
-//!   are re-placed on their parents' new surfaces, so attachments and
-//!   symmetries keep holding;
+//! - relations recorded as parts are added ([`RecordedRelations`]:
+//!   symmetric, coplanar, concentric) and structure-aware propagation of
+//!   every GC edit through one path ([`propagate_edit`]): the part's
+//!   recorded twins get the mirrored edit, then descendants breadth-first
+//!   are re-placed on their parents' new surfaces, then every recorded
+//!   relation is checked; an edit that would break one fails with
+//!   [`AssemblyError::RelationBroken`] unless the user released it
+//!   ([`GcRelease`]);
 //! - the evaluated mesh of an assembly: the manifold union of its parts
 //!   ([`union_mesh`], through `manifold-rust`), one closed 2-manifold.
 //!
@@ -29,10 +33,15 @@
 //! *old* surface; a child follows its parent rigidly through the frame
 //! `(n, t, n x t)` at its anchor (re-evaluated on the new surface), and a
 //! handle's spine is then rotated and scaled about its start so its end
-//! lands on its own anchor's new position. Symmetry is detected from the
-//! geometry (same parent, spine control points mirrored about the parent's
-//! spine plane, mirrored sections) each time an edit propagates, so it
-//! needs no bookkeeping and survives undo/redo.
+//! lands on its own anchor's new position. A slid or copied child turns
+//! with the surface normal the same way. Relations are recorded when a
+//! part is added, as the paper identifies them "by analyzing the assembly
+//! procedure", rather than re-detected at each edit: a tolerance-based
+//! re-detection loses a twin pair for good once rounding exceeds it, and
+//! takes a copy lying on its source (a spout in its parent's spine plane
+//! is its own mirror image) for its twin. Older documents without the
+//! record get it detected once from their geometry
+//! ([`ensure_recorded`]).
 
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
@@ -41,6 +50,7 @@ mod error;
 mod propagate;
 mod relations;
 mod rigid;
+mod structure;
 mod union;
 
 pub mod edit;
@@ -50,7 +60,11 @@ pub use edit::{ChildEnd, GcAddChild, GcCopy, GcEditPart, GcTransformPart, PartEd
 pub use error::AssemblyError;
 pub use propagate::{descendants_bfs, reattach_descendants};
 pub use relations::{children_of, detect_relations, symmetry_twins, Relations};
-pub use rigid::{mirror_gc, mirror_plane, reflect, transform_gc};
+pub use rigid::{flip_profile, mirror_gc, mirror_plane, reflect, transform_gc};
+pub use structure::{
+    check_relations, ensure_recorded, propagate_edit, record_new_part, GcRelease, MirrorEdit,
+    RecordedRelations, RelationKind, RELATION_TOLERANCE,
+};
 pub use union::union_mesh;
 
 #[cfg(test)]

@@ -35,12 +35,22 @@ pub fn descendants_bfs(asm: &GcAssembly, roots: &[usize]) -> Vec<usize> {
 
 /// The similarity about `pivot` taking direction `from` to `to`
 /// (rotation by the shortest arc, uniform scale `|to| / |from|`).
-fn similarity_about(pivot: DVec3, from: DVec3, to: DVec3) -> DAffine3 {
+pub(super) fn similarity_about(pivot: DVec3, from: DVec3, to: DVec3) -> DAffine3 {
     let (lf, lt) = (from.length(), to.length());
     if !(lf > 1e-300 && lt > 1e-300) {
         return DAffine3::IDENTITY;
     }
-    let q = DQuat::from_rotation_arc(from / lf, to / lt);
+    let (a, b) = (from / lf, to / lt);
+    // `DQuat::from_rotation_arc` returns the identity below about 3e-8
+    // rad, which leaves a handle's end up to 1e-9 of its length off its
+    // anchor; the half-angle form `(a x b, 1 + a . b)` is exact there.
+    let d = a.dot(b);
+    let q = if d > -0.5 {
+        let c = a.cross(b);
+        DQuat::from_xyzw(c.x, c.y, c.z, 1.0 + d).normalize()
+    } else {
+        DQuat::from_rotation_arc(a, b)
+    };
     DAffine3::from_translation(pivot)
         * DAffine3::from_scale_rotation_translation(DVec3::splat(lt / lf), q, DVec3::ZERO)
         * DAffine3::from_translation(-pivot)

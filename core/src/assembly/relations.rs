@@ -3,7 +3,8 @@
 
 use glam::DVec3;
 
-use super::{mirror_gc, mirror_plane, project_to_surface};
+use super::structure::{end_radius, mirrored_siblings};
+use super::{mirror_gc, project_to_surface};
 use crate::gc::{Gc, GcAssembly, Profile};
 use crate::nurbs::euclidean;
 
@@ -72,7 +73,7 @@ fn profile_close(a: &Profile, b: &Profile, tol: f64) -> bool {
 
 /// True when `b` is `a` mirrored about the plane `(origin, n)`, to a
 /// relative tolerance `rel`.
-fn is_mirror(a: &Gc, b: &Gc, origin: DVec3, n: DVec3, rel: f64) -> bool {
+pub(super) fn is_mirror(a: &Gc, b: &Gc, origin: DVec3, n: DVec3, rel: f64) -> bool {
     let tol = rel * size_of(a);
     let m = mirror_gc(a, origin, n);
     let (cm, cb) = (controls(&m), controls(b));
@@ -91,43 +92,61 @@ fn is_mirror(a: &Gc, b: &Gc, origin: DVec3, n: DVec3, rel: f64) -> bool {
         && m.shape == b.shape
 }
 
-/// The parts mirror-symmetric to `part`: same parent, mirrored about the
-/// parent's spine plane (relative tolerance `1e-9` of the part's size).
+/// The parts mirror-symmetric to `part`: its recorded twins, or, for an
+/// assembly without recorded relations (saved before they were
+/// recorded), the siblings mirrored about the parent's spine plane
+/// (relative tolerance `1e-9` of the part's size) that do not coincide
+/// with it.
 pub fn symmetry_twins(asm: &GcAssembly, part: usize) -> Vec<usize> {
-    let Some(Some(parent)) = asm.parts.get(part).map(|p| p.parent) else {
+    if part >= asm.parts.len() {
         return Vec::new();
-    };
-    let (o, n) = mirror_plane(&asm.parts[parent].gc);
-    let a = &asm.parts[part].gc;
+    }
+    if let Some(rec) = &asm.relations {
+        return rec.twins_of(part);
+    }
     (0..asm.parts.len())
-        .filter(|&j| j != part && asm.parts[j].parent == Some(parent))
-        .filter(|&j| is_mirror(a, &asm.parts[j].gc, o, n, 1e-9))
+        .filter(|&j| mirrored_siblings(asm, part, j, 1e-9))
         .collect()
 }
 
-fn end_radius(gc: &Gc, first: bool) -> f64 {
-    let s = if first {
-        gc.sections.first()
-    } else {
-        gc.sections.last()
-    };
-    s.and_then(|s| {
-        s.profile.curve().ok().map(|c| {
-            c.control
-                .iter()
-                .map(|h| euclidean(*h).truncate().length())
-                .fold(0.0, f64::max)
-                * s.scale
-        })
-    })
-    .unwrap_or(0.0)
+/// True when `b`'s spine coincides with `a`'s (the same control points to
+/// `rel` of the size): one part lying on the other.
+pub(super) fn coincident(a: &Gc, b: &Gc, rel: f64) -> bool {
+    let tol = rel * size_of(a);
+    let (ca, cb) = (controls(a), controls(b));
+    ca.len() == cb.len() && ca.iter().zip(&cb).all(|(x, y)| x.distance(*y) <= tol)
 }
 
-fn straight_line(gc: &Gc) -> Option<(DVec3, DVec3)> {
+/// True when the spines of `a` and `b` lie in one plane (to `rel` of the
+/// larger size).
+pub(super) fn same_plane(a: &Gc, b: &Gc, rel: f64) -> bool {
+    let tol = rel * size_of(a).max(size_of(b));
+    let (na, nb) = (
+        a.spine.plane_normal.normalize(),
+        b.spine.plane_normal.normalize(),
+    );
+    let oa = controls(a)[0];
+    na.dot(nb).abs() >= 1.0 - rel && controls(b).iter().all(|p| (*p - oa).dot(na).abs() <= tol)
+}
+
+/// True when both spines are straight and on one line (to `rel` of the
+/// larger size).
+pub(super) fn on_one_line(a: &Gc, b: &Gc, rel: f64) -> bool {
+    let tol = rel * size_of(a).max(size_of(b));
+    match (straight_line(a, rel), straight_line(b, rel)) {
+        (Some((pa, da)), Some((pb, db))) => {
+            let on_line = |p: DVec3| (p - pa).reject_from_normalized(da).length() <= tol;
+            da.dot(db).abs() >= 1.0 - rel && on_line(pb) && on_line(pb + db)
+        }
+        _ => false,
+    }
+}
+
+fn straight_line(gc: &Gc, rel: f64) -> Option<(DVec3, DVec3)> {
     let c = controls(gc);
     let (a, b) = (*c.first()?, *c.last()?);
     let d = (b - a).try_normalize()?;
-    let tol = 1e-9 * size_of(gc);
+    let tol = rel * size_of(gc);
     c.iter()
         .all(|p| (*p - a).reject_from_normalized(d).length() <= tol)
         .then_some((a, d))
@@ -163,21 +182,13 @@ pub fn detect_relations(asm: &GcAssembly) -> Relations {
     for i in 0..n {
         for j in i + 1..n {
             let (gi, gj) = (&asm.parts[i].gc, &asm.parts[j].gc);
-            let tol = 1e-9 * size_of(gi).max(size_of(gj));
-            let (ni, nj) = (gi.spine.plane_normal, gj.spine.plane_normal);
-            let oi = controls(gi)[0];
-            if ni.dot(nj).abs() >= 1.0 - 1e-9
-                && controls(gj).iter().all(|p| (*p - oi).dot(ni).abs() <= tol)
-            {
+            if same_plane(gi, gj, 1e-9) {
                 rel.coplanar.push((i, j));
             }
-            if let (Some((pa, da)), Some((pb, db))) = (straight_line(gi), straight_line(gj)) {
-                let on_line = |p: DVec3| (p - pa).reject_from_normalized(da).length() <= tol;
-                if da.dot(db).abs() >= 1.0 - 1e-9 && on_line(pb) && on_line(pb + db) {
-                    rel.concentric.push((i, j));
-                }
+            if on_one_line(gi, gj, 1e-9) {
+                rel.concentric.push((i, j));
             }
-            if symmetry_twins(asm, i).contains(&j) {
+            if mirrored_siblings(asm, i, j, 1e-9) {
                 rel.symmetric.push((i, j));
             }
         }

@@ -28,6 +28,11 @@ pub struct GcPart {
 pub struct GcAssembly {
     /// Parts; a part's parent comes before it.
     pub parts: Vec<GcPart>,
+    /// The relations recorded between the parts as they were added (see
+    /// [`crate::assembly::RecordedRelations`]); `None` in assemblies saved
+    /// before relations were recorded, which get them detected once.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub relations: Option<crate::assembly::RecordedRelations>,
 }
 
 impl GcAssembly {
@@ -39,6 +44,7 @@ impl GcAssembly {
                 parent: None,
                 attach: None,
             }],
+            relations: None,
         }
     }
 

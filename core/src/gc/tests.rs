@@ -233,28 +233,91 @@ fn bend_moves_the_key_point_in_plane() {
     report(&gc);
 }
 
+/// The placed section `index` of `gc`, sampled, in its local frame
+/// `(x, y)` about the spine point.
+fn local_samples(gc: &Gc, index: usize) -> Vec<(f64, f64)> {
+    let surf = gc.surface().unwrap();
+    let v = gc.sections[index].v;
+    let f = gc.frames().unwrap().at(&gc.spine, v).unwrap();
+    (0..200)
+        .map(|i| {
+            let d = surf.point(i as f64 / 200.0, v) - f.origin;
+            assert!(d.dot(f.tangent).abs() < 1e-12, "section off its plane");
+            (d.dot(f.r), d.dot(f.s))
+        })
+        .collect()
+}
+
+/// Each of shift, delete, replace section and replace spine does what it
+/// says (not only "the result is valid"), and a refused edit leaves the
+/// GC as it was.
 #[test]
 fn shift_delete_replace_and_replace_spine() {
     let mut gc = vase(ShapeType::Shell { thickness: 0.02 });
+    let orig = gc.clone();
     assert!(matches!(
         gc.shift(2, 0.9),
         Err(GcError::SectionOrder { .. })
     ));
+    assert_eq!(gc, orig, "a refused shift changes nothing");
+    // shift: only section 2's parameter changes; the section sits at the
+    // spine point A(0.5), its profile unchanged (same local samples)
+    let before = local_samples(&gc, 2);
     gc.shift(2, 0.5).unwrap();
+    assert_eq!(gc.sections[2].v, 0.5);
+    assert_eq!(gc.spine, orig.spine);
+    for i in [0, 1, 3, 4] {
+        assert_eq!(gc.sections[i], orig.sections[i]);
+    }
+    let after = local_samples(&gc, 2);
+    for (a, b) in before.iter().zip(&after) {
+        assert!((a.0 - b.0).abs() < 1e-9 && (a.1 - b.1).abs() < 1e-9);
+    }
+    // delete: the rectangle at 0.8 is gone, the others are untouched
     gc.delete_section(3).unwrap();
+    let vs: Vec<f64> = gc.sections.iter().map(|s| s.v).collect();
+    assert_eq!(vs, vec![0.0, 0.3, 0.5, 1.0]);
+    assert_eq!(gc.sections[3], orig.sections[4]);
+    // replace: section 1 is now the ellipse 0.35 x 0.3 (unit scale, no
+    // twist), and the surface passes through it
     gc.replace_section(1, Profile::Ellipse { rx: 0.35, ry: 0.3 })
         .unwrap();
-    gc.replace_spine(
-        &[
-            DVec3::ZERO,
-            DVec3::new(0.2, 0.0, 0.5),
-            DVec3::new(0.6, 0.0, 0.8),
-        ],
-        DVec3::Y,
-    )
-    .unwrap();
-    assert_eq!(gc.sections[0].v, 0.0);
-    assert_eq!(gc.sections[gc.sections.len() - 1].v, 1.0);
+    assert_eq!(
+        gc.sections[1].profile,
+        Profile::Ellipse { rx: 0.35, ry: 0.3 }
+    );
+    assert_eq!((gc.sections[1].scale, gc.sections[1].twist), (1.0, 0.0));
+    for (x, y) in local_samples(&gc, 1) {
+        let e = (x / 0.35).powi(2) + (y / 0.3).powi(2);
+        assert!(
+            (e - 1.0).abs() < 1e-9,
+            "a surface point at v = 0.3 is not on the ellipse: {e}"
+        );
+    }
+    // replace spine: the new spine interpolates the points (chord length
+    // parameters), sections keep their relative parameters and follow it
+    let pts = [
+        DVec3::ZERO,
+        DVec3::new(0.2, 0.0, 0.5),
+        DVec3::new(0.6, 0.0, 0.8),
+    ];
+    gc.replace_spine(&pts, DVec3::Y).unwrap();
+    let (l1, l2) = (pts[1].distance(pts[0]), pts[2].distance(pts[1]));
+    for (p, t) in pts.iter().zip([0.0, l1 / (l1 + l2), 1.0]) {
+        let d = gc.spine.curve.point(t).distance(*p);
+        assert!(d < 1e-12, "spine misses its point by {d}");
+    }
+    let vs: Vec<f64> = gc.sections.iter().map(|s| s.v).collect();
+    assert_eq!(vs, vec![0.0, 0.3, 0.5, 1.0]);
+    assert!(max_section_miss(&gc) < 1e-9);
+    // the first (circle) section is centred on the new spine's start, the
+    // ellipse keeps its size on the new spine
+    let c0 = local_samples(&gc, 0);
+    let mean = c0.iter().fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+    assert!(mean.0.abs() < 1e-9 && mean.1.abs() < 1e-9);
+    for (x, y) in local_samples(&gc, 1) {
+        assert!(((x / 0.35).powi(2) + (y / 0.3).powi(2) - 1.0).abs() < 1e-9);
+    }
     let rep = report(&gc);
     assert_eq!(rep.genus, Some(1));
     let mut two = straight(0.3, 1.0, ShapeType::Solid, Resolution::PREVIEW);

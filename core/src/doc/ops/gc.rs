@@ -1,11 +1,16 @@
 //! The generalized-cylinder ops (paper 1): `gc_create` and the part edits
 //! of [`crate::gc::edits`], and the assembly edits of
 //! [`crate::assembly::edit`], applied to a document's [`GcAssembly`].
+//! Every part edit goes through the one structure-aware path
+//! ([`crate::assembly::propagate_edit`]: symmetry group, then descendants
+//! breadth-first, then the recorded relations are checked).
 //! Every one is checked for folds after it applies (a spine bent tighter
 //! than its sections; see [`crate::print::check_edit`]).
 
 use super::{EditCx, ObjectCreate, ObjectEdit};
-use crate::assembly::{GcAddChild, GcCopy, GcEditPart, GcTransformPart};
+use crate::assembly::{
+    propagate_edit, AssemblyError, GcAddChild, GcCopy, GcEditPart, GcRelease, GcTransformPart,
+};
 use crate::doc::OpError;
 use crate::gc::{self, GcAssembly};
 
@@ -17,13 +22,21 @@ impl ObjectCreate for gc::GcCreate {
     }
 }
 
+/// A GC error inside an assembly op stays a GC error (as the union's do).
+fn gc_error(e: AssemblyError) -> OpError {
+    match e {
+        AssemblyError::Gc(g) => OpError::Gc(g),
+        other => OpError::Assembly(other),
+    }
+}
+
 macro_rules! part_edits {
     ($($ty:ty),*) => {$(
         impl ObjectEdit for $ty {
             type Target = GcAssembly;
             const CHECK_FOLDS: bool = true;
             fn apply(&self, asm: &mut GcAssembly, _: &mut EditCx<'_>) -> Result<(), OpError> {
-                Ok(gc::edit_part_gc(asm, self)?)
+                propagate_edit(asm, self).map_err(gc_error)
             }
         }
     )*};
@@ -48,10 +61,10 @@ macro_rules! assembly_edits {
             type Target = GcAssembly;
             const CHECK_FOLDS: bool = true;
             fn apply(&self, asm: &mut GcAssembly, _: &mut EditCx<'_>) -> Result<(), OpError> {
-                Ok(self.apply_to(asm)?)
+                self.apply_to(asm).map_err(gc_error)
             }
         }
     )*};
 }
 
-assembly_edits!(GcAddChild, GcCopy, GcTransformPart, GcEditPart);
+assembly_edits!(GcAddChild, GcCopy, GcTransformPart, GcEditPart, GcRelease);

@@ -450,6 +450,9 @@ ops! {
     "gc_transform_part" => GcTransformPart(Edit<asm::GcTransformPart>),
     /// Edit a part with structure-aware propagation.
     "gc_edit_part" => GcEditPart(Edit<asm::GcEditPart>),
+    /// Release a recorded relation (coplanar, concentric, symmetric) so
+    /// later edits may break it.
+    "gc_release" => GcRelease(Edit<asm::GcRelease>),
     /// Give an object a name (hosts show it; it does not change geometry).
     "rename_object" => RenameObject(RenameObject),
     /// Set the document's wall thickness for printing surfaces as solids.

@@ -306,6 +306,43 @@ fn pinch_on_an_end_section_sets_the_shape_type() {
     }
 }
 
+/// PINCH's finger gap sets the wall thickness: the gap times
+/// `thickness_per_gap`, clamped to `thickness_range` (the rig test above
+/// only checks that some thickness in the range comes out, which a
+/// constant would pass).
+#[test]
+fn pinch_thickness_follows_the_finger_gap() {
+    use super::edit::pinch_shape;
+    use crate::gc::ClosedEnd;
+    let s = super::GcToolSettings::default();
+    let (lo, hi) = s.thickness_range;
+    let thick = |shape: ShapeType, gap: f64| match pinch_shape(
+        shape,
+        ClosedEnd::Start,
+        Some(gap),
+        false,
+        &s,
+    ) {
+        ShapeType::Shell { thickness } | ShapeType::Container { thickness, .. } => thickness,
+        other => panic!("a pinch with a gap gave {other:?}"),
+    };
+    let shell = ShapeType::Shell { thickness: 0.005 };
+    for gap in [0.03, 0.05, 0.1] {
+        let t = thick(shell, gap);
+        assert!(
+            (t - gap * s.thickness_per_gap).abs() < 1e-15,
+            "gap {gap} gave {t}"
+        );
+        assert_eq!(thick(ShapeType::Solid, gap), t, "same rule from a solid");
+    }
+    assert!(
+        thick(shell, 0.05) < thick(shell, 0.1),
+        "a wider gap, a thicker wall"
+    );
+    assert_eq!(thick(shell, 0.001), lo, "clamped below");
+    assert_eq!(thick(shell, 1.0), hi, "clamped above");
+}
+
 #[test]
 fn bimanual_fist_in_empty_space_scales_the_view_without_an_op() {
     let mut r = rig();
