@@ -73,6 +73,9 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
         }
     };
     let mut frame_ms = Vec::with_capacity(trace.frames.len());
+    // Frames with the palette open and a drag in progress (issue 19's
+    // frame-time case).
+    let mut busy_ms = Vec::new();
     let mut names = Vec::new();
     let t_first = trace.frames.first().map_or(0.0, |f| f.time);
     let view_at = args.view_at.map(|t| t_first + t);
@@ -81,6 +84,9 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
         let t0 = Instant::now();
         let cmd = it.step(f);
         frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        if it.session().palette().is_some() && it.session().preview().moving.is_some() {
+            busy_ms.push(frame_ms[frame_ms.len() - 1]);
+        }
         if args.view_png.is_some() && view_at.is_none_or(|t| f.time <= t) {
             let head = it.session().last_frame().and_then(|f| f.head);
             view = head.map(|h| (it.scene().clone(), h));
@@ -178,6 +184,15 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
         Err(e) => println!("mesh       NOT printable: {e}"),
     }
     println!("frame time {p50:.3} ms p50, {p99:.3} ms p99 (input + interaction + preview; budget 11.1 ms)");
+    if !busy_ms.is_empty() {
+        let q = |p| quantile(&busy_ms, p).unwrap_or(f64::NAN);
+        println!(
+            "           {:.3} ms p50, {:.3} ms p99 over the {} frames with the palette open and a drag in progress",
+            q(0.5),
+            q(0.99),
+            busy_ms.len()
+        );
+    }
     println!(
         "commits    {commit_p50:.1} ms p50, {commit_max:.1} ms max (op + document mesh, off the frame thread)"
     );

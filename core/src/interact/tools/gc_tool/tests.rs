@@ -14,7 +14,7 @@ use crate::interact::input::{Hand, InputFrame, Joint, Pose};
 use crate::interact::session::Session;
 use crate::interact::testkit::gc_traces::{create, loop_points, outward, path, ring, Rig};
 use crate::interact::testkit::{mug_trace, teapot_trace};
-use crate::interact::tools::apply_command;
+use crate::interact::tools::{apply_command, Tool};
 use crate::interact::trace::{replay, ModelPlacement, Trace};
 
 /// A cylinder r = 5 cm, 12 cm tall, 4 sections at z = 0, 4, 8, 12 cm.
@@ -42,8 +42,12 @@ struct Run {
 }
 
 fn run_frames(start: &[Op], frames: &[InputFrame]) -> Run {
+    run_tool(GcTool::default(), start, frames)
+}
+
+fn run_tool(tool: GcTool, start: &[Op], frames: &[InputFrame]) -> Run {
     let model = ModelPlacement::desk().similarity().expect("desk");
-    let mut session = Session::new(Box::new(GcTool::default()), model);
+    let mut session = Session::new(Box::new(tool), model);
     let mut log = OpLog::new();
     for op in start {
         log.apply(op.clone()).expect("start op");
@@ -284,6 +288,49 @@ fn a_static_fist_for_three_seconds_instances_the_part_then_moves_the_copy() {
     };
     assert_eq!(t.part, crate::gc::PartId(1));
     assert!((t.translate - DVec3::new(0.15, 0.0, 0.0)).length() < 0.004);
+}
+
+/// Issue 18: a FIST instance of a child (the mug's handle) is a plain
+/// copy where the hand drops it; a mirrored one only when the palette's
+/// "Instance: mirror" is chosen (the op the tool sends; the gesture that
+/// triggers it is tested above on the body).
+#[test]
+fn instancing_a_child_copies_it_unmirrored_unless_mirror_is_chosen() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/mug.jsonl"),
+    )
+    .unwrap();
+    let start: Vec<Op> = text
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let mut log = OpLog::new();
+    for op in &start {
+        log.apply(op.clone()).unwrap();
+    }
+    let (mug, obj) = log.document().objects().next().unwrap();
+    let crate::doc::ObjectKind::GcAssembly(asm) = &obj.kind else {
+        panic!("the mug is an assembly")
+    };
+    assert!(asm.parts[1].parent.is_some(), "part 1 is the handle");
+    let mut tool = GcTool::default();
+    let doc = crate::doc::Document::default();
+    assert_eq!(tool.choices()[0].active, 0, "copy by default");
+    let plain = super::tool::instance_op(asm, 1, tool.choices()[0].active == 1).unwrap();
+    assert!(!plain.mirror);
+    assert!(tool.choose(&doc, 0, 1).is_none());
+    assert_eq!(tool.choices()[0].active, 1);
+    let mirrored = super::tool::instance_op(asm, 1, true).unwrap();
+    assert!(mirrored.mirror);
+    // A root is never mirrored; a part that is not there is no copy.
+    assert!(!super::tool::instance_op(asm, 0, true).unwrap().mirror);
+    assert!(super::tool::instance_op(asm, 9, false).is_none());
+    // The copy applies: a new part, not a twin of the handle.
+    let mut after = log.clone();
+    after
+        .apply(Op::GcCopy(crate::doc::Edit::new(mug, plain)))
+        .unwrap();
 }
 
 #[test]

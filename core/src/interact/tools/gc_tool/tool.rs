@@ -54,6 +54,7 @@ use crate::interact::gesture::bimanual::HandleBar;
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::gesture::Gesture;
 use crate::interact::input::{Hand, Joint, Pose};
+use crate::interact::palette::ChoiceGroup;
 use crate::interact::tools::pick::Ray;
 use crate::interact::tools::{Preview, PreviewRay, Tool, ToolContext};
 
@@ -91,6 +92,25 @@ enum State {
     Drag(Drag),
     Pinch(PinchState),
     View(ViewGrab),
+}
+
+/// The copy a 3 s FIST makes of `part`: where it is (the drag that
+/// follows moves it), mirrored across its parent's symmetry plane only
+/// when `mirror` (the palette's "Instance: mirror") and the part has a
+/// parent; `None` for a part the assembly does not have.
+pub(crate) fn instance_op(
+    asm: &crate::gc::GcAssembly,
+    part: usize,
+    mirror: bool,
+) -> Option<crate::assembly::GcCopy> {
+    let p = asm.parts.get(part)?;
+    Some(crate::assembly::GcCopy {
+        part: crate::gc::PartId(part),
+        mirror: mirror && p.parent.is_some(),
+        translate: DVec3::ZERO,
+        rotate: [0.0, 0.0, 0.0, 1.0],
+        tolerance: 1e-3,
+    })
 }
 
 impl State {
@@ -163,6 +183,10 @@ pub struct GcTool {
     hold: Option<Hold>,
     lost_since: Option<f64>,
     view: Similarity,
+    /// A 3 s FIST instance of a child part mirrors it across its parent's
+    /// symmetry plane (the palette's "Instance: mirror"); by default the
+    /// copy is a plain copy where the hand drops it.
+    mirror_instances: bool,
     geo: GeoCache,
     mesh_time: f64,
     /// Times of the current stroke's samples.
@@ -193,6 +217,7 @@ impl GcTool {
             hold: None,
             lost_since: None,
             view: Similarity::IDENTITY,
+            mirror_instances: false,
             geo: GeoCache::default(),
             mesh_time: f64::NEG_INFINITY,
             stroke_times: Vec::new(),
@@ -467,7 +492,7 @@ impl GcTool {
         if d.may_instance && t - d.started >= s.hold {
             if let GcTarget::Surface { id, part, point, v } = d.target {
                 let asm = self.geo.assembly(id)?;
-                let mirror = asm.parts.get(part)?.parent.is_some();
+                let copy = instance_op(asm, part, self.mirror_instances)?;
                 let new_part = asm.parts.len();
                 d.may_instance = false;
                 d.target = GcTarget::Surface {
@@ -480,14 +505,7 @@ impl GcTool {
                 d.motion = DVec3::ZERO;
                 self.state = State::Drag(d);
                 return Some(ScriptCommand::Op(Op::GcCopy(crate::doc::Edit::new(
-                    id,
-                    crate::assembly::GcCopy {
-                        part: crate::gc::PartId(part),
-                        mirror,
-                        translate: DVec3::ZERO,
-                        rotate: [0.0, 0.0, 0.0, 1.0],
-                        tolerance: 1e-3,
-                    },
+                    id, copy,
                 ))));
             }
         }
@@ -664,6 +682,26 @@ impl Tool for GcTool {
 
     fn preview(&self) -> &Preview {
         &self.preview
+    }
+
+    fn choices(&self) -> Vec<ChoiceGroup> {
+        vec![ChoiceGroup {
+            name: "Instance",
+            options: vec!["copy".into(), "mirror".into()],
+            active: usize::from(self.mirror_instances),
+        }]
+    }
+
+    fn choose(
+        &mut self,
+        _doc: &crate::doc::Document,
+        group: usize,
+        option: usize,
+    ) -> Option<ScriptCommand> {
+        if group == 0 && option < 2 {
+            self.mirror_instances = option == 1;
+        }
+        None
     }
 
     fn uses_hands(&self) -> bool {
