@@ -112,3 +112,106 @@ fn undo_redo_save_and_snapping_are_in_the_palette_and_replay_identically() {
         assert_eq!(r.log.document().len(), 1);
     }
 }
+
+/// Hand tracking without controllers: the left hand held palm up shows
+/// the palette, the right index fingertip picks by touching an item, and
+/// turning the palm down hides it again.
+#[test]
+fn a_palm_up_hand_shows_the_palette_and_a_fingertip_picks() {
+    use crate::interact::gesture::handmodel::{hand_pose, HandParams, Rng};
+    use crate::interact::gesture::GestureLabel;
+    use crate::interact::testkit::Puppet;
+    use crate::interact::{Joint, ModelPlacement, Pose, Session};
+    use crate::math::{DQuat, DVec3};
+
+    let params = |label: GestureLabel| {
+        let mut rng = Rng::new(label as u64 + 100);
+        let mut p = HandParams::sample(label, &mut rng);
+        p.size = 1.0;
+        p
+    };
+    let joint =
+        |label, hand, wrist: Pose, j: Joint| hand_pose(&params(label), hand, &wrist)[j.index()];
+    // A wrist turn that puts the left palm facing up (and one facing down).
+    let turns: Vec<DQuat> = (0..4)
+        .flat_map(|i| (0..4).map(move |k| (i, k)))
+        .map(|(i, k)| {
+            DQuat::from_rotation_z(i as f64 * std::f64::consts::FRAC_PI_2)
+                * DQuat::from_rotation_x(k as f64 * std::f64::consts::FRAC_PI_2)
+        })
+        .collect();
+    let palm_up = |q: DQuat| {
+        let palm = joint(
+            GestureLabel::Open,
+            Hand::Left,
+            Pose::new(DVec3::ZERO, q),
+            Joint::Palm,
+        );
+        (palm.orientation * -DVec3::Y).y
+    };
+    let up = *turns
+        .iter()
+        .max_by(|a, b| palm_up(**a).total_cmp(&palm_up(**b)))
+        .unwrap();
+    let down = *turns
+        .iter()
+        .min_by(|a, b| palm_up(**a).total_cmp(&palm_up(**b)))
+        .unwrap();
+    assert!(palm_up(up) > 0.9 && palm_up(down) < -0.9);
+
+    let model = ModelPlacement::desk().similarity().unwrap();
+    let mut s = Session::modeler("object", Hand::Right, model).unwrap();
+    let doc = crate::doc::Document::default();
+    let left = DVec3::new(-0.25, 1.0, -0.3);
+    let mut p = Puppet::new(60.0);
+    p.look_at(DVec3::new(0.0, 0.95, -0.5))
+        .hand(Hand::Left, GestureLabel::Open, Pose::new(left, up))
+        .hand(
+            Hand::Right,
+            GestureLabel::Point,
+            Pose::new(DVec3::new(0.3, 1.0, -0.2), DQuat::IDENTITY),
+        )
+        .wait(0.3);
+    let mut fed = 0;
+    let mut feed = |p: &Puppet, s: &mut Session| {
+        for f in &p.frames()[fed..] {
+            assert!(s.step(f, &doc).is_none());
+        }
+        fed = p.frames().len();
+    };
+    feed(&p, &mut s);
+    let view = s
+        .palette()
+        .expect("a palm-up left hand shows the palette")
+        .clone();
+    assert!(view.pose.position.y > left.y, "above the hand");
+    // Touch "CSG": the right index tip from 4 cm in front to 2 mm.
+    let k = view.labels().iter().position(|l| *l == "CSG").unwrap();
+    let r = view.items[k].rect;
+    let target = view.to_world((r[0] + r[2]) / 2.0, (r[1] + r[3]) / 2.0);
+    let n = view.pose.orientation * DVec3::Z;
+    let tip = joint(
+        GestureLabel::Point,
+        Hand::Right,
+        Pose::IDENTITY,
+        Joint::IndexTip,
+    )
+    .position;
+    let wrist_for = |at: DVec3| Pose::new(at - tip, DQuat::IDENTITY);
+    p.move_to(Hand::Right, wrist_for(target + n * 0.04), 0.3);
+    feed(&p, &mut s);
+    assert_eq!(s.tool().name(), "object", "no pick before the touch");
+    assert!(s.palette().unwrap().hovered.is_some() || s.palette().unwrap().pointer.is_some());
+    p.move_to(Hand::Right, wrist_for(target + n * 0.002), 0.3)
+        .wait(0.2);
+    feed(&p, &mut s);
+    assert_eq!(s.tool().name(), "csg", "the fingertip picked CSG");
+    // Staying on the item does not pick again; turning the palm down
+    // hides the palette.
+    p.move_to(Hand::Right, wrist_for(target + n * 0.05), 0.2)
+        .move_to(Hand::Left, Pose::new(left, down), 0.3)
+        .wait(0.1);
+    feed(&p, &mut s);
+    assert!(s.palette().is_none());
+    assert_eq!(s.tool().name(), "csg");
+}
