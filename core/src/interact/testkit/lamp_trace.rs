@@ -158,7 +158,7 @@ pub(crate) fn lamp_session() -> Trace {
     );
     d.puppet.move_to(L, left_home, 0.3).move_to(R, rest, 0.3);
     d.sync();
-    ok(d.pick_choice(3, 1)); // Grid step: 6 mm, for a crisp rim
+    ok(d.pick_choice(4, 1)); // Grid step: 6 mm, for a crisp rim
     ok(d.pick_choice(1, 2)); // Operation: subtract
     ok(d.pick_choice(0, 0)); // Component: the first (cylinder)
     d.close_palette();

@@ -47,8 +47,8 @@ use crate::sdf::placement::two_hand_ratio;
 use crate::sdf::volume::DEFAULT_STEP;
 use crate::sdf::{Component, CsgOp, ScaleAxis, SdfVolume};
 use crate::sdf::{
-    OperandIndex, SdfAddOperand, SdfCancelOperand, SdfCopyOperand, SdfCreate, SdfScaleTwoHand,
-    SdfSetOperandTransform, SdfSetStep, SdfUpdate,
+    OperandIndex, SdfAddOperand, SdfCancelOperand, SdfCopyFused, SdfCopyOperand, SdfCreate,
+    SdfScaleTwoHand, SdfSetOperandTransform, SdfSetStep, SdfUpdate,
 };
 use crate::solid::SolidShape;
 
@@ -836,6 +836,11 @@ impl Tool for CsgTool {
                 active: axis,
             },
             ChoiceGroup {
+                name: "Fused result",
+                options: vec!["copy beside".into()],
+                active: usize::MAX,
+            },
+            ChoiceGroup {
                 name: "Grid step",
                 options: GRID_STEPS
                     .iter()
@@ -851,7 +856,26 @@ impl Tool for CsgTool {
             0 if option < self.settings.components.len() => self.component = option,
             1 if option < SceneOperate::ALL.len() => self.scene_op = SceneOperate::ALL[option],
             2 if option < AXES.len() => self.axis = AXES[option],
-            3 if option < GRID_STEPS.len() => {
+            3 if option == 0 => {
+                // A copy of the fused result beside it (paper 2's reuse of a
+                // result as a component): queued, fused by the next update.
+                let (id, v) = volume(doc, self.volume)?;
+                if v.fused.is_empty() {
+                    return None;
+                }
+                let name = (1..)
+                    .map(|k| format!("result {k}"))
+                    .find(|n| !v.user_components.contains_key(n))?;
+                return Some(ScriptCommand::Op(Op::SdfCopyFused(Edit::new(
+                    id,
+                    SdfCopyFused {
+                        name,
+                        csg: CsgOp::Union,
+                        transform: Transform::translation(self.settings.copy_offset),
+                    },
+                ))));
+            }
+            4 if option < GRID_STEPS.len() => {
                 let (id, v) = volume(doc, self.volume)?;
                 let step = GRID_STEPS[option];
                 if v.step == step {
