@@ -8,7 +8,7 @@
 use glam::{DVec3, Quat, Vec3};
 use shapewright::interact::{palette::facing, Hand, PaletteAction, PaletteView, Session};
 
-use crate::gfx::text::{quad, Font};
+use crate::gfx::text::{quad, Baseline, Font};
 use crate::gfx::LineVertex;
 
 const PANEL: [f32; 3] = [0.05, 0.055, 0.07];
@@ -76,7 +76,12 @@ pub fn palette(font: &mut Font, view: &PaletteView, out: &mut Vec<LineVertex>) {
         let base = y0 as f32 + (bh - font.cap_height() * em) / 2.0;
         let origin = c + x * left + y * base + z * 0.0008;
         let color = if header { HEADER } else { LABEL };
-        font.push(out, &it.label, origin, x, y, em, color);
+        let line = Baseline {
+            origin,
+            right: x,
+            up: y,
+        };
+        font.push(out, &it.label, line, em, color);
     }
     if let Some(p) = view.pointer {
         let s = 0.003;
@@ -115,7 +120,12 @@ fn lines_at(
             y * (STATUS_EM + m),
             PANEL,
         );
-        font.push(out, text, base - x * (w / 2.0), x, y, STATUS_EM, *color);
+        let line = Baseline {
+            origin: base - x * (w / 2.0),
+            right: x,
+            up: y,
+        };
+        font.push(out, text, line, STATUS_EM, *color);
         base += y * (STATUS_EM * 1.5);
     }
 }

@@ -183,7 +183,7 @@ impl PaletteView {
             return None;
         }
         let t = (self.pose.position - origin).dot(n) / denom;
-        if !(t > 0.0) {
+        if t.is_nan() || t <= 0.0 {
             return None;
         }
         let local = self.pose.orientation.inverse() * (origin + dir * t - self.pose.position);

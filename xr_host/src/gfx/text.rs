@@ -153,19 +153,16 @@ impl Font {
         text.chars().map(|c| self.glyph(c).advance).sum::<f32>() * height
     }
 
-    /// Appends `text` as triangles: baseline starting at `origin`, running
-    /// along `right`, glyphs rising along `up` (unit vectors), em height
-    /// `height` metres.
+    /// Appends `text` as triangles on `line` at em height `height` metres.
     pub fn push(
         &mut self,
         out: &mut Vec<LineVertex>,
         text: &str,
-        origin: Vec3,
-        right: Vec3,
-        up: Vec3,
+        line: Baseline,
         height: f32,
         color: [f32; 3],
     ) {
+        let Baseline { origin, right, up } = line;
         let mut x = 0.0;
         for c in text.chars() {
             let g = self.glyph(c);
@@ -179,6 +176,18 @@ impl Font {
             x += g.advance;
         }
     }
+}
+
+/// Where a line of text goes: its baseline starts at `origin` and runs
+/// along `right`; glyphs rise along `up` (unit vectors).
+#[derive(Clone, Copy, Debug)]
+pub struct Baseline {
+    /// Start of the baseline.
+    pub origin: Vec3,
+    /// Writing direction.
+    pub right: Vec3,
+    /// Glyph up.
+    pub up: Vec3,
 }
 
 /// Two triangles filling the quad with corners `a` (bottom left), `a +
@@ -242,7 +251,12 @@ mod tests {
         let mut f = Font::bundled();
         let mut out = Vec::new();
         let h = 0.01;
-        f.push(&mut out, "Undo", Vec3::ZERO, Vec3::X, Vec3::Y, h, [1.0; 3]);
+        let line = Baseline {
+            origin: Vec3::ZERO,
+            right: Vec3::X,
+            up: Vec3::Y,
+        };
+        f.push(&mut out, "Undo", line, h, [1.0; 3]);
         let w = f.width("Undo", h);
         assert!(w > 2.0 * h && w < 3.0 * h, "{w}");
         for v in &out {
