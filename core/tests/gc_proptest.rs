@@ -50,6 +50,40 @@ fn shape() -> impl Strategy<Value = ShapeType> {
     ]
 }
 
+/// A spine rising from the origin by `(x, dz)` steps in the XZ plane, and
+/// key sections spread along it by their relative gaps `w` (first at 0,
+/// last at 1).
+fn spine_and_sections(
+    spine: Vec<(f64, f64)>,
+    secs: Vec<(Profile, f64)>,
+) -> (Vec<DVec3>, Vec<SectionSpec>) {
+    let mut pts = vec![DVec3::ZERO];
+    let mut z = 0.0;
+    for (x, dz) in spine {
+        z += dz;
+        pts.push(DVec3::new(x, 0.0, z));
+    }
+    let k = secs.len();
+    let total: f64 = secs.iter().skip(1).map(|s| s.1).sum();
+    let mut acc = 0.0;
+    let sections = secs
+        .into_iter()
+        .enumerate()
+        .map(|(i, (profile, w))| {
+            if i > 0 {
+                acc += w;
+            }
+            SectionSpec {
+                profile,
+                v: if i + 1 == k { 1.0 } else { acc / total },
+                scale: 1.0,
+                twist: 0.0,
+            }
+        })
+        .collect();
+    (pts, sections)
+}
+
 fn create() -> impl Strategy<Value = GcCreate> {
     (
         prop::collection::vec((-0.4f64..0.4, 0.2f64..0.8), 1..5),
@@ -59,30 +93,7 @@ fn create() -> impl Strategy<Value = GcCreate> {
         4u32..16,
     )
         .prop_map(|(spine, secs, shape, u, v)| {
-            let mut pts = vec![DVec3::ZERO];
-            let mut z = 0.0;
-            for (x, dz) in spine {
-                z += dz;
-                pts.push(DVec3::new(x, 0.0, z));
-            }
-            let k = secs.len();
-            let total: f64 = secs.iter().skip(1).map(|s| s.1).sum();
-            let mut acc = 0.0;
-            let sections = secs
-                .into_iter()
-                .enumerate()
-                .map(|(i, (profile, w))| {
-                    if i > 0 {
-                        acc += w;
-                    }
-                    SectionSpec {
-                        profile,
-                        v: if i + 1 == k { 1.0 } else { acc / total },
-                        scale: 1.0,
-                        twist: 0.0,
-                    }
-                })
-                .collect();
+            let (pts, sections) = spine_and_sections(spine, secs);
             GcCreate {
                 spine: pts,
                 plane_normal: DVec3::Y,
@@ -276,30 +287,7 @@ fn sensible_create() -> impl Strategy<Value = GcCreate> {
         4u32..16,
     )
         .prop_map(|(spine, secs, kind, thickness, u, v)| {
-            let mut pts = vec![DVec3::ZERO];
-            let mut z = 0.0;
-            for (x, dz) in spine {
-                z += dz;
-                pts.push(DVec3::new(x, 0.0, z));
-            }
-            let k = secs.len();
-            let total: f64 = secs.iter().skip(1).map(|s| s.1).sum();
-            let mut acc = 0.0;
-            let sections = secs
-                .into_iter()
-                .enumerate()
-                .map(|(i, (profile, w))| {
-                    if i > 0 {
-                        acc += w;
-                    }
-                    SectionSpec {
-                        profile,
-                        v: if i + 1 == k { 1.0 } else { acc / total },
-                        scale: 1.0,
-                        twist: 0.0,
-                    }
-                })
-                .collect();
+            let (pts, sections) = spine_and_sections(spine, secs);
             let shape = match kind {
                 0 => ShapeType::Solid,
                 1 => ShapeType::Shell { thickness },

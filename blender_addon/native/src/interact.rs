@@ -24,6 +24,16 @@ fn parse_err(what: &str, e: impl std::fmt::Display) -> PyErr {
     ParseError::new_err(format!("{what}: {e}"))
 }
 
+/// The model placement a host passes as JSON
+/// (`{"translate":[..],"rotate":[x,y,z,w],"scale":s}`).
+fn model_of(placement_json: &str) -> PyResult<shapewright::interact::Similarity> {
+    let placement: ModelPlacement =
+        serde_json::from_str(placement_json).map_err(|e| parse_err("placement", e))?;
+    placement
+        .similarity()
+        .ok_or_else(|| ParseError::new_err("placement must be finite with a positive scale"))
+}
+
 #[pymethods]
 impl InputSession {
     /// A driver running the tool named `tool` (see `core::interact::tool_named`),
@@ -31,11 +41,7 @@ impl InputSession {
     /// (`{"translate":[..],"rotate":[x,y,z,w],"scale":s}`).
     #[new]
     fn new(tool: &str, placement_json: &str) -> PyResult<Self> {
-        let placement: ModelPlacement =
-            serde_json::from_str(placement_json).map_err(|e| parse_err("placement", e))?;
-        let model = placement
-            .similarity()
-            .ok_or_else(|| ParseError::new_err("placement must be finite with a positive scale"))?;
+        let model = model_of(placement_json)?;
         let tool = tool_named(tool).map_err(|e| parse_err("tool", e))?;
         Ok(Self(Driver::new(tool, model)))
     }
@@ -71,11 +77,7 @@ impl InputSession {
     /// left hand (the headset host's session; see `core::interact::palette`).
     #[staticmethod]
     fn modeler(start: &str, placement_json: &str) -> PyResult<Self> {
-        let placement: ModelPlacement =
-            serde_json::from_str(placement_json).map_err(|e| parse_err("placement", e))?;
-        let model = placement
-            .similarity()
-            .ok_or_else(|| ParseError::new_err("placement must be finite with a positive scale"))?;
+        let model = model_of(placement_json)?;
         Driver::modeler(start, Hand::Right, model)
             .map(Self)
             .map_err(|e| parse_err("tool", e))
