@@ -8,7 +8,8 @@ use crate::sdf::SdfCreate;
 
 use crate::interact::palette::PaletteAction;
 use crate::interact::testkit::{Button, Driver};
-use crate::interact::{replay, Hand, TOOL_NAMES};
+use crate::interact::{replay, Hand, Pose, TOOL_NAMES};
+use crate::math::{DQuat, DVec3};
 
 #[test]
 fn the_palette_reaches_every_tool_and_every_choice() {
@@ -105,6 +106,48 @@ fn undo_redo_save_and_snapping_are_in_the_palette_and_replay_identically() {
     // a closed palette hides.
     d.close_palette();
     assert!(d.session().palette().is_none());
+    // A drag with snapping on: the box (placed at the right controller)
+    // grabbed, moved 2.37 cm and turned 20 degrees lands on the 1 mm grid
+    // and at 15 degrees; the readout says so while dragging.
+    let boxed = DVec3::new(0.2, 1.1, -0.3); // where the right hand placed it
+    d.puppet
+        .aim(Hand::Right, boxed + DVec3::new(0.0, 0.0, 0.2), boxed, 0.3);
+    d.puppet.set(Hand::Right, Button::Grab, true);
+    let moved = Pose::new(
+        d.puppet.frames().last().unwrap().controllers[1]
+            .unwrap()
+            .grip
+            .position
+            + DVec3::new(0.0237, 0.0, 0.0),
+        d.puppet.frames().last().unwrap().controllers[1]
+            .unwrap()
+            .grip
+            .orientation
+            * DQuat::from_rotation_y(20f64.to_radians()),
+    );
+    d.puppet.move_to(Hand::Right, moved, 0.3);
+    d.sync();
+    let readout = d.session().preview().readout.clone();
+    assert!(
+        readout.contains("grid 1 mm") && readout.contains("snap 15°"),
+        "{readout}"
+    );
+    d.puppet.set(Hand::Right, Button::Grab, false).wait(0.1);
+    d.sync();
+    let Some(ScriptCommand::Op(Op::SetTransform(t))) = d.commands.last() else {
+        panic!("no set_transform: {:?}", d.commands.last())
+    };
+    for c in t.transform.translate {
+        assert!(
+            (c * 1000.0 - (c * 1000.0).round()).abs() < 1e-6,
+            "{c} off the grid"
+        );
+    }
+    let angle = DQuat::from_array(t.transform.rotate)
+        .to_axis_angle()
+        .1
+        .to_degrees();
+    assert!((angle - 15.0).abs() < 1e-6, "{angle}");
     let trace = d.trace("palette undo/redo/save");
     let text = trace.to_jsonl();
     let back = crate::interact::Trace::from_jsonl(&text).unwrap();
@@ -114,6 +157,10 @@ fn undo_redo_save_and_snapping_are_in_the_palette_and_replay_identically() {
         assert_eq!(r.commands, d.commands);
         assert_eq!(r.saves.len(), 1);
         assert_eq!(r.log.document().len(), 1);
+        assert!(matches!(
+            r.commands.last(),
+            Some(ScriptCommand::Op(Op::SetTransform(_)))
+        ));
     }
 }
 
