@@ -17,7 +17,8 @@ def run(cmd: list, cwd: Path) -> subprocess.CompletedProcess:
 
 def test_readme_demo_command(root: Path, host_bin: Path) -> None:
     """`bash scripts/demo.sh`, exactly as the README gives it: the
-    hand-gesture teapot trace replayed by the host to the three files."""
+    hand-gesture teapot trace replayed by the host to the three files, then
+    the lamp made in one modeler session, with the headset view."""
     r = run(["bash", "scripts/demo.sh"], root)
     assert r.returncode == 0, r.stdout + r.stderr
     out = r.stdout
@@ -25,7 +26,10 @@ def test_readme_demo_command(root: Path, host_bin: Path) -> None:
     assert "gc_insert_section" in out and "gc_add_child" in out
     assert "closed 2-manifold" in out
     assert "replaying the history gives the snapshot" in out
-    assert len(out.splitlines()) <= 24, out
+    # One screen per model.
+    assert len(out.splitlines()) <= 40, out
+    assert "commands   29 (0 refused)" in out, out
+    assert "with the palette open and a drag in progress" in out, out
     # Frame times are reported (speed is judged by the benchmarks, not here).
     assert re.search(r"frame time [0-9.]+ ms p50, [0-9.]+ ms p99", out), out
     for ext in ("usda", "stl", "png"):
@@ -35,6 +39,10 @@ def test_readme_demo_command(root: Path, host_bin: Path) -> None:
     assert "components:           1" in r.stdout
     img = read_png(root / "out/teapot.png")
     assert 0.05 < foreground_fraction(img) < 0.6
+    for name in ("lamp.usda", "lamp.stl", "lamp.png", "lamp_headset.png"):
+        assert (root / "out" / name).stat().st_size > 1000, name
+    r = run([host_bin, "info", root / "out/lamp.stl"], root)
+    assert "printable:            yes" in r.stdout, r.stdout
 
 
 def test_apply_info_render(root: Path, host_bin: Path, tmp_path: Path) -> None:
