@@ -335,35 +335,37 @@ impl Renderer {
         }
         .map_err(|r| GfxError::vk("vkCreatePipelineLayout", r))?;
 
+        // Both vertex layouts are two vec3s (position, then normal or
+        // colour); the flat pipeline is the line shaders on triangles.
+        let attrs = [
+            (0, vk::Format::R32G32B32_SFLOAT, 0),
+            (1, vk::Format::R32G32B32_SFLOAT, 12),
+        ];
+        let (mesh_stride, line_stride) = (
+            std::mem::size_of::<MeshVertex>() as u32,
+            std::mem::size_of::<LineVertex>() as u32,
+        );
+        use vk::PrimitiveTopology as Topology;
         this.mesh_pipeline = this.pipeline(
             MESH_VERT,
             MESH_FRAG,
-            vk::PrimitiveTopology::TRIANGLE_LIST,
-            &[
-                (0, vk::Format::R32G32B32_SFLOAT, 0),
-                (1, vk::Format::R32G32B32_SFLOAT, 12),
-            ],
-            std::mem::size_of::<MeshVertex>() as u32,
+            Topology::TRIANGLE_LIST,
+            &attrs,
+            mesh_stride,
         )?;
         this.line_pipeline = this.pipeline(
             LINE_VERT,
             LINE_FRAG,
-            vk::PrimitiveTopology::LINE_LIST,
-            &[
-                (0, vk::Format::R32G32B32_SFLOAT, 0),
-                (1, vk::Format::R32G32B32_SFLOAT, 12),
-            ],
-            std::mem::size_of::<LineVertex>() as u32,
+            Topology::LINE_LIST,
+            &attrs,
+            line_stride,
         )?;
         this.flat_pipeline = this.pipeline(
             LINE_VERT,
             LINE_FRAG,
-            vk::PrimitiveTopology::TRIANGLE_LIST,
-            &[
-                (0, vk::Format::R32G32B32_SFLOAT, 0),
-                (1, vk::Format::R32G32B32_SFLOAT, 12),
-            ],
-            std::mem::size_of::<LineVertex>() as u32,
+            Topology::TRIANGLE_LIST,
+            &attrs,
+            line_stride,
         )?;
         Ok(this)
     }
