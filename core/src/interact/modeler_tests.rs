@@ -308,3 +308,81 @@ fn the_fused_result_is_copied_from_the_palette() {
     assert_eq!(v.pending.len(), 2);
     assert!(v.user_components.contains_key("result 2"));
 }
+
+/// Paper 3 §5.4 in the headset: with "Draw in: left hand" chosen, a
+/// stroke drawn while the left hand turns the frame is one
+/// `curve_draw_in_frame` with the frame at every sample; it applies, and
+/// the network has moved with the hand.
+#[test]
+fn strokes_drawn_in_the_left_hands_frame_move_with_it() {
+    use crate::doc::OpLog;
+    use crate::interact::testkit::Puppet;
+    use crate::interact::tools::{apply_command, Tool};
+    use crate::interact::{CurveNetworkTool, ModelPlacement, Session};
+
+    let mut tool = CurveNetworkTool::default();
+    let g = tool
+        .choices()
+        .iter()
+        .position(|g| g.name == "Draw in")
+        .unwrap();
+    tool.choose(&crate::doc::Document::default(), g, 1);
+    assert_eq!(tool.choices()[g].active, 1);
+    let model = ModelPlacement::desk().similarity().unwrap();
+    let mut s = Session::new(Box::new(tool), model);
+    let left = Pose::new(DVec3::new(-0.2, 1.0, -0.4), DQuat::IDENTITY);
+    let mut p = Puppet::new(60.0);
+    p.controller(Hand::Left, left)
+        .controller(
+            Hand::Right,
+            Pose::new(DVec3::new(0.1, 1.0, -0.4), DQuat::IDENTITY),
+        )
+        .wait(0.1)
+        .set(Hand::Right, Button::Select, true);
+    // Draw 10 cm sideways while the left hand turns 40 degrees.
+    for k in 1..=40 {
+        let a = k as f64 / 40.0;
+        p.move_to(
+            Hand::Right,
+            Pose::new(
+                DVec3::new(0.1 + 0.1 * a, 1.0 + 0.03 * a, -0.4),
+                DQuat::IDENTITY,
+            ),
+            0.0,
+        )
+        .move_to(
+            Hand::Left,
+            Pose::new(
+                left.position,
+                DQuat::from_rotation_y(40f64.to_radians() * a),
+            ),
+            0.0,
+        );
+    }
+    p.set(Hand::Right, Button::Select, false).wait(0.1);
+    let mut log = OpLog::new();
+    let mut cmds = Vec::new();
+    for f in p.frames() {
+        if let Some(c) = s.step(f, log.document()) {
+            apply_command(&mut log, &c).unwrap();
+            cmds.push(c);
+        }
+    }
+    let names: Vec<_> = cmds.iter().map(|c| c.name()).collect();
+    assert_eq!(names, ["curve_network_create", "curve_draw_in_frame"]);
+    let Some(ScriptCommand::Op(Op::CurveDrawInFrame(d))) = cmds.last() else {
+        unreachable!()
+    };
+    assert!(d.samples.len() >= 4 && d.frames.len() == d.samples.len());
+    let q = |f: &crate::styling::ModelingFrame| DQuat::from_array(f.rotation);
+    let (first, last) = (d.frames.first().unwrap(), d.frames.last().unwrap());
+    let turned = q(first).angle_between(q(last)).to_degrees();
+    assert!(turned > 30.0, "the frame turned {turned} degrees");
+    // The network moved with the hand: its placement turned too.
+    let (_, obj) = log.document().objects().next().unwrap();
+    let q = DQuat::from_array(obj.transform().rotate);
+    assert!(
+        q.angle_between(DQuat::IDENTITY).to_degrees() > 30.0,
+        "{q:?}"
+    );
+}

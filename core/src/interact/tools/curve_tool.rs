@@ -52,8 +52,8 @@ use crate::styling::select::{select_in_network, CurveTool as TableTool};
 use crate::styling::tools::{PullParams, SharpenLimits, SmoothParams, MAX_FRAMES};
 use crate::styling::CurveNetwork;
 use crate::styling::{
-    CurveDelete, CurveDraw, CurveFillAuto, CurveId, CurveNetworkCreate, CurvePull, CurveSharpen,
-    CurveSmooth,
+    CurveDelete, CurveDraw, CurveDrawInFrame, CurveFillAuto, CurveId, CurveNetworkCreate,
+    CurvePull, CurveSharpen, CurveSmooth, ModelingFrame,
 };
 
 use crate::interact::input::{Hand, Pose};
@@ -242,6 +242,9 @@ struct Stroke {
     symmetry: Option<DrawPlane>,
     /// Tip samples (model space).
     path: Vec<DVec3>,
+    /// The other hand's modeling frame at each sample (model space), when
+    /// drawing in the held frame (paper 3 §5.4).
+    frames: Vec<ModelingFrame>,
     lost_since: Option<f64>,
 }
 
@@ -257,6 +260,10 @@ pub struct CurveNetworkTool {
     pending: std::collections::VecDeque<ScriptCommand>,
     /// The palette's trigger mode (index into [`MODES`]; 0: Table 1).
     forced: usize,
+    /// Strokes are drawn in the modeling frame the other hand holds
+    /// (paper 3 §5.4, `curve_draw_in_frame`): the network moves with the
+    /// hand while drawing. The palette's "Draw in: left hand".
+    in_frame: bool,
 }
 
 impl Default for CurveNetworkTool {
@@ -292,6 +299,7 @@ impl CurveNetworkTool {
             stroke: None,
             pending: Default::default(),
             forced: 0,
+            in_frame: false,
         }
     }
 
@@ -322,6 +330,16 @@ impl CurveNetworkTool {
             origin: to_model.apply(grip.position),
             normal,
         })
+    }
+
+    /// The modeling frame the other hand holds: its grip, in model space.
+    fn held_frame(cx: &ToolContext, pen: &Pen) -> Option<ModelingFrame> {
+        let grip = pen.grip?;
+        let to_model = cx.model.inverse();
+        Some(ModelingFrame::new(
+            to_model.apply(grip.position),
+            (to_model.rotate * grip.orientation).normalize(),
+        ))
     }
 
     fn target(cx: &ToolContext, tip: DVec3, dir: DVec3) -> Option<CurveTarget> {
@@ -397,8 +415,20 @@ impl CurveNetworkTool {
                 plane: plane.filter(|_| mode == CurveMode::Draw),
                 symmetry: symmetry.filter(|_| mode == CurveMode::Draw),
                 path: vec![start],
+                frames: Vec::new(),
                 lost_since: None,
             });
+            if let Some(s) = self.stroke.as_mut() {
+                if self.in_frame && mode == CurveMode::Draw {
+                    s.frames.extend(Self::held_frame(cx, &other));
+                    if s.frames.is_empty() {
+                        // No frame to draw in: the left hand is not tracked.
+                        self.stroke = None;
+                        self.show_stroke();
+                        return None;
+                    }
+                }
+            }
             self.show_stroke();
             if network(cx.doc).is_none() {
                 return Some(ScriptCommand::Op(Op::CurveNetworkCreate(Create(
@@ -474,6 +504,18 @@ impl CurveNetworkTool {
             return self.commit(cx, s);
         }
         match s.mode {
+            CurveMode::Draw if !s.frames.is_empty() => {
+                // In the held frame: raw tip samples, each with the frame as
+                // it is now (the op projects and maps them).
+                let other = pens[self.settings.dominant.other().index()];
+                let last = s.path[s.path.len() - 1];
+                if (p - last).length() * cx.model.scale >= self.settings.min_spacing {
+                    if let Some(f) = Self::held_frame(cx, &other) {
+                        s.path.push(p);
+                        s.frames.push(f);
+                    }
+                }
+            }
             CurveMode::Draw => {
                 let q = s.plane.map_or(p, |pl| pl.project(p));
                 let last = s.path[s.path.len() - 1];
@@ -500,6 +542,21 @@ impl CurveNetworkTool {
         let (id, net) = network(cx.doc)?;
         let path = arr(&s.path);
         let op = match (s.mode, s.target) {
+            (CurveMode::Draw, _) if !s.frames.is_empty() => {
+                if s.path.len() < 4 {
+                    return None;
+                }
+                Op::CurveDrawInFrame(CurveDrawInFrame {
+                    id,
+                    samples: path,
+                    frames: s.frames,
+                    onto_plane: s.plane.is_some(),
+                    mirror: s.symmetry.is_some(),
+                    fit: self.settings.fit,
+                    resample: self.settings.resample,
+                    snap_tol: self.settings.snap_tol,
+                })
+            }
             (CurveMode::Draw, _) => {
                 if s.path.len() < 4 {
                     return None;
@@ -644,16 +701,25 @@ impl Tool for CurveNetworkTool {
     }
 
     fn choices(&self) -> Vec<ChoiceGroup> {
-        vec![ChoiceGroup {
-            name: "Trigger",
-            options: MODES.iter().map(|m| m.0.to_string()).collect(),
-            active: self.forced,
-        }]
+        vec![
+            ChoiceGroup {
+                name: "Trigger",
+                options: MODES.iter().map(|m| m.0.to_string()).collect(),
+                active: self.forced,
+            },
+            ChoiceGroup {
+                name: "Draw in",
+                options: vec!["the world".into(), "left hand".into()],
+                active: usize::from(self.in_frame),
+            },
+        ]
     }
 
     fn choose(&mut self, _doc: &Document, group: usize, option: usize) -> Option<ScriptCommand> {
-        if group == 0 && option < MODES.len() {
-            self.forced = option;
+        match (group, option) {
+            (0, o) if o < MODES.len() => self.forced = o,
+            (1, o) if o < 2 => self.in_frame = o == 1,
+            _ => {}
         }
         None
     }
