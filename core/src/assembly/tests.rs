@@ -134,3 +134,24 @@ fn mirror_mismatch(gc: &crate::gc::Gc, m: &crate::gc::Gc, o: DVec3, n: DVec3) ->
         })
         .fold(0.0, f64::max)
 }
+
+/// Regression (found by `gc_structure_props`): a handle re-placed by a
+/// rotation of a few 1e-9 rad. glam's `from_rotation_arc` returns the
+/// identity below ~3e-8 rad, which left the handle's end 4.5e-10 m off its
+/// anchor; `similarity_about` must take `from` exactly onto `to`.
+#[test]
+fn tiny_rotations_still_take_the_handle_end_onto_its_anchor() {
+    use glam::{DQuat, DVec3};
+    let pivot = DVec3::new(0.01, -0.02, 0.03);
+    let from = DVec3::new(0.06, 0.0, -0.04);
+    for angle in [1e-12, 3e-9, 2e-8, 1e-4, 1.0, 3.0] {
+        let to = DQuat::from_rotation_y(angle) * from * 1.0000001;
+        let m = super::propagate::similarity_about(pivot, from, to);
+        let got = m.transform_point3(pivot + from);
+        assert!(
+            (got - (pivot + to)).length() < 1e-15,
+            "angle {angle}: {:e} off",
+            (got - (pivot + to)).length()
+        );
+    }
+}
