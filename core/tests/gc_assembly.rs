@@ -4,6 +4,8 @@
 //! parent is edited; a child off its parent's surface is a typed error
 //! that leaves the document unchanged; replay is bit-identical.
 
+mod common;
+
 use glam::DVec3;
 use shapewright::assembly::{
     anchor_frame, detect_relations, mirror_plane, reflect, symmetry_twins, AssemblyError,
@@ -408,17 +410,7 @@ fn a_slid_spout_turns_with_the_surface() {
     let att = before.parts[1].attach.expect("anchored");
     let anchor = surf.point(att.start.u, att.start.v);
     // dragged 3 cm down the body and projected back on it, as the tool does
-    let target = shapewright::assembly::project_to_surface(&surf, anchor - DVec3::Z * 0.03).point;
-    log.apply(Op::GcTransformPart(Edit::new(
-        ObjectId(1),
-        GcTransformPart {
-            part: PartId(1),
-            translate: target - anchor,
-            rotate: [0.0, 0.0, 0.0, 1.0],
-            tolerance: 1e-6,
-        },
-    )))
-    .expect("slide");
+    common::slide(&mut log, ObjectId(1), 1, &surf, anchor, -DVec3::Z * 0.03).expect("slide");
     let after = assembly(&log);
     let (a0, a1) = (start_angle(&before, 1), start_angle(&after, 1));
     assert!((a0 - a1).abs() < 1e-9, "angle to the normal {a0} -> {a1}");
@@ -496,17 +488,7 @@ fn a_copied_spout_is_an_instance_not_a_twin() {
     assert!(d < 1e-9, "the copy sits {d} from where it was dropped");
     // dragging the copy leaves the original where it was
     let a3 = surf.point(att3.start.u, att3.start.v);
-    let t2 = shapewright::assembly::project_to_surface(&surf, a3 - DVec3::Z * 0.01).point;
-    log.apply(Op::GcTransformPart(Edit::new(
-        ObjectId(1),
-        GcTransformPart {
-            part: PartId(3),
-            translate: t2 - a3,
-            rotate: [0.0, 0.0, 0.0, 1.0],
-            tolerance: 1e-6,
-        },
-    )))
-    .expect("drag the copy");
+    common::slide(&mut log, ObjectId(1), 3, &surf, a3, -DVec3::Z * 0.01).expect("drag the copy");
     let after = assembly(&log);
     assert_eq!(after.parts[1], before.parts[1], "the original did not move");
     assert_ne!(after.parts[3], asm.parts[3], "the copy moved");

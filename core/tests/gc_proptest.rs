@@ -50,13 +50,15 @@ fn shape() -> impl Strategy<Value = ShapeType> {
     ]
 }
 
-/// A spine rising from the origin by `(x, dz)` steps in the XZ plane, and
-/// key sections spread along it by their relative gaps `w` (first at 0,
-/// last at 1).
-fn spine_and_sections(
+/// A GC whose spine rises from the origin by `(x, dz)` steps in the XZ
+/// plane, with key sections spread along it by their relative gaps `w`
+/// (first at 0, last at 1).
+fn gc_create(
     spine: Vec<(f64, f64)>,
     secs: Vec<(Profile, f64)>,
-) -> (Vec<DVec3>, Vec<SectionSpec>) {
+    shape: ShapeType,
+    resolution: Resolution,
+) -> GcCreate {
     let mut pts = vec![DVec3::ZERO];
     let mut z = 0.0;
     for (x, dz) in spine {
@@ -81,7 +83,13 @@ fn spine_and_sections(
             }
         })
         .collect();
-    (pts, sections)
+    GcCreate {
+        spine: pts,
+        plane_normal: DVec3::Y,
+        sections,
+        shape,
+        resolution,
+    }
 }
 
 fn create() -> impl Strategy<Value = GcCreate> {
@@ -92,16 +100,7 @@ fn create() -> impl Strategy<Value = GcCreate> {
         12u32..32,
         4u32..16,
     )
-        .prop_map(|(spine, secs, shape, u, v)| {
-            let (pts, sections) = spine_and_sections(spine, secs);
-            GcCreate {
-                spine: pts,
-                plane_normal: DVec3::Y,
-                sections,
-                shape,
-                resolution: Resolution { u, v },
-            }
-        })
+        .prop_map(|(spine, secs, shape, u, v)| gc_create(spine, secs, shape, Resolution { u, v }))
 }
 
 #[derive(Clone, Debug)]
@@ -287,7 +286,6 @@ fn sensible_create() -> impl Strategy<Value = GcCreate> {
         4u32..16,
     )
         .prop_map(|(spine, secs, kind, thickness, u, v)| {
-            let (pts, sections) = spine_and_sections(spine, secs);
             let shape = match kind {
                 0 => ShapeType::Solid,
                 1 => ShapeType::Shell { thickness },
@@ -296,13 +294,7 @@ fn sensible_create() -> impl Strategy<Value = GcCreate> {
                     closed_end: ClosedEnd::Start,
                 },
             };
-            GcCreate {
-                spine: pts,
-                plane_normal: DVec3::Y,
-                sections,
-                shape,
-                resolution: Resolution { u, v },
-            }
+            gc_create(spine, secs, shape, Resolution { u, v })
         })
 }
 

@@ -32,8 +32,8 @@ use glam::{DQuat, DVec3};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
 use shapewright::assembly::{
-    anchor_frame, mirror_plane, project_to_surface, propagate_edit, reflect, AssemblyError, GcCopy,
-    GcTransformPart,
+    anchor_frame, mirror_plane, project_to_surface, propagate_edit, reflect, spine_controls,
+    spine_size, AssemblyError, GcCopy, GcTransformPart,
 };
 use shapewright::doc::{parse_script, run_script, ObjectId, ObjectKind, OpLog};
 use shapewright::gc::*;
@@ -60,26 +60,11 @@ fn examples() -> &'static Vec<GcAssembly> {
     })
 }
 
-fn controls(gc: &Gc) -> Vec<DVec3> {
-    gc.spine
-        .curve
-        .control
-        .iter()
-        .map(|h| euclidean(*h))
-        .collect()
-}
-
-fn size_of(gc: &Gc) -> f64 {
-    let c = controls(gc);
-    let lo = c.iter().fold(DVec3::splat(f64::INFINITY), |a, p| a.min(*p));
-    let hi = c
-        .iter()
-        .fold(DVec3::splat(f64::NEG_INFINITY), |a, p| a.max(*p));
-    (hi - lo).length()
-}
-
 fn scene_size(asm: &GcAssembly) -> f64 {
-    asm.parts.iter().map(|p| size_of(&p.gc)).fold(0.1, f64::max)
+    asm.parts
+        .iter()
+        .map(|p| spine_size(&p.gc))
+        .fold(0.1, f64::max)
 }
 
 fn ends(gc: &Gc) -> (DVec3, DVec3) {
@@ -169,8 +154,8 @@ fn check_relations(asm: &GcAssembly, expected: &[Option<Local>]) -> Result<(), S
         }
         let (o, n) = mirror_plane(&asm.parts[p].gc);
         let (ga, gb) = (&asm.parts[a].gc, &asm.parts[b].gc);
-        let t = 1e-9 * size_of(ga).max(size_of(gb));
-        let (ca, cb) = (controls(ga), controls(gb));
+        let t = 1e-9 * spine_size(ga).max(spine_size(gb));
+        let (ca, cb) = (spine_controls(ga), spine_controls(gb));
         if ca.len() != cb.len() {
             return Err(format!("twins {a}, {b}: spines differ"));
         }
@@ -199,13 +184,13 @@ fn check_relations(asm: &GcAssembly, expected: &[Option<Local>]) -> Result<(), S
     }
     for &(a, b) in &rec.coplanar {
         let (ga, gb) = (&asm.parts[a].gc, &asm.parts[b].gc);
-        let t = 1e-9 * size_of(ga).max(size_of(gb));
+        let t = 1e-9 * spine_size(ga).max(spine_size(gb));
         let n = ga.spine.plane_normal.normalize();
-        let o = controls(ga)[0];
+        let o = spine_controls(ga)[0];
         if n.dot(gb.spine.plane_normal.normalize()).abs() < 1.0 - 1e-9 {
             return Err(format!("coplanar {a}, {b}: planes turned apart"));
         }
-        for q in controls(gb) {
+        for q in spine_controls(gb) {
             let d = (q - o).dot(n).abs();
             if d > t {
                 return Err(format!(
@@ -215,7 +200,10 @@ fn check_relations(asm: &GcAssembly, expected: &[Option<Local>]) -> Result<(), S
         }
     }
     for &(a, b) in &rec.concentric {
-        let (ca, cb) = (controls(&asm.parts[a].gc), controls(&asm.parts[b].gc));
+        let (ca, cb) = (
+            spine_controls(&asm.parts[a].gc),
+            spine_controls(&asm.parts[b].gc),
+        );
         let t = 1e-9 * scene_size(asm);
         let dir = (ca[ca.len() - 1] - ca[0]).normalize();
         for q in ca.iter().chain(&cb) {
@@ -338,7 +326,7 @@ fn make(asm: &GcAssembly, s: &Seed) -> Made {
     let id = PartId(part);
     let gc = &asm.parts[part].gc;
     let k = gc.sections.len();
-    let size = size_of(gc).max(1e-3);
+    let size = spine_size(gc).max(1e-3);
     let child = asm.parts[part].parent.is_some();
     let handle = asm.parts[part].attach.is_some_and(|a| a.end.is_some());
     let mut kind = s.kind;

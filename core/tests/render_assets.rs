@@ -15,9 +15,10 @@
 //!
 //! `SHAPEWRIGHT_RENDER_DIR` names the output directory.
 
+mod common;
+
 use glam::{DAffine3, DVec3};
-use shapewright::assembly::{project_to_surface, GcTransformPart};
-use shapewright::doc::{parse_script, run_script, Edit, ObjectId, ObjectKind, Op, OpLog};
+use shapewright::doc::{Edit, ObjectId, ObjectKind, Op, OpLog};
 use shapewright::gc::{GcReplaceSpine, PartId};
 use shapewright::mesh::{validate, write_stl, TriMesh};
 
@@ -38,12 +39,6 @@ fn save(mesh: &TriMesh, name: &str) {
     );
 }
 
-fn run(text: &str) -> OpLog {
-    let mut log = OpLog::new();
-    run_script(&mut log, &parse_script(text).expect("parses")).expect("runs");
-    log
-}
-
 /// The teapot assembly's union (object 1; the lid is another object and
 /// does not follow the body's edits).
 fn body_union(log: &OpLog) -> TriMesh {
@@ -59,7 +54,7 @@ fn write_render_meshes() {
     std::fs::create_dir_all(out_dir()).expect("out dir");
     // The teapot, then a spine replace and a spout slide.
     let path = format!("{}/../tests/data/teapot.jsonl", env!("CARGO_MANIFEST_DIR"));
-    let mut log = run(&std::fs::read_to_string(path).expect("teapot"));
+    let mut log = common::run(&std::fs::read_to_string(path).expect("teapot"));
     save(&body_union(&log), "teapot_before.stl");
     log.apply(Op::GcReplaceSpine(Edit::new(
         ObjectId(1),
@@ -80,17 +75,7 @@ fn write_render_meshes() {
     let surf = asm.parts[0].gc.surface().expect("surface");
     let att = asm.parts[1].attach.expect("anchored");
     let anchor = surf.point(att.start.u, att.start.v);
-    let target = project_to_surface(&surf, anchor - DVec3::Z * 0.03).point;
-    log.apply(Op::GcTransformPart(Edit::new(
-        ObjectId(1),
-        GcTransformPart {
-            part: PartId(1),
-            translate: target - anchor,
-            rotate: [0.0, 0.0, 0.0, 1.0],
-            tolerance: 1e-6,
-        },
-    )))
-    .expect("slide");
+    common::slide(&mut log, ObjectId(1), 1, &surf, anchor, -DVec3::Z * 0.03).expect("slide");
     let edited = body_union(&log);
     let r = validate(&edited, &Default::default());
     eprintln!(
@@ -105,7 +90,7 @@ fn write_render_meshes() {
     if let Ok(dir) = std::env::var("SHAPEWRIGHT_NGON_DIR") {
         for name in ["hexagon", "hexagon_shaped"] {
             let p = std::path::Path::new(&dir).join(format!("{name}.jsonl"));
-            let log = run(&std::fs::read_to_string(p).expect("ngon script"));
+            let log = common::run(&std::fs::read_to_string(p).expect("ngon script"));
             save(&log.document().combined_mesh(), &format!("{name}.stl"));
         }
     }

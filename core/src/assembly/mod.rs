@@ -59,7 +59,9 @@ pub use anchor::{anchor_frame, project_to_surface, Anchor, Attachment, Projectio
 pub use edit::{ChildEnd, GcAddChild, GcCopy, GcEditPart, GcTransformPart, PartEdit};
 pub use error::AssemblyError;
 pub use propagate::{descendants_bfs, reattach_descendants};
-pub use relations::{children_of, detect_relations, symmetry_twins, Relations};
+pub use relations::{
+    children_of, detect_relations, spine_controls, spine_size, symmetry_twins, Relations,
+};
 pub use rigid::{flip_profile, mirror_gc, mirror_plane, reflect, transform_gc};
 pub use structure::{
     check_relations, ensure_recorded, propagate_edit, record_new_part, GcRelease, MirrorEdit,

@@ -31,7 +31,8 @@ pub fn children_of(asm: &GcAssembly, part: usize) -> Vec<usize> {
         .collect()
 }
 
-fn controls(gc: &Gc) -> Vec<DVec3> {
+/// The spine's control points (Euclidean, model space).
+pub fn spine_controls(gc: &Gc) -> Vec<DVec3> {
     gc.spine
         .curve
         .control
@@ -40,8 +41,10 @@ fn controls(gc: &Gc) -> Vec<DVec3> {
         .collect()
 }
 
-fn size_of(gc: &Gc) -> f64 {
-    let c = controls(gc);
+/// The diagonal of the spine's control polygon's bounding box (at least
+/// 1e-9): the scale relation tolerances are relative to.
+pub fn spine_size(gc: &Gc) -> f64 {
+    let c = spine_controls(gc);
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for p in &c {
         lo = lo.min(*p);
@@ -74,9 +77,9 @@ fn profile_close(a: &Profile, b: &Profile, tol: f64) -> bool {
 /// True when `b` is `a` mirrored about the plane `(origin, n)`, to a
 /// relative tolerance `rel`.
 pub(super) fn is_mirror(a: &Gc, b: &Gc, origin: DVec3, n: DVec3, rel: f64) -> bool {
-    let tol = rel * size_of(a);
+    let tol = rel * spine_size(a);
     let m = mirror_gc(a, origin, n);
-    let (cm, cb) = (controls(&m), controls(b));
+    let (cm, cb) = (spine_controls(&m), spine_controls(b));
     m.spine.curve.degree == b.spine.curve.degree
         && m.spine.curve.knots == b.spine.curve.knots
         && cm.len() == cb.len()
@@ -112,27 +115,30 @@ pub fn symmetry_twins(asm: &GcAssembly, part: usize) -> Vec<usize> {
 /// True when `b`'s spine coincides with `a`'s (the same control points to
 /// `rel` of the size): one part lying on the other.
 pub(super) fn coincident(a: &Gc, b: &Gc, rel: f64) -> bool {
-    let tol = rel * size_of(a);
-    let (ca, cb) = (controls(a), controls(b));
+    let tol = rel * spine_size(a);
+    let (ca, cb) = (spine_controls(a), spine_controls(b));
     ca.len() == cb.len() && ca.iter().zip(&cb).all(|(x, y)| x.distance(*y) <= tol)
 }
 
 /// True when the spines of `a` and `b` lie in one plane (to `rel` of the
 /// larger size).
 pub(super) fn same_plane(a: &Gc, b: &Gc, rel: f64) -> bool {
-    let tol = rel * size_of(a).max(size_of(b));
+    let tol = rel * spine_size(a).max(spine_size(b));
     let (na, nb) = (
         a.spine.plane_normal.normalize(),
         b.spine.plane_normal.normalize(),
     );
-    let oa = controls(a)[0];
-    na.dot(nb).abs() >= 1.0 - rel && controls(b).iter().all(|p| (*p - oa).dot(na).abs() <= tol)
+    let oa = spine_controls(a)[0];
+    na.dot(nb).abs() >= 1.0 - rel
+        && spine_controls(b)
+            .iter()
+            .all(|p| (*p - oa).dot(na).abs() <= tol)
 }
 
 /// True when both spines are straight and on one line (to `rel` of the
 /// larger size).
 pub(super) fn on_one_line(a: &Gc, b: &Gc, rel: f64) -> bool {
-    let tol = rel * size_of(a).max(size_of(b));
+    let tol = rel * spine_size(a).max(spine_size(b));
     match (straight_line(a, rel), straight_line(b, rel)) {
         (Some((pa, da)), Some((pb, db))) => {
             let on_line = |p: DVec3| (p - pa).reject_from_normalized(da).length() <= tol;
@@ -143,10 +149,10 @@ pub(super) fn on_one_line(a: &Gc, b: &Gc, rel: f64) -> bool {
 }
 
 fn straight_line(gc: &Gc, rel: f64) -> Option<(DVec3, DVec3)> {
-    let c = controls(gc);
+    let c = spine_controls(gc);
     let (a, b) = (*c.first()?, *c.last()?);
     let d = (b - a).try_normalize()?;
-    let tol = rel * size_of(gc);
+    let tol = rel * spine_size(gc);
     c.iter()
         .all(|p| (*p - a).reject_from_normalized(d).length() <= tol)
         .then_some((a, d))
