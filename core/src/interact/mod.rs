@@ -61,6 +61,7 @@ pub use tools::brush_tool::{BrushPreset, BrushTool, BrushToolSettings};
 pub use tools::csg_tool::{CsgTool, CsgToolSettings, SceneOperate};
 pub use tools::curve_tool::{
     CurveMode, CurveNetworkTool, CurvePreview, CurveTarget, CurveToolSettings, DrawPlane,
+    PatchTarget, SurfaceTool, SURFACE_MARGIN,
 };
 pub use tools::gc_tool::{GcPreview, GcTarget, GcTool, GcToolSettings};
 pub use tools::object_tool::{ObjectTool, ObjectToolSettings};

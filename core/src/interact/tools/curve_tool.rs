@@ -10,7 +10,7 @@
 //! | input (dominant hand)   | action                                      |
 //! |-------------------------|---------------------------------------------|
 //! | trigger held            | draw, or apply the tool chosen at the press |
-//! | `primary` (A)           | fill every loop found (`curve_fill_auto`)   |
+//! | `primary` (A)           | fill every loop found (`curve_fill_auto`), or the pointed loop (`curve_fill_loop`) when the palette says so |
 //! | `secondary` (B)         | delete the pointed curve (Table 1 bands)    |
 //! | stick flick ← / → (either hand) | undo / redo                         |
 //!
@@ -26,6 +26,18 @@
 //! choice holds until release. Anything else (attach: `d < 2 cm` along;
 //! far away; between the angle bands) draws a new curve, which the network
 //! snaps to the curves it passes within [`CurveToolSettings::snap_tol`].
+//! The palette's "Trigger" group can force one tool instead ("auto" is
+//! Table 1). Forced smooth, sharpen and pull act on the pointed *surface*
+//! (paper 3 §4: `surface_smooth`, `surface_sharpen`, `surface_pull` at the
+//! pointed `(u0, v0)`) when a patch is at least [`SURFACE_MARGIN`] nearer
+//! to the tip than any curve, and on the nearest curve otherwise; "auto"
+//! never edits a surface, so a stroke started over a patch still draws.
+//! Forced "attract" draws the pointed curve towards what the other hand
+//! holds at the press (§2.2, `curve_attract`, local around the pointed
+//! point): its grip point, the line along its aim when its trigger is
+//! held, the plane through its grip normal to its aim when its grip is
+//! held; one frame of attraction per frame held.
+//!
 //! Each held application is one op carrying its sampled path: `curve_draw`
 //! with the tip samples (model space, at least `min_spacing` apart),
 //! `curve_pull` / `curve_smooth` / `curve_sharpen` with the tip per frame.
@@ -48,12 +60,17 @@
 use crate::doc::{Create, Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
 use crate::math::DVec3;
 use crate::styling::curve::FitMode;
-use crate::styling::select::{select_in_network, CurveTool as TableTool};
+use crate::styling::select::{
+    nearest_loop, nearest_patch_point, select_in_network, CurveTool as TableTool, PatchPoint,
+};
+use crate::styling::surface::SurfaceWeights;
 use crate::styling::tools::{PullParams, SharpenLimits, SmoothParams, MAX_FRAMES};
 use crate::styling::CurveNetwork;
 use crate::styling::{
-    CurveDelete, CurveDraw, CurveDrawInFrame, CurveFillAuto, CurveId, CurveNetworkCreate,
-    CurvePull, CurveSharpen, CurveSmooth, ModelingFrame,
+    AttractParams, Attractor, CurveAttract, CurveDelete, CurveDraw, CurveDrawInFrame,
+    CurveFillAuto, CurveFillLoop, CurveId, CurveNetworkCreate, CurvePull, CurveSharpen,
+    CurveSmooth, ModelingFrame, PatchId, SurfaceEquilibrium, SurfacePull, SurfaceSharpen,
+    SurfaceSmooth,
 };
 
 use crate::interact::input::{Hand, Pose};
@@ -91,6 +108,16 @@ pub struct CurveToolSettings {
     pub sharpen_limits: SharpenLimits,
     /// Puller weights.
     pub pull: PullParams,
+    /// Attractor weights (`curve_attract`).
+    pub attract: AttractParams,
+    /// Surface tools' internal energy weights.
+    pub surface: SurfaceWeights,
+    /// Surface smoother's factor on `w_q` per frame, in (0, 1).
+    pub surface_smooth_f: f64,
+    /// Surface sharpener's factor on `w_q` per frame, in (1, 2], and its cap.
+    pub surface_sharpen: (f64, f64),
+    /// Surface puller's attractor weight.
+    pub surface_wpp: f64,
 }
 
 impl Default for CurveToolSettings {
@@ -131,6 +158,20 @@ impl Default for CurveToolSettings {
                 wp0: 1.0,
                 wp1: 0.001,
             },
+            // 3% of the way per frame: about 2/3 of the way in a 0.5 s
+            // hold at 72 Hz, so the user sees it move and can stop.
+            attract: AttractParams {
+                weight: 0.03,
+                wp0: 1.0,
+                wp1: 0.0,
+                alpha: 20.0,
+                keep_ends: false,
+            },
+            // The values of the styled fixtures (tests/data/lampshade.jsonl).
+            surface: SurfaceWeights { wb: 1.0, ws: 0.0 },
+            surface_smooth_f: 0.8,
+            surface_sharpen: (1.2, 4.0),
+            surface_wpp: 2000.0,
         }
     }
 }
@@ -154,6 +195,21 @@ impl DrawPlane {
     }
 }
 
+/// A patch is this much nearer to the tip than every curve (metres)
+/// before a forced smooth, sharpen or pull acts on the surface.
+pub const SURFACE_MARGIN: f64 = 0.01;
+
+/// A surface tool of paper 3 §4.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SurfaceTool {
+    /// `surface_smooth`.
+    Smooth,
+    /// `surface_sharpen`.
+    Sharpen,
+    /// `surface_pull` at the pointed point.
+    Pull,
+}
+
 /// What the trigger starts (idle) or is doing (held).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CurveMode {
@@ -161,6 +217,37 @@ pub enum CurveMode {
     Draw,
     /// A Table 1 tool on the pointed curve (`AttachNewCurve` draws).
     Edit(TableTool),
+    /// `curve_attract` on the pointed curve.
+    Attract,
+    /// A surface tool on the pointed patch.
+    Surface(SurfaceTool),
+}
+
+impl CurveMode {
+    /// What the headset shows next to the pen.
+    pub fn label(&self) -> &'static str {
+        match self {
+            CurveMode::Draw | CurveMode::Edit(TableTool::AttachNewCurve) => "draw",
+            CurveMode::Edit(TableTool::SmoothSegment) => "smooth curve",
+            CurveMode::Edit(TableTool::SharpenSegment) => "sharpen curve",
+            CurveMode::Edit(TableTool::EditDataPoint) => "pull curve",
+            CurveMode::Attract => "attract curve",
+            CurveMode::Surface(SurfaceTool::Smooth) => "smooth surface",
+            CurveMode::Surface(SurfaceTool::Sharpen) => "sharpen surface",
+            CurveMode::Surface(SurfaceTool::Pull) => "pull surface",
+        }
+    }
+}
+
+/// The patch point the pen points at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PatchTarget {
+    /// The network.
+    pub network: ObjectId,
+    /// The patch point (model space; distance in model units).
+    pub at: PatchPoint,
+    /// Tip distance to it (metres).
+    pub distance: f64,
 }
 
 /// The curve point the pen points at.
@@ -182,6 +269,30 @@ pub struct CurveTarget {
     pub tool: Option<TableTool>,
 }
 
+/// What a forced attract draws the curve towards: held by the other hand.
+fn attractor_of(cx: &ToolContext, pen: &Pen) -> Option<Attractor> {
+    let (grip, aim) = (pen.grip?, pen.aim?);
+    let to_model = cx.model.inverse();
+    let a = to_model.apply(grip.position).to_array();
+    let dir = to_model.apply_dir(aim.forward()).normalize_or_zero();
+    if dir == DVec3::ZERO {
+        return None;
+    }
+    Some(if pen.grab {
+        Attractor::Plane {
+            a,
+            normal: dir.to_array(),
+        }
+    } else if pen.trigger {
+        Attractor::Line {
+            a,
+            dir: dir.to_array(),
+        }
+    } else {
+        Attractor::Point { p: a }
+    })
+}
+
 /// The curve tool's preview state.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CurvePreview {
@@ -191,6 +302,8 @@ pub struct CurvePreview {
     pub mode: Option<CurveMode>,
     /// The pointed curve point (for a held edit: as at the press).
     pub target: Option<CurveTarget>,
+    /// The pointed patch point, when a forced surface tool would act on it.
+    pub patch: Option<PatchTarget>,
     /// The drawing plane in use or offered.
     pub plane: Option<DrawPlane>,
     /// The symmetry plane in use or offered.
@@ -238,6 +351,9 @@ fn read_pen(cx: &ToolContext, hand: Hand) -> Pen {
 struct Stroke {
     mode: CurveMode,
     target: Option<CurveTarget>,
+    patch: Option<PatchTarget>,
+    /// A forced attract's attractor, taken at the press.
+    attractor: Option<Attractor>,
     plane: Option<DrawPlane>,
     symmetry: Option<DrawPlane>,
     /// Tip samples (model space).
@@ -264,6 +380,9 @@ pub struct CurveNetworkTool {
     /// (paper 3 §5.4, `curve_draw_in_frame`): the network moves with the
     /// hand while drawing. The palette's "Draw in: left hand".
     in_frame: bool,
+    /// `primary` fills the pointed loop (`curve_fill_loop`) instead of
+    /// every loop. The palette's "A fills".
+    fill_pointed: bool,
 }
 
 impl Default for CurveNetworkTool {
@@ -300,6 +419,7 @@ impl CurveNetworkTool {
             pending: Default::default(),
             forced: 0,
             in_frame: false,
+            fill_pointed: false,
         }
     }
 
@@ -356,14 +476,47 @@ impl CurveNetworkTool {
         })
     }
 
-    /// What the trigger starts at `target`: the palette's forced mode, or
-    /// Table 1's choice by distance and angle ("auto").
-    fn mode_of(&self, target: Option<&CurveTarget>) -> CurveMode {
+    /// The patch a forced smooth, sharpen or pull would act on: one
+    /// [`SURFACE_MARGIN`] nearer to the tip than the pointed curve. Only
+    /// searched in those modes (the search samples every patch).
+    fn patch_target(
+        &self,
+        cx: &ToolContext,
+        tip: DVec3,
+        curve: Option<&CurveTarget>,
+    ) -> Option<PatchTarget> {
+        let forced = MODES.get(self.forced).and_then(|m| m.1);
+        if !matches!(forced, Some(CurveMode::Edit(_))) {
+            return None;
+        }
+        let (network, net) = network(cx.doc)?;
+        let at = nearest_patch_point(net, tip)?;
+        let distance = at.distance * cx.model.scale;
+        let nearer = curve.is_none_or(|c| distance + SURFACE_MARGIN < c.distance);
+        nearer.then_some(PatchTarget {
+            network,
+            at,
+            distance,
+        })
+    }
+
+    /// What the trigger starts at `target` (or `patch`): the palette's
+    /// forced mode, or Table 1's choice by distance and angle ("auto").
+    fn mode_of(&self, target: Option<&CurveTarget>, patch: Option<&PatchTarget>) -> CurveMode {
         let forced = match MODES.get(self.forced).map(|m| m.1) {
             Some(Some(CurveMode::Draw)) => return CurveMode::Draw,
+            Some(Some(CurveMode::Attract)) if target.is_some() => return CurveMode::Attract,
+            Some(Some(CurveMode::Attract)) => return CurveMode::Draw,
             Some(Some(CurveMode::Edit(t))) => Some(t),
             _ => None,
         };
+        if let (Some(t), Some(_)) = (forced, patch) {
+            return CurveMode::Surface(match t {
+                TableTool::SmoothSegment => SurfaceTool::Smooth,
+                TableTool::SharpenSegment => SurfaceTool::Sharpen,
+                _ => SurfaceTool::Pull,
+            });
+        }
         if let (Some(t), Some(_)) = (forced, target) {
             return CurveMode::Edit(t);
         }
@@ -383,16 +536,22 @@ impl CurveNetworkTool {
         let (now, was) = (pens[d], self.prev[d]);
         let tip = self.tip(cx, &now);
         let target = tip.and_then(|(p, dir)| Self::target(cx, p, dir));
+        let patch = tip.and_then(|(p, _)| self.patch_target(cx, p, target.as_ref()));
         let other = pens[o];
         let offered = Self::held_plane(cx, &other);
         let plane = offered.filter(|_| other.grab);
         let symmetry = offered.filter(|_| other.trigger && !other.grab);
-        self.preview.highlighted = target.filter(|t| t.tool.is_some()).map(|t| t.network);
+        self.preview.highlighted = target
+            .filter(|t| t.tool.is_some())
+            .map(|t| t.network)
+            .or(patch.map(|p| p.network));
         {
-            let mode = self.mode_of(target.as_ref());
+            let mode = self.mode_of(target.as_ref(), patch.as_ref());
+            self.preview.mode = tip.map_or("", |_| mode.label()).to_string();
             let cp = self.cp();
             cp.tip = tip.map(|t| t.0);
             cp.target = target;
+            cp.patch = patch;
             cp.mode = tip.map(|_| mode);
             cp.plane = plane;
             cp.symmetry = symmetry;
@@ -404,14 +563,20 @@ impl CurveNetworkTool {
         }
         if now.trigger && !was.trigger {
             let (p, _) = tip?;
-            let mode = self.mode_of(target.as_ref());
+            let mode = self.mode_of(target.as_ref(), patch.as_ref());
             let start = match mode {
                 CurveMode::Draw => plane.map_or(p, |pl| pl.project(p)),
-                CurveMode::Edit(_) => p,
+                _ => p,
+            };
+            let attractor = match mode {
+                CurveMode::Attract => Some(attractor_of(cx, &other)?),
+                _ => None,
             };
             self.stroke = Some(Stroke {
                 mode,
                 target,
+                patch: patch.filter(|_| matches!(mode, CurveMode::Surface(_))),
+                attractor,
                 plane: plane.filter(|_| mode == CurveMode::Draw),
                 symmetry: symmetry.filter(|_| mode == CurveMode::Draw),
                 path: vec![start],
@@ -442,6 +607,15 @@ impl CurveNetworkTool {
         }
         if now.primary && !was.primary {
             if let Some((id, net)) = network(cx.doc) {
+                if self.fill_pointed {
+                    let loops = net.find_loops();
+                    let (p, _) = tip?;
+                    let pieces = nearest_loop(net, &loops, p)?.clone();
+                    return Some(ScriptCommand::Op(Op::CurveFillLoop(Edit::new(
+                        id,
+                        CurveFillLoop { pieces },
+                    ))));
+                }
                 if !net.find_loops().is_empty() {
                     return Some(ScriptCommand::Op(Op::CurveFillAuto(Edit::new(
                         id,
@@ -470,9 +644,11 @@ impl CurveNetworkTool {
         };
         let draw = s.mode == CurveMode::Draw;
         self.preview.sketch = if draw { s.path.clone() } else { Vec::new() };
+        self.preview.mode = s.mode.label().to_string();
         let cp = self.cp();
         cp.mode = Some(s.mode);
         cp.target = s.target;
+        cp.patch = s.patch;
         cp.plane = s.plane;
         cp.symmetry = s.symmetry;
         cp.path = if draw { Vec::new() } else { s.path };
@@ -523,7 +699,7 @@ impl CurveNetworkTool {
                     s.path.push(q);
                 }
             }
-            CurveMode::Edit(_) => {
+            CurveMode::Edit(_) | CurveMode::Attract | CurveMode::Surface(_) => {
                 if s.path.len() < MAX_FRAMES {
                     s.path.push(p);
                 }
@@ -541,6 +717,9 @@ impl CurveNetworkTool {
         self.show_stroke();
         let (id, net) = network(cx.doc)?;
         let path = arr(&s.path);
+        if let Some(op) = self.commit_other(id, net, &s, &path) {
+            return op.map(ScriptCommand::Op);
+        }
         let op = match (s.mode, s.target) {
             (CurveMode::Draw, _) if !s.frames.is_empty() => {
                 if s.path.len() < 4 {
@@ -602,9 +781,73 @@ impl CurveNetworkTool {
                     TableTool::AttachNewCurve => return None,
                 }
             }
-            (CurveMode::Edit(_), None) => return None,
+            (CurveMode::Edit(_), None) | (CurveMode::Attract | CurveMode::Surface(_), _) => {
+                return None
+            }
         };
         Some(ScriptCommand::Op(op))
+    }
+
+    /// The op of a finished attract or surface stroke (`Some(None)`: that
+    /// kind of stroke, nothing to emit; `None`: another kind).
+    fn commit_other(
+        &self,
+        id: ObjectId,
+        net: &CurveNetwork,
+        s: &Stroke,
+        path: &[[f64; 3]],
+    ) -> Option<Option<Op>> {
+        let st = &self.settings;
+        match s.mode {
+            CurveMode::Attract => Some((|| {
+                let t = s.target.filter(|t| t.network == id)?;
+                net.curve(t.curve).ok()?;
+                Some(Op::CurveAttract(Edit::new(
+                    id,
+                    CurveAttract {
+                        curve: CurveId(t.curve),
+                        attractor: s.attractor?,
+                        params: st.attract,
+                        at: path.first().copied(),
+                        frames: path.len() as u32,
+                    },
+                )))
+            })()),
+            CurveMode::Surface(tool) => Some((|| {
+                let t = s.patch.filter(|t| t.network == id)?;
+                net.patch(t.at.patch).ok()?;
+                let patch = PatchId(t.at.patch);
+                let eq = |f: f64, wq_max: f64| SurfaceEquilibrium {
+                    patch,
+                    weights: st.surface,
+                    f,
+                    wq_max,
+                    path: path.to_vec(),
+                };
+                Some(match tool {
+                    SurfaceTool::Smooth => Op::SurfaceSmooth(Edit::new(
+                        id,
+                        SurfaceSmooth(eq(st.surface_smooth_f, 1.0)),
+                    )),
+                    SurfaceTool::Sharpen => Op::SurfaceSharpen(Edit::new(
+                        id,
+                        SurfaceSharpen(eq(st.surface_sharpen.0, st.surface_sharpen.1)),
+                    )),
+                    SurfaceTool::Pull => Op::SurfacePull(Edit::new(
+                        id,
+                        SurfacePull {
+                            patch,
+                            weights: st.surface,
+                            wpp: st.surface_wpp,
+                            u0: t.at.u,
+                            v0: t.at.v,
+                            path: path.to_vec(),
+                        },
+                    )),
+                })
+            })()),
+            _ => None,
+        }
     }
 
     fn draw(&self, id: ObjectId, samples: &[DVec3]) -> Edit<CurveDraw> {
@@ -712,6 +955,11 @@ impl Tool for CurveNetworkTool {
                 options: vec!["the world".into(), "left hand".into()],
                 active: usize::from(self.in_frame),
             },
+            ChoiceGroup {
+                name: "A fills",
+                options: vec!["every loop".into(), "pointed loop".into()],
+                active: usize::from(self.fill_pointed),
+            },
         ]
     }
 
@@ -719,6 +967,7 @@ impl Tool for CurveNetworkTool {
         match (group, option) {
             (0, o) if o < MODES.len() => self.forced = o,
             (1, o) if o < 2 => self.in_frame = o == 1,
+            (2, o) if o < 2 => self.fill_pointed = o == 1,
             _ => {}
         }
         None
@@ -727,11 +976,12 @@ impl Tool for CurveNetworkTool {
 
 /// The trigger's modes in the palette: "auto" lets Table 1 choose by the
 /// pen's distance and angle to the curve; the others force one tool on
-/// the pointed curve (drawing when no curve is pointed).
-const MODES: [(&str, Option<CurveMode>); 5] = [
+/// the pointed curve or surface (drawing when nothing is pointed).
+const MODES: [(&str, Option<CurveMode>); 6] = [
     ("auto", None),
     ("draw", Some(CurveMode::Draw)),
     ("smooth", Some(CurveMode::Edit(TableTool::SmoothSegment))),
     ("sharpen", Some(CurveMode::Edit(TableTool::SharpenSegment))),
     ("pull", Some(CurveMode::Edit(TableTool::EditDataPoint))),
+    ("attract", Some(CurveMode::Attract)),
 ];

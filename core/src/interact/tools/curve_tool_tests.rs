@@ -534,3 +534,196 @@ fn bad_input_nan_teleport_and_lost_tracking() {
     assert!(frozen);
     assert_eq!(names(&cmds), ["curve_network_create", "curve_draw"]);
 }
+
+/// A modeler driver on the styled box of [`curve_network_session`], with
+/// the curve tool active; `fill` keeps its `curve_fill_auto` (and the undo
+/// and redo after it), otherwise the box has curves and no patch.
+fn driver_on_box(fill: bool) -> crate::interact::testkit::Driver {
+    let r = replay(&checked_in_trace()).unwrap();
+    let mut d = crate::interact::testkit::Driver::new(72.0, "curve");
+    for c in &r.commands {
+        let filling = matches!(c, ScriptCommand::Op(Op::CurveFillAuto(_)))
+            || matches!(c, ScriptCommand::Undo | ScriptCommand::Redo);
+        if fill || !filling {
+            apply_command(&mut d.log, c).unwrap();
+        }
+    }
+    d
+}
+
+/// The patch whose centre is highest (the box's top) and that centre.
+fn top_patch(net: &CurveNetwork) -> (usize, DVec3) {
+    (0..net.patches.len())
+        .map(|k| (k, net.patch_point(k, 0.5, 0.5)))
+        .max_by(|a, b| a.1.z.total_cmp(&b.1.z))
+        .unwrap()
+}
+
+/// Presses the trigger with the tip at `from` (aimed down), moves it to
+/// `to` over `secs`, releases; returns the commands it made.
+fn press_down(
+    d: &mut crate::interact::testkit::Driver,
+    from: DVec3,
+    to: DVec3,
+    secs: f64,
+) -> Vec<ScriptCommand> {
+    let down = v(0.0, 0.0, -1.0);
+    let before = d.commands.len();
+    d.close_palette();
+    d.puppet
+        .move_to(R, pen(from, down), 0.3)
+        .wait(0.05)
+        .set(R, Button::Select, true)
+        .move_to(R, pen(to, down), secs)
+        .set(R, Button::Select, false)
+        .wait(0.05);
+    d.sync();
+    d.commands[before..].to_vec()
+}
+
+#[test]
+fn forced_tools_pull_smooth_and_sharpen_the_pointed_surface() {
+    let mut d = driver_on_box(true);
+    let (k, c0) = top_patch(net_of(&d.log));
+    let disp = |log: &OpLog| {
+        let net = net_of(log);
+        (net.patch_point(k, 0.5, 0.5) - net.patch_base_point(k, 0.5, 0.5).unwrap()).length()
+    };
+    assert!(disp(&d.log) < 1e-9, "a fresh fill has no displacement");
+    // "pull": the pointed surface point follows the pen up by 4 cm.
+    d.pick_choice(0, 4).unwrap();
+    let above = c0 + v(0.0, 0.0, 0.005);
+    let cmds = press_down(&mut d, above, above + v(0.0, 0.0, 0.04), 0.4);
+    let [ScriptCommand::Op(Op::SurfacePull(p))] = cmds.as_slice() else {
+        panic!("{:?}", names(&cmds));
+    };
+    assert_eq!(p.edit.patch.0, k);
+    assert!((p.edit.u0 - 0.5).abs() < 0.1 && (p.edit.v0 - 0.5).abs() < 0.1);
+    assert!(d.rejected.is_empty(), "{:?}", d.rejected);
+    let lifted = net_of(&d.log).patch_point(k, 0.5, 0.5);
+    println!(
+        "surface pull lifted the top's centre by {:.4} m",
+        lifted.z - c0.z
+    );
+    assert!(lifted.z - c0.z > 0.015, "{lifted} from {c0}");
+    // The surface tools' energy of the patch (paper 3 §4, the op's
+    // weights) above its minimum: the smoother lowers it, the sharpener
+    // (extrapolating away from the minimal surface) raises it.
+    let energy = |log: &OpLog| {
+        let net = net_of(log);
+        let w = crate::interact::CurveToolSettings::default().surface;
+        let mut sys = net.surface_system(k, &w).unwrap();
+        let d = &net.patches[k].disp;
+        let min = sys.minimal(d).unwrap();
+        sys.energy(d) - sys.energy(&min)
+    };
+    let bumped = energy(&d.log);
+    // "smooth": held on the surface, the bump relaxes (energy and height).
+    d.pick_choice(0, 2).unwrap();
+    let at = lifted + v(0.0, 0.0, 0.005);
+    let cmds = press_down(&mut d, at, at, 0.3);
+    assert_eq!(names(&cmds), ["surface_smooth"]);
+    assert!(d.rejected.is_empty(), "{:?}", d.rejected);
+    let smoothed = energy(&d.log);
+    println!(
+        "smoother: energy {bumped:.4e} -> {smoothed:.4e}, centre displacement {:.4} m",
+        disp(&d.log)
+    );
+    assert!(smoothed < bumped * 0.9, "{bumped} -> {smoothed}");
+    assert!(disp(&d.log) < lifted.z - c0.z);
+    // "sharpen": extrapolates away from the minimal surface: energy rises.
+    d.pick_choice(0, 3).unwrap();
+    let at = net_of(&d.log).patch_point(k, 0.5, 0.5) + v(0.0, 0.0, 0.005);
+    let cmds = press_down(&mut d, at, at, 0.3);
+    assert_eq!(names(&cmds), ["surface_sharpen"]);
+    assert!(d.rejected.is_empty(), "{:?}", d.rejected);
+    let sharpened = energy(&d.log);
+    println!("sharpener: energy {smoothed:.4e} -> {sharpened:.4e}");
+    assert!(sharpened > smoothed * 2.0, "{smoothed} -> {sharpened}");
+    // Near an edge the same forced mode acts on the curve, not the surface.
+    let edge = net_of(&d.log).curve(4).unwrap().point(0.5) + v(0.0, 0.0, 0.005);
+    let cmds = press_down(&mut d, edge, edge, 0.2);
+    assert_eq!(names(&cmds), ["curve_sharpen"]);
+    // "auto" never touches a surface: a press over the patch draws.
+    d.pick_choice(0, 0).unwrap();
+    let from = lifted + v(-0.04, 0.0, 0.01);
+    let cmds = press_down(&mut d, from, from + v(0.08, 0.0, 0.0), 0.4);
+    assert_eq!(names(&cmds), ["curve_draw"]);
+}
+
+#[test]
+fn attract_draws_the_pointed_curve_towards_the_left_hands_point() {
+    let mut d = driver_on_box(false);
+    let curve = |log: &OpLog| net_of(log).curve(1).unwrap().clone();
+    // Curve 1 is the bottom's +x edge; its middle, pointed at.
+    let c = curve(&d.log);
+    let mid = c.point(c.closest(v(H + 0.05, 0.0, 0.0)).0);
+    let goal = mid + v(0.06, 0.0, 0.03);
+    d.pick_choice(0, 5).unwrap();
+    d.close_palette();
+    d.puppet.move_to(L, pen(goal, v(0.0, 1.0, 0.0)), 0.3);
+    let cmds = press_down(
+        &mut d,
+        mid + v(0.0, 0.0, 0.005),
+        mid + v(0.0, 0.0, 0.005),
+        0.5,
+    );
+    let [ScriptCommand::Op(Op::CurveAttract(a))] = cmds.as_slice() else {
+        panic!("{:?}", names(&cmds));
+    };
+    assert!(d.rejected.is_empty(), "{:?}", d.rejected);
+    assert_eq!(a.edit.curve.0, 1);
+    let crate::styling::Attractor::Point { p } = a.edit.attractor else {
+        panic!("{:?}", a.edit.attractor);
+    };
+    assert!(
+        DVec3::from_array(p).distance(goal) < 1e-6,
+        "{p:?} vs {goal}"
+    );
+    assert!(a.edit.frames > 30, "{} frames", a.edit.frames);
+    let after = curve(&d.log);
+    let gap = |c: &crate::styling::SplineCurve| c.point(c.closest(goal).0).distance(goal);
+    println!("attract: gap {:.4} -> {:.4} m", gap(&c), gap(&after));
+    assert!(
+        gap(&after) < 0.6 * gap(&c),
+        "{} -> {}",
+        gap(&c),
+        gap(&after)
+    );
+    // Local: the curve's ends stay near where they were.
+    let ends = |c: &crate::styling::SplineCurve| [c.point(0.0), c.point(1.0)];
+    for (a, b) in ends(&c).iter().zip(ends(&after)) {
+        assert!(a.distance(b) < 0.01, "{a} -> {b}");
+    }
+}
+
+#[test]
+fn a_pointed_loop_is_filled_alone() {
+    let mut d = driver_on_box(false);
+    assert!(net_of(&d.log).patches.is_empty());
+    d.pick_choice(2, 1).unwrap();
+    assert_eq!(d.session().tool().choices()[2].active, 1);
+    d.close_palette();
+    // The pen over the middle of the top face, A pressed.
+    d.puppet
+        .move_to(R, pen(v(0.0, 0.0, TOP + 0.03), v(0.0, 0.0, -1.0)), 0.3)
+        .click(R, Button::Primary);
+    let before = d.commands.len();
+    d.sync();
+    let cmds = &d.commands[before..];
+    let [ScriptCommand::Op(Op::CurveFillLoop(f))] = cmds else {
+        panic!("{:?}", names(cmds));
+    };
+    assert_eq!(f.edit.pieces.len(), 4);
+    assert!(d.rejected.is_empty(), "{:?}", d.rejected);
+    let net = net_of(&d.log);
+    assert_eq!(net.patches.len(), 1, "only the pointed loop");
+    let centre = net.patch_point(0, 0.5, 0.5);
+    assert!(centre.z > TOP * 0.9, "the top was filled, centre {centre}");
+    // Every loop is still one pick away.
+    d.pick_choice(2, 0).unwrap();
+    d.close_palette();
+    d.puppet.click(R, Button::Primary);
+    d.sync();
+    assert_eq!(net_of(&d.log).patches.len(), 6);
+}
