@@ -203,7 +203,8 @@ const BONE: [f32; 3] = [0.75, 0.8, 0.85];
 /// What the active tool acts on, as lines (world space): the GC tool's
 /// target (a cross at the key point, section or surface point; a ring
 /// filling up during a 3 s hold), the sculpt brush (its sphere, solid
-/// while stroking), the CSG tool's selected operand (its axes).
+/// while stroking), the curve tool's pointed curve or surface point, the
+/// CSG tool's selected operand (its axes).
 pub fn tool_marks(session: &Session, out: &mut Vec<LineVertex>) {
     let p = session.preview();
     let model = p.view.unwrap_or(*session.model());
@@ -234,6 +235,21 @@ pub fn tool_marks(session: &Session, out: &mut Vec<LineVertex>) {
         circle(out, c, Vec3::X, Vec3::Y, r, color);
         circle(out, c, Vec3::Y, Vec3::Z, r, color);
         circle(out, c, Vec3::Z, Vec3::X, r, color);
+    }
+    if let Some(c) = p.curve() {
+        // The curve point a Table 1 tool would act on, and the surface
+        // point a forced smooth, sharpen or pull would act on (a ring).
+        if let Some(t) = c.target.filter(|t| t.tool.is_some()) {
+            let at = model.apply(t.point).as_vec3();
+            for d in [Vec3::X, Vec3::Y, Vec3::Z] {
+                line(out, at - d * 0.008, at + d * 0.008, MARK);
+            }
+        }
+        if let Some(t) = &c.patch {
+            let at = model.apply(t.at.point).as_vec3();
+            circle(out, at, Vec3::X, Vec3::Z, 0.015, MARK);
+            circle(out, at, Vec3::X, Vec3::Y, 0.015, MARK);
+        }
     }
     if let Some(m) = p.csg().and_then(|c| c.moving_operand) {
         let t = &m.transform;

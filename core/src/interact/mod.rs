@@ -31,6 +31,7 @@ pub mod input;
 #[cfg(test)]
 mod modeler_tests;
 pub mod palette;
+pub mod reach;
 mod session;
 #[cfg(any(test, feature = "testkit"))]
 pub mod testkit;
