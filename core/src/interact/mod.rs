@@ -33,6 +33,7 @@ mod modeler_tests;
 pub mod palette;
 pub mod reach;
 mod session;
+pub mod snap;
 #[cfg(any(test, feature = "testkit"))]
 pub mod testkit;
 pub mod tools;

@@ -80,6 +80,8 @@ pub enum PaletteAction {
     Grid,
     /// Cycle the angle step ([`ANGLE_STEPS`]).
     Angle,
+    /// Toggle snapping to other objects ([`crate::interact::snap`]).
+    Objects,
     /// A header: not pickable.
     None,
 }
@@ -97,6 +99,9 @@ pub struct Snap {
     pub grid: f64,
     /// Rotation step in degrees (0: off).
     pub angle: f64,
+    /// Snap to other objects' centres, axes and surfaces
+    /// ([`crate::interact::snap::snap_to_objects`]).
+    pub objects: bool,
 }
 
 impl Snap {
@@ -305,6 +310,17 @@ pub fn layout(input: &LayoutInput) -> (Vec<PaletteItem>, [f64; 2]) {
         });
     }
     row += 1;
+    items.push(PaletteItem {
+        action: PaletteAction::Objects,
+        label: if snap.objects {
+            "Snap to objects: on".to_string()
+        } else {
+            "Snap to objects: off".to_string()
+        },
+        rect: cell(0, row, 2),
+        active: snap.objects,
+    });
+    row += 1;
     for (g, group) in input.groups.iter().enumerate() {
         items.push(PaletteItem {
             action: PaletteAction::None,
@@ -458,6 +474,7 @@ mod tests {
         let s = Snap {
             grid: 0.01,
             angle: 15.0,
+            objects: false,
         };
         let v = s.translate(DVec3::new(0.0149, -0.0251, 0.3));
         assert!((v - DVec3::new(0.01, -0.03, 0.3)).length() < 1e-12);

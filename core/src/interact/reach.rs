@@ -7,14 +7,12 @@
 //! true to the tools' code, and the tools' own tests (named per row) drive
 //! each gesture through a modeler session and check its effect.
 
-use crate::interact::TOOL_NAMES;
-
 /// How one op is reached.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum How {
     /// A tool of the modeler session emits it.
     Emitted {
-        /// The tool ([`TOOL_NAMES`]).
+        /// The tool ([`crate::interact::TOOL_NAMES`]).
         tool: &'static str,
         /// The gesture or palette entry.
         gesture: &'static str,
@@ -154,6 +152,7 @@ const TOOL_SOURCES: [(&str, &[&str]); 5] = [
 mod tests {
     use super::*;
     use crate::doc::OP_NAMES;
+    use crate::interact::TOOL_NAMES;
 
     /// `gc_add_child` -> `GcAddChild`, the op's variant in [`crate::doc::Op`].
     fn variant(op: &str) -> String {

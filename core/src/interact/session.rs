@@ -303,6 +303,10 @@ impl Session {
                 m.snap.angle = next_step(&ANGLE_STEPS, m.snap.angle);
                 None
             }
+            PaletteAction::Objects => {
+                m.snap.objects = !m.snap.objects;
+                None
+            }
             PaletteAction::Tool(_) | PaletteAction::None => None,
         }
     }
