@@ -267,6 +267,108 @@ fn a_palm_up_hand_shows_the_palette_and_a_fingertip_picks() {
     assert_eq!(s.tool().name(), "csg");
 }
 
+/// From afar, a tracked hand points with its wrist-to-knuckle ray and
+/// picks by closing a pinch; an open pinch only hovers.
+#[test]
+fn a_tracked_hand_picks_from_afar_by_pinching() {
+    use crate::interact::gesture::handmodel::{hand_pose, HandParams, Rng};
+    use crate::interact::gesture::GestureLabel;
+    use crate::interact::testkit::Puppet;
+    use crate::interact::{Joint, ModelPlacement, Session};
+
+    let params = |label: GestureLabel| {
+        let mut rng = Rng::new(label as u64 + 100);
+        let mut p = HandParams::sample(label, &mut rng);
+        p.size = 1.0;
+        p
+    };
+    let model = ModelPlacement::desk().similarity().unwrap();
+    let mut s = Session::modeler("object", Hand::Right, model).unwrap();
+    let doc = crate::doc::Document::default();
+    let mut p = Puppet::new(60.0);
+    p.look_at(DVec3::new(0.0, 0.95, -0.5))
+        .controller(
+            Hand::Left,
+            Pose::new(DVec3::new(-0.25, 1.05, -0.3), DQuat::IDENTITY),
+        )
+        .hand(
+            Hand::Right,
+            GestureLabel::Open,
+            Pose::new(DVec3::new(0.3, 0.8, 0.0), DQuat::IDENTITY),
+        )
+        .click(Hand::Left, Button::Menu)
+        .wait(0.1);
+    let mut fed = 0;
+    let mut feed = |p: &Puppet, s: &mut Session| {
+        for f in &p.frames()[fed..] {
+            assert!(s.step(f, &doc).is_none());
+        }
+        fed = p.frames().len();
+    };
+    feed(&p, &mut s);
+    let view = s.palette().expect("the menu button opened it").clone();
+    let k = view.labels().iter().position(|l| *l == "Curve").unwrap();
+    let r = view.items[k].rect;
+    let target = view.to_world((r[0] + r[2]) / 2.0, (r[1] + r[3]) / 2.0);
+    let n = view.pose.orientation * DVec3::Z;
+    // A wrist turn whose wrist-to-knuckle ray points into the palette.
+    let ray_of = |label, q: DQuat| {
+        let j = hand_pose(&params(label), Hand::Right, &Pose::new(DVec3::ZERO, q));
+        let knuckle = j[Joint::IndexProximal.index()].position;
+        (
+            knuckle,
+            (knuckle - j[Joint::Wrist.index()].position).normalize(),
+        )
+    };
+    let q = (0..24)
+        .flat_map(|i| (0..24).map(move |k| (i, k)))
+        .map(|(i, k)| {
+            DQuat::from_rotation_y(i as f64 * std::f64::consts::TAU / 24.0)
+                * DQuat::from_rotation_x(k as f64 * std::f64::consts::TAU / 24.0)
+        })
+        .max_by(|a, b| {
+            let along = |q: DQuat| -ray_of(GestureLabel::PinchOpen, q).1.dot(n);
+            along(*a).total_cmp(&along(*b))
+        })
+        .unwrap();
+    // 35 cm away along the ray, for each pinch state.
+    let wrist_for = |label| {
+        let (knuckle, dir) = ray_of(label, q);
+        Pose::new(target - dir * 0.35 - knuckle, q)
+    };
+    p.hand(
+        Hand::Right,
+        GestureLabel::PinchOpen,
+        wrist_for(GestureLabel::PinchOpen),
+    )
+    .wait(0.2);
+    feed(&p, &mut s);
+    let v = s.palette().unwrap();
+    assert_eq!(v.hovered, Some(k), "the ray hovers Curve");
+    assert_eq!(s.tool().name(), "object", "an open pinch does not pick");
+    p.hand(
+        Hand::Right,
+        GestureLabel::PinchClosed,
+        wrist_for(GestureLabel::PinchClosed),
+    )
+    .wait(0.2);
+    feed(&p, &mut s);
+    assert_eq!(s.tool().name(), "curve", "closing the pinch picked Curve");
+    // Holding the pinch does not pick again; the next item needs a new pinch.
+    let j = view.labels().iter().position(|l| *l == "Sculpt").unwrap();
+    let r = view.items[j].rect;
+    let other = view.to_world((r[0] + r[2]) / 2.0, (r[1] + r[3]) / 2.0);
+    let (knuckle, dir) = ray_of(GestureLabel::PinchClosed, q);
+    p.hand(
+        Hand::Right,
+        GestureLabel::PinchClosed,
+        Pose::new(other - dir * 0.35 - knuckle, q),
+    )
+    .wait(0.2);
+    feed(&p, &mut s);
+    assert_eq!(s.tool().name(), "curve");
+}
+
 /// The CSG tool's "Fused result: copy beside" is `sdf_copy_fused` on the
 /// volume, with a fresh component name each time; it applies.
 #[test]

@@ -22,7 +22,9 @@ use crate::doc::{Document, ScriptCommand};
 use crate::interact::gesture::controller_hand::controller_hand;
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::gesture::{GestureClassifier, GestureState};
-use crate::interact::input::{ControllerButtons, Frame, Hand, InputFrame, Joint, Sanitizer};
+use crate::interact::input::{
+    ControllerButtons, Frame, Hand, HandJoints, InputFrame, Joint, Sanitizer,
+};
 use crate::interact::palette::{
     self, facing, LayoutInput, PaletteAction, PaletteView, Snap, ANGLE_STEPS, GRID_STEPS, LIFT,
     TOUCH,
@@ -47,6 +49,10 @@ struct Modeler {
     prev_select: bool,
     /// The fingertip was in the touch zone last frame.
     touching: bool,
+    /// The dominant hand's thumb and index touched last frame.
+    pinched: bool,
+    /// The item the hand's ray last hovered, and when.
+    hover_seen: Option<(usize, f64)>,
     /// The dominant trigger went down on the palette and is still held:
     /// its buttons stay hidden from the tools until it is released, even
     /// if the palette changed shape or closed under it.
@@ -95,6 +101,8 @@ impl Session {
             prev_menu: false,
             prev_select: false,
             touching: false,
+            pinched: false,
+            hover_seen: None,
             held: false,
             saves: 0,
         };
@@ -247,13 +255,38 @@ impl Session {
             let inside = l.x.abs() <= view.size[0] / 2.0 && l.y.abs() <= view.size[1] / 2.0;
             let near = inside && l.z > -2.0 * TOUCH && l.z < 4.0 * TOUCH;
             let touching = inside && l.z > -2.0 * TOUCH && l.z < TOUCH;
+            let pinched = frame.hands[dom].as_ref().and_then(pinch_closed);
             if near {
                 view.pointer = Some(view.to_world(l.x, l.y));
                 view.hovered = view.item_at(l.x, l.y);
                 picked = touching && !m.touching;
                 frame.hands[dom] = None;
+            } else if let Some((origin, dir)) = frame.hands[dom].as_ref().and_then(hand_ray) {
+                // From afar: the hand's ray (wrist through the index
+                // knuckle), picked by closing a pinch. Closing a pinch
+                // jolts the knuckle (and tracking jitters), so the pick
+                // goes to what the ray hovered up to PINCH_MEMORY ago.
+                if let Some((x, y, t)) = view.ray_hit(origin, dir) {
+                    view.pointer = Some(origin + dir * t);
+                    view.hovered = view.item_at(x, y);
+                    frame.hands[dom] = None;
+                }
+                if let Some(k) = view.hovered {
+                    m.hover_seen = Some((k, frame.time));
+                }
+                if pinched == Some(true) && !m.pinched {
+                    let recent = m
+                        .hover_seen
+                        .filter(|(_, t)| frame.time - t <= PINCH_MEMORY)
+                        .map(|(k, _)| k);
+                    if view.hovered.is_none() {
+                        view.hovered = recent;
+                    }
+                    picked = view.hovered.is_some();
+                }
             }
             m.touching = touching;
+            m.pinched = pinched.unwrap_or(false);
         }
         m.prev_select = select;
         let action = view
@@ -387,6 +420,27 @@ impl Session {
     pub fn model(&self) -> &Similarity {
         &self.model
     }
+}
+
+/// How long (seconds) an item stays pickable by a pinch after the hand's
+/// ray left it.
+const PINCH_MEMORY: f64 = 0.15;
+
+/// Thumb and index tips closer than this pick (metres): the gesture
+/// classifier's "pinch closed" threshold.
+const PINCH_PICK: f64 = 0.014;
+
+/// A tracked hand's thumb and index tips touch (`None`: not tracked).
+fn pinch_closed(h: &HandJoints) -> Option<bool> {
+    Some(h.pos(Joint::ThumbTip)?.distance(h.pos(Joint::IndexTip)?) < PINCH_PICK)
+}
+
+/// A tracked hand's pointing ray: from the index knuckle, along the
+/// wrist-to-knuckle direction (stable while the fingers pinch).
+fn hand_ray(h: &HandJoints) -> Option<(glam::DVec3, glam::DVec3)> {
+    let (wrist, knuckle) = (h.pos(Joint::Wrist)?, h.pos(Joint::IndexProximal)?);
+    let dir = (knuckle - wrist).normalize_or_zero();
+    (dir != glam::DVec3::ZERO).then_some((knuckle, dir))
 }
 
 fn select_of(frame: &Frame, hand: usize) -> bool {
