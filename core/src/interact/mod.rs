@@ -29,6 +29,8 @@
 pub mod gesture;
 pub mod input;
 #[cfg(test)]
+mod modeler_op_tests;
+#[cfg(test)]
 mod modeler_tests;
 pub mod palette;
 pub mod reach;

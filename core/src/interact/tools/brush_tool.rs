@@ -30,10 +30,15 @@
 //! tool. The orienting hand losing tracking or teleporting lets go of the
 //! model where it was.
 
+use std::sync::Arc;
+
 use crate::doc::{Create, Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
 use crate::math::{DVec3, Transform};
+use crate::mesh::TriMesh;
+use crate::sculpt::mesh_brush::MAX_BRUSH_SAMPLES;
 use crate::sculpt::{
-    BrushShape, Falloff, SculptBase, SculptCreate, SculptStroke, StrokeSample, StrokeSettings, Warp,
+    BrushShape, Falloff, MeshBrush, MeshSource, SculptBase, SculptCreate, SculptStroke,
+    StrokeSample, StrokeSettings, Warp,
 };
 
 use crate::interact::gesture::bimanual::{ModelFrame, OrientGrab};
@@ -41,7 +46,12 @@ use crate::interact::gesture::similarity::Similarity;
 use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
 use crate::interact::input::{Hand, Pose};
 use crate::interact::palette::ChoiceGroup;
-use crate::interact::tools::{BrushPreview, Preview, Tool, ToolContext};
+use crate::interact::tools::{object_label, BrushPreview, Preview, Tool, ToolContext};
+
+/// Cells across the largest side of a brush made from an object.
+pub const MESH_BRUSH_CELLS: f64 = 40.0;
+/// Explode / collapse amount per frame, as a fraction of the influence.
+pub const EXPLODE_DELTA: f64 = 0.15;
 
 /// A named brush of the preset menu; sizes in world metres.
 #[derive(Clone, Debug, PartialEq)]
@@ -152,6 +162,24 @@ impl Default for BrushToolSettings {
                     name: "whittle fine".into(),
                     ..preset("", sphere(0.05), 0.02, Warp::Whittle, 0.14)
                 },
+                preset(
+                    "explode",
+                    sphere(0.045),
+                    0.045,
+                    Warp::Explode {
+                        delta: EXPLODE_DELTA,
+                    },
+                    0.14,
+                ),
+                preset(
+                    "collapse",
+                    sphere(0.045),
+                    0.045,
+                    Warp::Explode {
+                        delta: -EXPLODE_DELTA,
+                    },
+                    0.14,
+                ),
             ],
             sphere_radius: 0.1,
             sphere_edge: 0.006,
@@ -203,6 +231,53 @@ impl Stroke {
     }
 }
 
+/// An object of the document offered as a brush (cached by `update`, since
+/// [`Tool::choices`] has no document).
+#[derive(Clone, Debug)]
+struct BrushSource {
+    id: ObjectId,
+    label: String,
+    mesh: Arc<TriMesh>,
+    /// Its mesh's bounding box (model space), if it has vertices.
+    bbox: Option<(DVec3, DVec3)>,
+}
+
+/// The mesh brush made from an object with bounding box `lo..hi`, scaled
+/// so its bounding sphere has radius `radius` (model units), with
+/// `influence` (model units) for the grid's padding: `(brush, scale)`.
+pub(crate) fn mesh_brush(
+    id: ObjectId,
+    (lo, hi): (DVec3, DVec3),
+    radius: f64,
+    influence: f64,
+) -> Option<(MeshBrush, f64)> {
+    let ext = hi - lo;
+    let half_diagonal = ext.length() / 2.0;
+    if !(half_diagonal.is_finite() && half_diagonal > 0.0 && radius > 0.0) {
+        return None;
+    }
+    let scale = radius / half_diagonal;
+    let side = ext.max_element();
+    // Padding: the influence band around the mesh, in the mesh's units,
+    // at most half its largest side (beyond the grid the brush uses the
+    // nearest sample plus the distance to it).
+    let padding = (influence / scale).min(side * 0.5);
+    let mut step = side / MESH_BRUSH_CELLS;
+    let samples =
+        |step: f64| (((ext + 2.0 * padding) / step).ceil() + DVec3::ONE).element_product();
+    while samples(step) > MAX_BRUSH_SAMPLES as f64 / 2.0 {
+        step *= 1.25;
+    }
+    Some((
+        MeshBrush {
+            source: MeshSource::Object { id },
+            step,
+            padding,
+        },
+        scale,
+    ))
+}
+
 /// The newest sculpt object.
 fn sculpt_target(doc: &Document) -> Option<ObjectId> {
     doc.objects()
@@ -239,6 +314,10 @@ pub struct BrushTool {
     view: Option<ModelFrame>,
     orient: Option<OrientGrab>,
     stroke: Option<Stroke>,
+    /// The other objects of the document, for "Brush from".
+    sources: Vec<BrushSource>,
+    /// The object strokes use as the brush (`None`: the preset's shape).
+    brush_from: Option<ObjectId>,
 }
 
 impl Default for BrushTool {
@@ -260,6 +339,8 @@ impl BrushTool {
             view: None,
             orient: None,
             stroke: None,
+            sources: Vec::new(),
+            brush_from: None,
         };
         t.update_mode();
         t
@@ -273,6 +354,45 @@ impl BrushTool {
     fn update_mode(&mut self) {
         let name = self.preset().map_or("-", |p| p.name.as_str()).to_string();
         self.preview.mode = format!("{name} x{:.3}", self.size);
+        if let Some(s) = self.source() {
+            self.preview.mode += &format!(" from {}", s.label);
+        }
+    }
+
+    /// The object chosen as the brush, if it is still in the document.
+    fn source(&self) -> Option<&BrushSource> {
+        let id = self.brush_from?;
+        self.sources.iter().find(|s| s.id == id)
+    }
+
+    /// Caches the objects "Brush from" offers: every object but the one
+    /// sculpted (boxes recomputed only for meshes that changed).
+    fn refresh_sources(&mut self, doc: &Document) {
+        let target = sculpt_target(doc);
+        let old = std::mem::take(&mut self.sources);
+        self.sources = doc
+            .objects()
+            .filter(|(id, _)| Some(*id) != target)
+            .map(|(id, obj)| {
+                let label = object_label(id, obj);
+                match old
+                    .iter()
+                    .find(|s| s.id == id && Arc::ptr_eq(&s.mesh, &obj.mesh))
+                {
+                    Some(s) => BrushSource { label, ..s.clone() },
+                    None => BrushSource {
+                        id,
+                        label,
+                        mesh: obj.mesh.clone(),
+                        bbox: obj.mesh.bbox(),
+                    },
+                }
+            })
+            .collect();
+        if self.brush_from.is_some() && self.source().is_none() {
+            self.brush_from = None;
+            self.update_mode();
+        }
     }
 
     /// World radius of the brush.
@@ -282,13 +402,20 @@ impl BrushTool {
     }
 
     /// The stroke settings now: preset sizes times the size factor, in
-    /// model units of the current view.
-    fn stroke_settings(&self, view: &ModelFrame) -> Option<StrokeSettings> {
+    /// model units of the current view; with the brush's bounding radius
+    /// (a mesh brush is sized like its preset).
+    fn stroke_settings(&self, view: &ModelFrame) -> Option<(StrokeSettings, f64)> {
         let mut s = self.preset()?.settings.clone();
         let k = self.size / view.scale;
         s.brush_scale *= k;
         s.influence *= k;
-        Some(s)
+        let radius = s.brush_size();
+        if let Some(src) = self.source() {
+            let (brush, scale) = mesh_brush(src.id, src.bbox?, radius, s.influence)?;
+            s.brush = BrushShape::Mesh(brush);
+            s.brush_scale = scale;
+        }
+        Some((s, radius))
     }
 
     fn orienting(&mut self, inputs: &[CtlInput; 2], view: &mut ModelFrame) {
@@ -366,11 +493,11 @@ impl BrushTool {
         let pressed = d.select > self.settings.trigger
             && self.prev[dom.index()].select <= self.settings.trigger;
         if d.tracked && !d.grab && pressed {
-            if let (Some(id), Some(grip), Some(settings)) =
+            if let (Some(id), Some(grip), Some((settings, radius))) =
                 (target, d.grip, self.stroke_settings(view))
             {
                 // Sample spacing: a tenth of the brush radius in model units.
-                let spacing = 0.1 * settings.brush_size();
+                let spacing = 0.1 * radius;
                 let first = Self::sample(view, &grip, d.select);
                 self.stroke = Some(Stroke {
                     id,
@@ -424,6 +551,7 @@ impl Tool for BrushTool {
     }
 
     fn update(&mut self, cx: &ToolContext) -> Option<ScriptCommand> {
+        self.refresh_sources(cx.doc);
         let inputs = Hand::BOTH.map(|h| CtlInput::read(cx, h));
         let mut view = self.view.unwrap_or_else(|| frame_of(cx.model));
         self.orienting(&inputs, &mut view);
@@ -482,6 +610,16 @@ impl Tool for BrushTool {
                     .position(|s| *s == self.size)
                     .unwrap_or(usize::MAX),
             },
+            ChoiceGroup {
+                name: "Brush from",
+                options: std::iter::once("preset".to_string())
+                    .chain(self.sources.iter().map(|s| s.label.clone()))
+                    .collect(),
+                active: self
+                    .brush_from
+                    .and_then(|id| self.sources.iter().position(|s| s.id == id))
+                    .map_or(0, |k| k + 1),
+            },
         ]
     }
 
@@ -489,6 +627,10 @@ impl Tool for BrushTool {
         match group {
             0 if option < self.settings.presets.len() => self.preset = option,
             1 if option < SIZES.len() => self.size = SIZES[option],
+            2 if option == 0 => self.brush_from = None,
+            2 if option <= self.sources.len() => {
+                self.brush_from = Some(self.sources[option - 1].id);
+            }
             _ => return None,
         }
         self.update_mode();

@@ -36,6 +36,17 @@
 //!   The op stores both hands' model-space positions at start and end, so
 //!   the ratio of Eq. 1 (clamped to `[0.4, 4]`) is recomputed by the op.
 //!
+//! - Palette "Grab moves: operand | fused result": with *fused result*,
+//!   a grab on the fused surface drags the whole result (paper 2 §4.4's
+//!   moving of a result as such); on release one `sdf_move_fused` carries
+//!   the motion (a similarity in the volume's own frame). Pending operand
+//!   boxes are not grabbed in that mode.
+//! - Palette "Component from": every other object of the document; picking
+//!   one is `sdf_component_from_object` (the object's closed mesh becomes a
+//!   user component of the volume), and once applied that component is
+//!   added to the "Component" menu and made the active one, so the next
+//!   SceneOperate places it.
+//!
 //! Bad input during a drag or a scale: tracking lost → the preview
 //! freezes and, after [`CsgToolSettings::grace`] s, the gesture is cancelled
 //! (document unchanged); a teleport → the gesture is committed at its last
@@ -47,8 +58,9 @@ use crate::sdf::placement::two_hand_ratio;
 use crate::sdf::volume::DEFAULT_STEP;
 use crate::sdf::{Component, CsgOp, ScaleAxis, SdfVolume};
 use crate::sdf::{
-    OperandIndex, SdfAddOperand, SdfCancelOperand, SdfCopyFused, SdfCopyOperand, SdfCreate,
-    SdfScaleTwoHand, SdfSetOperandTransform, SdfSetStep, SdfUpdate,
+    OperandIndex, SdfAddOperand, SdfCancelOperand, SdfComponentFromObject, SdfCopyFused,
+    SdfCopyOperand, SdfCreate, SdfMoveFused, SdfScaleTwoHand, SdfSetOperandTransform, SdfSetStep,
+    SdfUpdate,
 };
 use crate::solid::SolidShape;
 
@@ -57,7 +69,9 @@ use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
 use crate::interact::input::{Hand, Pose};
 use crate::interact::palette::ChoiceGroup;
 use crate::interact::tools::pick::{pick, Ray};
-use crate::interact::tools::{OperandPreview, Preview, PreviewRay, Tool, ToolContext};
+use crate::interact::tools::{
+    object_label, MovingPreview, OperandPreview, Preview, PreviewRay, Tool, ToolContext,
+};
 
 /// A SceneOperate choice (paper 2 §4.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -192,6 +206,46 @@ struct OperandDrag {
 impl OperandDrag {
     fn transform(&self) -> Transform {
         self.motion.then_transform(&self.base)
+    }
+}
+
+/// One hand dragging the fused result of a volume.
+#[derive(Clone, Copy, Debug)]
+struct FusedDrag {
+    volume: ObjectId,
+    /// The volume's placement (its own frame to model space).
+    placement: Transform,
+    hand: Hand,
+    grip0: Pose,
+    /// Model-space motion so far.
+    motion: Similarity,
+    lost_since: Option<f64>,
+}
+
+impl FusedDrag {
+    /// The op moving the result by the motion so far, in the volume's own
+    /// frame; `None` for no motion or a placement with a per-axis scale
+    /// (the motion would not stay a similarity there).
+    fn op(&self) -> Option<Op> {
+        let p = &self.placement;
+        let [a, b, c] = p.scale;
+        if a != b || b != c || a <= 0.0 {
+            return None;
+        }
+        let own = Similarity {
+            translate: DVec3::from_array(p.translate),
+            rotate: crate::math::DQuat::from_array(p.rotate).normalize(),
+            scale: a,
+        };
+        let local = own.conjugate(&self.motion);
+        let transform = local.then_transform(&Transform::IDENTITY);
+        if !local.is_valid() || transform.validate().is_err() || transform == Transform::IDENTITY {
+            return None;
+        }
+        Some(Op::SdfMoveFused(Edit::new(
+            self.volume,
+            SdfMoveFused { transform },
+        )))
     }
 }
 
@@ -330,6 +384,14 @@ pub struct CsgTool {
     drag: Option<OperandDrag>,
     scale: Option<ScaleGesture>,
     boxes: OperandBoxes,
+    /// Grabs on the fused surface move the result ("Grab moves").
+    grab_fused: bool,
+    fused_drag: Option<FusedDrag>,
+    /// The other objects of the document, for "Component from".
+    objects: Vec<(ObjectId, String)>,
+    /// A component asked for by "Component from", made active once the
+    /// volume has it.
+    pending_component: Option<String>,
 }
 
 impl Default for CsgTool {
@@ -356,6 +418,10 @@ impl CsgTool {
             drag: None,
             scale: None,
             boxes: OperandBoxes::default(),
+            grab_fused: false,
+            fused_drag: None,
+            objects: Vec::new(),
+            pending_component: None,
         };
         t.update_mode();
         t
@@ -406,7 +472,11 @@ impl CsgTool {
             };
             let op_hit = self.boxes.pick(&m, reach);
             let doc_hit = pick(cx.doc, &m, reach);
+            let on_volume = |id| vol.is_some_and(|(v, _)| v == id);
             let (target, t) = match (op_hit, doc_hit) {
+                (_, Some(h)) if self.grab_fused && on_volume(h.id) => {
+                    (Some(Target::Volume), Some(h.t))
+                }
                 (Some((k, t)), _) => (Some(Target::Operand(k)), Some(t)),
                 (None, Some(h)) if vol.is_some_and(|(id, _)| id == h.id) => {
                     (Some(Target::Volume), Some(h.t))
@@ -507,6 +577,21 @@ impl CsgTool {
         vol: Option<(ObjectId, &SdfVolume)>,
     ) -> Option<Option<ScriptCommand>> {
         let (id, v) = vol?;
+        if self.grab_fused {
+            if hit != Some(Target::Volume) {
+                return None;
+            }
+            self.fused_drag = Some(FusedDrag {
+                volume: id,
+                placement: cx.doc.get(id).ok()?.transform(),
+                hand,
+                grip0: inputs[hand.index()].grip?,
+                motion: Similarity::IDENTITY,
+                lost_since: None,
+            });
+            self.selected = Some(Target::Volume);
+            return Some(None);
+        }
         let other = inputs[hand.other().index()];
         let target = match hit {
             Some(Target::Operand(k)) => Some(k),
@@ -675,6 +760,45 @@ impl CsgTool {
         None
     }
 
+    fn fused_dragging(
+        &mut self,
+        cx: &ToolContext,
+        inputs: &[CtlInput; 2],
+    ) -> Option<ScriptCommand> {
+        let mut d = self.fused_drag.take()?;
+        let now = inputs[d.hand.index()];
+        if now.teleported || (now.tracked && !now.grab) {
+            self.preview.moving = None;
+            return d.op().map(ScriptCommand::Op);
+        }
+        if !now.tracked || now.grip.is_none() {
+            let since = *d.lost_since.get_or_insert(cx.frame.time);
+            if cx.frame.time - since > self.settings.grace {
+                self.preview.moving = None;
+                return None;
+            }
+            self.fused_drag = Some(d);
+            return None;
+        }
+        d.lost_since = None;
+        let grip = now.grip?;
+        let world = Similarity::from_pose(&grip.compose(&d.grip0.inverse()));
+        let m = cx.model.conjugate(&world);
+        if m.is_valid() {
+            d.motion = m;
+        }
+        self.preview.moving = Some(MovingPreview {
+            id: d.volume,
+            transform: d.motion.then_transform(&d.placement),
+            motion: d.motion,
+        });
+        self.preview.readout =
+            crate::interact::tools::object_tool::readout(&d.placement, &d.motion, cx.snap);
+        self.preview.rays = [None, None];
+        self.fused_drag = Some(d);
+        None
+    }
+
     fn commit_drag(&mut self, d: &OperandDrag) -> Option<ScriptCommand> {
         self.preview.csg_mut().moving_operand = None;
         let t = d.transform();
@@ -773,7 +897,34 @@ impl Tool for CsgTool {
         if vol.is_none() {
             self.selected = None;
         }
-        let out = if self.scale.is_some() {
+        self.objects.clear();
+        self.objects.extend(
+            cx.doc
+                .objects()
+                .filter(|(id, _)| Some(*id) != self.volume)
+                .map(|(id, o)| (id, object_label(id, o))),
+        );
+        if let (Some(name), Some((_, v))) = (&self.pending_component, vol) {
+            if v.user_components.contains_key(name) {
+                let c = Component::User { name: name.clone() };
+                let k = match self.settings.components.iter().position(|x| *x == c) {
+                    Some(k) => k,
+                    None => {
+                        self.settings.components.push(c);
+                        self.settings.components.len() - 1
+                    }
+                };
+                self.component = k;
+                self.pending_component = None;
+                self.update_mode();
+            }
+        }
+        if self.fused_drag.is_none() {
+            self.preview.readout.clear();
+        }
+        let out = if self.fused_drag.is_some() {
+            self.fused_dragging(cx, &inputs)
+        } else if self.scale.is_some() {
             self.scaling(cx, &inputs)
         } else if self.drag.is_some() {
             self.dragging(cx, &inputs)
@@ -795,6 +946,9 @@ impl Tool for CsgTool {
     fn cancel(&mut self) {
         self.drag = None;
         self.scale = None;
+        self.fused_drag = None;
+        self.preview.moving = None;
+        self.preview.readout.clear();
         self.preview.csg_mut().moving_operand = None;
     }
 
@@ -848,6 +1002,16 @@ impl Tool for CsgTool {
                     .collect(),
                 active: step,
             },
+            ChoiceGroup {
+                name: "Grab moves",
+                options: vec!["operand".into(), "fused result".into()],
+                active: usize::from(self.grab_fused),
+            },
+            ChoiceGroup {
+                name: "Component from",
+                options: self.objects.iter().map(|(_, l)| l.clone()).collect(),
+                active: usize::MAX,
+            },
         ]
     }
 
@@ -884,6 +1048,33 @@ impl Tool for CsgTool {
                 return Some(ScriptCommand::Op(Op::SdfSetStep(Edit::new(
                     id,
                     SdfSetStep { step },
+                ))));
+            }
+            5 if option < 2 => self.grab_fused = option == 1,
+            6 if option < self.objects.len() => {
+                // The object as a user component of the volume, made the
+                // active component once the op has applied (see update).
+                let (id, v) = volume(doc, self.volume)?;
+                let (object, label) = &self.objects[option];
+                let taken = |n: &String| {
+                    v.user_components.contains_key(n)
+                        || self
+                            .settings
+                            .components
+                            .iter()
+                            .any(|c| component_name(c) == *n)
+                };
+                let name = std::iter::once(label.clone())
+                    .chain((2..).map(|k| format!("{label} {k}")))
+                    .find(|n| !taken(n))?;
+                self.pending_component = Some(name.clone());
+                return Some(ScriptCommand::Op(Op::SdfComponentFromObject(Edit::new(
+                    id,
+                    SdfComponentFromObject {
+                        object: *object,
+                        name,
+                        csg: None,
+                    },
                 ))));
             }
             _ => return None,

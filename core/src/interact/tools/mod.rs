@@ -190,12 +190,21 @@ impl Preview {
     tool_preview!(gc, gc_mut, Gc, crate::interact::tools::gc_tool::GcPreview);
 
     /// The mesh to draw for the object being dragged (model space), its
-    /// document mesh moved by the drag.
+    /// document mesh moved by the drag: by the motion, or, when the new
+    /// placement is not the motion after the old one (a per-axis scale),
+    /// from the old placement to the new one.
     pub fn preview_mesh(&self, doc: &Document) -> Option<Arc<TriMesh>> {
         let m = self.moving.as_ref()?;
         let obj = doc.get(m.id).ok()?;
         let mut mesh = (*obj.mesh).clone();
-        mesh.transform(&m.motion.to_affine());
+        let base = obj.transform();
+        let by_motion = m.motion.then_transform(&base).scale == m.transform.scale;
+        let a = if by_motion {
+            m.motion.to_affine()
+        } else {
+            m.transform.to_affine().ok()? * base.to_affine().ok()?.inverse()
+        };
+        mesh.transform(&a);
         Some(Arc::new(mesh))
     }
 }
@@ -263,3 +272,13 @@ pub fn tool_named(name: &str) -> Result<Box<dyn Tool>, UnknownTool> {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("unknown tool `{0}` (known: object, gc, csg, curve, sculpt)")]
 pub struct UnknownTool(pub String);
+
+/// How the palette names a document object: its name, else its kind and
+/// id (`solid #3`).
+pub(crate) fn object_label(id: ObjectId, obj: &crate::doc::Object) -> String {
+    if obj.name.is_empty() {
+        format!("{} #{}", obj.kind.name(), id.0)
+    } else {
+        obj.name.clone()
+    }
+}

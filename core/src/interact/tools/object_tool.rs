@@ -22,6 +22,18 @@
 //! other continues. When the last hand lets go, exactly one `set_transform`
 //! op is emitted with the final placement.
 //!
+//! Palette: "Shape" (what `primary` places); "Wall" (1.2, 2 or 3 mm:
+//! `set_wall_thickness`, the document's wall for printing surfaces as
+//! solids — a document setting, not one per object, since that is what the
+//! op sets; there is no "solid" option because the document stores only
+//! the thickness); "Overlaps" (`set_self_intersection_policy`: refuse or
+//! flag edits that fold an object through itself); "Scale" (uniform, x, y,
+//! z): with an axis chosen, a two-hand grab scales the grabbed object only
+//! along that axis of its own frame (its placement's per-axis scale, by
+//! the same `set_transform`; the hands still move and turn it). Sculpts
+//! refuse a per-axis placement (their brushes work in a uniformly scaled
+//! frame), so a sculpt always scales uniformly and the readout says so.
+//!
 //! Bad input during a drag:
 //! - tracking lost (no grip pose, or no recognizable gesture): the preview
 //!   freezes; if tracking returns within [`ObjectToolSettings::grace`]
@@ -33,9 +45,12 @@
 //! - NaN samples never reach the tool (the sanitizer drops them).
 
 use crate::doc::{
-    AddSolid, Delete, Document, Duplicate, ObjectId, Op, ScriptCommand, SetTransform,
+    AddSolid, Delete, Document, Duplicate, ObjectId, ObjectKind, Op, ScriptCommand, SetTransform,
 };
 use crate::math::{DVec3, Transform};
+use crate::print::{
+    PrintSetup, SelfIntersectionPolicy, SetSelfIntersectionPolicy, SetWallThickness,
+};
 use crate::solid::SolidShape;
 
 use crate::interact::gesture::bimanual::HandleBar;
@@ -184,6 +199,8 @@ struct Drag {
     /// The latest world motion since the drag started.
     current: Similarity,
     lost_since: Option<f64>,
+    /// The object axis a two-hand scale acts on (`None`: uniform).
+    axis: Option<usize>,
 }
 
 impl Drag {
@@ -217,7 +234,17 @@ pub struct ObjectTool {
     stick_armed: [bool; 2],
     palette_index: usize,
     drag: Option<Drag>,
+    /// The document's print settings, as of the last frame.
+    print: PrintSetup,
+    /// "Scale": `None` uniform, else the object axis.
+    scale_axis: Option<usize>,
 }
+
+/// Wall thicknesses the palette offers (metres).
+pub const WALLS: [f64; 3] = [0.0012, 0.002, 0.003];
+/// The self-intersection policies in palette order.
+const POLICIES: [SelfIntersectionPolicy; 2] =
+    [SelfIntersectionPolicy::Refuse, SelfIntersectionPolicy::Flag];
 
 impl Default for ObjectTool {
     fn default() -> Self {
@@ -240,6 +267,8 @@ impl ObjectTool {
             stick_armed: [true; 2],
             palette_index: 0,
             drag: None,
+            print: PrintSetup::default(),
+            scale_axis: None,
         }
     }
 
@@ -280,6 +309,7 @@ impl ObjectTool {
                     if let Ok(obj) = cx.doc.get(hit.id) {
                         {
                             let base = obj.transform();
+                            let sculpt = matches!(obj.kind, ObjectKind::SculptMesh(_));
                             self.drag = Some(Drag {
                                 id: hit.id,
                                 base,
@@ -288,6 +318,7 @@ impl ObjectTool {
                                 bar: None,
                                 current: Similarity::IDENTITY,
                                 lost_since: None,
+                                axis: self.scale_axis.filter(|_| !sculpt),
                             });
                             self.preview.selected = Some(hit.id);
                             return None;
@@ -388,6 +419,11 @@ impl ObjectTool {
         }
         let (transform, motion) = snapped(cx, &drag);
         self.preview.readout = readout(&drag.base, &motion, cx.snap);
+        match drag.axis {
+            Some(k) => self.preview.readout += &format!("  along {}", ["x", "y", "z"][k]),
+            None if self.scale_axis.is_some() => self.preview.readout += "  uniform (sculpt)",
+            None => {}
+        }
         self.preview.moving = Some(MovingPreview {
             id: drag.id,
             transform,
@@ -425,6 +461,11 @@ fn snapped(cx: &ToolContext, drag: &Drag) -> (Transform, Similarity) {
     let at = cx.snap.translate(DVec3::from_array(t.translate));
     t.translate = at.to_array();
     motion.translate = at - motion.rotate * (base * motion.scale);
+    if let Some(k) = drag.axis {
+        // Only along the object's axis `k`: the other axes keep their scale.
+        t.scale = drag.base.scale;
+        t.scale[k] *= motion.scale;
+    }
     (t, motion)
 }
 
@@ -457,6 +498,7 @@ impl Tool for ObjectTool {
     }
 
     fn update(&mut self, cx: &ToolContext) -> Option<ScriptCommand> {
+        self.print = *cx.doc.print_setup();
         let max_speed = self.settings.max_hand_speed;
         let inputs = Hand::BOTH.map(|h| read_hand(cx, h, &mut self.last_palm, max_speed));
         let out = if self.drag.is_some() {
@@ -484,22 +526,62 @@ impl Tool for ObjectTool {
     }
 
     fn choices(&self) -> Vec<ChoiceGroup> {
-        vec![ChoiceGroup {
-            name: "Shape",
-            options: self
-                .settings
-                .palette
-                .iter()
-                .map(|s| s.name().to_string())
-                .collect(),
-            active: self.palette_index,
-        }]
+        vec![
+            ChoiceGroup {
+                name: "Shape",
+                options: self
+                    .settings
+                    .palette
+                    .iter()
+                    .map(|s| s.name().to_string())
+                    .collect(),
+                active: self.palette_index,
+            },
+            ChoiceGroup {
+                name: "Wall",
+                options: ["1.2 mm", "2 mm", "3 mm"].map(String::from).to_vec(),
+                active: WALLS
+                    .iter()
+                    .position(|w| *w == self.print.wall_thickness)
+                    .unwrap_or(usize::MAX),
+            },
+            ChoiceGroup {
+                name: "Overlaps",
+                options: vec!["refuse".into(), "flag".into()],
+                active: POLICIES
+                    .iter()
+                    .position(|p| *p == self.print.on_self_intersection)
+                    .unwrap_or(usize::MAX),
+            },
+            ChoiceGroup {
+                name: "Scale",
+                options: ["uniform", "x", "y", "z"].map(String::from).to_vec(),
+                active: self.scale_axis.map_or(0, |k| k + 1),
+            },
+        ]
     }
 
-    fn choose(&mut self, _doc: &Document, group: usize, option: usize) -> Option<ScriptCommand> {
-        if group == 0 && option < self.settings.palette.len() {
-            self.palette_index = option;
-            *self.preview.placing_mut() = Some(self.settings.palette[option]);
+    fn choose(&mut self, doc: &Document, group: usize, option: usize) -> Option<ScriptCommand> {
+        let setup = doc.print_setup();
+        match group {
+            0 if option < self.settings.palette.len() => {
+                self.palette_index = option;
+                *self.preview.placing_mut() = Some(self.settings.palette[option]);
+            }
+            1 if option < WALLS.len() && setup.wall_thickness != WALLS[option] => {
+                return Some(ScriptCommand::Op(Op::SetWallThickness(SetWallThickness {
+                    thickness: WALLS[option],
+                })));
+            }
+            2 if option < POLICIES.len() && setup.on_self_intersection != POLICIES[option] => {
+                return Some(ScriptCommand::Op(Op::SetSelfIntersectionPolicy(
+                    SetSelfIntersectionPolicy {
+                        policy: POLICIES[option],
+                    },
+                )));
+            }
+            3 if option < 4 => self.scale_axis = option.checked_sub(1),
+            _ => {}
         }
         None
     }

@@ -23,4 +23,6 @@ mod tool;
 
 pub use settings::GcToolSettings;
 pub use target::GcTarget;
+#[cfg(test)]
+pub(crate) use tool::RESOLUTIONS;
 pub use tool::{GcPreview, GcTool};

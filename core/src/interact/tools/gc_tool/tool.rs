@@ -14,6 +14,15 @@
 //! | idle             | → FIST on empty space | view: one hand rigid, two hands handle bar (7 DOF); no op |
 //! | idle             | → PINCH on end section| pinch … OPEN: `gc_set_shape`            |
 //!
+//! Palette: "Instance" (copy / mirror), "Release" (coplanar, concentric,
+//! symmetric: `gc_release` of that recorded relation between the part the
+//! ray last pointed at and its parent, or the other part of the relation
+//! when it is with a sibling; nothing when none is recorded), and
+//! "Resolution" (coarse / normal / fine: the mesh resolution of created
+//! parts and, as `gc_set_resolution`, of every part of the assembly last
+//! pointed at, one op per part on consecutive frames, since a frame
+//! carries at most one command).
+//!
 //! A FIST during creation cancels it. Commands are emitted only when a
 //! gesture completes; everything else is [`Preview`] state.
 //!
@@ -39,8 +48,11 @@
 
 use std::sync::Arc;
 
-use crate::doc::{Op, ScriptCommand};
-use crate::gc::{mesh_gc, Profile, ShapeType};
+use std::collections::VecDeque;
+
+use crate::assembly::{ensure_recorded, GcRelease, RelationKind};
+use crate::doc::{Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
+use crate::gc::{mesh_gc, GcAssembly, GcSetResolution, PartId, Profile, Resolution, ShapeType};
 use crate::math::DVec3;
 use crate::mesh::TriMesh;
 use crate::sketch::SketchPlane;
@@ -191,6 +203,66 @@ pub struct GcTool {
     mesh_time: f64,
     /// Times of the current stroke's samples.
     stroke_times: Vec<f64>,
+    /// The part the ray last pointed at (kept while it points elsewhere,
+    /// e.g. at the palette): what "Release" and "Resolution" act on.
+    part: Option<(ObjectId, usize)>,
+    /// Parts still to get the chosen resolution (one op per frame).
+    resolution_queue: VecDeque<(ObjectId, usize, Resolution)>,
+}
+
+/// The palette's "Resolution" options.
+pub const RESOLUTIONS: [(&str, Resolution); 3] = [
+    ("coarse", Resolution::PREVIEW),
+    ("normal", Resolution::DEFAULT),
+    ("fine", Resolution { u: 160, v: 112 }),
+];
+
+/// The palette's "Release" options.
+const RELEASES: [RelationKind; 3] = [
+    RelationKind::Coplanar,
+    RelationKind::Concentric,
+    RelationKind::Symmetric,
+];
+
+fn assembly_of(doc: &Document, id: ObjectId) -> Option<&GcAssembly> {
+    match &doc.get(id).ok()?.kind {
+        ObjectKind::GcAssembly(a) => Some(a),
+        _ => None,
+    }
+}
+
+/// `gc_release` of the recorded `relation` between `part` and its parent
+/// (or else the first part it has that relation with).
+fn release_op(doc: &Document, id: ObjectId, part: usize, relation: RelationKind) -> Option<Op> {
+    let mut asm = assembly_of(doc, id)?.clone();
+    let parent = asm.parts.get(part)?.parent;
+    ensure_recorded(&mut asm);
+    let rec = asm.relations.as_ref()?;
+    let list = match relation {
+        RelationKind::Coplanar => &rec.coplanar,
+        RelationKind::Concentric => &rec.concentric,
+        RelationKind::Symmetric => &rec.symmetric,
+        RelationKind::Connected => return None,
+    };
+    let others: Vec<usize> = list
+        .iter()
+        .filter_map(|&(a, b)| match (a == part, b == part) {
+            (true, _) => Some(b),
+            (_, true) => Some(a),
+            _ => None,
+        })
+        .collect();
+    let other = parent
+        .filter(|p| others.contains(p))
+        .or_else(|| others.first().copied())?;
+    Some(Op::GcRelease(Edit::new(
+        id,
+        GcRelease {
+            part: PartId(part),
+            other: PartId(other),
+            relation,
+        },
+    )))
 }
 
 impl Default for GcTool {
@@ -221,6 +293,8 @@ impl GcTool {
             geo: GeoCache::default(),
             mesh_time: f64::NEG_INFINITY,
             stroke_times: Vec::new(),
+            part: None,
+            resolution_queue: VecDeque::new(),
         }
     }
 
@@ -269,6 +343,9 @@ impl GcTool {
                 hit: target.part().is_some(),
             });
             self.preview.highlighted = target.part().map(|p| p.0);
+            if let Some(p) = target.part() {
+                self.part = Some(p);
+            }
             self.preview.gc_mut().target = Some(target);
             self.last_target = Some(target);
             self.open_time = t;
@@ -668,7 +745,7 @@ impl Tool for GcTool {
             out
         };
         self.update_preview();
-        out
+        out.or_else(|| self.next_resolution(cx.doc))
     }
 
     fn cancel(&mut self) {
@@ -685,21 +762,54 @@ impl Tool for GcTool {
     }
 
     fn choices(&self) -> Vec<ChoiceGroup> {
-        vec![ChoiceGroup {
-            name: "Instance",
-            options: vec!["copy".into(), "mirror".into()],
-            active: usize::from(self.mirror_instances),
-        }]
+        vec![
+            ChoiceGroup {
+                name: "Instance",
+                options: vec!["copy".into(), "mirror".into()],
+                active: usize::from(self.mirror_instances),
+            },
+            ChoiceGroup {
+                name: "Release",
+                options: RELEASES.iter().map(|r| r.to_string()).collect(),
+                active: usize::MAX,
+            },
+            ChoiceGroup {
+                name: "Resolution",
+                options: RESOLUTIONS.iter().map(|(n, _)| n.to_string()).collect(),
+                active: RESOLUTIONS
+                    .iter()
+                    .position(|(_, r)| *r == self.settings.resolution)
+                    .unwrap_or(usize::MAX),
+            },
+        ]
     }
 
     fn choose(
         &mut self,
-        _doc: &crate::doc::Document,
+        doc: &crate::doc::Document,
         group: usize,
         option: usize,
     ) -> Option<ScriptCommand> {
-        if group == 0 && option < 2 {
-            self.mirror_instances = option == 1;
+        match group {
+            0 if option < 2 => self.mirror_instances = option == 1,
+            1 if option < RELEASES.len() => {
+                let (id, part) = self.part?;
+                return release_op(doc, id, part, RELEASES[option]).map(ScriptCommand::Op);
+            }
+            2 if option < RESOLUTIONS.len() => {
+                let res = RESOLUTIONS[option].1;
+                self.settings.resolution = res;
+                let id = self.part.map(|p| p.0).or_else(|| {
+                    doc.objects()
+                        .filter(|(_, o)| matches!(o.kind, ObjectKind::GcAssembly(_)))
+                        .map(|(id, _)| id)
+                        .last()
+                })?;
+                let parts = assembly_of(doc, id)?.parts.len();
+                self.resolution_queue = (0..parts).map(|k| (id, k, res)).collect();
+                return self.next_resolution(doc);
+            }
+            _ => {}
         }
         None
     }
@@ -710,6 +820,26 @@ impl Tool for GcTool {
 }
 
 impl GcTool {
+    /// The next queued `gc_set_resolution` whose part does not have its
+    /// resolution yet (a twin may have got it with its part).
+    fn next_resolution(&mut self, doc: &Document) -> Option<ScriptCommand> {
+        while let Some((id, part, resolution)) = self.resolution_queue.pop_front() {
+            let Some(p) = assembly_of(doc, id).and_then(|a| a.parts.get(part)) else {
+                continue;
+            };
+            if p.gc.resolution != resolution {
+                return Some(ScriptCommand::Op(Op::GcSetResolution(Edit::new(
+                    id,
+                    GcSetResolution {
+                        part: PartId(part),
+                        resolution,
+                    },
+                ))));
+            }
+        }
+        None
+    }
+
     fn update_preview(&mut self) {
         let p = &mut self.preview;
         p.gc_mut().mode = self.state.name();
