@@ -42,6 +42,25 @@ where
     out
 }
 
+/// `f` applied to each chunk of `items` (plus the index of its first
+/// item), one result per chunk in input order (for passes with several
+/// outputs; the chunks are the same on any number of threads).
+pub(crate) fn map_chunks<I, R, F>(items: &[I], f: F) -> Vec<R>
+where
+    I: Sync,
+    R: Send,
+    F: Fn(usize, &[I]) -> R + Sync + Send,
+{
+    if items.len() < PAR_MIN {
+        return vec![f(0, items)];
+    }
+    items
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(k, c)| f(k * CHUNK, c))
+        .collect()
+}
+
 /// `f` of every item, in order.
 pub(crate) fn map<I, T, F>(items: &[I], f: F) -> Vec<T>
 where

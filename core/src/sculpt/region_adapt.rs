@@ -25,13 +25,13 @@ use glam::DVec3;
 
 use super::halfedge::{FaceId, VertId};
 use super::par;
-use super::sculptor::{FrameStats, Sculptor};
+use super::sculptor::{FrameStats, Limits, Sculptor};
 
 impl Sculptor {
     /// Whether face `f` is split this frame: it is alive, its longest edge
     /// exceeds the max length, and it changed shape (a corner moved) or it
     /// was reached through a new vertex and lies in the frame's box.
-    fn wants_split(&self, f: FaceId, max2: f64, lo: DVec3, hi: DVec3) -> bool {
+    pub(super) fn wants_split(&self, f: FaceId, max2: f64, lo: DVec3, hi: DVec3) -> bool {
         if !self.mesh.face_alive(f) {
             return false;
         }
@@ -57,6 +57,24 @@ impl Sculptor {
         !(c.cmplt(lo).any() || c.cmpgt(hi).any())
     }
 
+    /// Whether `v` is alive with an edge shorter than `min2.sqrt()`.
+    pub(super) fn has_short(&self, v: VertId, min2: f64) -> bool {
+        let mut any = false;
+        if self.mesh.vert_alive(v) {
+            self.mesh
+                .for_each_out(v, |h| any |= self.mesh.edge_len2(h) < min2);
+        }
+        any
+    }
+
+    /// Sets `short_mark` of `v` to [`Self::has_short`].
+    fn update_short(&mut self, v: VertId, min2: f64) {
+        let s = self.has_short(v, min2);
+        if let Some(m) = self.short_mark.get_mut(v.0 as usize) {
+            *m = if s { self.frame_stamp } else { 0 };
+        }
+    }
+
     /// Splits the longest edge of `face` (recursively conforming), indexes
     /// and marks the new vertices, stamps the triangles around them with
     /// `dirty` and appends those triangles to `queue`.
@@ -73,6 +91,7 @@ impl Sculptor {
         self.mesh.split_conforming(l, created);
         stats.splits += created.len();
         for &(m, _) in created.iter() {
+            self.split_new.push(m);
             self.grid.insert(m, self.mesh.position(m));
             self.mark(m, true);
             self.note_changed(m);
@@ -89,31 +108,36 @@ impl Sculptor {
     /// doc). `lo`/`hi` bound the frame's moves (padded by the max length).
     pub(super) fn adapt(
         &mut self,
-        max_len: f64,
-        min_len: f64,
-        lo: DVec3,
-        hi: DVec3,
+        lim: &Limits,
+        tests: Option<Vec<(FaceId, bool)>>,
         stats: &mut FrameStats,
     ) {
-        let max2 = max_len * max_len;
-        let min2 = min_len * min_len;
+        let Limits {
+            max2, min2, lo, hi, ..
+        } = *lim;
         // Split phase. The region is in ascending id order here, so a
         // triangle first appears (scanning the region's fans in order) at
         // its smallest corner in the region: that corner tests it.
         debug_assert!(self.region.windows(2).all(|w| w[0] < w[1]));
-        let this = &*self;
-        let initial: Vec<(FaceId, bool)> = par::flat_map_chunks(&self.region, |_, chunk, out| {
-            for &v in chunk {
-                this.mesh.for_each_out(v, |h| {
-                    let f = h.face();
-                    let vs = this.mesh.face_verts(f);
-                    let owner = vs.iter().filter(|&&w| this.in_frame(w)).min();
-                    if owner == Some(&v) {
-                        out.push((f, this.wants_split(f, max2, lo, hi)));
-                    }
-                });
-            }
+        // The fold guard's first pass took these tests when they still hold
+        // (and then marked the region's vertices with short edges).
+        let fused = tests.is_some();
+        let initial = tests.unwrap_or_else(|| {
+            let this = &*self;
+            par::flat_map_chunks(&self.region, |_, chunk, out| {
+                for &v in chunk {
+                    this.mesh.for_each_out(v, |h| {
+                        let f = h.face();
+                        let vs = this.mesh.face_verts(f);
+                        let owner = vs.iter().filter(|&&w| this.in_frame(w)).min();
+                        if owner == Some(&v) {
+                            out.push((f, this.wants_split(f, max2, lo, hi)));
+                        }
+                    });
+                }
+            })
         });
+        self.split_new.clear();
         let dirty = self.next_face_stamp();
         let mut queue = std::mem::take(&mut self.queue);
         queue.clear();
@@ -150,19 +174,41 @@ impl Sculptor {
         }
         self.queue = queue;
         // Collapse phase: short edges at the region's vertices, by id.
-        let mut cands: Vec<VertId> = self.region.clone();
-        cands.sort_unstable();
-        let mut short = Vec::new();
-        for _pass in 0..3 {
-            let this = &*self;
-            let has_short = par::map(&cands, |&v| {
-                let mut any = false;
-                if this.mesh.vert_alive(v) {
-                    this.mesh
-                        .for_each_out(v, |h| any |= this.mesh.edge_len2(h) < min2);
+        let mut cands = std::mem::take(&mut self.collapse_cands);
+        cands.clear();
+        cands.extend_from_slice(&self.region);
+        par::sort_by_u32(&mut cands, &mut self.cand_scratch, |v| v.0);
+        let fs = self.frame_stamp;
+        if fused {
+            // `short_mark` holds for the region as the warp left it; splits
+            // changed edges only at the vertices they created and their
+            // rings.
+            let mut new = std::mem::take(&mut self.split_new);
+            for &m in &new {
+                self.update_short(m, min2);
+                let mut ring = std::mem::take(&mut self.ring);
+                ring.clear();
+                self.mesh.for_each_out(m, |h| ring.push(self.mesh.to(h)));
+                for &w in &ring {
+                    self.update_short(w, min2);
                 }
-                any
-            });
+                self.ring = ring;
+            }
+            new.clear();
+            self.split_new = new;
+        } else {
+            let this = &*self;
+            let has_short = par::map(&cands, |&v| this.has_short(v, min2));
+            for (&v, s) in cands.iter().zip(has_short) {
+                self.short_mark[v.0 as usize] = if s { fs } else { 0 };
+            }
+        }
+        let mut short = Vec::new();
+        let mut touched = std::mem::take(&mut self.ring);
+        for _pass in 0..3 {
+            // `short_mark` now marks every candidate with a short edge (and
+            // maybe some without: visiting those does nothing).
+            touched.clear();
             self.dirty_stamp = self.dirty_stamp.wrapping_add(1);
             if self.dirty_stamp == 0 {
                 self.dirty_mark.fill(0);
@@ -170,9 +216,10 @@ impl Sculptor {
             }
             let stamp = self.dirty_stamp;
             let mut any = false;
-            for (k, &v) in cands.iter().enumerate() {
+            for &v in &cands {
                 let dirty = self.dirty_mark.get(v.0 as usize) == Some(&stamp);
-                if !(has_short[k] || dirty) || !self.mesh.vert_alive(v) {
+                let has_short = self.short_mark[v.0 as usize] == fs;
+                if !(has_short || dirty) || !self.mesh.vert_alive(v) {
                     continue;
                 }
                 short.clear();
@@ -213,6 +260,7 @@ impl Sculptor {
                             if let Some(s) = marks.get_mut(w.0 as usize) {
                                 *s = stamp;
                             }
+                            touched.push(w);
                         };
                         stamp_vertex(keep);
                         mesh.for_each_out(keep, |g| stamp_vertex(mesh.to(g)));
@@ -225,6 +273,12 @@ impl Sculptor {
             if !any {
                 break;
             }
+            // Edge lengths changed only at the stamped vertices.
+            for &w in &touched {
+                self.update_short(w, min2);
+            }
         }
+        self.ring = touched;
+        self.collapse_cands = cands;
     }
 }

@@ -79,6 +79,15 @@ pub struct FrameStats {
 /// it moves rigidly with every neighbour (its triangles keep their shape).
 pub(super) type Move = (VertId, DVec3, DVec3, bool);
 
+/// A frame's adaptation limits: squared max and min edge lengths and the
+/// box of its moves (padded by the max length).
+pub(super) struct Limits {
+    pub(super) max2: f64,
+    pub(super) min2: f64,
+    pub(super) lo: DVec3,
+    pub(super) hi: DVec3,
+}
+
 /// A surface under sculpting, with its spatial index and scratch.
 #[derive(Clone, Debug)]
 pub struct Sculptor {
@@ -89,9 +98,18 @@ pub struct Sculptor {
     pub(super) frame_mark: Vec<u32>,
     pub(super) moved_mark: Vec<u32>,
     pub(super) rigid_mark: Vec<u32>,
+    /// Per vertex: `frame_stamp` when it may have an edge below the min
+    /// length (a superset of those that do; see `region_adapt`).
+    pub(super) short_mark: Vec<u32>,
     pub(super) frame_stamp: u32,
     cand: Vec<VertId>,
-    cand_scratch: Vec<VertId>,
+    pub(super) cand_scratch: Vec<VertId>,
+    /// The collapse phase's candidates (scratch).
+    pub(super) collapse_cands: Vec<VertId>,
+    /// Vertices the frame's splits created (scratch).
+    pub(super) split_new: Vec<VertId>,
+    /// A vertex ring or list of stamped vertices (scratch).
+    pub(super) ring: Vec<VertId>,
     moves: Vec<Move>,
     pub(super) face_mark: Vec<u32>,
     pub(super) face_stamp: u32,
@@ -142,11 +160,15 @@ impl Sculptor {
             frame_mark: marks(),
             moved_mark: marks(),
             rigid_mark: marks(),
+            short_mark: marks(),
             face_mark,
             face_stamp: 0,
             frame_stamp: 1,
             cand: Vec::new(),
             cand_scratch: Vec::new(),
+            collapse_cands: Vec::new(),
+            split_new: Vec::new(),
+            ring: Vec::new(),
             moves: Vec::new(),
             region: Vec::new(),
             queue: Vec::new(),
@@ -212,6 +234,7 @@ impl Sculptor {
             self.frame_mark.resize(i + 1, 0);
             self.moved_mark.resize(i + 1, 0);
             self.rigid_mark.resize(i + 1, 0);
+            self.short_mark.resize(i + 1, 0);
             self.dirty_mark.resize(i + 1, 0);
         }
         self.stroke_mark[i] = self.stroke_stamp;
@@ -295,6 +318,7 @@ impl Sculptor {
             self.frame_mark.fill(0);
             self.moved_mark.fill(0);
             self.rigid_mark.fill(0);
+            self.short_mark.fill(0);
         }
         self.region.clear();
         let eval_pose = if f.warp == Warp::Drag { f.prev } else { f.pose };
@@ -389,7 +413,14 @@ impl Sculptor {
             }
             self.mesh.set_position(v, x2);
         }
-        self.prevent_folds(&mut moves);
+        let pad = DVec3::splat(f.max_len);
+        let lim = Limits {
+            max2: f.max_len * f.max_len,
+            min2: f.min_len * f.min_len,
+            lo: lo - pad,
+            hi: hi + pad,
+        };
+        let tests = self.prevent_folds(&mut moves, &lim);
         for &(v, _, _, _) in &moves {
             let x = self.mesh.position(v);
             self.grid.update(v, x);
@@ -397,8 +428,7 @@ impl Sculptor {
         }
         self.moves = moves;
         if stats.moved > 0 {
-            let pad = DVec3::splat(f.max_len);
-            self.adapt(f.max_len, f.min_len, lo - pad, hi + pad, &mut stats);
+            self.adapt(&lim, tests, &mut stats);
         }
         stats
     }
@@ -408,9 +438,61 @@ impl Sculptor {
     /// degenerate is halved for that triangle's moved vertices, up to three
     /// times, then undone for them. Converging warps (collapse onto a small
     /// brush) would otherwise crumple the surface within a few frames.
-    fn prevent_folds(&mut self, moves: &mut [Move]) {
+    ///
+    /// The first round's pass over the region also takes, for
+    /// [`Self::adapt`], each triangle's split test and marks the vertices
+    /// with a short edge (`short_mark`): the region's fans and triangle
+    /// owners are the same ones (every reshaped vertex moved, and only
+    /// those). Returns the split tests when they still hold (no vertex was
+    /// pulled back), `None` otherwise.
+    fn prevent_folds(&mut self, moves: &mut [Move], lim: &Limits) -> Option<Vec<(FaceId, bool)>> {
         let mut round = 0;
         loop {
+            if round == 0 {
+                let this = &*self;
+                let parts = par::map_chunks(moves, |_, chunk| {
+                    let mut bad: Vec<VertId> = Vec::new();
+                    let mut split: Vec<(FaceId, bool)> = Vec::new();
+                    let mut short: Vec<VertId> = Vec::new();
+                    for &(v, _, _, rigid) in chunk {
+                        if rigid {
+                            continue;
+                        }
+                        debug_assert!(this.in_frame(v) && this.moved(v));
+                        let mut any_short = false;
+                        this.mesh.for_each_out(v, |h| {
+                            any_short |= this.mesh.edge_len2(h) < lim.min2;
+                            let f = h.face();
+                            let vs = this.mesh.face_verts(f);
+                            let owner = vs.iter().filter(|&&w| this.moved(w)).min();
+                            if owner == Some(&v) {
+                                if this.face_folds(f) {
+                                    bad.extend(vs.iter().filter(|&&w| this.moved(w)));
+                                }
+                                split.push((f, this.wants_split(f, lim.max2, lim.lo, lim.hi)));
+                            }
+                        });
+                        if any_short {
+                            short.push(v);
+                        }
+                    }
+                    (bad, split, short)
+                });
+                let mut bad_verts = Vec::new();
+                let mut split = Vec::with_capacity(parts.iter().map(|p| p.1.len()).sum());
+                for (b, sp, sh) in parts {
+                    bad_verts.extend(b);
+                    split.extend(sp);
+                    for v in sh {
+                        self.short_mark[v.0 as usize] = self.frame_stamp;
+                    }
+                }
+                if bad_verts.is_empty() || !self.pull_back(moves, &mut bad_verts, round) {
+                    return Some(split);
+                }
+                round += 1;
+                continue;
+            }
             // Only triangles at a non-rigidly moved vertex can fold (two
             // rigidly moved neighbours keep their dihedral angle). Each is
             // tested by its smallest such corner; the corners of folding
@@ -431,31 +513,34 @@ impl Sculptor {
                     });
                 }
             });
-            if bad_verts.is_empty() {
-                return;
-            }
-            bad_verts.sort_unstable();
-            bad_verts.dedup();
-            // Halve three times, then undo; undoing stops once every
-            // offending vertex is back where it was (each undo round
-            // restores at least one vertex, so this terminates).
-            let mut changed = false;
-            for (v, old, new, rigid) in moves.iter_mut() {
-                if !*rigid && bad_verts.binary_search(v).is_ok() && *new != *old {
-                    *new = if round >= 3 {
-                        *old
-                    } else {
-                        *old + (*new - *old) * 0.5
-                    };
-                    self.mesh.set_position(*v, *new);
-                    changed = true;
-                }
-            }
-            if !changed {
-                return;
+            if bad_verts.is_empty() || !self.pull_back(moves, &mut bad_verts, round) {
+                return None;
             }
             round += 1;
         }
+    }
+
+    /// Halves (from `round` 3 on: undoes) the step of the offending
+    /// vertices `bad_verts`; returns whether any position changed.
+    fn pull_back(&mut self, moves: &mut [Move], bad_verts: &mut Vec<VertId>, round: u32) -> bool {
+        bad_verts.sort_unstable();
+        bad_verts.dedup();
+        // Halve three times, then undo; undoing stops once every offending
+        // vertex is back where it was (each undo round restores at least
+        // one vertex, so this terminates).
+        let mut changed = false;
+        for (v, old, new, rigid) in moves.iter_mut() {
+            if !*rigid && bad_verts.binary_search(v).is_ok() && *new != *old {
+                *new = if round >= 3 {
+                    *old
+                } else {
+                    *old + (*new - *old) * 0.5
+                };
+                self.mesh.set_position(*v, *new);
+                changed = true;
+            }
+        }
+        changed
     }
 
     /// True when face `f` is degenerate or folds onto a neighbour.
