@@ -523,3 +523,67 @@ fn a_two_hand_grab_scales_along_the_chosen_axis() {
         t.transform.scale
     );
 }
+
+/// "Snap to objects" in the palette: a part dragged down to 1.5 cm above
+/// a slab comes to rest on it (its lowest point on the slab's top), and
+/// the readout says so; without it the same drag leaves the gap.
+#[test]
+fn a_dragged_part_snaps_onto_the_surface_below() {
+    for snapping in [true, false] {
+        let mut d = Driver::new(72.0, "object");
+        d.close_palette();
+        // The default shape at the right hand (model (0.2, -0.2, 0.3)).
+        d.puppet.click(R, Button::Primary);
+        d.sync();
+        let (part, _) = d.log.document().objects().next().unwrap();
+        let bottom = |d: &Driver| object(&d.log, part).mesh.bbox().unwrap().0.z;
+        let b0 = bottom(&d);
+        // A slab under it whose top is 10 cm below the part's bottom.
+        let top = b0 - 0.10;
+        d.log
+            .apply(Op::AddSolid(AddSolid {
+                shape: SolidShape::Box {
+                    size: [0.4, 0.4, 0.05],
+                },
+                segments: 32,
+                transform: Transform::translation([0.2, -0.2, top - 0.025]),
+            }))
+            .unwrap();
+        if snapping {
+            d.pick(|i| i.action == crate::interact::PaletteAction::Objects)
+                .unwrap();
+            assert!(d.session().snap().objects);
+        }
+        d.close_palette();
+        // Grab it and lower the hand by 8.5 cm (model -Z is world -Y).
+        let held = DVec3::new(0.2, 1.1, -0.3);
+        d.puppet
+            .aim(R, held + DVec3::new(0.0, 0.0, 0.2), held, 0.3)
+            .set(R, Button::Grab, true);
+        let r = grip(&d, R);
+        d.puppet
+            .move_to(
+                R,
+                Pose::new(r.position - DVec3::Y * 0.085, r.orientation),
+                0.4,
+            )
+            .wait(0.05);
+        d.sync();
+        let readout = d.session().preview().readout.clone();
+        d.puppet.set(R, Button::Grab, false).wait(0.1);
+        d.sync();
+        assert!(d.rejected.is_empty(), "{:?}", d.rejected);
+        let Op::SetTransform(_) = last_op(&d) else {
+            panic!("no set_transform: {:?}", d.commands.last())
+        };
+        let gap = bottom(&d) - top;
+        println!("snapping {snapping}: gap {gap:.6} m; readout `{readout}`");
+        if snapping {
+            assert!(gap.abs() < 1e-9, "rests on the slab: gap {gap}");
+            assert!(readout.contains("snapped to surface of #"), "{readout}");
+        } else {
+            assert!((gap - 0.015).abs() < 0.003, "gap {gap}");
+            assert!(!readout.contains("snapped"), "{readout}");
+        }
+    }
+}

@@ -51,11 +51,11 @@ pub struct ObjectSnap {
 }
 
 impl ObjectSnap {
-    /// For the readout: "centre of #3", "on #3", "x axis of #3".
+    /// For the readout: "centre of #3", "surface of #3", "x axis of #3".
     pub fn label(&self) -> String {
         match self.kind {
             SnapKind::Centre => format!("centre of #{}", self.to.0),
-            SnapKind::Surface => format!("on #{}", self.to.0),
+            SnapKind::Surface => format!("surface of #{}", self.to.0),
             SnapKind::Axis(a) => format!("{} axis of #{}", ["x", "y", "z"][a.min(2)], self.to.0),
         }
     }
@@ -210,7 +210,7 @@ mod tests {
             snap_to_objects(doc, ball, bbox_at(c + DVec3::Z * 0.03, 0.05)),
             None
         );
-        assert_eq!(s.label(), format!("on #{}", slab.0));
+        assert_eq!(s.label(), format!("surface of #{}", slab.0));
     }
 
     #[test]

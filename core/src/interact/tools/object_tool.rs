@@ -58,6 +58,7 @@ use crate::interact::gesture::similarity::Similarity;
 use crate::interact::gesture::Gesture;
 use crate::interact::input::{Hand, Joint, Pose};
 use crate::interact::palette::{ChoiceGroup, Snap};
+use crate::interact::snap::{snap_to_objects, ObjectSnap};
 use crate::interact::tools::pick::{pick, Ray};
 use crate::interact::tools::{MovingPreview, Preview, PreviewRay, Tool, ToolContext, ToolPreview};
 
@@ -417,8 +418,11 @@ impl ObjectTool {
         if let Some(m) = drag.motion_now(&grips) {
             drag.current = m;
         }
-        let (transform, motion) = snapped(cx, &drag);
+        let (transform, motion, to) = snapped(cx, &drag);
         self.preview.readout = readout(&drag.base, &motion, cx.snap);
+        if let Some(to) = to {
+            self.preview.readout += &format!("  snapped to {}", to.label());
+        }
         match drag.axis {
             Some(k) => self.preview.readout += &format!("  along {}", ["x", "y", "z"][k]),
             None if self.scale_axis.is_some() => self.preview.readout += "  uniform (sculpt)",
@@ -439,7 +443,7 @@ impl ObjectTool {
     fn commit(&mut self, cx: &ToolContext, drag: &Drag) -> Option<ScriptCommand> {
         self.preview.moving = None;
         self.preview.readout.clear();
-        let (transform, _) = snapped(cx, drag);
+        let (transform, _, _) = snapped(cx, drag);
         if transform.validate().is_err() || transform == drag.base {
             return None;
         }
@@ -450,23 +454,65 @@ impl ObjectTool {
     }
 }
 
-/// The placement a drag would give now and its model-space motion, with
-/// the session's snapping: the rotation to the angle step (relative to
-/// where the drag began), then the position to the model-space grid.
-fn snapped(cx: &ToolContext, drag: &Drag) -> (Transform, Similarity) {
+/// The placement a drag would give now, its model-space motion and what
+/// it snapped to among the other objects, with the session's snapping: the
+/// rotation to the angle step (relative to where the drag began), the
+/// position to the model-space grid, then (with "Snap to objects") onto
+/// another object's centre, surface or axis line
+/// ([`crate::interact::snap`]), which wins over the grid.
+fn snapped(cx: &ToolContext, drag: &Drag) -> (Transform, Similarity, Option<ObjectSnap>) {
     let mut motion = cx.model.conjugate(&drag.current);
     motion.rotate = cx.snap.rotate(motion.rotate);
     let mut t = motion.then_transform(&drag.base);
     let base = DVec3::from_array(drag.base.translate);
-    let at = cx.snap.translate(DVec3::from_array(t.translate));
+    let mut at = cx.snap.translate(DVec3::from_array(t.translate));
     t.translate = at.to_array();
-    motion.translate = at - motion.rotate * (base * motion.scale);
     if let Some(k) = drag.axis {
         // Only along the object's axis `k`: the other axes keep their scale.
         t.scale = drag.base.scale;
         t.scale[k] *= motion.scale;
     }
-    (t, motion)
+    let to = cx
+        .snap
+        .objects
+        .then(|| moved_bbox(cx, drag, &t))
+        .flatten()
+        .and_then(|b| snap_to_objects(cx.doc, drag.id, b));
+    if let Some(s) = &to {
+        at += s.offset;
+        t.translate = at.to_array();
+    }
+    motion.translate = at - motion.rotate * (base * motion.scale);
+    (t, motion, to)
+}
+
+/// Vertices of a dragged mesh mapped exactly for the snapping box; above
+/// this, its bounding box's corners are mapped instead (a looser box).
+const SNAP_EXACT_VERTICES: usize = 50_000;
+
+/// The bounding box (model space) of the dragged object at placement `t`.
+fn moved_bbox(cx: &ToolContext, drag: &Drag, t: &Transform) -> Option<(DVec3, DVec3)> {
+    let mesh = &cx.doc.get(drag.id).ok()?.mesh;
+    let map = t.to_affine().ok()? * drag.base.to_affine().ok()?.inverse();
+    let fold = |it: &mut dyn Iterator<Item = DVec3>| {
+        let first = map.transform_point3(it.next()?);
+        Some(it.fold((first, first), |(lo, hi), p| {
+            let q = map.transform_point3(p);
+            (lo.min(q), hi.max(q))
+        }))
+    };
+    if mesh.positions.len() <= SNAP_EXACT_VERTICES {
+        fold(&mut mesh.positions.iter().map(|p| DVec3::from_array(*p)))
+    } else {
+        let (lo, hi) = mesh.bbox()?;
+        fold(&mut (0..8).map(|k| {
+            DVec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            )
+        }))
+    }
 }
 
 /// What a drag has done so far, for the readout next to the hand:
