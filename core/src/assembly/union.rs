@@ -3,10 +3,12 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use super::cache::{gc_key, key, Tag, Value};
 use super::{AssemblyError, UnionCache};
 use crate::gc::{cavity_gc, mesh_gc, GcAssembly};
-use crate::mesh::{difference, validate, TriMesh, UnionOperand};
+use crate::mesh::{difference, validate, TriMesh, UnionOperand, ValidationReport};
 
 /// Meshes every part and unites them with `manifold-rust`
 /// ([`crate::mesh::union`], which checks every operand's status), keeping
@@ -38,13 +40,21 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
     if let [only] = asm.parts.as_slice() {
         return Ok((*part_mesh(cache, keys[0], &only.gc)?).clone());
     }
+    // Parts are meshed in parallel (each a pure function of its GC); the
+    // first error in part order is the one reported, as sequentially.
+    let pieces: Vec<_> = asm
+        .parts
+        .par_iter()
+        .zip(&keys)
+        .map(|(p, &k)| (part_mesh(cache, k, &p.gc), part_cavity(cache, k, &p.gc)))
+        .collect();
     let mut meshes = Vec::with_capacity(asm.parts.len());
     let mut cavities = Vec::with_capacity(asm.parts.len());
-    for (p, &k) in asm.parts.iter().zip(&keys) {
-        let m = part_mesh(cache, k, &p.gc)?;
+    for (m, c) in pieces {
+        let m = m?;
         let bbox = m.bbox();
         meshes.push((m, bbox));
-        let c = part_cavity(cache, k, &p.gc)?;
+        let c = c?;
         let cbox = c.as_ref().as_ref().and_then(TriMesh::bbox);
         cavities.push((c, cbox));
     }
@@ -101,11 +111,14 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
             break;
         }
     }
-    for i in start..asm.parts.len() {
-        let trimmed = match cache.get(Tag::Trimmed, trim_keys[i]) {
+    // The trimmed parts the fold needs, in parallel (independent
+    // booleans); errors reported in part order.
+    let trimmed: Vec<Result<Arc<TriMesh>, AssemblyError>> = (start..asm.parts.len())
+        .into_par_iter()
+        .map(|i| match cache.get(Tag::Trimmed, trim_keys[i]) {
             Some(Value::Trimmed(m)) => {
                 cache.count(|s| s.trim_hits += 1);
-                m
+                Ok(m)
             }
             _ => {
                 let mut mesh = (*meshes[i].0).clone();
@@ -121,9 +134,12 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
                 let m = Arc::new(mesh);
                 cache.put(Tag::Trimmed, trim_keys[i], Value::Trimmed(m.clone()));
                 cache.count(|s| s.trim_misses += 1);
-                m
+                Ok(m)
             }
-        };
+        })
+        .collect();
+    for (i, trimmed) in (start..asm.parts.len()).zip(trimmed) {
+        let trimmed = trimmed?;
         // As `crate::mesh::union`: a left fold, empty operands skipped.
         if let Some(next) = UnionOperand::import(i, &trimmed)? {
             acc = Some(Arc::new(match acc {
@@ -140,8 +156,7 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
         Some(a) => a.to_mesh()?,
         None => TriMesh::default(),
     };
-    let out = collapse_slivers(united);
-    let report = validate(&out, &crate::mesh::ValidationSettings::topology_only());
+    let (out, report) = collapse_slivers(united);
     // Manifold may leave zero-area slivers; they do not break closedness.
     if !(report.is_closed() && report.non_manifold_vertices == 0 && report.signed_volume > 0.0) {
         // The full report (self-intersections too) says what is wrong.
@@ -190,15 +205,16 @@ fn part_cavity(
 /// neighbours across that edge become degenerate and are dropped); the
 /// cleaned mesh is kept only when it validates as a closed 2-manifold
 /// without degenerate triangles, otherwise the union is returned as is.
-fn collapse_slivers(mesh: TriMesh) -> TriMesh {
+/// Returns the mesh with its topology-only report.
+fn collapse_slivers(mesh: TriMesh) -> (TriMesh, ValidationReport) {
     // Topology only: this runs on every GC commit (print checks the rest).
     let settings = crate::mesh::ValidationSettings::topology_only();
     let report = validate(&mesh, &settings);
     if report.degenerate_triangles == 0 {
-        return mesh;
+        return (mesh, report);
     }
     let Some((lo, hi)) = mesh.bbox() else {
-        return mesh;
+        return (mesh, report);
     };
     let area_tol = 1e-14 * (hi - lo).length_squared();
     let mut remap: Vec<u32> = (0..mesh.positions.len() as u32).collect();
@@ -243,9 +259,10 @@ fn collapse_slivers(mesh: TriMesh) -> TriMesh {
         }
     }
     out.compute_normals();
-    if validate(&out, &settings).is_closed_manifold() {
-        out
+    let cleaned = validate(&out, &settings);
+    if cleaned.is_closed_manifold() {
+        (out, cleaned)
     } else {
-        mesh
+        (mesh, report)
     }
 }
