@@ -46,6 +46,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod anchor;
+mod cache;
 mod error;
 mod propagate;
 mod relations;
@@ -56,6 +57,7 @@ mod union;
 pub mod edit;
 
 pub use anchor::{anchor_frame, project_to_surface, Anchor, Attachment, Projection};
+pub use cache::{CacheStats, UnionCache};
 pub use edit::{ChildEnd, GcAddChild, GcCopy, GcEditPart, GcTransformPart, PartEdit};
 pub use error::AssemblyError;
 pub use propagate::{descendants_bfs, reattach_descendants};
@@ -67,7 +69,7 @@ pub use structure::{
     check_relations, ensure_recorded, propagate_edit, record_new_part, GcRelease, MirrorEdit,
     RecordedRelations, RelationKind, RELATION_TOLERANCE,
 };
-pub use union::union_mesh;
+pub use union::{union_mesh, union_mesh_cached};
 
 #[cfg(test)]
 mod tests;

@@ -1,9 +1,14 @@
 //! The evaluated mesh of an assembly: the manifold union of its parts,
 //! with the inside of its hollow parts kept empty.
 
-use super::AssemblyError;
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use super::cache::{gc_key, key, Tag, Value};
+use super::{AssemblyError, UnionCache};
 use crate::gc::{cavity_gc, mesh_gc, GcAssembly};
-use crate::mesh::{difference, union, validate, TriMesh};
+use crate::mesh::{difference, validate, TriMesh, UnionOperand, ValidationReport};
 
 /// Meshes every part and unites them with `manifold-rust`
 /// ([`crate::mesh::union`], which checks every operand's status), keeping
@@ -14,51 +19,185 @@ use crate::mesh::{difference, union, validate, TriMesh};
 /// and no sealed void is left where a tube's inside meets a hollow body.
 /// The result is checked to be a closed oriented 2-manifold. A one-part
 /// assembly is its part's mesh (already closed), unchanged.
+///
+/// Computes everything afresh: [`union_mesh_cached`] with a new cache.
 pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
+    union_mesh_cached(asm, &UnionCache::new())
+}
+
+/// [`union_mesh`], reusing what `cache` holds from earlier evaluations of
+/// the same object and keeping what this one computes (see
+/// [`UnionCache`]): a part whose GC did not change is not re-meshed, a
+/// part whose GC and cutting cavities did not change is not re-trimmed,
+/// and the union, a left fold over the parts in order exactly as
+/// [`crate::mesh::union`] computes it, restarts after the longest prefix
+/// of unchanged trimmed parts it holds. Bit-identical to [`union_mesh`]
+/// whatever the cache holds.
+pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh, AssemblyError> {
     asm.validate()?;
+    cache.begin();
+    let keys: Vec<u64> = asm.parts.iter().map(|p| gc_key(&p.gc)).collect();
     if let [only] = asm.parts.as_slice() {
-        return Ok(mesh_gc(&only.gc)?);
+        return Ok((*part_mesh(cache, keys[0], &only.gc)?).clone());
     }
+    // Parts are meshed in parallel (each a pure function of its GC); the
+    // first error in part order is the one reported, as sequentially.
+    let pieces: Vec<_> = asm
+        .parts
+        .par_iter()
+        .zip(&keys)
+        .map(|(p, &k)| (part_mesh(cache, k, &p.gc), part_cavity(cache, k, &p.gc)))
+        .collect();
     let mut meshes = Vec::with_capacity(asm.parts.len());
     let mut cavities = Vec::with_capacity(asm.parts.len());
-    for (i, p) in asm.parts.iter().enumerate() {
-        let mut m = mesh_gc(&p.gc)?;
-        m.set_source(i as u32);
-        meshes.push(m);
-        cavities.push(cavity_gc(&p.gc)?);
+    for (m, c) in pieces {
+        let m = m?;
+        let bbox = m.bbox();
+        meshes.push((m, bbox));
+        let c = c?;
+        let cbox = c.as_ref().as_ref().and_then(TriMesh::bbox);
+        cavities.push((c, cbox));
     }
     // Each part loses the cavities of the other parts it reaches into
     // (never its own: its inner wall is that cavity's surface, and a
     // boolean of coincident surfaces is slow and fragile).
-    for (i, mesh) in meshes.iter_mut().enumerate() {
-        let Some((lo, hi)) = mesh.bbox() else {
-            continue;
-        };
-        let cuts: Vec<&TriMesh> = cavities
-            .iter()
-            .enumerate()
-            .filter(|(j, _)| *j != i)
-            .filter_map(|(_, c)| c.as_ref())
-            .filter(|c| {
-                c.bbox()
-                    .is_some_and(|(cl, ch)| cl.cmple(hi).all() && ch.cmpge(lo).all())
-            })
-            .collect();
-        if !cuts.is_empty() {
-            let mut cut = difference(mesh, &cuts)?;
-            cut.set_source(i as u32);
-            *mesh = cut;
+    let cutters: Vec<Vec<usize>> = meshes
+        .iter()
+        .enumerate()
+        .map(|(i, (_, bbox))| {
+            let Some((lo, hi)) = *bbox else {
+                return Vec::new();
+            };
+            cavities
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j != i)
+                .filter(|(_, (c, cbox))| {
+                    c.is_some()
+                        && cbox.is_some_and(|(cl, ch)| cl.cmple(hi).all() && ch.cmpge(lo).all())
+                })
+                .map(|(j, _)| j)
+                .collect()
+        })
+        .collect();
+    let trim_keys: Vec<u64> = cutters
+        .iter()
+        .enumerate()
+        .map(|(i, cut)| {
+            let mut words = vec![i as u64, keys[i]];
+            words.extend(cut.iter().map(|&j| keys[j]));
+            key(b"trimmed", &words)
+        })
+        .collect();
+    let mut prefix_keys = Vec::with_capacity(trim_keys.len());
+    let mut chain = key(b"prefix", &[]);
+    for &t in &trim_keys {
+        chain = key(b"prefix", &[chain, t]);
+        prefix_keys.push(chain);
+    }
+    let result_key = key(b"result", &[chain]);
+    if let Some(Value::Result(m)) = cache.get(Tag::Result, result_key) {
+        cache.count(|s| s.result_hits += 1);
+        return Ok((*m).clone());
+    }
+    // The longest cached prefix of the fold.
+    let mut start = 0;
+    let mut acc: Option<Arc<UnionOperand>> = None;
+    for n in (1..=prefix_keys.len()).rev() {
+        if let Some(Value::Prefix(p)) = cache.get(Tag::Prefix, prefix_keys[n - 1]) {
+            start = n;
+            acc = p;
+            cache.count(|s| s.folded_parts_reused += n as u64);
+            break;
         }
     }
-    let refs: Vec<&TriMesh> = meshes.iter().collect();
-    let united = union(&refs)?;
-    let out = collapse_slivers(united);
-    let report = validate(&out, &Default::default());
+    // The trimmed parts the fold needs, in parallel (independent
+    // booleans); errors reported in part order.
+    let trimmed: Vec<Result<Arc<TriMesh>, AssemblyError>> = (start..asm.parts.len())
+        .into_par_iter()
+        .map(|i| match cache.get(Tag::Trimmed, trim_keys[i]) {
+            Some(Value::Trimmed(m)) => {
+                cache.count(|s| s.trim_hits += 1);
+                Ok(m)
+            }
+            _ => {
+                let mut mesh = (*meshes[i].0).clone();
+                mesh.set_source(i as u32);
+                let cuts: Vec<&TriMesh> = cutters[i]
+                    .iter()
+                    .filter_map(|&j| cavities[j].0.as_ref().as_ref())
+                    .collect();
+                if !cuts.is_empty() {
+                    mesh = difference(&mesh, &cuts)?;
+                    mesh.set_source(i as u32);
+                }
+                let m = Arc::new(mesh);
+                cache.put(Tag::Trimmed, trim_keys[i], Value::Trimmed(m.clone()));
+                cache.count(|s| s.trim_misses += 1);
+                Ok(m)
+            }
+        })
+        .collect();
+    for (i, trimmed) in (start..asm.parts.len()).zip(trimmed) {
+        let trimmed = trimmed?;
+        // As `crate::mesh::union`: a left fold, empty operands skipped.
+        if let Some(next) = UnionOperand::import(i, &trimmed)? {
+            acc = Some(Arc::new(match acc {
+                None => next,
+                Some(a) => {
+                    cache.count(|s| s.union_steps += 1);
+                    a.union(&next)
+                }
+            }));
+        }
+        cache.put(Tag::Prefix, prefix_keys[i], Value::Prefix(acc.clone()));
+    }
+    let united = match &acc {
+        Some(a) => a.to_mesh()?,
+        None => TriMesh::default(),
+    };
+    let (out, report) = collapse_slivers(united);
     // Manifold may leave zero-area slivers; they do not break closedness.
     if !(report.is_closed() && report.non_manifold_vertices == 0 && report.signed_volume > 0.0) {
+        // The full report (self-intersections too) says what is wrong.
+        let report = validate(&out, &Default::default());
         return Err(AssemblyError::InvalidUnion(report.problems()));
     }
-    Ok(out)
+    let out = Arc::new(out);
+    cache.put(Tag::Result, result_key, Value::Result(out.clone()));
+    Ok(Arc::unwrap_or_clone(out))
+}
+
+/// A part's mesh, from the cache or meshed (and kept).
+fn part_mesh(
+    cache: &UnionCache,
+    k: u64,
+    gc: &crate::gc::Gc,
+) -> Result<Arc<TriMesh>, AssemblyError> {
+    if let Some(Value::Mesh(m)) = cache.get(Tag::Mesh, k) {
+        cache.count(|s| s.mesh_hits += 1);
+        return Ok(m);
+    }
+    let m = Arc::new(mesh_gc(gc)?);
+    cache.put(Tag::Mesh, k, Value::Mesh(m.clone()));
+    cache.count(|s| s.mesh_misses += 1);
+    Ok(m)
+}
+
+/// A part's cavity, from the cache or computed (and kept).
+fn part_cavity(
+    cache: &UnionCache,
+    k: u64,
+    gc: &crate::gc::Gc,
+) -> Result<Arc<Option<TriMesh>>, AssemblyError> {
+    if let Some(Value::Cavity(c)) = cache.get(Tag::Cavity, k) {
+        cache.count(|s| s.cavity_hits += 1);
+        return Ok(c);
+    }
+    let c = Arc::new(cavity_gc(gc)?);
+    cache.put(Tag::Cavity, k, Value::Cavity(c.clone()));
+    cache.count(|s| s.cavity_misses += 1);
+    Ok(c)
 }
 
 /// Manifold can leave a few zero-area slivers where surfaces meet almost
@@ -66,15 +205,16 @@ pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
 /// neighbours across that edge become degenerate and are dropped); the
 /// cleaned mesh is kept only when it validates as a closed 2-manifold
 /// without degenerate triangles, otherwise the union is returned as is.
-fn collapse_slivers(mesh: TriMesh) -> TriMesh {
+/// Returns the mesh with its topology-only report.
+fn collapse_slivers(mesh: TriMesh) -> (TriMesh, ValidationReport) {
     // Topology only: this runs on every GC commit (print checks the rest).
     let settings = crate::mesh::ValidationSettings::topology_only();
     let report = validate(&mesh, &settings);
     if report.degenerate_triangles == 0 {
-        return mesh;
+        return (mesh, report);
     }
     let Some((lo, hi)) = mesh.bbox() else {
-        return mesh;
+        return (mesh, report);
     };
     let area_tol = 1e-14 * (hi - lo).length_squared();
     let mut remap: Vec<u32> = (0..mesh.positions.len() as u32).collect();
@@ -119,9 +259,10 @@ fn collapse_slivers(mesh: TriMesh) -> TriMesh {
         }
     }
     out.compute_normals();
-    if validate(&out, &settings).is_closed_manifold() {
-        out
+    let cleaned = validate(&out, &settings);
+    if cleaned.is_closed_manifold() {
+        (out, cleaned)
     } else {
-        mesh
+        (mesh, report)
     }
 }

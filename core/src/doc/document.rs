@@ -75,7 +75,13 @@ impl Document {
     /// Evaluates `kind` and inserts it under a newly allocated id.
     pub fn insert(&mut self, kind: ObjectKind) -> Result<ObjectId, OpError> {
         let id = self.next_id();
-        let obj = self.build(id, kind, String::new(), Transform::IDENTITY)?;
+        let obj = self.build(
+            id,
+            kind,
+            String::new(),
+            Transform::IDENTITY,
+            Default::default(),
+        )?;
         self.next_id = id.0;
         self.objects.insert(id, Arc::new(obj));
         Ok(id)
@@ -85,8 +91,8 @@ impl Document {
     /// placement), re-evaluating its mesh.
     pub fn replace(&mut self, id: ObjectId, kind: ObjectKind) -> Result<(), OpError> {
         let old = self.get(id)?;
-        let (name, placement) = (old.name.clone(), old.placement);
-        let obj = self.build(id, kind, name, placement)?;
+        let (name, placement, cache) = (old.name.clone(), old.placement, old.cache.clone());
+        let obj = self.build(id, kind, name, placement, cache)?;
         self.objects.insert(id, Arc::new(obj));
         Ok(())
     }
@@ -100,7 +106,7 @@ impl Document {
         let old = self.get(id)?.clone();
         let mut kind = old.kind.clone();
         let obj = if kind.set_own_transform(t)? {
-            self.build(id, kind, old.name, Transform::IDENTITY)?
+            self.build(id, kind, old.name, Transform::IDENTITY, old.cache)?
         } else {
             let mesh = place(&old.local_mesh, &t)?;
             self.work += mesh.triangles.len() as u64 + 1;
@@ -183,8 +189,9 @@ impl Document {
         kind: ObjectKind,
         name: String,
         placement: Transform,
+        cache: crate::assembly::UnionCache,
     ) -> Result<Object, OpError> {
-        let mut local = kind.evaluate()?;
+        let mut local = kind.evaluate_cached(&cache)?;
         self.work += local.triangles.len() as u64 + 1;
         local.set_source(id.0);
         let local_mesh = Arc::new(local);
@@ -195,6 +202,7 @@ impl Document {
             placement,
             local_mesh,
             mesh,
+            cache,
         })
     }
 
@@ -368,7 +376,7 @@ impl<'de> Deserialize<'de> for Document {
             }
             prev = o.id.0;
             let obj = doc
-                .build(o.id, o.kind, o.name, o.placement)
+                .build(o.id, o.kind, o.name, o.placement, Default::default())
                 .map_err(|e| D::Error::custom(format!("object {}: {e}", o.id)))?;
             doc.objects.insert(o.id, Arc::new(obj));
         }

@@ -41,6 +41,13 @@ pub struct Object {
     /// The object's mesh in model space, placed. Triangles carry the
     /// object's id as their source.
     pub mesh: Arc<TriMesh>,
+    /// What evaluating the kind keeps for the next evaluation (a GC
+    /// assembly's part meshes and partial unions, see
+    /// [`crate::assembly::UnionCache`]); shared by every version of the
+    /// object (its edits, the log's checkpoints, undo and redo). Not
+    /// content: never saved or hashed, and the mesh is the same bits with
+    /// or without it.
+    pub cache: crate::assembly::UnionCache,
 }
 
 impl Object {
@@ -83,14 +90,21 @@ impl ObjectKind {
     /// Evaluates the object's mesh in model space (before any object-level
     /// placement).
     pub fn evaluate(&self) -> Result<TriMesh, OpError> {
+        self.evaluate_cached(&Default::default())
+    }
+
+    /// [`Self::evaluate`], reusing and filling `cache` (the same bits).
+    pub fn evaluate_cached(&self, cache: &crate::assembly::UnionCache) -> Result<TriMesh, OpError> {
         match self {
             Self::Solid(s) => s.evaluate(),
             // A part that cannot be meshed is a GC error, whichever path
             // found it; only union failures are assembly errors.
-            Self::GcAssembly(a) => crate::assembly::union_mesh(a).map_err(|e| match e {
-                crate::assembly::AssemblyError::Gc(g) => OpError::Gc(g),
-                other => OpError::Assembly(other),
-            }),
+            Self::GcAssembly(a) => {
+                crate::assembly::union_mesh_cached(a, cache).map_err(|e| match e {
+                    crate::assembly::AssemblyError::Gc(g) => OpError::Gc(g),
+                    other => OpError::Assembly(other),
+                })
+            }
             Self::SculptMesh(s) => Ok(s.evaluate()?),
             Self::SdfVolume(v) => Ok(v.evaluate()?),
             Self::CurveNetwork(n) => Ok(n.mesh()),

@@ -121,6 +121,51 @@ pub fn difference(a: &TriMesh, cutters: &[&TriMesh]) -> Result<TriMesh, BooleanE
     Ok(export(&result))
 }
 
+/// A closed mesh imported into Manifold, one step of a union fold.
+/// [`union`] is the left fold of these steps (`union(&[a, b, c])` is
+/// `a.union(&b).union(&c)` exported, bit for bit, empty operands skipped),
+/// so a caller that keeps a prefix of the fold can re-unite only the
+/// operands after it ([`crate::assembly::UnionCache`]).
+#[derive(Clone)]
+pub struct UnionOperand(Manifold);
+
+impl std::fmt::Debug for UnionOperand {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "UnionOperand({} triangles)", self.0.num_tri())
+    }
+}
+
+impl UnionOperand {
+    /// Imports the closed mesh `m` as [`union`] imports its operand number
+    /// `index` (its source: its first triangle's, else `index`). `None` for
+    /// a mesh without triangles, which [`union`] skips.
+    pub fn import(index: usize, m: &TriMesh) -> Result<Option<Self>, BooleanError> {
+        if m.triangles.is_empty() {
+            return Ok(None);
+        }
+        let source = m.tri_source.first().copied().unwrap_or(index as u32);
+        Ok(Some(Self(import_tol(index, m, source, 0.0)?)))
+    }
+
+    /// The union of `self` and `next` (the next step of the fold).
+    pub fn union(&self, next: &Self) -> Self {
+        Self(self.0.boolean(&next.0, OpType::Add))
+    }
+
+    /// The operand as a mesh, as [`union`] returns its result.
+    pub fn to_mesh(&self) -> Result<TriMesh, BooleanError> {
+        if self.0.status() != ManifoldStatus::NoError {
+            return Err(BooleanError::Failed(format!("{:?}", self.0.status())));
+        }
+        Ok(export(&self.0))
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.0.num_tri()
+    }
+}
+
 /// Imports `m`, tagging its triangles with `source` as their original id
 /// (our ids, not Manifold's global counter, so output is deterministic).
 fn import(index: usize, m: &TriMesh, source: u32) -> Result<Manifold, BooleanError> {

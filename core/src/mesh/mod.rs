@@ -16,7 +16,9 @@ mod test_meshes;
 mod trimesh;
 mod validate;
 
-pub use boolean::{difference, manifold_accepts, snap, union, union_snapped, BooleanError};
+pub use boolean::{
+    difference, manifold_accepts, snap, union, union_snapped, BooleanError, UnionOperand,
+};
 pub use error::MeshIoError;
 pub use format::MeshFormat;
 pub use obj::{read_obj, write_obj};

@@ -1,0 +1,193 @@
+//! The assembly union cache (issue 21, "Unions"): a GC edit re-meshes,
+//! re-trims and re-unites only what changed, and the document's mesh is
+//! bit for bit the one a fresh full recompute gives, through edits of one
+//! part of a multi-part assembly, undo and redo.
+
+mod common;
+
+use shapewright::assembly::{
+    union_mesh, union_mesh_cached, CacheStats, GcEditPart, PartEdit, UnionCache,
+};
+use shapewright::doc::{parse_script, run_script, Edit, ObjectId, ObjectKind, Op, OpLog};
+use shapewright::gc::{GcAssembly, PartId, SectionIndex};
+use shapewright::mesh::{validate, TriMesh};
+
+fn assembly(log: &OpLog) -> GcAssembly {
+    match &log.document().get(ObjectId(1)).expect("object 1").kind {
+        ObjectKind::GcAssembly(a) => a.clone(),
+        #[allow(unreachable_patterns)]
+        _ => panic!("object 1 is not an assembly"),
+    }
+}
+
+fn edit(part: usize, edit: PartEdit) -> Op {
+    Op::GcEditPart(Edit::new(
+        ObjectId(1),
+        GcEditPart {
+            part: PartId(part),
+            edit,
+        },
+    ))
+}
+
+fn resize(part: usize, section: usize, factor: f64) -> Op {
+    edit(
+        part,
+        PartEdit::Resize {
+            section: SectionIndex(section),
+            factor,
+        },
+    )
+}
+
+/// The object's mesh is the fresh full recompute of its assembly, bit for
+/// bit, and a closed oriented 2-manifold; the document's hash is the one
+/// a fresh replay of its ops gives.
+fn assert_fresh(log: &OpLog, what: &str) {
+    let obj = log.document().get(ObjectId(1)).expect("object 1");
+    let mut fresh: TriMesh = union_mesh(&assembly(log)).expect("fresh union");
+    fresh.set_source(1);
+    assert_eq!(
+        obj.local_mesh.positions, fresh.positions,
+        "{what}: positions"
+    );
+    assert_eq!(
+        obj.local_mesh.triangles, fresh.triangles,
+        "{what}: triangles"
+    );
+    assert_eq!(*obj.local_mesh, fresh, "{what}: mesh");
+    let r = validate(&fresh, &Default::default());
+    assert!(
+        r.is_closed() && r.non_manifold_vertices == 0 && r.signed_volume > 0.0,
+        "{what}: {}",
+        r.problems()
+    );
+    let replayed = OpLog::replay(log.ops().to_vec(), log.cursor()).expect("replay");
+    assert_eq!(
+        replayed.document().content_hash(),
+        log.document().content_hash(),
+        "{what}: document hash"
+    );
+}
+
+fn delta(a: CacheStats, b: CacheStats) -> CacheStats {
+    CacheStats {
+        mesh_hits: b.mesh_hits - a.mesh_hits,
+        mesh_misses: b.mesh_misses - a.mesh_misses,
+        cavity_hits: b.cavity_hits - a.cavity_hits,
+        cavity_misses: b.cavity_misses - a.cavity_misses,
+        trim_hits: b.trim_hits - a.trim_hits,
+        trim_misses: b.trim_misses - a.trim_misses,
+        folded_parts_reused: b.folded_parts_reused - a.folded_parts_reused,
+        union_steps: b.union_steps - a.union_steps,
+        result_hits: b.result_hits - a.result_hits,
+    }
+}
+
+fn stats(log: &OpLog) -> CacheStats {
+    log.document()
+        .get(ObjectId(1))
+        .expect("object 1")
+        .cache
+        .stats()
+}
+
+#[test]
+fn cached_union_is_the_fresh_union_through_edits_undo_and_redo() {
+    // The teapot: a hollow body, a shell spout opening through its wall, a
+    // handle; every trim path (cavities cut out of other parts) is used.
+    let mut log = common::run(&common::data("teapot.jsonl"));
+    assert_eq!(assembly(&log).parts.len(), 3);
+    assert_fresh(&log, "script");
+    let steps: Vec<(&str, Op)> = vec![
+        ("resize the handle", resize(2, 0, 1.1)),
+        ("resize the spout", resize(1, 1, 1.15)),
+        ("resize the handle again", resize(2, 0, 0.95)),
+        ("resize the body", resize(0, 1, 1.05)),
+    ];
+    for (what, op) in steps {
+        log.apply(op).unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert_fresh(&log, what);
+    }
+    for k in 0..3 {
+        log.undo().expect("undo");
+        assert_fresh(&log, &format!("undo {k}"));
+    }
+    log.redo().expect("redo");
+    assert_fresh(&log, "redo");
+    // A new branch after undo: the same part edited differently.
+    log.apply(resize(1, 0, 0.9)).expect("branch");
+    assert_fresh(&log, "branch");
+    log.undo().expect("undo");
+    log.undo().expect("undo");
+    log.redo().expect("redo");
+    assert_fresh(&log, "undo twice, redo");
+}
+
+#[test]
+fn an_edit_of_one_part_reuses_the_other_parts() {
+    let mut log = common::run(&common::data("teapot.jsonl"));
+    // The handle (part 2, last) changes; body and spout do not.
+    let before = stats(&log);
+    log.apply(resize(2, 0, 1.1)).expect("resize the handle");
+    let d = delta(before, stats(&log));
+    assert_eq!((d.mesh_hits, d.mesh_misses), (2, 1), "{d:?}");
+    assert_eq!((d.cavity_hits, d.cavity_misses), (2, 1), "{d:?}");
+    // Body and spout keep their trims and their union: one union step.
+    assert_eq!(d.folded_parts_reused, 2, "{d:?}");
+    assert_eq!(d.trim_misses, 1, "{d:?}");
+    assert_eq!(d.union_steps, 1, "{d:?}");
+    // Undo and redo re-mesh, re-trim and re-unite nothing (the log keeps
+    // the states it passed through; what it replays is found whole).
+    let before = stats(&log);
+    log.undo().expect("undo");
+    log.redo().expect("redo");
+    let d = delta(before, stats(&log));
+    assert_eq!(
+        (d.mesh_misses, d.cavity_misses, d.trim_misses),
+        (0, 0, 0),
+        "{d:?}"
+    );
+    assert_eq!(d.union_steps, 0, "{d:?}");
+    // The chair: adding a part unites only the new part with the cached
+    // union of the others.
+    let chair = common::data("chair.jsonl");
+    let lines: Vec<&str> = chair.lines().filter(|l| !l.trim().is_empty()).collect();
+    let (head, last) = lines.split_at(lines.len() - 1);
+    let mut log = common::run(&head.join("\n"));
+    let n = assembly(&log).parts.len();
+    let before = stats(&log);
+    let script = parse_script(last[0]).expect("parses");
+    run_script(&mut log, &script).expect("runs");
+    let d = delta(before, stats(&log));
+    let added = assembly(&log).parts.len() - n;
+    assert!(added >= 1);
+    assert_eq!(d.mesh_hits, n as u64, "{d:?}");
+    assert_eq!(d.mesh_misses, added as u64, "{d:?}");
+    assert_eq!(d.folded_parts_reused, n as u64, "{d:?}");
+    assert_eq!(d.union_steps, added as u64, "{d:?}");
+    assert_fresh(&log, "chair");
+}
+
+#[test]
+fn a_cache_that_keeps_nothing_gives_the_same_bits() {
+    // Budget 0: every entry of an earlier evaluation is dropped as soon as
+    // the next one stores anything; the meshes must not change.
+    let mut log = common::run(&common::data("teapot.jsonl"));
+    let tiny = UnionCache::with_budget(0);
+    let big = UnionCache::new();
+    for op in [resize(2, 0, 1.1), resize(1, 1, 1.1), resize(2, 0, 0.9)] {
+        log.apply(op).expect("edit");
+        let asm = assembly(&log);
+        let a = union_mesh_cached(&asm, &tiny).expect("tiny");
+        let b = union_mesh_cached(&asm, &big).expect("big");
+        let c = union_mesh(&asm).expect("fresh");
+        assert_eq!(a, c);
+        assert_eq!(b, c);
+        // Evaluating again hits the whole result.
+        let hits = big.stats().result_hits;
+        assert_eq!(union_mesh_cached(&asm, &big).expect("again"), c);
+        assert_eq!(big.stats().result_hits, hits + 1);
+    }
+    assert!(big.bytes() > 0 && big.bytes() <= UnionCache::DEFAULT_BUDGET);
+}
