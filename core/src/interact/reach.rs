@@ -83,9 +83,19 @@ pub const HEADSET_REACH: &[Reach] = &[
     tool("gc_delete_section", "gc", "B on a section ring", "gc_tool::tests"),
     tool("gc_insert_section", "gc", "A on the spine between sections", "gc_tool::tests"),
     tool("gc_set_shape", "gc", "hold on a part: cycle shape (GC kinds)", "gc_tool::tests"),
-    tool("gc_set_resolution", "gc", "palette Resolution", "modeler_tests"),
+    tool(
+        "gc_set_resolution",
+        "gc",
+        "palette Resolution coarse/normal/fine (every part of the assembly)",
+        "modeler_op_tests::gc_relations_are_released_and_resolution_set_from_the_palette",
+    ),
     tool("sculpt_create", "sculpt", "A with no sculpt: a sphere to sculpt", "ctl_tool_tests"),
-    tool("sculpt_stroke", "sculpt", "trigger held: the palette's Brush (drag, whittle, explode, collapse, or a document object) at its Size", "ctl_tool_tests"),
+    tool(
+        "sculpt_stroke",
+        "sculpt",
+        "trigger held: the palette's Brush (drag, whittle, explode, collapse) or Brush from (any other object) at its Size",
+        "modeler_op_tests::explode_and_collapse_presets_grow_and_shrink_the_sculpt",
+    ),
     tool("sdf_create", "csg", "first operand placed with no volume", "ctl_tool_tests"),
     tool("sdf_add_operand", "csg", "trigger places the palette's Component with its Operation", "ctl_tool_tests"),
     tool("sdf_set_operand_transform", "csg", "grip drags an operand", "ctl_tool_tests"),
@@ -100,9 +110,19 @@ pub const HEADSET_REACH: &[Reach] = &[
         },
     },
     tool("sdf_set_step", "csg", "palette Grid step", "modeler_tests::the_palette_reaches_every_tool_and_every_choice"),
-    tool("sdf_move_fused", "csg", "palette Grab moves: fused result, then grip drags", "modeler_tests"),
+    tool(
+        "sdf_move_fused",
+        "csg",
+        "palette Grab moves: fused result, then squeeze and drag",
+        "modeler_op_tests::a_grab_moves_the_fused_result_as_such",
+    ),
     tool("sdf_copy_fused", "csg", "palette Fused result: copy", "modeler_tests::the_fused_result_is_copied_from_the_palette"),
-    tool("sdf_component_from_object", "csg", "palette Component from: an object", "modeler_tests"),
+    tool(
+        "sdf_component_from_object",
+        "csg",
+        "palette Component from: any other object (it becomes the active component)",
+        "modeler_op_tests::any_object_becomes_the_active_csg_component",
+    ),
     tool("curve_network_create", "curve", "the first stroke with no network", "curve_tool_tests"),
     tool("curve_draw", "curve", "trigger held: draw (left grip: on a plane; left trigger: mirrored)", "curve_tool_tests"),
     tool("curve_draw_in_frame", "curve", "palette Draw in: left hand, then draw", "modeler_tests::strokes_drawn_in_the_left_hands_frame_move_with_it"),
@@ -120,15 +140,30 @@ pub const HEADSET_REACH: &[Reach] = &[
     tool("gc_copy", "gc", "palette Instance (copy or mirror), then A on a part", "modeler_tests::instancing_a_child_copies_it_unmirrored_unless_mirror_is_chosen"),
     tool("gc_transform_part", "gc", "grip drags a child part", "gc_tool::tests"),
     tool("gc_edit_part", "gc", "key point and section gestures on an assembly part", "gc_tool::tests"),
-    tool("gc_release", "gc", "palette Release on the selected part", "modeler_tests"),
+    tool(
+        "gc_release",
+        "gc",
+        "palette Release coplanar/concentric/symmetric, on the part last aimed at",
+        "modeler_op_tests::gc_relations_are_released_and_resolution_set_from_the_palette",
+    ),
     Reach {
         op: "rename_object",
         how: How::Desktop {
             why: "needs text entry: Blender's outliner or panel (the headset names objects by kind and number)",
         },
     },
-    tool("set_wall_thickness", "object", "palette Wall on the selection", "modeler_tests"),
-    tool("set_self_intersection_policy", "object", "palette Overlaps on the selection", "modeler_tests"),
+    tool(
+        "set_wall_thickness",
+        "object",
+        "palette Wall 1.2/2/3 mm (a document setting)",
+        "modeler_op_tests::print_settings_are_set_from_the_palette",
+    ),
+    tool(
+        "set_self_intersection_policy",
+        "object",
+        "palette Overlaps refuse/flag (a document setting)",
+        "modeler_op_tests::print_settings_are_set_from_the_palette",
+    ),
 ];
 
 /// The source of each tool, to check that it emits what the table says.
