@@ -172,18 +172,14 @@ fn undo_redo_save_and_snapping_are_in_the_palette_and_replay_identically() {
 /// turning the palm down hides it again.
 #[test]
 fn a_palm_up_hand_shows_the_palette_and_a_fingertip_picks() {
-    use crate::interact::gesture::handmodel::{hand_pose, HandParams, Rng};
+    use crate::interact::gesture::handmodel::hand_pose;
     use crate::interact::gesture::GestureLabel;
+    use crate::interact::testkit::feed_quietly;
     use crate::interact::testkit::Puppet;
     use crate::interact::{Joint, ModelPlacement, Pose, Session};
     use crate::math::{DQuat, DVec3};
 
-    let params = |label: GestureLabel| {
-        let mut rng = Rng::new(label as u64 + 100);
-        let mut p = HandParams::sample(label, &mut rng);
-        p.size = 1.0;
-        p
-    };
+    let params = crate::interact::testkit::hand_params;
     let joint =
         |label, hand, wrist: Pose, j: Joint| hand_pose(&params(label), hand, &wrist)[j.index()];
     // A wrist turn that puts the left palm facing up (and one facing down).
@@ -227,12 +223,7 @@ fn a_palm_up_hand_shows_the_palette_and_a_fingertip_picks() {
         )
         .wait(0.3);
     let mut fed = 0;
-    let mut feed = |p: &Puppet, s: &mut Session| {
-        for f in &p.frames()[fed..] {
-            assert!(s.step(f, &doc).is_none());
-        }
-        fed = p.frames().len();
-    };
+    let mut feed = |p: &Puppet, s: &mut Session| feed_quietly(p, s, &doc, &mut fed);
     feed(&p, &mut s);
     let view = s
         .palette()
@@ -274,17 +265,13 @@ fn a_palm_up_hand_shows_the_palette_and_a_fingertip_picks() {
 /// picks by closing a pinch; an open pinch only hovers.
 #[test]
 fn a_tracked_hand_picks_from_afar_by_pinching() {
-    use crate::interact::gesture::handmodel::{hand_pose, HandParams, Rng};
+    use crate::interact::gesture::handmodel::hand_pose;
     use crate::interact::gesture::GestureLabel;
+    use crate::interact::testkit::feed_quietly;
     use crate::interact::testkit::Puppet;
     use crate::interact::{Joint, ModelPlacement, Session};
 
-    let params = |label: GestureLabel| {
-        let mut rng = Rng::new(label as u64 + 100);
-        let mut p = HandParams::sample(label, &mut rng);
-        p.size = 1.0;
-        p
-    };
+    let params = crate::interact::testkit::hand_params;
     let model = ModelPlacement::desk().similarity().unwrap();
     let mut s = Session::modeler("object", Hand::Right, model).unwrap();
     let doc = crate::doc::Document::default();
@@ -302,12 +289,7 @@ fn a_tracked_hand_picks_from_afar_by_pinching() {
         .click(Hand::Left, Button::Menu)
         .wait(0.1);
     let mut fed = 0;
-    let mut feed = |p: &Puppet, s: &mut Session| {
-        for f in &p.frames()[fed..] {
-            assert!(s.step(f, &doc).is_none());
-        }
-        fed = p.frames().len();
-    };
+    let mut feed = |p: &Puppet, s: &mut Session| feed_quietly(p, s, &doc, &mut fed);
     feed(&p, &mut s);
     let view = s.palette().expect("the menu button opened it").clone();
     let k = view.labels().iter().position(|l| *l == "Curve").unwrap();

@@ -15,6 +15,7 @@
 //! - **Axis**: the centre within the tolerance of a line through another
 //!   object's centre along a model axis goes onto that line (aligned
 //!   parts).
+//!
 //! The first of these that applies wins, nearest object first among
 //! equals. Only bounding boxes and one ray per other object are used, so
 //! the cost per frame is one pass over the other objects' boxes plus a

@@ -24,4 +24,4 @@ pub use hand_sequences::{
     hand_sample, labelled_sequence, score_sequence, GestureScore, LabelledFrame, SequenceSettings,
 };
 pub use modeler::Driver;
-pub use puppet::{Button, Puppet};
+pub use puppet::{feed_quietly, hand_params, Button, Puppet};

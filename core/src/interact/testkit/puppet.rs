@@ -83,10 +83,7 @@ impl Puppet {
 
     /// Shows a tracked hand making `label` with its wrist at `wrist`.
     pub fn hand(&mut self, hand: Hand, label: GestureLabel, wrist: Pose) -> &mut Self {
-        let mut rng = Rng::new(label as u64 + 100);
-        let mut p = HandParams::sample(label, &mut rng);
-        p.size = 1.0;
-        self.hands[hand.index()] = Some((p, wrist));
+        self.hands[hand.index()] = Some((hand_params(label), wrist));
         self
     }
 
@@ -133,9 +130,7 @@ impl Puppet {
         let Some((from, wrist)) = self.hands[hand.index()] else {
             return self;
         };
-        let mut rng = Rng::new(label as u64 + 100);
-        let mut to = HandParams::sample(label, &mut rng);
-        to.size = 1.0;
+        let to = hand_params(label);
         let n = (secs * self.fps).round().max(1.0) as usize;
         for k in 1..=n {
             let p = from.lerp(&to, k as f64 / n as f64);
@@ -320,4 +315,27 @@ fn quantize(p: Pose) -> Pose {
         DVec3::new(r(v.x, 1e5), r(v.y, 1e5), r(v.z, 1e5)),
         DQuat::from_xyzw(r(q.x, 1e6), r(q.y, 1e6), r(q.z, 1e6), r(q.w, 1e6)),
     )
+}
+
+/// The hand shape [`Puppet::hand`] holds for `label` (one fixed sample of
+/// the hand model, unit size), for tests that place its joints.
+pub fn hand_params(label: GestureLabel) -> HandParams {
+    let mut rng = Rng::new(label as u64 + 100);
+    let mut p = HandParams::sample(label, &mut rng);
+    p.size = 1.0;
+    p
+}
+
+/// Feeds the frames `p` recorded since `fed` to `s`, none of which may
+/// make a command (palette and gesture tests).
+pub fn feed_quietly(
+    p: &Puppet,
+    s: &mut crate::interact::Session,
+    doc: &crate::doc::Document,
+    fed: &mut usize,
+) {
+    for f in &p.frames()[*fed..] {
+        assert!(s.step(f, doc).is_none(), "a command at t = {}", f.time);
+    }
+    *fed = p.frames().len();
 }
