@@ -261,6 +261,40 @@ fn a_palm_up_hand_shows_the_palette_and_a_fingertip_picks() {
     assert_eq!(s.tool().name(), "csg");
 }
 
+/// However many rows the active tool's choices take, the palette grows
+/// upwards: no item reaches down to the hand that holds it.
+#[test]
+fn the_palette_floats_above_the_hand_for_every_tool() {
+    let mut d = Driver::new(72.0, "object");
+    for name in TOOL_NAMES {
+        d.pick_tool(name).unwrap();
+        let view = d.session().palette().unwrap().clone();
+        let hand = d.puppet.frames().last().unwrap().controllers[Hand::Left.index()]
+            .unwrap()
+            .grip
+            .position;
+        let lowest = view
+            .items
+            .iter()
+            .flat_map(|i| {
+                let [x0, y0, x1, y1] = i.rect;
+                [(x0, y0), (x1, y0), (x0, y1), (x1, y1)]
+            })
+            .map(|(x, y)| view.to_world(x, y).y)
+            .fold(f64::INFINITY, f64::min);
+        println!(
+            "{name}: {} items, lowest {:.3} m above the hand",
+            view.items.len(),
+            lowest - hand.y
+        );
+        assert!(
+            lowest > hand.y + 0.04,
+            "{name}: an item {:.3} m above the hand",
+            lowest - hand.y
+        );
+    }
+}
+
 /// From afar, a tracked hand points with its wrist-to-knuckle ray and
 /// picks by closing a pinch; an open pinch only hovers.
 #[test]

@@ -11,7 +11,8 @@
 //! longer lists (the SDF library has 60 and more components).
 //!
 //! **Where it is:** [`PaletteView::pose`] is the palette's plane in the
-//! world: its centre sits [`LIFT`] above the off hand's grip (or wrist),
+//! world: its lower edge sits [`LIFT`] above the off hand's grip (or
+//! wrist), however many rows the active tool's choices take,
 //! its +Z faces the head and its +Y is as close to world up as that
 //! allows, so it reads upright whichever way the wrist turns. Items are
 //! rectangles in that plane, in metres.
@@ -35,8 +36,9 @@ pub const COLUMNS: usize = 5;
 /// Options shown per page of a choice group (two rows of four, the fifth
 /// column holds the page buttons).
 pub const PAGE: usize = 8;
-/// How far above the off hand the palette's centre floats (metres).
-pub const LIFT: f64 = 0.16;
+/// How far above the off hand the palette's lower edge floats (metres):
+/// a tall palette grows upwards and never reaches down into the hand.
+pub const LIFT: f64 = 0.06;
 /// A fingertip this close to the plane touches it (metres).
 pub const TOUCH: f64 = 0.01;
 

@@ -215,7 +215,6 @@ impl Session {
             m.view = None;
             return None;
         };
-        let center = anchor + glam::DVec3::Y * LIFT;
         let head = frame.head;
         let groups = self.tools[self.active].choices();
         let pages = &mut m.pages[self.active];
@@ -227,6 +226,7 @@ impl Session {
             pages,
             snap: m.snap,
         });
+        let center = anchor + glam::DVec3::Y * (LIFT + size[1] / 2.0);
         let mut view = PaletteView {
             pose: crate::interact::input::Pose::new(center, facing(center, head)),
             size,
