@@ -20,7 +20,7 @@ use shapewright::sculpt::{BrushPose, HalfEdgeMesh, SculptBase, SculptCreate, Scu
 
 #[path = "fixtures/sculpt_stroke.rs"]
 mod stroke;
-use stroke::{pct, run_frames, samples, settings, Run, FRAMES};
+use stroke::{frame_input, pct, run_frames, samples, settings, Run, FRAMES};
 
 /// Repetitions of the stroke; each frame's cost is deterministic, so the
 /// per-frame minimum over repetitions filters out time spent preempted on
@@ -181,22 +181,7 @@ fn main() {
                     sc2 = fresh();
                     frame = 0;
                 }
-                let pose = |k: usize| BrushPose {
-                    position: DVec3::from_array(smp[k].position),
-                    rotation: DQuat::from_array(smp[k].rotation),
-                    scale: 1.0,
-                };
-                let input = FrameInput {
-                    shape: &s2m.brush,
-                    prev: pose(frame.saturating_sub(1)),
-                    pose: pose(frame),
-                    pressure: 1.0,
-                    influence: s2m.influence,
-                    falloff: s2m.falloff,
-                    warp: s2m.warp,
-                    max_len: s2m.max_edge_rel * size2,
-                    min_len: s2m.min_edge_rel * size2,
-                };
+                let input = frame_input(&s2m, &smp, frame, size2);
                 let t = Instant::now();
                 black_box(sc2.apply_frame(&input));
                 total += t.elapsed();
