@@ -46,6 +46,7 @@ use crate::interact::gesture::similarity::Similarity;
 use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
 use crate::interact::input::{Hand, Pose};
 use crate::interact::palette::ChoiceGroup;
+use crate::interact::tools::lost_too_long;
 use crate::interact::tools::{object_label, BrushPreview, Preview, Tool, ToolContext};
 
 /// Cells across the largest side of a brush made from an object.
@@ -465,8 +466,7 @@ impl BrushTool {
             return s.op();
         }
         let Some(grip) = d.grip.filter(|_| d.tracked) else {
-            let since = *s.lost_since.get_or_insert(cx.frame.time);
-            if cx.frame.time - since > self.settings.grace {
+            if lost_too_long(&mut s.lost_since, cx.frame.time, self.settings.grace) {
                 return s.op();
             }
             self.stroke = Some(s);

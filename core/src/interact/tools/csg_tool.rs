@@ -68,6 +68,7 @@ use crate::interact::gesture::similarity::Similarity;
 use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
 use crate::interact::input::{Hand, Pose};
 use crate::interact::palette::ChoiceGroup;
+use crate::interact::tools::lost_too_long;
 use crate::interact::tools::pick::{pick, Ray};
 use crate::interact::tools::{
     object_label, MovingPreview, OperandPreview, Preview, PreviewRay, Tool, ToolContext,
@@ -711,8 +712,7 @@ impl CsgTool {
             return self.commit_drag(&d);
         }
         if !now.tracked || now.grip.is_none() {
-            let since = *d.lost_since.get_or_insert(cx.frame.time);
-            if cx.frame.time - since > self.settings.grace {
+            if lost_too_long(&mut d.lost_since, cx.frame.time, self.settings.grace) {
                 self.preview.csg_mut().moving_operand = None;
                 return None;
             }
@@ -772,8 +772,7 @@ impl CsgTool {
             return d.op().map(ScriptCommand::Op);
         }
         if !now.tracked || now.grip.is_none() {
-            let since = *d.lost_since.get_or_insert(cx.frame.time);
-            if cx.frame.time - since > self.settings.grace {
+            if lost_too_long(&mut d.lost_since, cx.frame.time, self.settings.grace) {
                 self.preview.moving = None;
                 return None;
             }
@@ -820,8 +819,7 @@ impl CsgTool {
             return self.commit_scale(&s);
         }
         if inputs.iter().any(|i| !i.tracked || i.grip.is_none()) {
-            let since = *s.lost_since.get_or_insert(cx.frame.time);
-            if cx.frame.time - since > self.settings.grace {
+            if lost_too_long(&mut s.lost_since, cx.frame.time, self.settings.grace) {
                 self.preview.csg_mut().moving_operand = None;
                 return None;
             }

@@ -75,6 +75,7 @@ use crate::styling::{
 
 use crate::interact::input::{Hand, Pose};
 use crate::interact::palette::ChoiceGroup;
+use crate::interact::tools::lost_too_long;
 use crate::interact::tools::{Preview, PreviewRay, Tool, ToolContext, ToolPreview};
 
 /// Settings of the curve tool. Lengths are metres in the world.
@@ -665,8 +666,7 @@ impl CurveNetworkTool {
         }
         let tip = self.tip(cx, &now).filter(|_| now.tracked);
         let Some((p, _)) = tip else {
-            let since = *s.lost_since.get_or_insert(t);
-            if t - since > self.settings.grace {
+            if lost_too_long(&mut s.lost_since, t, self.settings.grace) {
                 self.stroke = None;
                 self.show_stroke();
                 return None;

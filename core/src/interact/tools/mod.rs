@@ -241,6 +241,13 @@ pub trait Tool {
     }
 }
 
+/// Lost tracking during a gesture: starts the clock at `now` if it is not
+/// running and says whether the loss has lasted longer than `grace`
+/// seconds (time to give the gesture up; until then the tool waits).
+pub(crate) fn lost_too_long(lost_since: &mut Option<f64>, now: f64, grace: f64) -> bool {
+    now - *lost_since.get_or_insert(now) > grace
+}
+
 /// Applies a command to the log.
 pub fn apply_command(log: &mut OpLog, cmd: &ScriptCommand) -> Result<(), LogError> {
     match cmd {

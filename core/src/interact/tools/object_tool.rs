@@ -59,6 +59,7 @@ use crate::interact::gesture::Gesture;
 use crate::interact::input::{Hand, Joint, Pose};
 use crate::interact::palette::{ChoiceGroup, Snap};
 use crate::interact::snap::{snap_to_objects, ObjectSnap};
+use crate::interact::tools::lost_too_long;
 use crate::interact::tools::pick::{pick, Ray};
 use crate::interact::tools::{MovingPreview, Preview, PreviewRay, Tool, ToolContext, ToolPreview};
 
@@ -382,8 +383,7 @@ impl ObjectTool {
             .iter()
             .any(|(h, _)| !inputs[h.index()].tracked || inputs[h.index()].grip.is_none());
         if lost {
-            let since = *drag.lost_since.get_or_insert(t);
-            if t - since > self.settings.grace {
+            if lost_too_long(&mut drag.lost_since, t, self.settings.grace) {
                 self.preview.moving = None;
                 return None;
             }

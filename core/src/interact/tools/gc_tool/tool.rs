@@ -67,6 +67,7 @@ use crate::interact::gesture::similarity::Similarity;
 use crate::interact::gesture::Gesture;
 use crate::interact::input::{Hand, Joint, Pose};
 use crate::interact::palette::ChoiceGroup;
+use crate::interact::tools::lost_too_long;
 use crate::interact::tools::pick::Ray;
 use crate::interact::tools::{Preview, PreviewRay, Tool, ToolContext};
 
@@ -727,8 +728,7 @@ impl Tool for GcTool {
         let out = if !h.tracked() {
             self.hold = None;
             self.preview.gc_mut().hold = 0.0;
-            let since = *self.lost_since.get_or_insert(t);
-            if t - since > s.grace {
+            if lost_too_long(&mut self.lost_since, t, s.grace) {
                 self.cancel();
             }
             None
