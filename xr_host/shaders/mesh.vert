@@ -16,7 +16,9 @@ layout(location = 0) out vec3 v_normal;
 layout(location = 1) out vec3 v_to_eye;
 void main() {
     vec4 world = pc.model * vec4(in_pos, 1.0);
-    v_normal = mat3(pc.model) * in_normal;
+    // The normal matrix: a drag preview scaled along one axis keeps its
+    // shading right (the model matrix is not always a similarity).
+    v_normal = transpose(inverse(mat3(pc.model))) * in_normal;
     v_to_eye = views.eye[gl_ViewIndex].xyz - world.xyz;
     gl_Position = views.view_proj[gl_ViewIndex] * world;
 }

@@ -33,14 +33,14 @@
 //! Tools come from [`interact::tool_named`], so every tool the core
 //! registers is available to `--tool` without a list here.
 
-use std::ops::Deref;
+use std::ops::{Deref, Range};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use glam::{DMat4, Mat4};
-use shapewright::doc::{Document, OpLog, ScriptCommand};
+use shapewright::doc::{Document, ObjectId, OpLog, ScriptCommand};
 use shapewright::interact::{
     self, apply_command, tool_named, SanitizerStats, Session, Similarity, TraceError,
 };
@@ -146,31 +146,56 @@ enum Job {
 struct Committed {
     /// The document after the command (unchanged when it was refused).
     doc: Document,
-    /// Its combined mesh (None: empty document).
-    mesh: Option<Arc<TriMesh>>,
+    /// Its combined mesh (None: empty document) and each object's
+    /// triangles in it.
+    mesh: DrawnDocument,
     error: Option<String>,
     ms: f64,
 }
 
-fn document_mesh(doc: &Document) -> Option<Arc<TriMesh>> {
-    (!doc.is_empty()).then(|| {
-        let mut m = doc.combined_mesh();
-        m.compute_normals();
-        Arc::new(m)
-    })
+/// The document as drawn: every object in one mesh (None: empty
+/// document), and each object's range of triangles in it, so the
+/// renderer can leave the dragged object out without new mesh work.
+#[derive(Default)]
+struct DrawnDocument {
+    mesh: Option<Arc<TriMesh>>,
+    objects: Vec<(ObjectId, Range<u32>)>,
 }
 
-/// The document without `hidden` (the object being dragged: its preview
-/// stands in for it, so the two never overlap on screen).
-fn document_mesh_without(doc: &Document, hidden: shapewright::doc::ObjectId) -> Arc<TriMesh> {
+fn document_mesh(doc: &Document) -> DrawnDocument {
+    if doc.is_empty() {
+        return DrawnDocument::default();
+    }
     let mut m = TriMesh::default();
+    let mut objects = Vec::with_capacity(doc.len());
     for (id, o) in doc.objects() {
-        if id != hidden {
-            m.append(&o.mesh);
-        }
+        let first = m.triangles.len() as u32;
+        m.append(&o.mesh);
+        objects.push((id, first..m.triangles.len() as u32));
     }
     m.compute_normals();
-    Arc::new(m)
+    DrawnDocument {
+        mesh: Some(Arc::new(m)),
+        objects,
+    }
+}
+
+/// `mesh` with normals (for the renderer's smooth shading), computed once
+/// per mesh: `cache` keeps the last source and its result.
+fn with_normals(
+    cache: &mut Option<(Arc<TriMesh>, Arc<TriMesh>)>,
+    mesh: Arc<TriMesh>,
+) -> Arc<TriMesh> {
+    if let Some((src, out)) = cache {
+        if Arc::ptr_eq(src, &mesh) {
+            return Arc::clone(out);
+        }
+    }
+    let mut m = (*mesh).clone();
+    m.compute_normals();
+    let out = Arc::new(m);
+    *cache = Some((mesh, Arc::clone(&out)));
+    out
 }
 
 /// How often the commit thread checks the autosave timer when idle.
@@ -193,7 +218,11 @@ fn commit_loop(shared: Arc<Mutex<Shared>>, jobs: Receiver<Job>, done: Sender<Com
                         let mesh = document_mesh(&doc);
                         (doc, mesh, None)
                     }
-                    Err(e) => (s.log.document().clone(), None, Some(e.to_string())),
+                    Err(e) => (
+                        s.log.document().clone(),
+                        DrawnDocument::default(),
+                        Some(e.to_string()),
+                    ),
                 };
                 drop(guard);
                 let ms = t0.elapsed().as_secs_f64() * 1e3;
@@ -261,8 +290,8 @@ pub struct Interaction {
     font: Font,
     /// The last refused edit and the frame time it came back at.
     refused: Option<(String, f64)>,
-    /// The object left out of the drawn document (being dragged).
-    hidden: Option<shapewright::doc::ObjectId>,
+    /// The last preview source mesh and it with normals.
+    preview_cache: Option<(Arc<TriMesh>, Arc<TriMesh>)>,
 }
 
 const RAY_COLORS: [[f32; 3]; 2] = [[0.3, 0.6, 1.0], [1.0, 0.5, 0.2]];
@@ -270,7 +299,11 @@ const HIT_COLOR: [f32; 3] = [0.3, 1.0, 0.4];
 const SKETCH_COLOR: [f32; 3] = [1.0, 0.9, 0.2];
 
 fn to_mat4(s: &Similarity) -> Mat4 {
-    Mat4::from_cols_array(&DMat4::from(s.to_affine()).to_cols_array().map(|x| x as f32))
+    affine_to_mat4(s.to_affine())
+}
+
+fn affine_to_mat4(a: glam::DAffine3) -> Mat4 {
+    Mat4::from_cols_array(&DMat4::from(a).to_cols_array().map(|x| x as f32))
 }
 
 impl Interaction {
@@ -295,9 +328,11 @@ impl Interaction {
     ) -> Result<Self, InteractionError> {
         let model = *session.model();
         let doc = log.document().clone();
+        let drawn = document_mesh(&doc);
         let scene = Scene {
             version: 1,
-            document: document_mesh(&doc),
+            document: drawn.mesh,
+            document_objects: drawn.objects,
             model_to_world: to_mat4(&model),
             ..Default::default()
         };
@@ -328,7 +363,7 @@ impl Interaction {
             ray_hit: [false; 2],
             font: Font::bundled(),
             refused: None,
-            hidden: None,
+            preview_cache: None,
         })
     }
 
@@ -416,10 +451,9 @@ impl Interaction {
             }
             None => {
                 self.doc = c.doc;
-                self.scene.document = c.mesh;
+                self.scene.document = c.mesh.mesh;
+                self.scene.document_objects = c.mesh.objects;
                 self.scene.version += 1;
-                // A drag still in progress keeps its object hidden.
-                self.hidden = None;
                 for (h, _) in hands.iter().enumerate().filter(|(_, &on)| on) {
                     self.haptics.push(Haptic {
                         hand: h,
@@ -459,23 +493,24 @@ impl Interaction {
     fn update_preview(&mut self) {
         let p = self.session.preview();
         // While an object is dragged, the document is drawn without it.
-        let moving = p.moving.as_ref().map(|m| m.id);
-        if moving != self.hidden {
-            self.hidden = moving;
-            self.scene.document = match moving {
-                Some(id) => Some(document_mesh_without(&self.doc, id)),
-                None => document_mesh(&self.doc),
-            };
-            self.scene.version += 1;
+        self.scene.hidden = p.moving.as_ref().map(|m| m.id);
+        // The dragged object where it would land (its own mesh, moved by
+        // the renderer), or the GC part as the gesture would leave it.
+        let (source, motion) = match p.preview_motion(&self.doc) {
+            Some((m, a)) => (Some(m), affine_to_mat4(a)),
+            None => (p.gc().and_then(|g| g.mesh.clone()), Mat4::IDENTITY),
+        };
+        let preview = source.map(|m| with_normals(&mut self.preview_cache, m));
+        let same = match (&preview, &self.scene.preview) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        if !same {
+            self.scene.preview_version += 1;
         }
-        // The dragged object where it would land, or the GC part as the
-        // gesture would leave it.
-        let gc_mesh = p.gc().and_then(|g| g.mesh.clone());
-        self.scene.preview = p.preview_mesh(&self.doc).or(gc_mesh).map(|m| {
-            let mut m = Arc::unwrap_or_clone(m);
-            m.compute_normals();
-            Arc::new(m)
-        });
+        self.scene.preview = preview;
+        self.scene.preview_motion = motion;
         let lines = &mut self.scene.lines;
         lines.clear();
         let v = |p: glam::DVec3, color| LineVertex {

@@ -186,6 +186,7 @@ pub fn render_mesh(
         mesh: &gpu,
         model: Mat4::IDENTITY,
         color: [r, g, b, 1.0],
+        hidden: None,
     };
     Ok(target.render(
         &cams,
@@ -264,21 +265,39 @@ pub fn render_scene(
         .as_ref()
         .map(|m| r.upload_mesh(m))
         .transpose()?;
-    let mut draws = Vec::new();
-    for (mesh, color) in [(doc.as_ref(), DOC_COLOR), (preview.as_ref(), PREVIEW_COLOR)] {
-        if let Some(mesh) = mesh {
-            draws.push(MeshDraw {
-                mesh,
-                model: scene.model_to_world,
-                color,
-            });
-        }
-    }
+    let draws = scene_draws(scene, doc.as_ref(), preview.as_ref());
     let upload = |v: &[LineVertex]| (!v.is_empty()).then(|| r.upload_lines(v)).transpose();
     let ui = upload(&scene.ui)?;
     let lines = upload(&scene.lines)?;
     let mut images = target.render(&[cam], CLEAR, &draws, ui.as_ref(), lines.as_ref())?;
     Ok(images.remove(0))
+}
+
+/// The draws of `scene`'s uploaded document and preview: the document
+/// without the hidden (dragged) object, the preview moved by the drag.
+pub fn scene_draws<'a>(
+    scene: &crate::gfx::Scene,
+    doc: Option<&'a crate::gfx::GpuMesh>,
+    preview: Option<&'a crate::gfx::GpuMesh>,
+) -> Vec<MeshDraw<'a>> {
+    let mut draws = Vec::new();
+    if let Some(mesh) = doc {
+        draws.push(MeshDraw {
+            mesh,
+            model: scene.model_to_world,
+            color: DOC_COLOR,
+            hidden: scene.hidden_vertices(),
+        });
+    }
+    if let Some(mesh) = preview {
+        draws.push(MeshDraw {
+            mesh,
+            model: scene.model_to_world * scene.preview_motion,
+            color: PREVIEW_COLOR,
+            hidden: None,
+        });
+    }
+    draws
 }
 
 /// The headset's background (opaque blend).

@@ -91,4 +91,31 @@ fn the_headset_view_shows_the_palette_with_labels_next_to_the_model() {
         })
         .count();
     assert!(model > 3000, "model: {model} pixels");
+    // The dragged shade is drawn once, as the yellow preview moved by the
+    // drag's matrix: the document leaves exactly its triangles out.
+    let moving = it.session().preview().moving.as_ref().unwrap().id;
+    let scene = it.scene().clone();
+    assert_eq!(scene.hidden, Some(moving));
+    let log = it.log();
+    let doc = log.document();
+    let mut next = 0;
+    for (id, r) in &scene.document_objects {
+        assert_eq!(r.start, next, "object ranges are contiguous");
+        let tris = doc.get(*id).unwrap().mesh.triangles.len() as u32;
+        assert_eq!(r.end - r.start, tris, "object {id:?}'s triangles");
+        next = r.end;
+    }
+    let drawn = scene.document.as_ref().unwrap().triangles.len() as u32;
+    assert_eq!(next, drawn, "every triangle belongs to one object");
+    let (a, b) = scene.hidden_vertices().unwrap();
+    let shade = doc.get(moving).unwrap().mesh.triangles.len() as u32;
+    assert_eq!(b - a, 3 * shade);
+    let yellow = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let [r, g, b, _] = img.pixel(x, y).unwrap();
+            r > 150 && g > 110 && (r as i32) > b as i32 + 50
+        })
+        .count();
+    assert!(yellow > 2000, "the dragged shade: {yellow} yellow pixels");
 }

@@ -45,6 +45,8 @@ pub struct MeshDraw<'a> {
     pub model: Mat4,
     /// Linear RGBA base color.
     pub color: [f32; 4],
+    /// Vertices `[a, b)` are not drawn (one object of a combined mesh).
+    pub hidden: Option<(u32, u32)>,
 }
 
 /// A line vertex: world position and linear RGB color. Consecutive pairs
@@ -59,7 +61,7 @@ pub struct LineVertex {
 }
 
 #[repr(C)]
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Default)]
 struct MeshVertex {
     pos: [f32; 3],
     normal: [f32; 3],
@@ -140,6 +142,9 @@ fn expand_vertices(mesh: &TriMesh) -> Vec<MeshVertex> {
     for t in &mesh.triangles {
         let idx = t.map(|i| i as usize);
         if idx.iter().any(|&i| i >= mesh.positions.len()) {
+            // Three (degenerate, invisible) vertices still, so triangle
+            // ranges stay vertex ranges (`MeshDraw::hidden`).
+            out.extend([MeshVertex::default(); 3]);
             continue;
         }
         let p = idx.map(|i| glam::DVec3::from_array(mesh.positions[i]));
@@ -583,7 +588,15 @@ impl Renderer {
             for d in meshes.iter().filter(|d| d.mesh.vertex_count > 0) {
                 self.push(cmd, d.model, d.color);
                 dev.cmd_bind_vertex_buffers(cmd, 0, &[d.mesh.vertices.handle()], &[0]);
-                dev.cmd_draw(cmd, d.mesh.vertex_count, 1, 0, 0);
+                let n = d.mesh.vertex_count;
+                let (a, b) = d
+                    .hidden
+                    .map_or((n, n), |(a, b)| (a.min(n), b.clamp(a.min(n), n)));
+                for (first, end) in [(0, a), (b, n)] {
+                    if end > first {
+                        dev.cmd_draw(cmd, end - first, 1, first, 0);
+                    }
+                }
             }
             if let Some(u) = ui.filter(|u| u.vertex_count > 0) {
                 dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.flat_pipeline);

@@ -161,6 +161,7 @@ pub struct Headset<'m> {
     stereo: Option<Stereo>,
     gpu_model: Option<(GpuMesh, Mat4)>,
     gpu_doc: Option<(u64, GpuMesh)>,
+    gpu_preview: Option<(u64, GpuMesh)>,
     submitted: u64,
 }
 
@@ -217,6 +218,7 @@ impl Graphics for Headset<'_> {
             None => None,
         };
         self.gpu_doc = None;
+        self.gpu_preview = None;
         self.stereo = Some(stereo);
         Ok(())
     }
@@ -329,6 +331,7 @@ impl Graphics for Headset<'_> {
         lines.extend(notice_lines(&messages, head));
         let gpu_model = &self.gpu_model;
         let gpu_doc = &mut self.gpu_doc;
+        let gpu_preview = &mut self.gpu_preview;
         let clear = if blend == xr::EnvironmentBlendMode::OPAQUE {
             crate::render::CLEAR
         } else {
@@ -355,30 +358,32 @@ impl Graphics for Headset<'_> {
                 Some(s) => Some(stereo.renderer.upload_lines(&s.ui)?),
                 None => None,
             };
-            let preview = match scene.and_then(|s| s.preview.as_ref()) {
-                Some(m) => Some(stereo.renderer.upload_mesh(m)?),
-                None => None,
-            };
-            let to_world = scene.map(|s| s.model_to_world).unwrap_or_default();
+            // The preview is uploaded again only when it is another mesh
+            // (a drag that only moves it changes its matrix).
+            if let Some(s) = scene {
+                let want = s.preview.as_ref().map(|_| s.preview_version);
+                if gpu_preview.as_ref().map(|p| p.0) != want {
+                    *gpu_preview = None;
+                    if let (Some(v), Some(m)) = (want, &s.preview) {
+                        *gpu_preview = Some((v, stereo.renderer.upload_mesh(m)?));
+                    }
+                }
+            }
             let mut draws: Vec<MeshDraw> = gpu_model
                 .iter()
                 .map(|(m, placement)| MeshDraw {
                     mesh: m,
                     model: *placement,
                     color: [0.55, 0.62, 0.75, 1.0],
+                    hidden: None,
                 })
                 .collect();
-            for (m, color) in [
-                (gpu_doc.as_ref().map(|d| &d.1), crate::render::DOC_COLOR),
-                (preview.as_ref(), crate::render::PREVIEW_COLOR),
-            ] {
-                if let Some(mesh) = m {
-                    draws.push(MeshDraw {
-                        mesh,
-                        model: to_world,
-                        color,
-                    });
-                }
+            if let Some(s) = scene {
+                draws.extend(crate::render::scene_draws(
+                    s,
+                    gpu_doc.as_ref().map(|d| &d.1),
+                    gpu_preview.as_ref().map(|p| &p.1),
+                ));
             }
             let Some(fb) = stereo.targets.framebuffer(index) else {
                 return Ok(());
@@ -438,6 +443,7 @@ impl Graphics for Headset<'_> {
         // GPU objects first, then the swapchain, then the frame protocol.
         self.gpu_model = None;
         self.gpu_doc = None;
+        self.gpu_preview = None;
         self.stereo = None;
         self.stream = None;
         self.waiter = None;
@@ -466,6 +472,7 @@ pub fn run_headset(
         stereo: None,
         gpu_model: None,
         gpu_doc: None,
+        gpu_preview: None,
         submitted: 0,
     };
     let r = frame_loop::run(cfg, &mut gfx, sink);

@@ -23,7 +23,7 @@ mod tool_tests;
 use std::sync::Arc;
 
 use crate::doc::{Document, LogError, ObjectId, OpLog, ScriptCommand};
-use crate::math::{DVec3, Transform};
+use crate::math::{DAffine3, DVec3, Transform};
 use crate::mesh::TriMesh;
 use crate::solid::SolidShape;
 
@@ -194,9 +194,20 @@ impl Preview {
     /// placement is not the motion after the old one (a per-axis scale),
     /// from the old placement to the new one.
     pub fn preview_mesh(&self, doc: &Document) -> Option<Arc<TriMesh>> {
+        let (mesh, a) = self.preview_motion(doc)?;
+        let mut mesh = Arc::unwrap_or_clone(mesh);
+        mesh.transform(&a);
+        Some(Arc::new(mesh))
+    }
+
+    /// The object being dragged, as its document mesh (shared, not
+    /// copied) and the affine map that takes it to where it would land:
+    /// what [`Preview::preview_mesh`] applies. A renderer draws the mesh
+    /// with the map as its model matrix, so a drag costs no mesh work per
+    /// frame.
+    pub fn preview_motion(&self, doc: &Document) -> Option<(Arc<TriMesh>, DAffine3)> {
         let m = self.moving.as_ref()?;
         let obj = doc.get(m.id).ok()?;
-        let mut mesh = (*obj.mesh).clone();
         let base = obj.transform();
         let by_motion = m.motion.then_transform(&base).scale == m.transform.scale;
         let a = if by_motion {
@@ -204,8 +215,7 @@ impl Preview {
         } else {
             m.transform.to_affine().ok()? * base.to_affine().ok()?.inverse()
         };
-        mesh.transform(&a);
-        Some(Arc::new(mesh))
+        Some((Arc::clone(&obj.mesh), a))
     }
 }
 
