@@ -107,6 +107,7 @@ fn frame_times(n: u32) {
     log.apply(Op::SculptStroke(Edit::new(
         ObjectId(1),
         SculptStroke {
+            mirror: None,
             settings: s.clone(),
             samples: smp.clone(),
         },

@@ -199,6 +199,9 @@ fn circle(out: &mut Vec<LineVertex>, c: Vec3, u: Vec3, v: Vec3, r: f32, color: [
 const MARK: [f32; 3] = [1.0, 0.55, 0.15];
 const BRUSH: [f32; 3] = [0.5, 0.85, 1.0];
 const BONE: [f32; 3] = [0.75, 0.8, 0.85];
+const MIRROR: [f32; 3] = [0.85, 0.45, 1.0];
+/// Half the side of the drawn mirror plane (world metres).
+const MIRROR_HALF: f64 = 0.2;
 
 /// What the active tool acts on, as lines (world space): the GC tool's
 /// target (a cross at the key point, section or surface point; a ring
@@ -228,13 +231,39 @@ pub fn tool_marks(session: &Session, out: &mut Vec<LineVertex>) {
             }
         }
     }
+    let mirror = session.snap().mirror.map(|m| m.plane);
+    if let Some(m) = &mirror {
+        // The palette's mirror plane: a square with a cross through the
+        // point it was placed at.
+        let n = model
+            .apply_dir(DVec3::from_array(m.normal))
+            .normalize_or_zero();
+        let c = model.apply(DVec3::from_array(m.point));
+        let u = n.any_orthonormal_vector();
+        let v = n.cross(u);
+        let at = |a: f64, b: f64| (c + (u * a + v * b) * MIRROR_HALF).as_vec3();
+        for (a, b) in [
+            ((-1.0, -1.0), (1.0, -1.0)),
+            ((1.0, -1.0), (1.0, 1.0)),
+            ((1.0, 1.0), (-1.0, 1.0)),
+            ((-1.0, 1.0), (-1.0, -1.0)),
+            ((-1.0, 0.0), (1.0, 0.0)),
+            ((0.0, -1.0), (0.0, 1.0)),
+        ] {
+            line(out, at(a.0, a.1), at(b.0, b.1), MIRROR);
+        }
+    }
     if let Some(Some(b)) = p.brush() {
-        let c = b.position.as_vec3();
         let r = b.radius as f32;
         let color = if b.stroking { MARK } else { BRUSH };
-        circle(out, c, Vec3::X, Vec3::Y, r, color);
-        circle(out, c, Vec3::Y, Vec3::Z, r, color);
-        circle(out, c, Vec3::Z, Vec3::X, r, color);
+        // The brush, and its mirror image where the mirrored stroke acts.
+        let image = mirror.map(|m| model.apply(m.point(model.inverse().apply(b.position))));
+        for c in std::iter::once(b.position).chain(image) {
+            let c = c.as_vec3();
+            circle(out, c, Vec3::X, Vec3::Y, r, color);
+            circle(out, c, Vec3::Y, Vec3::Z, r, color);
+            circle(out, c, Vec3::Z, Vec3::X, r, color);
+        }
     }
     if let Some(c) = p.curve() {
         // The curve point a Table 1 tool would act on, and the surface

@@ -587,3 +587,117 @@ fn a_dragged_part_snaps_onto_the_surface_below() {
         }
     }
 }
+
+/// The palette's mirror plane (issue 19, precision): "Mirror" cycles off,
+/// x, y, z (through the sculpt's origin), at the off hand, off. A stroke
+/// pulling the sphere's +x side out with the x plane set pulls the -x
+/// side out alike, in one op (one undo).
+#[test]
+fn the_palette_mirror_plane_mirrors_sculpt_strokes() {
+    use crate::interact::palette::MirrorMode;
+    let mut d = Driver::new(72.0, "object");
+    let id = sculpt_sphere(&mut d);
+    let mirror = |d: &mut Driver| {
+        d.pick(|i| i.action == crate::interact::PaletteAction::Mirror)
+            .unwrap();
+        d.session().snap().mirror
+    };
+    let m = mirror(&mut d).expect("mirror on");
+    assert_eq!(m.mode, MirrorMode::X);
+    let origin = DVec3::from_array(object(&d.log, id).transform().translate);
+    assert!(DVec3::from_array(m.plane.point).distance(origin) < 1e-12);
+    assert_eq!(m.plane.normal, [1.0, 0.0, 0.0]);
+    let label = |d: &Driver| {
+        d.session()
+            .palette()
+            .and_then(|v| {
+                v.items
+                    .iter()
+                    .find(|i| i.action == crate::interact::PaletteAction::Mirror)
+                    .map(|i| i.label.clone())
+            })
+            .unwrap_or_default()
+    };
+    d.sync();
+    assert_eq!(label(&d), "Mirror x");
+    // A pull on the +x side (the sphere: radius 10 cm at the model
+    // origin, world (0, 0.8, -0.5); model x is world x).
+    let at = DVec3::new(0.085, 0.8, -0.5);
+    let out = [DVec3::new(0.02, 0.0, 0.0), DVec3::new(0.04, 0.0, 0.0)];
+    let before = d.log.len();
+    stroke(&mut d, at, &out);
+    assert!(d.rejected.is_empty(), "{:?}", d.rejected);
+    assert_eq!(d.log.len(), before + 1, "one op for both sides");
+    let Op::SculptStroke(s) = last_op(&d) else {
+        panic!("no stroke: {:?}", d.commands.last())
+    };
+    assert_eq!(s.mirror.as_deref(), Some(&m.plane));
+    let (lo, hi) = object(&d.log, id).mesh.bbox().unwrap();
+    let (lo, hi) = (lo - origin, hi - origin);
+    println!("x reach: +{:.4} / -{:.4}", hi.x, -lo.x);
+    assert!(hi.x > 0.11, "pulled out: {}", hi.x);
+    assert!(
+        (hi.x + lo.x).abs() < 2e-3,
+        "both sides alike: {} {}",
+        hi.x,
+        lo.x
+    );
+    assert!(closed(&object(&d.log, id).mesh));
+    // The rest of the cycle.
+    assert_eq!(mirror(&mut d).unwrap().plane.normal, [0.0, 1.0, 0.0]);
+    assert_eq!(mirror(&mut d).unwrap().plane.normal, [0.0, 0.0, 1.0]);
+    let hand = mirror(&mut d).unwrap();
+    assert_eq!(hand.mode, MirrorMode::Hand);
+    let l = grip(&d, L);
+    let to_doc = d
+        .session()
+        .tool()
+        .preview()
+        .view
+        .unwrap_or(*d.session().model())
+        .inverse();
+    assert!(DVec3::from_array(hand.plane.point).distance(to_doc.apply(l.position)) < 1e-9);
+    let n = to_doc.apply_dir(l.orientation * DVec3::X).normalize();
+    assert!(DVec3::from_array(hand.plane.normal).distance(n) < 1e-9);
+    assert!(mirror(&mut d).is_none(), "and off again");
+    // Off: a stroke has no plane.
+    stroke(&mut d, at, &out);
+    let Op::SculptStroke(s) = last_op(&d) else {
+        panic!("no stroke: {:?}", d.commands.last())
+    };
+    assert_eq!(s.mirror, None);
+}
+
+/// The same palette plane mirrors the curve tool's strokes: a stroke
+/// drawn on the right gets a twin across model x = 0 (the empty
+/// document's centre), as the held symmetry plane gives.
+#[test]
+fn the_palette_mirror_plane_mirrors_drawn_curves() {
+    let mut d = Driver::new(72.0, "object");
+    d.pick_tool("curve").unwrap();
+    d.pick(|i| i.action == crate::interact::PaletteAction::Mirror)
+        .unwrap();
+    let plane = d.session().snap().mirror.unwrap().plane;
+    assert_eq!((plane.point, plane.normal), ([0.0; 3], [1.0, 0.0, 0.0]));
+    let path: Vec<DVec3> = (1..=8)
+        .map(|k| DVec3::new(0.015 * k as f64, 0.004 * k as f64, 0.0))
+        .collect();
+    stroke(&mut d, DVec3::new(0.05, 1.0, -0.4), &path);
+    d.puppet.wait(0.1);
+    d.sync();
+    assert!(d.rejected.is_empty(), "{:?}", d.rejected);
+    let draws: Vec<&Vec<[f64; 3]>> = d
+        .commands
+        .iter()
+        .filter_map(|c| match c {
+            ScriptCommand::Op(Op::CurveDraw(c)) => Some(&c.samples),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(draws.len(), 2, "{:?}", d.commands);
+    assert_eq!(draws[0].len(), draws[1].len());
+    assert!(draws[0].iter().all(|p| p[0] > 0.01), "drawn on the right");
+    for (a, b) in draws[0].iter().zip(draws[1]) {
+        assert!((a[0] + b[0]).abs() < 1e-9 && a[1] == b[1] && a[2] == b[2]);
+    }
+}

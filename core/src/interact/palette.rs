@@ -84,6 +84,9 @@ pub enum PaletteAction {
     Angle,
     /// Toggle snapping to other objects ([`crate::interact::snap`]).
     Objects,
+    /// Cycle the mirror plane: off, across x, y, z (through the active
+    /// tool's object), at the off hand, off ([`MirrorMode`]).
+    Mirror,
     /// A header: not pickable.
     None,
 }
@@ -104,6 +107,56 @@ pub struct Snap {
     /// Snap to other objects' centres, axes and surfaces
     /// ([`crate::interact::snap::snap_to_objects`]).
     pub objects: bool,
+    /// Mirror symmetry: strokes (sculpt, curves) are mirrored across this
+    /// plane (document space), placed through the palette.
+    pub mirror: Option<Mirror>,
+}
+
+/// How the mirror plane was placed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MirrorMode {
+    /// Across the document's x axis (a y-z plane).
+    X,
+    /// Across y.
+    Y,
+    /// Across z.
+    Z,
+    /// Through the off hand's grip, across its sideways (x) axis: the
+    /// plane the user holds the palette hand in when picking it.
+    Hand,
+}
+
+impl MirrorMode {
+    /// The next mode of the palette's cycle (`None`: mirror off).
+    pub fn next(mode: Option<MirrorMode>) -> Option<MirrorMode> {
+        match mode {
+            None => Some(Self::X),
+            Some(Self::X) => Some(Self::Y),
+            Some(Self::Y) => Some(Self::Z),
+            Some(Self::Z) => Some(Self::Hand),
+            Some(Self::Hand) => None,
+        }
+    }
+
+    /// The palette's label.
+    pub fn label(mode: Option<MirrorMode>) -> &'static str {
+        match mode {
+            None => "Mirror off",
+            Some(Self::X) => "Mirror x",
+            Some(Self::Y) => "Mirror y",
+            Some(Self::Z) => "Mirror z",
+            Some(Self::Hand) => "Mirror at hand",
+        }
+    }
+}
+
+/// A placed mirror plane and how it was placed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mirror {
+    /// How it was placed (the palette's label).
+    pub mode: MirrorMode,
+    /// The plane (document space).
+    pub plane: crate::math::MirrorPlane,
 }
 
 impl Snap {
@@ -322,6 +375,12 @@ pub fn layout(input: &LayoutInput) -> (Vec<PaletteItem>, [f64; 2]) {
         rect: cell(0, row, 2),
         active: snap.objects,
     });
+    items.push(PaletteItem {
+        action: PaletteAction::Mirror,
+        label: MirrorMode::label(snap.mirror.map(|m| m.mode)).to_string(),
+        rect: cell(2, row, 2),
+        active: snap.mirror.is_some(),
+    });
     row += 1;
     for (g, group) in input.groups.iter().enumerate() {
         items.push(PaletteItem {
@@ -476,7 +535,7 @@ mod tests {
         let s = Snap {
             grid: 0.01,
             angle: 15.0,
-            objects: false,
+            ..Snap::default()
         };
         let v = s.translate(DVec3::new(0.0149, -0.0251, 0.3));
         assert!((v - DVec3::new(0.01, -0.03, 0.3)).length() < 1e-12);

@@ -18,6 +18,7 @@
 //!   before the modeler, and tools under test).
 
 use crate::doc::{Document, ScriptCommand};
+use crate::math::MirrorPlane;
 
 use crate::interact::gesture::controller_hand::controller_hand;
 use crate::interact::gesture::similarity::Similarity;
@@ -26,8 +27,8 @@ use crate::interact::input::{
     ControllerButtons, Frame, Hand, HandJoints, InputFrame, Joint, Sanitizer,
 };
 use crate::interact::palette::{
-    self, facing, LayoutInput, PaletteAction, PaletteView, Snap, ANGLE_STEPS, GRID_STEPS, LIFT,
-    TOUCH,
+    self, facing, LayoutInput, Mirror, MirrorMode, PaletteAction, PaletteView, Snap, ANGLE_STEPS,
+    GRID_STEPS, LIFT, TOUCH,
 };
 use crate::interact::tools::{tool_named, Preview, Tool, ToolContext, UnknownTool, TOOL_NAMES};
 
@@ -295,11 +296,16 @@ impl Session {
             .map(|i| view.items[i].action);
         m.view = Some(view);
         let action = action?;
-        self.apply(action, doc)
+        self.apply(action, doc, frame)
     }
 
     /// Does what a picked item says.
-    fn apply(&mut self, action: PaletteAction, doc: &Document) -> Option<ScriptCommand> {
+    fn apply(
+        &mut self,
+        action: PaletteAction,
+        doc: &Document,
+        frame: &Frame,
+    ) -> Option<ScriptCommand> {
         let m = self.modeler.as_mut()?;
         match action {
             PaletteAction::Tool(i) if i < self.tools.len() => {
@@ -338,6 +344,25 @@ impl Session {
             }
             PaletteAction::Objects => {
                 m.snap.objects = !m.snap.objects;
+                None
+            }
+            PaletteAction::Mirror => {
+                let off = m.dominant.other().index();
+                let mut mode = m.snap.mirror.map(|x| x.mode);
+                // A mode that cannot be placed now (no off hand for "at
+                // hand") is passed over.
+                m.snap.mirror = loop {
+                    mode = MirrorMode::next(mode);
+                    let Some(next) = mode else { break None };
+                    let tool = &self.tools[self.active];
+                    let centre = tool.mirror_centre(doc);
+                    // The tool's own view of the model (the sculpt tool
+                    // turns it), else the session's.
+                    let model = tool.preview().view.unwrap_or(self.model);
+                    if let Some(plane) = mirror_plane(next, centre, doc, frame, off, &model) {
+                        break Some(Mirror { mode: next, plane });
+                    }
+                };
                 None
             }
             PaletteAction::Tool(_) | PaletteAction::None => None,
@@ -464,4 +489,48 @@ fn mask_buttons(frame: &mut Frame, hand: usize) {
 fn next_step(steps: &[f64], now: f64) -> f64 {
     let i = steps.iter().position(|s| *s == now).map_or(0, |i| i + 1);
     steps[i % steps.len()]
+}
+
+/// The mirror plane `mode` places (document space): across a document
+/// axis through `centre` (the active tool's object), else through the
+/// centre of the document's bounds, else the origin; or through the off
+/// hand's grip across its sideways axis. `None` when the off hand is not
+/// tracked for [`MirrorMode::Hand`].
+fn mirror_plane(
+    mode: MirrorMode,
+    centre: Option<glam::DVec3>,
+    doc: &Document,
+    frame: &Frame,
+    off: usize,
+    model: &Similarity,
+) -> Option<MirrorPlane> {
+    use glam::DVec3;
+    let centre = || {
+        centre
+            .or_else(|| {
+                let (lo, hi) = doc
+                    .objects()
+                    .filter_map(|(_, o)| o.mesh.bbox())
+                    .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))?;
+                Some((lo + hi) * 0.5)
+            })
+            .unwrap_or(DVec3::ZERO)
+    };
+    let (point, normal) = match mode {
+        MirrorMode::X => (centre(), DVec3::X),
+        MirrorMode::Y => (centre(), DVec3::Y),
+        MirrorMode::Z => (centre(), DVec3::Z),
+        MirrorMode::Hand => {
+            let grip = frame.controllers[off]
+                .as_ref()
+                .and_then(|c| c.grip)
+                .or_else(|| frame.hands[off].as_ref().and_then(|h| h.pose(Joint::Palm)))?;
+            let to_doc = model.inverse();
+            (
+                to_doc.apply(grip.position),
+                to_doc.apply_dir(grip.orientation * DVec3::X),
+            )
+        }
+    };
+    MirrorPlane::new(point, normal).ok()
 }

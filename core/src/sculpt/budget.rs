@@ -86,6 +86,39 @@ pub fn check_stroke(
     scale: f64,
     poses: &[(BrushPose, f64)],
 ) -> Result<(), SculptError> {
+    check_strokes(settings, scale, &[poses])
+}
+
+/// [`check_stroke`] for brushes moving together (a stroke and its mirror
+/// image): every frame of every path within the frame budget, their sum
+/// within the stroke's.
+pub fn check_strokes(
+    settings: &StrokeSettings,
+    scale: f64,
+    paths: &[&[(BrushPose, f64)]],
+) -> Result<(), SculptError> {
+    let mut total = 0.0;
+    for poses in paths {
+        total += path_work(settings, scale, poses)?;
+    }
+    if total.is_nan() || total > MAX_STROKE_WORK {
+        return Err(over(
+            "samples".into(),
+            "the triangles the stroke's frames refine, summed",
+            total,
+            MAX_STROKE_WORK,
+        ));
+    }
+    Ok(())
+}
+
+/// The triangles one path's frames refine, summed; an error when one
+/// frame is over the frame budget.
+fn path_work(
+    settings: &StrokeSettings,
+    scale: f64,
+    poses: &[(BrushPose, f64)],
+) -> Result<f64, SculptError> {
     let size = settings.brush_size() / scale;
     let max_len = settings.max_edge_rel * size;
     let h = settings.influence / scale;
@@ -134,15 +167,7 @@ pub fn check_stroke(
         }
         total += frame;
     }
-    if total.is_nan() || total > MAX_STROKE_WORK {
-        return Err(over(
-            "samples".into(),
-            "the triangles the stroke's frames refine, summed",
-            total,
-            MAX_STROKE_WORK,
-        ));
-    }
-    Ok(())
+    Ok(total)
 }
 
 /// The error of a stroke stopped by the hard face limit.

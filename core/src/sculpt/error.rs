@@ -106,4 +106,7 @@ pub enum SculptError {
     /// invariant; reported rather than panicking).
     #[error("half-edge mesh invalid: {0}")]
     Invalid(String),
+    /// The stroke's mirror plane is not a plane.
+    #[error(transparent)]
+    Mirror(#[from] crate::math::MirrorError),
 }

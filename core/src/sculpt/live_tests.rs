@@ -102,6 +102,7 @@ fn live_strokes_match_the_ops_and_incremental_buffers_match_rebuilt_ones() {
         log.apply(Op::SculptStroke(Edit::new(
             ObjectId(1),
             SculptStroke {
+                mirror: None,
                 settings: s,
                 samples,
             },

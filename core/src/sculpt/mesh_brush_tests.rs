@@ -30,6 +30,7 @@ fn stroke(id: u32, brush: BrushShape, brush_scale: f64, warp: Warp) -> Op {
     Op::SculptStroke(Edit::new(
         ObjectId(id),
         SculptStroke {
+            mirror: None,
             settings: s,
             samples: (0..4)
                 .map(|i| {

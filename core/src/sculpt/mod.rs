@@ -78,4 +78,6 @@ mod live_tests;
 #[cfg(test)]
 mod mesh_brush_tests;
 #[cfg(test)]
+mod mirror_tests;
+#[cfg(test)]
 mod tests;

@@ -14,10 +14,10 @@ use serde::{Deserialize, Serialize};
 use super::base::{geodesic_sphere, grid_box, sphere_frequency};
 use super::brush::{check_finite, positive, BrushPose, BrushShape};
 use super::halfedge::HalfEdgeMesh;
-use super::stroke::{run_stroke, Sculptor, StrokeSample, StrokeSettings};
+use super::stroke::{run_strokes, Sculptor, StrokeSample, StrokeSettings};
 use super::SculptError;
 use crate::id::ObjectId;
-use crate::math::Transform;
+use crate::math::{MirrorPlane, Transform};
 use crate::mesh::TriMesh;
 
 /// A sculpted surface placed by a transform (uniform scale: the model's
@@ -112,6 +112,11 @@ pub struct SculptStroke {
     pub settings: StrokeSettings,
     /// The sampled path, in world space.
     pub samples: Vec<StrokeSample>,
+    /// Mirror symmetry: a second brush follows the path's mirror image
+    /// across this plane (document space), frame by frame with the first
+    /// ([`crate::math::MirrorPlane`]). Absent: no mirror.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mirror: Option<Box<MirrorPlane>>,
 }
 
 /// The uniform positive scale of a sculpt's placement, or a typed error.
@@ -228,6 +233,15 @@ impl SculptStroke {
         brush_mesh: Option<&TriMesh>,
     ) -> Result<(), SculptError> {
         let (scale, poses) = stroke_poses(&target.transform, &self.settings, &self.samples)?;
+        let mirrored = match &self.mirror {
+            Some(m) => {
+                m.validate()?;
+                let samples: Vec<StrokeSample> =
+                    self.samples.iter().map(|s| s.mirrored(m)).collect();
+                Some(stroke_poses(&target.transform, &self.settings, &samples)?.1)
+            }
+            None => None,
+        };
         // A mesh brush becomes a grid here, from the document as it is
         // before this stroke (so replay rebuilds the same brush).
         let resolved;
@@ -245,7 +259,9 @@ impl SculptStroke {
         // twice the vertices within reach instead of about three times.
         let cell = 0.25 * (settings.brush_size() + settings.influence) / scale;
         let mut sculptor = Sculptor::new(target.surface.clone(), cell);
-        run_stroke(&mut sculptor, &settings.brush, settings, scale, &poses)?;
+        let mut paths = vec![poses.as_slice()];
+        paths.extend(mirrored.as_deref());
+        run_strokes(&mut sculptor, &settings.brush, settings, scale, &paths)?;
         target.surface = sculptor.into_mesh();
         Ok(())
     }

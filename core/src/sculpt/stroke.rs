@@ -3,7 +3,7 @@
 //! path ([`run_stroke`], what the `sculpt_stroke` op does) or one sample at
 //! a time as a host sculpts live ([`StrokeFrames`]), with the same bits.
 
-use glam::DQuat;
+use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::brush::{check_finite, positive, BrushPose, BrushShape};
@@ -25,6 +25,16 @@ pub struct StrokeSample {
 }
 
 impl StrokeSample {
+    /// The sample's mirror image across `m`: position reflected, the
+    /// brush frame mirrored ([`MirrorPlane::frame`]), same pressure.
+    pub fn mirrored(&self, m: &crate::math::MirrorPlane) -> Self {
+        Self {
+            position: m.point(DVec3::from_array(self.position)).to_array(),
+            rotation: m.frame(DQuat::from_array(self.rotation)).to_array(),
+            pressure: self.pressure,
+        }
+    }
+
     /// Checks the sample is finite, has a rotation and a pressure in [0, 1].
     pub fn validate(&self, index: usize) -> Result<(), SculptError> {
         check_finite(&format!("samples[{index}].position"), &self.position)?;
@@ -177,16 +187,47 @@ pub fn run_stroke(
     model_scale: f64,
     poses: &[(BrushPose, f64)],
 ) -> Result<FrameStats, SculptError> {
-    super::budget::check_stroke(settings, model_scale, poses)?;
+    run_strokes(sculptor, shape, settings, model_scale, &[poses])
+}
+
+/// Several brushes moving together, one path each (a stroke and its
+/// mirror image): frame `i` of every path in path order, then frame
+/// `i + 1`, so where the brushes meet (near a mirror plane) each sees
+/// the other's work of the frame before, as both hands would live. One
+/// path is exactly [`run_stroke`]. The budget counts every path's frames.
+pub fn run_strokes(
+    sculptor: &mut Sculptor,
+    shape: &BrushShape,
+    settings: &StrokeSettings,
+    model_scale: f64,
+    paths: &[&[(BrushPose, f64)]],
+) -> Result<FrameStats, SculptError> {
+    super::budget::check_strokes(settings, model_scale, paths)?;
     let limit = super::budget::face_limit(sculptor.mesh().face_count());
     sculptor.set_face_limit(limit);
-    let mut frames = StrokeFrames::begin(sculptor, shape, settings, model_scale);
-    for &(pose, pressure) in poses {
-        frames.frame(sculptor, pose, pressure);
-        if sculptor.over_budget() {
-            let faces = sculptor.mesh().face_count();
-            return Err(super::budget::too_many_faces(faces, limit));
+    let mut frames: Vec<StrokeFrames> = paths
+        .iter()
+        .map(|_| StrokeFrames::begin(sculptor, shape, settings, model_scale))
+        .collect();
+    let n = paths.iter().map(|p| p.len()).max().unwrap_or(0);
+    for i in 0..n {
+        for (f, path) in frames.iter_mut().zip(paths) {
+            let Some(&(pose, pressure)) = path.get(i) else {
+                continue;
+            };
+            f.frame(sculptor, pose, pressure);
+            if sculptor.over_budget() {
+                let faces = sculptor.mesh().face_count();
+                return Err(super::budget::too_many_faces(faces, limit));
+            }
         }
     }
-    Ok(frames.total())
+    let mut total = FrameStats::default();
+    for f in &frames {
+        let t = f.total();
+        total.moved += t.moved;
+        total.splits += t.splits;
+        total.collapses += t.collapses;
+    }
+    Ok(total)
 }

@@ -304,6 +304,7 @@ fn stroke_op(id: u32, warp: Warp, z: f64) -> Op {
     Op::SculptStroke(Edit::new(
         ObjectId(id),
         SculptStroke {
+            mirror: None,
             settings: settings(BrushShape::Sphere { radius: 0.25 }, 0.3, warp),
             samples: (0..6)
                 .map(|i| {

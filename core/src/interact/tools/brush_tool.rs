@@ -199,6 +199,8 @@ struct Stroke {
     /// Minimum spacing of kept samples (model units).
     spacing: f64,
     lost_since: Option<f64>,
+    /// The palette's mirror plane at the press (per stroke, like snapping).
+    mirror: Option<Box<crate::math::MirrorPlane>>,
 }
 
 impl Stroke {
@@ -227,6 +229,7 @@ impl Stroke {
             SculptStroke {
                 settings: self.settings,
                 samples: self.samples,
+                mirror: self.mirror,
             },
         ))))
     }
@@ -506,6 +509,7 @@ impl BrushTool {
                     last: first,
                     spacing,
                     lost_since: None,
+                    mirror: cx.snap.mirror.map(|m| Box::new(m.plane)),
                 });
                 return None;
             }
@@ -578,6 +582,11 @@ impl Tool for BrushTool {
         });
         remember(&mut self.prev, &inputs);
         out
+    }
+
+    fn mirror_centre(&self, doc: &Document) -> Option<DVec3> {
+        let id = sculpt_target(doc)?;
+        Some(DVec3::from_array(doc.get(id).ok()?.transform().translate))
     }
 
     fn cancel(&mut self) {

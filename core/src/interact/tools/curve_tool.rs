@@ -541,7 +541,15 @@ impl CurveNetworkTool {
         let other = pens[o];
         let offered = Self::held_plane(cx, &other);
         let plane = offered.filter(|_| other.grab);
-        let symmetry = offered.filter(|_| other.trigger && !other.grab);
+        // The held plane while the off trigger is held, else the palette's.
+        let symmetry = offered
+            .filter(|_| other.trigger && !other.grab)
+            .or_else(|| {
+                cx.snap.mirror.map(|m| DrawPlane {
+                    origin: DVec3::from_array(m.plane.point),
+                    normal: DVec3::from_array(m.plane.normal),
+                })
+            });
         self.preview.highlighted = target
             .filter(|t| t.tool.is_some())
             .map(|t| t.network)

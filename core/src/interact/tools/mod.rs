@@ -237,6 +237,13 @@ pub trait Tool {
     fn uses_hands(&self) -> bool {
         false
     }
+    /// Where the palette's axis mirror planes go through for this tool
+    /// (document space): the object it works on. `None`: the centre of
+    /// the document.
+    fn mirror_centre(&self, doc: &Document) -> Option<DVec3> {
+        let _ = doc;
+        None
+    }
     /// The choices the palette shows for this tool (shape type, component,
     /// brush, ...), each with its active option.
     fn choices(&self) -> Vec<ChoiceGroup> {
