@@ -323,14 +323,12 @@ impl Sculptor {
         self.region.clear();
         let eval_pose = if f.warp == Warp::Drag { f.prev } else { f.pose };
         let reach = f.shape.bound_radius() * eval_pose.scale + f.influence;
-        let r = DVec3::splat(reach);
         let mut cand = std::mem::take(&mut self.cand);
-        self.grid.query(
-            eval_pose.position - r,
-            eval_pose.position + r,
-            &mut cand,
-            &mut self.cand_scratch,
-        );
+        // The cells the reach's ball meets: the warp below skips every
+        // vertex outside the ball, so leaving out the other cells of its
+        // box changes no move.
+        self.grid
+            .query_ball(eval_pose.position, reach, &mut cand, &mut self.cand_scratch);
         let inc = DragIncrement {
             from: f.prev.position,
             to: f.pose.position,
