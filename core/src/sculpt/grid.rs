@@ -96,6 +96,67 @@ impl VertexGrid {
         }
     }
 
+    /// Fills `out` with every vertex whose cell meets the ball of `radius`
+    /// around `center` (a superset of the vertices inside the ball), sorted
+    /// by id; `scratch` is sorting space. Against [`Self::query`] on the
+    /// ball's box this leaves out the cells in the box's corners: for a
+    /// brush on a flat patch of surface, the square around its disc holds
+    /// 4/π as many vertices as the disc, and every candidate costs a
+    /// position load and a slot in the sort.
+    pub fn query_ball(
+        &self,
+        center: DVec3,
+        radius: f64,
+        out: &mut Vec<VertId>,
+        scratch: &mut Vec<VertId>,
+    ) {
+        out.clear();
+        let r = DVec3::splat(radius);
+        let a = self.key(center - r);
+        let b = self.key(center + r);
+        // In cell units a vertex at `p` is in cell `k = floor(p / cell)`,
+        // so `p / cell` lies in [k, k + 1]; a cell is skipped when that box
+        // is farther than the radius (plus a margin for the rounding of
+        // the divisions) from `center / cell`.
+        let c = center / self.cell;
+        let rc = radius / self.cell;
+        let reach2 = (rc * (1.0 + 1e-9) + 1e-6).powi(2);
+        let far = |k: &[i32; 3]| {
+            let mut d2 = 0.0;
+            for i in 0..3 {
+                let lo = k[i] as f64;
+                let d = (lo - c[i]).max(c[i] - (lo + 1.0)).max(0.0);
+                d2 += d * d;
+            }
+            d2 > reach2
+        };
+        let ncell = (0..3)
+            .map(|i| (b[i] as i64 - a[i] as i64 + 1).max(0) as u64)
+            .fold(1u64, |acc, s| acc.saturating_mul(s));
+        if ncell as usize > self.cells.len() {
+            for (k, bucket) in &self.cells {
+                if (0..3).all(|i| k[i] >= a[i] && k[i] <= b[i]) && !far(k) {
+                    out.extend(bucket.iter().map(|&v| VertId(v)));
+                }
+            }
+        } else {
+            for z in a[2]..=b[2] {
+                for y in a[1]..=b[1] {
+                    for x in a[0]..=b[0] {
+                        let k = [x, y, z];
+                        if far(&k) {
+                            continue;
+                        }
+                        if let Some(bucket) = self.cells.get(&k) {
+                            out.extend(bucket.iter().map(|&v| VertId(v)));
+                        }
+                    }
+                }
+            }
+        }
+        sort_by_u32(out, scratch, |v| v.0);
+    }
+
     /// Fills `out` with every vertex whose cell meets the box `[lo, hi]`
     /// (a superset of the vertices inside the box), sorted by id so the
     /// result never depends on bucket order; `scratch` is sorting space.
@@ -125,5 +186,53 @@ impl VertexGrid {
             }
         }
         sort_by_u32(out, scratch, |v| v.0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sculpt::base::geodesic_sphere;
+
+    /// The ball query returns, sorted, every vertex inside the ball and
+    /// only vertices of the ball's box, for balls at and off the surface,
+    /// large and small against the cells, and after vertices moved.
+    #[test]
+    fn ball_query_covers_the_ball_within_the_box() {
+        let mut mesh = HalfEdgeMesh::from_trimesh(&geodesic_sphere(1.0, 24), "t").unwrap();
+        let mut grid = VertexGrid::build(&mesh, 0.07, 0);
+        let verts: Vec<VertId> = mesh.vertices().collect();
+        for (i, &v) in verts.iter().enumerate().filter(|(i, _)| i % 7 == 0) {
+            let p = mesh.position(v) * (1.0 + 0.05 * ((i % 5) as f64 - 2.0));
+            mesh.set_position(v, p);
+            grid.update(v, p);
+        }
+        let (mut out, mut boxed, mut s) = (Vec::new(), Vec::new(), Vec::new());
+        let centers = [
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(0.3, -0.2, 0.9),
+            DVec3::new(0.7, 0.7, 0.0),
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(-0.0350001, 0.07, -1.0),
+        ];
+        for c in centers {
+            for r in [0.01, 0.07, 0.2, 0.5, 3.0] {
+                grid.query_ball(c, r, &mut out, &mut s);
+                assert!(out.windows(2).all(|w| w[0] < w[1]), "sorted, no repeats");
+                let inside: Vec<VertId> = verts
+                    .iter()
+                    .copied()
+                    .filter(|&v| mesh.position(v).distance_squared(c) <= r * r)
+                    .collect();
+                for v in &inside {
+                    assert!(out.binary_search(v).is_ok(), "{v:?} missed at {c} r {r}");
+                }
+                grid.query(c - DVec3::splat(r), c + DVec3::splat(r), &mut boxed, &mut s);
+                assert!(out.iter().all(|v| boxed.binary_search(v).is_ok()));
+                if (0.2..=0.5).contains(&r) && c.length() > 0.5 {
+                    assert!(out.len() < boxed.len(), "corner cells skipped at {c} r {r}");
+                }
+            }
+        }
     }
 }

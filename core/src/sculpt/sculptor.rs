@@ -312,7 +312,25 @@ impl Sculptor {
 
     /// Applies one frame: warps the vertices within `h` of the brush, then
     /// adapts the resolution in the touched region.
+    ///
+    /// The frame runs inside rayon's pool as one job: its parallel passes
+    /// are then joins between pool threads, where a chunk no other thread
+    /// has taken is run by the thread that queued it. Called from outside
+    /// the pool, each pass would instead queue its work and block until a
+    /// pool thread woke up to take it: a handful of thread hand-offs per
+    /// frame, each a scheduler wake-up that on a busy machine (cores shared
+    /// with the renderer and other processes) costs up to a time slice,
+    /// the frame-time spikes of the bench stroke. The chunks and their
+    /// order do not change, so neither do the bits.
     pub fn apply_frame(&mut self, f: &FrameInput) -> FrameStats {
+        if rayon::current_thread_index().is_some() {
+            return self.frame_in_pool(f);
+        }
+        rayon::scope(|_| self.frame_in_pool(f))
+    }
+
+    /// [`Self::apply_frame`]'s work, on a pool thread.
+    fn frame_in_pool(&mut self, f: &FrameInput) -> FrameStats {
         self.frame_stamp = self.frame_stamp.wrapping_add(1).max(1);
         if self.frame_stamp == 1 {
             self.frame_mark.fill(0);
@@ -323,14 +341,12 @@ impl Sculptor {
         self.region.clear();
         let eval_pose = if f.warp == Warp::Drag { f.prev } else { f.pose };
         let reach = f.shape.bound_radius() * eval_pose.scale + f.influence;
-        let r = DVec3::splat(reach);
         let mut cand = std::mem::take(&mut self.cand);
-        self.grid.query(
-            eval_pose.position - r,
-            eval_pose.position + r,
-            &mut cand,
-            &mut self.cand_scratch,
-        );
+        // The cells the reach's ball meets: the warp below skips every
+        // vertex outside the ball, so leaving out the other cells of its
+        // box changes no move.
+        self.grid
+            .query_ball(eval_pose.position, reach, &mut cand, &mut self.cand_scratch);
         let inc = DragIncrement {
             from: f.prev.position,
             to: f.pose.position,
