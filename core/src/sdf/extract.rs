@@ -77,7 +77,6 @@ impl Piece {
 const N: usize = BRICK as usize + 1;
 /// Slots of edge vertices in a brick's vertex table (see [`Piece`]).
 pub const EDGE_SLOTS: u32 = (N * N * N * 3) as u32;
-const SLOTS: usize = EDGE_SLOTS as usize + BRICK_LEN * 4;
 
 /// The gradient of the trilinear interpolant of a cell's samples `c`
 /// (corner `i` at offset `(i & 1, i >> 1 & 1, i >> 2 & 1)`) at the local
@@ -114,39 +113,50 @@ fn unit_or_z(g: [f64; 3]) -> [f64; 3] {
     }
 }
 
-/// Per-thread scratch of brick extraction: the 9³ block, the vertex
-/// table (reset by a generation stamp instead of clearing) and the
-/// temporary buffers, reused from brick to brick.
+/// Marks a shared vertex's id while a brick is extracted (the shared
+/// vertices are numbered after the owned ones once their count is known).
+const SHARED_ID: u32 = 1 << 31;
+
+/// Per-thread scratch of brick extraction: the 9³ block, its inside masks,
+/// the vertex id of every crossing edge slot and the temporary buffers,
+/// reused from brick to brick.
 struct Scratch {
     block: [f32; N * N * N],
-    stamp: Vec<u32>,
+    /// Per row `y + 9 z` of the block, bit `x` set for an inside sample.
+    rows: [u16; N * N],
+    /// Vertex id per edge slot; valid for the current brick's crossing
+    /// edges only (the only ones the cells ask for).
     id: Vec<u32>,
-    generation: u32,
-    slot: Vec<u32>,
+    slots: Vec<u32>,
     positions: Vec<[f64; 3]>,
+    normals: Vec<[f64; 3]>,
+    shared: Vec<(u8, u32)>,
+    shared_positions: Vec<[f64; 3]>,
     triangles: Vec<[u32; 3]>,
     feature_triangles: Vec<u32>,
-    order: Vec<u64>,
-    new_of_old: Vec<u32>,
 }
 
 thread_local! {
     static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch {
         block: [0.0; N * N * N],
-        stamp: vec![0; SLOTS],
-        id: vec![0; SLOTS],
-        generation: 0,
-        slot: Vec::new(),
+        rows: [0; N * N],
+        id: vec![0; EDGE_SLOTS as usize],
+        slots: Vec::new(),
         positions: Vec::new(),
+        normals: Vec::new(),
+        shared: Vec::new(),
+        shared_positions: Vec::new(),
         triangles: Vec::new(),
         feature_triangles: Vec::new(),
-        order: Vec::new(),
-        new_of_old: Vec::new(),
     });
 }
 
-/// Builds one brick's piece: vertices get temporary ids in creation order
-/// and are renumbered (owned in slot order, then shared) at the end.
+/// Builds one brick's piece. The edge vertices are all made up front, in
+/// slot order, from the block's inside masks (every crossing edge of the
+/// 9³ block belongs to a cell of the brick, so the cells ask for exactly
+/// these): the owned ones are numbered in slot order at once and get their
+/// normals, the shared ones are numbered after the owned ones (and the
+/// cells' centroids, which come in slot order as the cells do) at the end.
 struct PieceSink<'a> {
     base: [i32; 3],
     step: f64,
@@ -160,120 +170,149 @@ fn block_index(l: [usize; 3]) -> usize {
     l[0] + N * (l[1] + N * l[2])
 }
 
-impl PieceSink<'_> {
-    /// The unit normal of an owned vertex: the gradient of the trilinear
-    /// interpolant of the cell at the vertex's edge's lower corner (a
-    /// canonical cell, so the normal does not depend on which cell met the
-    /// vertex first), or of the centroid's own cell.
-    fn normal(&self, slot: u32, pos: [f64; 3]) -> [f64; 3] {
-        let b = &self.sc.block;
-        if slot >= EDGE_SLOTS {
-            let cell = ((slot - EDGE_SLOTS) / 4) as usize;
-            let bs = BRICK as usize;
-            let l = [cell % bs, cell / bs % bs, cell / (bs * bs)];
-            let mut c = [0f32; 8];
-            for (i, o) in super::mc::CORNER_OFFSETS.iter().enumerate() {
-                c[i] = b[block_index([0, 1, 2].map(|a| l[a] + o[a] as usize))];
-            }
-            let f = [0, 1, 2].map(|a| pos[a] * self.inv_step - (self.base[a] + l[a] as i32) as f64);
-            return unit_or_z(cell_gradient(&c, f));
-        }
-        let e = (slot / 3) as usize;
-        let axis = (slot % 3) as usize;
-        let l = [e % N, e / N % N, e / (N * N)];
-        let mut l1 = l;
-        l1[axis] += 1;
-        let (i0, i1) = (block_index(l), block_index(l1));
-        let (v0, v1) = (b[i0] as f64, b[i1] as f64);
-        // Where the vertex lies along its edge (read back from its
-        // position: a multiply instead of the division that placed it).
-        let t = pos[axis] * self.inv_step - (self.base[axis] + l[axis] as i32) as f64;
-        let mut g = [0.0; 3];
-        for (a, ga) in g.iter_mut().enumerate() {
-            *ga = if a == axis {
-                v1 - v0
-            } else {
-                let stride = [1, N, N * N][a];
-                let d0 = b[i0 + stride] as f64 - v0;
-                let d1 = b[i1 + stride] as f64 - v1;
-                d0 + (d1 - d0) * t
-            };
-        }
-        unit_or_z(g)
-    }
-
-    fn push(&mut self, slot: u32, pos: [f64; 3]) -> u32 {
-        let sc = &mut *self.sc;
-        let n = sc.positions.len() as u32;
-        sc.stamp[slot as usize] = sc.generation;
-        sc.id[slot as usize] = n;
-        sc.slot.push(slot);
-        sc.positions.push(pos);
-        n
-    }
-
-    /// Renumbers the vertices (owned first, in slot order) into a piece.
-    fn finish(self) -> Piece {
-        let n = self.sc.positions.len();
-        self.sc.order.clear();
-        let mut n_shared = 0;
-        for (t, &slot) in self.sc.slot.iter().enumerate() {
-            if is_owned(slot) {
-                self.sc.order.push((slot as u64) << 32 | t as u64);
-            } else {
-                n_shared += 1;
-            }
-        }
-        self.sc.order.sort_unstable();
-        let n_owned = self.sc.order.len();
-        let mut piece = Piece {
-            slots: Vec::with_capacity(n_owned),
-            positions: Vec::with_capacity(n),
-            normals: Vec::with_capacity(n_owned),
-            shared: Vec::with_capacity(n_shared),
-            triangles: Vec::with_capacity(self.sc.triangles.len()),
-            feature_triangles: Vec::new(),
-        };
-        self.sc.new_of_old.clear();
-        self.sc.new_of_old.resize(n, 0);
-        for k in 0..n_owned {
-            let o = self.sc.order[k];
-            let t = (o & 0xffff_ffff) as usize;
-            let slot = (o >> 32) as u32;
-            self.sc.new_of_old[t] = k as u32;
-            let p = self.sc.positions[t];
-            piece.slots.push(slot);
-            piece.positions.push(p);
-            piece.normals.push(self.normal(slot, p));
-        }
-        let sc = &mut *self.sc;
-        for (t, &slot) in sc.slot.iter().enumerate() {
-            if !is_owned(slot) {
-                let (owner, there) = slot_owner(slot);
-                sc.new_of_old[t] = piece.positions.len() as u32;
-                piece.positions.push(sc.positions[t]);
-                piece.shared.push((owner, there));
-            }
-        }
-        piece.triangles.extend(
-            sc.triangles
-                .iter()
-                .map(|t| t.map(|i| sc.new_of_old[i as usize])),
-        );
-        piece.feature_triangles = sc.feature_triangles.clone();
-        piece
-    }
-}
-
-/// Whether the brick owns the vertex in `slot` (a centroid, or an edge
-/// starting inside the brick).
-#[inline]
-fn is_owned(slot: u32) -> bool {
+/// The unit normal of an owned vertex (in `slot` at `pos`, brick corner
+/// sample `base`): the gradient of the trilinear interpolant of the cell at
+/// the vertex's edge's lower corner (a canonical cell, so the normal does
+/// not depend on which cell met the vertex first), or of the centroid's own
+/// cell.
+fn vertex_normal(
+    b: &[f32; N * N * N],
+    base: [i32; 3],
+    inv_step: f64,
+    slot: u32,
+    pos: [f64; 3],
+) -> [f64; 3] {
     if slot >= EDGE_SLOTS {
-        return true;
+        let cell = ((slot - EDGE_SLOTS) / 4) as usize;
+        let bs = BRICK as usize;
+        let l = [cell % bs, cell / bs % bs, cell / (bs * bs)];
+        let mut c = [0f32; 8];
+        for (i, o) in super::mc::CORNER_OFFSETS.iter().enumerate() {
+            c[i] = b[block_index([0, 1, 2].map(|a| l[a] + o[a] as usize))];
+        }
+        let f = [0, 1, 2].map(|a| pos[a] * inv_step - (base[a] + l[a] as i32) as f64);
+        return unit_or_z(cell_gradient(&c, f));
     }
     let e = (slot / 3) as usize;
-    e % N < BRICK as usize && e / N % N < BRICK as usize && e / (N * N) < BRICK as usize
+    let axis = (slot % 3) as usize;
+    let l = [e % N, e / N % N, e / (N * N)];
+    let mut l1 = l;
+    l1[axis] += 1;
+    let (i0, i1) = (block_index(l), block_index(l1));
+    let (v0, v1) = (b[i0] as f64, b[i1] as f64);
+    // Where the vertex lies along its edge (read back from its position: a
+    // multiply instead of the division that placed it).
+    let t = pos[axis] * inv_step - (base[axis] + l[axis] as i32) as f64;
+    let mut g = [0.0; 3];
+    for (a, ga) in g.iter_mut().enumerate() {
+        *ga = if a == axis {
+            v1 - v0
+        } else {
+            let stride = [1, N, N * N][a];
+            let d0 = b[i0 + stride] as f64 - v0;
+            let d1 = b[i1 + stride] as f64 - v1;
+            d0 + (d1 - d0) * t
+        };
+    }
+    unit_or_z(g)
+}
+
+impl PieceSink<'_> {
+    /// Makes every crossing edge's vertex of the block, in slot order (see
+    /// the type's doc), from the rows' inside masks.
+    fn edge_vertices(&mut self) {
+        const B: usize = BRICK as usize;
+        let sc = &mut *self.sc;
+        for z in 0..N {
+            for y in 0..N {
+                let m = sc.rows[y + N * z];
+                // Crossing edges starting at x along x, y and z.
+                let ex = (m ^ (m >> 1)) & 0xff;
+                let ey = if y < B { m ^ sc.rows[y + 1 + N * z] } else { 0 };
+                let ez = if z < B {
+                    m ^ sc.rows[y + N * (z + 1)]
+                } else {
+                    0
+                };
+                let mut any = ex | ey | ez;
+                let row = N * (y + N * z);
+                while any != 0 {
+                    let x = any.trailing_zeros() as usize;
+                    any &= any - 1;
+                    let i = row + x;
+                    for (axis, mask) in [ex, ey, ez].into_iter().enumerate() {
+                        if mask >> x & 1 == 0 {
+                            continue;
+                        }
+                        let slot = (i * 3 + axis) as u32;
+                        let stride = [1, N, N * N][axis];
+                        let lo = [
+                            self.base[0] + x as i32,
+                            self.base[1] + y as i32,
+                            self.base[2] + z as i32,
+                        ];
+                        let pos = super::mc::edge_vertex(
+                            lo,
+                            axis,
+                            sc.block[i],
+                            sc.block[i + stride],
+                            self.step,
+                        );
+                        if x < B && y < B && z < B {
+                            sc.id[slot as usize] = sc.positions.len() as u32;
+                            sc.slots.push(slot);
+                            sc.positions.push(pos);
+                            sc.normals.push(vertex_normal(
+                                &sc.block,
+                                self.base,
+                                self.inv_step,
+                                slot,
+                                pos,
+                            ));
+                        } else {
+                            sc.id[slot as usize] = SHARED_ID | sc.shared.len() as u32;
+                            sc.shared.push(slot_owner(slot));
+                            sc.shared_positions.push(pos);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Numbers the shared vertices after the owned ones and copies the
+    /// piece out of the scratch.
+    fn finish(self) -> Piece {
+        let sc = &*self.sc;
+        let n_owned = sc.positions.len() as u32;
+        let mut positions = Vec::with_capacity(sc.positions.len() + sc.shared_positions.len());
+        positions.extend_from_slice(&sc.positions);
+        positions.extend_from_slice(&sc.shared_positions);
+        let triangles = if sc.shared.is_empty() {
+            sc.triangles.clone()
+        } else {
+            sc.triangles
+                .iter()
+                .map(|t| {
+                    t.map(|i| {
+                        if i & SHARED_ID != 0 {
+                            n_owned + (i & !SHARED_ID)
+                        } else {
+                            i
+                        }
+                    })
+                })
+                .collect()
+        };
+        Piece {
+            slots: sc.slots.clone(),
+            positions,
+            normals: sc.normals.clone(),
+            shared: sc.shared.clone(),
+            triangles,
+            feature_triangles: sc.feature_triangles.clone(),
+        }
+    }
 }
 
 /// The owner of the vertex in `slot` (bit `a`: the +`a` neighbour; 0: the
@@ -297,24 +336,37 @@ fn slot_owner(slot: u32) -> (u8, u32) {
 
 impl MeshSink for PieceSink<'_> {
     #[inline]
-    fn vertex(&mut self, key: VertKey, pos: impl FnOnce() -> [f64; 3]) -> u32 {
+    fn vertex(&mut self, key: VertKey, _pos: impl FnOnce() -> [f64; 3]) -> u32 {
+        // Made up front by `edge_vertices` (the same position).
         let l = [0, 1, 2].map(|a| (key.at[a] - self.base[a]) as usize);
-        let slot = (block_index(l) * 3) as u32 + key.kind as u32;
-        if self.sc.stamp[slot as usize] == self.sc.generation {
-            return self.sc.id[slot as usize];
-        }
-        self.push(slot, pos())
+        self.sc.id[block_index(l) * 3 + key.kind as usize]
     }
 
     fn fresh(&mut self, key: VertKey, pos: [f64; 3]) -> u32 {
         let l = [0, 1, 2].map(|a| (key.at[a] - self.base[a]) as usize);
         let cell = l[0] + BRICK as usize * (l[1] + BRICK as usize * l[2]);
-        self.push(EDGE_SLOTS + (cell * 4) as u32 + (key.kind - 3) as u32, pos)
+        let slot = EDGE_SLOTS + (cell * 4) as u32 + (key.kind - 3) as u32;
+        let sc = &mut *self.sc;
+        let n = sc.positions.len() as u32;
+        sc.slots.push(slot);
+        sc.positions.push(pos);
+        sc.normals.push(vertex_normal(
+            &sc.block,
+            self.base,
+            self.inv_step,
+            slot,
+            pos,
+        ));
+        n
     }
 
     #[inline]
     fn position(&self, id: u32) -> [f64; 3] {
-        self.sc.positions[id as usize]
+        if id & SHARED_ID != 0 {
+            self.sc.shared_positions[(id & !SHARED_ID) as usize]
+        } else {
+            self.sc.positions[id as usize]
+        }
     }
 
     fn feature_apex(&mut self, cell: [i32; 3], loop_points: &[[f64; 3]]) -> Option<[f64; 3]> {
@@ -469,17 +521,22 @@ impl SparseGrid {
                     }
                 }
             }
-            sc.generation = sc.generation.wrapping_add(1);
-            if sc.generation == 0 {
-                sc.stamp.fill(0);
-                sc.generation = 1;
+            for (m, row) in sc.rows.iter_mut().zip(sc.block.chunks_exact(N)) {
+                *m = row
+                    .iter()
+                    .enumerate()
+                    .fold(0u16, |bits, (x, v)| bits | ((*v < 0.0) as u16) << x);
             }
             let base = key.map(|k| k * BRICK);
-            sc.slot.clear();
+            sc.slots.clear();
             sc.positions.clear();
+            sc.normals.clear();
+            sc.shared.clear();
+            sc.shared_positions.clear();
             sc.triangles.clear();
             sc.feature_triangles.clear();
             let block = sc.block;
+            let rows = sc.rows;
             let mut sink = PieceSink {
                 base,
                 step: self.step,
@@ -487,26 +544,23 @@ impl SparseGrid {
                 inv_step: 1.0 / self.step,
                 sc,
             };
-            // Per (y, z) row: inside counts of the 4-sample columns, so a
-            // cell's count is the sum of two columns (cells without a
-            // crossing are skipped after two loads).
-            let mut cols = [0u8; N];
+            sink.edge_vertices();
+            // Per (y, z) row of cells: the cells whose 8 corners are not
+            // all inside or all outside, from the four sample rows' masks.
             for z in 0..B {
                 for y in 0..B {
-                    let r = [
-                        N * (y + N * z),
-                        N * (y + 1 + N * z),
-                        N * (y + N * (z + 1)),
-                        N * (y + 1 + N * (z + 1)),
+                    let m = [
+                        rows[y + N * z],
+                        rows[y + 1 + N * z],
+                        rows[y + N * (z + 1)],
+                        rows[y + 1 + N * (z + 1)],
                     ];
-                    for (x, c) in cols.iter_mut().enumerate() {
-                        *c = r.iter().map(|&r| (block[r + x] < 0.0) as u8).sum();
-                    }
-                    for x in 0..B {
-                        let s = cols[x] + cols[x + 1];
-                        if s == 0 || s == 8 {
-                            continue;
-                        }
+                    let or = m[0] | m[1] | m[2] | m[3];
+                    let and = m[0] & m[1] & m[2] & m[3];
+                    let mut cells = (or | or >> 1) & !(and & and >> 1) & 0xff;
+                    while cells != 0 {
+                        let x = cells.trailing_zeros() as usize;
+                        cells &= cells - 1;
                         let mut v = [0f32; 8];
                         for (c, o) in super::mc::CORNER_OFFSETS.iter().enumerate() {
                             v[c] = block[(x + o[0] as usize)
