@@ -124,6 +124,11 @@ struct Scratch {
     block: [f32; N * N * N],
     /// Per row `y + 9 z` of the block, bit `x` set for an inside sample.
     rows: [u16; N * N],
+    out: Out,
+}
+
+/// The piece under construction (see [`PieceSink`]).
+struct Out {
     /// Vertex id per edge slot; valid for the current brick's crossing
     /// edges only (the only ones the cells ask for).
     id: Vec<u32>,
@@ -140,14 +145,16 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch {
         block: [0.0; N * N * N],
         rows: [0; N * N],
-        id: vec![0; EDGE_SLOTS as usize],
-        slots: Vec::new(),
-        positions: Vec::new(),
-        normals: Vec::new(),
-        shared: Vec::new(),
-        shared_positions: Vec::new(),
-        triangles: Vec::new(),
-        feature_triangles: Vec::new(),
+        out: Out {
+            id: vec![0; EDGE_SLOTS as usize],
+            slots: Vec::new(),
+            positions: Vec::new(),
+            normals: Vec::new(),
+            shared: Vec::new(),
+            shared_positions: Vec::new(),
+            triangles: Vec::new(),
+            feature_triangles: Vec::new(),
+        },
     });
 }
 
@@ -162,7 +169,9 @@ struct PieceSink<'a> {
     step: f64,
     inv_step: f64,
     exact: Option<&'a ExactField>,
-    sc: &'a mut Scratch,
+    block: &'a [f32; N * N * N],
+    rows: &'a [u16; N * N],
+    out: &'a mut Out,
 }
 
 #[inline]
@@ -222,18 +231,14 @@ impl PieceSink<'_> {
     /// the type's doc), from the rows' inside masks.
     fn edge_vertices(&mut self) {
         const B: usize = BRICK as usize;
-        let sc = &mut *self.sc;
+        let (block, rows, out) = (self.block, self.rows, &mut *self.out);
         for z in 0..N {
             for y in 0..N {
-                let m = sc.rows[y + N * z];
+                let m = rows[y + N * z];
                 // Crossing edges starting at x along x, y and z.
                 let ex = (m ^ (m >> 1)) & 0xff;
-                let ey = if y < B { m ^ sc.rows[y + 1 + N * z] } else { 0 };
-                let ez = if z < B {
-                    m ^ sc.rows[y + N * (z + 1)]
-                } else {
-                    0
-                };
+                let ey = if y < B { m ^ rows[y + 1 + N * z] } else { 0 };
+                let ez = if z < B { m ^ rows[y + N * (z + 1)] } else { 0 };
                 let mut any = ex | ey | ez;
                 let row = N * (y + N * z);
                 while any != 0 {
@@ -254,25 +259,25 @@ impl PieceSink<'_> {
                         let pos = super::mc::edge_vertex(
                             lo,
                             axis,
-                            sc.block[i],
-                            sc.block[i + stride],
+                            block[i],
+                            block[i + stride],
                             self.step,
                         );
                         if x < B && y < B && z < B {
-                            sc.id[slot as usize] = sc.positions.len() as u32;
-                            sc.slots.push(slot);
-                            sc.positions.push(pos);
-                            sc.normals.push(vertex_normal(
-                                &sc.block,
+                            out.id[slot as usize] = out.positions.len() as u32;
+                            out.slots.push(slot);
+                            out.positions.push(pos);
+                            out.normals.push(vertex_normal(
+                                block,
                                 self.base,
                                 self.inv_step,
                                 slot,
                                 pos,
                             ));
                         } else {
-                            sc.id[slot as usize] = SHARED_ID | sc.shared.len() as u32;
-                            sc.shared.push(slot_owner(slot));
-                            sc.shared_positions.push(pos);
+                            out.id[slot as usize] = SHARED_ID | out.shared.len() as u32;
+                            out.shared.push(slot_owner(slot));
+                            out.shared_positions.push(pos);
                         }
                     }
                 }
@@ -283,7 +288,7 @@ impl PieceSink<'_> {
     /// Numbers the shared vertices after the owned ones and copies the
     /// piece out of the scratch.
     fn finish(self) -> Piece {
-        let sc = &*self.sc;
+        let sc = &*self.out;
         let n_owned = sc.positions.len() as u32;
         let mut positions = Vec::with_capacity(sc.positions.len() + sc.shared_positions.len());
         positions.extend_from_slice(&sc.positions);
@@ -339,19 +344,19 @@ impl MeshSink for PieceSink<'_> {
     fn vertex(&mut self, key: VertKey, _pos: impl FnOnce() -> [f64; 3]) -> u32 {
         // Made up front by `edge_vertices` (the same position).
         let l = [0, 1, 2].map(|a| (key.at[a] - self.base[a]) as usize);
-        self.sc.id[block_index(l) * 3 + key.kind as usize]
+        self.out.id[block_index(l) * 3 + key.kind as usize]
     }
 
     fn fresh(&mut self, key: VertKey, pos: [f64; 3]) -> u32 {
         let l = [0, 1, 2].map(|a| (key.at[a] - self.base[a]) as usize);
         let cell = l[0] + BRICK as usize * (l[1] + BRICK as usize * l[2]);
         let slot = EDGE_SLOTS + (cell * 4) as u32 + (key.kind - 3) as u32;
-        let sc = &mut *self.sc;
-        let n = sc.positions.len() as u32;
-        sc.slots.push(slot);
-        sc.positions.push(pos);
-        sc.normals.push(vertex_normal(
-            &sc.block,
+        let out = &mut *self.out;
+        let n = out.positions.len() as u32;
+        out.slots.push(slot);
+        out.positions.push(pos);
+        out.normals.push(vertex_normal(
+            self.block,
             self.base,
             self.inv_step,
             slot,
@@ -363,9 +368,9 @@ impl MeshSink for PieceSink<'_> {
     #[inline]
     fn position(&self, id: u32) -> [f64; 3] {
         if id & SHARED_ID != 0 {
-            self.sc.shared_positions[(id & !SHARED_ID) as usize]
+            self.out.shared_positions[(id & !SHARED_ID) as usize]
         } else {
-            self.sc.positions[id as usize]
+            self.out.positions[id as usize]
         }
     }
 
@@ -377,14 +382,14 @@ impl MeshSink for PieceSink<'_> {
 
     #[inline]
     fn triangle(&mut self, t: [u32; 3]) {
-        self.sc.triangles.push(t)
+        self.out.triangles.push(t)
     }
 
     fn feature_triangle(&mut self, t: [u32; 3]) {
-        self.sc
+        self.out
             .feature_triangles
-            .push(self.sc.triangles.len() as u32);
-        self.sc.triangles.push(t)
+            .push(self.out.triangles.len() as u32);
+        self.out.triangles.push(t)
     }
 }
 
@@ -433,7 +438,7 @@ impl SparseGrid {
         let signs: Vec<[u8; 8]> = stored.iter().map(|(_, b)| b.region_signs()).collect();
         let (index, signs, stored) = (&index, &signs, &stored);
         // One task per (x, y) column: surface is unevenly spread over x.
-        let v: Vec<(BrickKey, Piece)> = (0..dims[0] * dims[1])
+        let v: Vec<(BrickKey, Arc<Piece>)> = (0..dims[0] * dims[1])
             .into_par_iter()
             .flat_map_iter(|xy| {
                 let (x, y) = (xy / dims[1], xy % dims[1]);
@@ -460,12 +465,12 @@ impl SparseGrid {
                         }
                         let key = [lo[0] + x as i32, lo[1] + y as i32, lo[2] + z as i32];
                         let piece = self.extract_with(key, &nbs, exact);
-                        (!piece.triangles.is_empty()).then_some((key, piece))
+                        (!piece.triangles.is_empty()).then(|| (key, Arc::new(piece)))
                     })
                 }
             })
             .collect();
-        v.into_iter().map(|(k, p)| (k, Arc::new(p))).collect()
+        v.into_iter().collect()
     }
 
     /// Marching cubes over brick `key`'s cells, given the 8 bricks
@@ -528,21 +533,23 @@ impl SparseGrid {
                     .fold(0u16, |bits, (x, v)| bits | ((*v < 0.0) as u16) << x);
             }
             let base = key.map(|k| k * BRICK);
-            sc.slots.clear();
-            sc.positions.clear();
-            sc.normals.clear();
-            sc.shared.clear();
-            sc.shared_positions.clear();
-            sc.triangles.clear();
-            sc.feature_triangles.clear();
-            let block = sc.block;
-            let rows = sc.rows;
+            let Scratch { block, rows, out } = sc;
+            out.slots.clear();
+            out.positions.clear();
+            out.normals.clear();
+            out.shared.clear();
+            out.shared_positions.clear();
+            out.triangles.clear();
+            out.feature_triangles.clear();
+            let (block, rows) = (&*block, &*rows);
             let mut sink = PieceSink {
                 base,
                 step: self.step,
                 exact,
                 inv_step: 1.0 / self.step,
-                sc,
+                block,
+                rows,
+                out,
             };
             sink.edge_vertices();
             // Per (y, z) row of cells: the cells whose 8 corners are not
