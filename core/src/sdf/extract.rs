@@ -587,43 +587,50 @@ impl SparseGrid {
 /// each vertex is numbered once, by the piece that owns it (pieces in key
 /// order, owned vertices in slot order); a piece finds each vertex it
 /// shares with a +x/+y/+z neighbour by binary search of its slot in that
-/// neighbour's owned slots. The output arrays are collected in parallel
-/// straight from the pieces (no zeroed arrays filled afterwards: on small
-/// grids, zeroing them on one thread cost as much as the copy), each
-/// element from its own piece, so the result does not depend on threads.
+/// neighbour's owned slots. Every piece writes its own ranges of the
+/// output in parallel, so the result does not depend on threads.
 pub fn assemble(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> TriMesh {
     let list: Vec<(BrickKey, &Piece)> = pieces.iter().map(|(k, p)| (*k, p.as_ref())).collect();
-    // First vertex and triangle of each piece, and the totals.
-    let mut vstart = Vec::with_capacity(list.len() + 1);
-    let mut tstart = Vec::with_capacity(list.len() + 1);
+    let mut offsets = Vec::with_capacity(list.len());
     let (mut nv, mut nt) = (0usize, 0usize);
     for (_, p) in &list {
-        vstart.push(nv);
-        tstart.push(nt);
+        offsets.push((nv as u32, nt));
         nv += p.slots.len();
         nt += p.triangles.len();
     }
-    vstart.push(nv);
-    tstart.push(nt);
-    let offsets: Vec<(u32, usize)> = vstart
-        .iter()
-        .zip(&tstart)
-        .take(list.len())
-        .map(|(&v, &t)| (v as u32, t))
-        .collect();
+    let mut positions = zeroed(nv, [0.0f64; 3]);
+    let mut normals = zeroed(nv, [0.0f64; 3]);
+    let mut triangles = zeroed(nt, [0u32; 3]);
+    // Each piece's output ranges, split off in order.
+    let mut jobs = Vec::with_capacity(list.len());
+    {
+        let (mut pr, mut nr, mut tr) = (&mut positions[..], &mut normals[..], &mut triangles[..]);
+        for (_, p) in &list {
+            let (a, b) = std::mem::take(&mut pr).split_at_mut(p.slots.len());
+            let (c, d) = std::mem::take(&mut nr).split_at_mut(p.slots.len());
+            let (e, f) = std::mem::take(&mut tr).split_at_mut(p.triangles.len());
+            jobs.push((a, c, e));
+            (pr, nr, tr) = (b, d, f);
+        }
+    }
     // A shared vertex not found in its owner (a piece set that is not
     // closed under the extraction rule) is marked and numbered below.
     let missing = std::sync::atomic::AtomicBool::new(false);
-    // Per piece, the output ids of its shared vertices.
-    let remaps: Vec<Vec<u32>> = list
-        .par_iter()
+    jobs.into_par_iter()
+        .enumerate()
         .with_min_len(8)
-        .map(|&(brick, p)| {
+        .for_each(|(o, (pos, nor, tri))| {
+            let (brick, p) = list[o];
+            let owned = p.slots.len();
+            pos.copy_from_slice(&p.positions[..owned]);
+            nor.copy_from_slice(&p.normals);
             let owners: [Option<usize>; 8] = std::array::from_fn(|bits| {
                 let k = [0, 1, 2].map(|a| brick[a] + (bits >> a & 1) as i32);
                 list.binary_search_by(|(key, _)| key.cmp(&k)).ok()
             });
-            p.shared
+            let base = offsets[o].0;
+            let remap: Vec<u32> = p
+                .shared
                 .iter()
                 .map(|&(bits, slot)| {
                     owners[bits as usize]
@@ -632,52 +639,25 @@ pub fn assemble(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> TriMesh {
                             q.slots
                                 .binary_search(&slot)
                                 .ok()
-                                .map(|j| (vstart[w] + j) as u32)
+                                .map(|j| offsets[w].0 + j as u32)
                         })
                         .unwrap_or_else(|| {
                             missing.store(true, std::sync::atomic::Ordering::Relaxed);
                             u32::MAX
                         })
                 })
-                .collect()
-        })
-        .collect();
-    let (mut positions, mut normals) = (Vec::new(), Vec::new());
-    (0..nv)
-        .into_par_iter()
-        .with_min_len(1024)
-        .map_init(
-            || usize::MAX,
-            |at, i| {
-                let o = piece_at(&vstart, at, i);
-                let p = list[o].1;
-                let k = i - vstart[o];
-                (p.positions[k], p.normals[k])
-            },
-        )
-        .unzip_into_vecs(&mut positions, &mut normals);
-    let mut triangles = Vec::new();
-    (0..nt)
-        .into_par_iter()
-        .with_min_len(1024)
-        .map_init(
-            || usize::MAX,
-            |at, i| {
-                let o = piece_at(&tstart, at, i);
-                let p = list[o].1;
-                let owned = p.slots.len();
-                let base = vstart[o] as u32;
-                p.triangles[i - tstart[o]].map(|v| {
-                    let v = v as usize;
-                    if v < owned {
-                        base + v as u32
+                .collect();
+            for (out, t) in tri.iter_mut().zip(&p.triangles) {
+                *out = t.map(|i| {
+                    let i = i as usize;
+                    if i < owned {
+                        base + i as u32
                     } else {
-                        remaps[o][v - owned]
+                        remap[i - owned]
                     }
-                })
-            },
-        )
-        .collect_into_vec(&mut triangles);
+                });
+            }
+        });
     if missing.into_inner() {
         add_orphans(
             &list,
@@ -693,19 +673,12 @@ pub fn assemble(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> TriMesh {
     mesh
 }
 
-/// The piece holding output element `i`, given each piece's first element
-/// (`starts`, with the total last): the piece at `*at` or a later one when
-/// `i` is past it (elements come in increasing order within a parallel
-/// job), else found by binary search.
-#[inline]
-fn piece_at(starts: &[usize], at: &mut usize, i: usize) -> usize {
-    if *at >= starts.len() - 1 || i < starts[*at] {
-        *at = starts.partition_point(|&s| s <= i) - 1;
-    }
-    while i >= starts[*at + 1] {
-        *at += 1;
-    }
-    *at
+/// `n` copies of `z`, written on all threads (on small grids, zeroing the
+/// mesh arrays on one thread cost a tenth of the extraction on two).
+fn zeroed<T: Clone + Send>(n: usize, z: T) -> Vec<T> {
+    let mut v = Vec::with_capacity(n);
+    v.par_extend(rayon::iter::repeat_n(z, n));
+    v
 }
 
 /// Joins the fan vertices of neighbouring feature cells (Kobbelt et al.'s
