@@ -28,7 +28,7 @@ use rayon::prelude::*;
 
 use super::features::{feature_apex, ExactField};
 use super::grid::{Brick, BrickKey, SparseGrid, BRICK, SIGN_IN, SIGN_OUT};
-use super::mc::{polygonize, BuildKeyHasher, MeshSink, VertKey, MIN_TWICE_AREA_REL};
+use super::mc::{polygonize_config, BuildKeyHasher, MeshSink, VertKey, MIN_TWICE_AREA_REL};
 use crate::math::DVec3;
 use crate::mesh::TriMesh;
 
@@ -184,6 +184,7 @@ fn block_index(l: [usize; 3]) -> usize {
 /// the vertex's edge's lower corner (a canonical cell, so the normal does
 /// not depend on which cell met the vertex first), or of the centroid's own
 /// cell.
+#[inline]
 fn vertex_normal(
     b: &[f32; N * N * N],
     base: [i32; 3],
@@ -267,13 +268,6 @@ impl PieceSink<'_> {
                             out.id[slot as usize] = out.positions.len() as u32;
                             out.slots.push(slot);
                             out.positions.push(pos);
-                            out.normals.push(vertex_normal(
-                                block,
-                                self.base,
-                                self.inv_step,
-                                slot,
-                                pos,
-                            ));
                         } else {
                             out.id[slot as usize] = SHARED_ID | out.shared.len() as u32;
                             out.shared.push(slot_owner(slot));
@@ -288,7 +282,18 @@ impl PieceSink<'_> {
     /// Numbers the shared vertices after the owned ones and copies the
     /// piece out of the scratch.
     fn finish(self) -> Piece {
-        let sc = &*self.out;
+        // The owned vertices' normals, in one loop of independent
+        // iterations (a square root and a division each: interleaved with
+        // the vertices' making, their latency was not hidden).
+        let out = &mut *self.out;
+        let (block, base, inv_step) = (self.block, self.base, self.inv_step);
+        out.normals.extend(
+            out.slots
+                .iter()
+                .zip(&out.positions)
+                .map(|(&slot, &pos)| vertex_normal(block, base, inv_step, slot, pos)),
+        );
+        let sc = &*out;
         let n_owned = sc.positions.len() as u32;
         let mut positions = Vec::with_capacity(sc.positions.len() + sc.shared_positions.len());
         positions.extend_from_slice(&sc.positions);
@@ -355,13 +360,6 @@ impl MeshSink for PieceSink<'_> {
         let n = out.positions.len() as u32;
         out.slots.push(slot);
         out.positions.push(pos);
-        out.normals.push(vertex_normal(
-            self.block,
-            self.base,
-            self.inv_step,
-            slot,
-            pos,
-        ));
         n
     }
 
@@ -372,6 +370,10 @@ impl MeshSink for PieceSink<'_> {
         } else {
             self.out.positions[id as usize]
         }
+    }
+
+    fn keeps_features(&self) -> bool {
+        self.exact.is_some()
     }
 
     fn feature_apex(&mut self, cell: [i32; 3], loop_points: &[[f64; 3]]) -> Option<[f64; 3]> {
@@ -573,8 +575,12 @@ impl SparseGrid {
                             v[c] = block[(x + o[0] as usize)
                                 + N * ((y + o[1] as usize) + N * (z + o[2] as usize))];
                         }
+                        // Corner c's sign: bit x (c even) or x + 1 of
+                        // sample row c / 2.
+                        let config =
+                            (0..4).fold(0usize, |c, r| c | ((m[r] >> x & 3) as usize) << (2 * r));
                         let cell = [base[0] + x as i32, base[1] + y as i32, base[2] + z as i32];
-                        polygonize(cell, &v, self.step, &mut sink);
+                        polygonize_config(cell, &v, config, self.step, &mut sink);
                     }
                 }
             }
