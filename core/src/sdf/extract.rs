@@ -7,9 +7,13 @@
 //!   when a brick is made, say whether a block changes sign at all, so
 //!   blocks without surface are never loaded.
 //! - Vertices are named by their slot in the brick's vertex table (see
-//!   [`Piece`]): found by a stamped table instead of a hash map, owned by
-//!   exactly one brick, numbered in slot order, so that a piece depends on
-//!   its block alone and incremental extraction equals a full one.
+//!   [`Piece`]), owned by exactly one brick, numbered in slot order, so
+//!   that a piece depends on its block alone and incremental extraction
+//!   equals a full one. Every crossing edge of a 9³ block belongs to a
+//!   cell of its brick, so a brick makes its edge vertices up front, in
+//!   slot order, from per-row inside bitmasks of the block (which also
+//!   give the crossing cells and their corner configurations): no lookup
+//!   table is stamped per vertex and nothing is sorted or renumbered.
 //! - Normals are the gradient of the field (the trilinear interpolant of a
 //!   canonical cell), computed by the owning brick: no pass over the
 //!   stitched triangles.
@@ -55,7 +59,9 @@ pub struct Piece {
     /// Per shared vertex: its owner (bit `a` set: `+1` along axis `a`)
     /// and its slot in the owner's table.
     pub(crate) shared: Vec<(u8, u32)>,
-    /// Triangles, counter-clockwise seen from outside.
+    /// Triangles, counter-clockwise seen from outside: the index of an
+    /// owned vertex, or [`SHARED_ID`]` | k` for shared vertex `k` (at
+    /// `positions[slots.len() + k]`).
     pub(crate) triangles: Vec<[u32; 3]>,
     /// The triangles (indices into `triangles`) of feature fans, each with
     /// its fan vertex first.
@@ -113,9 +119,10 @@ fn unit_or_z(g: [f64; 3]) -> [f64; 3] {
     }
 }
 
-/// Marks a shared vertex's id while a brick is extracted (the shared
-/// vertices are numbered after the owned ones once their count is known).
-const SHARED_ID: u32 = 1 << 31;
+/// Marks a shared vertex's index in a piece's triangles (the owned ones
+/// are numbered first, as they are made, and the shared ones apart: so the
+/// triangles need no renumbering once the count of owned ones is known).
+pub(crate) const SHARED_ID: u32 = 1 << 31;
 
 /// Per-thread scratch of brick extraction: the 9³ block, its inside masks,
 /// the vertex id of every crossing edge slot and the temporary buffers,
@@ -205,20 +212,20 @@ fn vertex_normal(
     }
     let e = (slot / 3) as usize;
     let axis = (slot % 3) as usize;
-    let l = [e % N, e / N % N, e / (N * N)];
-    let mut l1 = l;
-    l1[axis] += 1;
-    let (i0, i1) = (block_index(l), block_index(l1));
+    // The edge's lower sample is block sample `e`.
+    let strides = [1, N, N * N];
+    let (i0, i1) = (e, e + strides[axis]);
     let (v0, v1) = (b[i0] as f64, b[i1] as f64);
     // Where the vertex lies along its edge (read back from its position: a
     // multiply instead of the division that placed it).
-    let t = pos[axis] * inv_step - (base[axis] + l[axis] as i32) as f64;
+    let la = e / strides[axis] % N;
+    let t = pos[axis] * inv_step - (base[axis] + la as i32) as f64;
     let mut g = [0.0; 3];
     for (a, ga) in g.iter_mut().enumerate() {
         *ga = if a == axis {
             v1 - v0
         } else {
-            let stride = [1, N, N * N][a];
+            let stride = strides[a];
             let d0 = b[i0 + stride] as f64 - v0;
             let d1 = b[i1 + stride] as f64 - v1;
             d0 + (d1 - d0) * t
@@ -294,26 +301,10 @@ impl PieceSink<'_> {
                 .map(|(&slot, &pos)| vertex_normal(block, base, inv_step, slot, pos)),
         );
         let sc = &*out;
-        let n_owned = sc.positions.len() as u32;
         let mut positions = Vec::with_capacity(sc.positions.len() + sc.shared_positions.len());
         positions.extend_from_slice(&sc.positions);
         positions.extend_from_slice(&sc.shared_positions);
-        let triangles = if sc.shared.is_empty() {
-            sc.triangles.clone()
-        } else {
-            sc.triangles
-                .iter()
-                .map(|t| {
-                    t.map(|i| {
-                        if i & SHARED_ID != 0 {
-                            n_owned + (i & !SHARED_ID)
-                        } else {
-                            i
-                        }
-                    })
-                })
-                .collect()
-        };
+        let triangles = sc.triangles.clone();
         Piece {
             slots: sc.slots.clone(),
             positions,
@@ -655,11 +646,10 @@ pub fn assemble(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> TriMesh {
                 .collect();
             for (out, t) in tri.iter_mut().zip(&p.triangles) {
                 *out = t.map(|i| {
-                    let i = i as usize;
-                    if i < owned {
-                        base + i as u32
+                    if i & SHARED_ID == 0 {
+                        base + i
                     } else {
-                        remap[i - owned]
+                        remap[(i & !SHARED_ID) as usize]
                     }
                 });
             }
@@ -799,12 +789,13 @@ fn add_orphans(
                 if triangles[t0 + k][c] != u32::MAX {
                     continue;
                 }
-                let (bits, slot) = p.shared[i as usize - owned];
+                let k = (i & !SHARED_ID) as usize;
+                let (bits, slot) = p.shared[k];
                 let owner = [0, 1, 2].map(|a| brick[a] + (bits >> a & 1) as i32);
                 let n = positions.len() as u32;
                 let id = *orphans.entry((owner, slot)).or_insert(n);
                 if id == n {
-                    positions.push(p.positions[i as usize]);
+                    positions.push(p.positions[owned + k]);
                     normals.push([0.0, 0.0, 1.0]);
                 }
                 triangles[t0 + k][c] = id;
