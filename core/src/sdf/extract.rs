@@ -21,9 +21,11 @@
 //!   neighbours through a dense index over the bricks' bounding box, in
 //!   one parallel pass.
 //!
-//! Measured (`scripts/bench/sdf.py`, sphere minus torus, 2 threads):
-//! 128³ in about 1.8× and 256³ in about 1.1× a single-thread "classify
-//! every cell" pass over the dense grid.
+//! Measured against a single-thread "classify every cell" pass over the
+//! dense grid by `scripts/bench/sdf.py` (sphere minus torus); the README's
+//! performance table has the latest run. `sdf_bench --phase full N` loops
+//! this extraction alone for a profiler, `--phase hash all` prints the
+//! bits of every bench extraction (to check that a speed-up keeps them).
 
 use std::collections::BTreeMap;
 use std::sync::Arc;

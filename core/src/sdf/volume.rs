@@ -589,7 +589,8 @@ fn stored_in_box(grid: &SparseGrid, klo: [f64; 3], khi: [f64; 3]) -> Vec<BrickKe
     let columns = (0..2)
         .map(|a| (khi[a] - klo[a] + 1.0).max(0.0))
         .product::<f64>();
-    if !(columns < grid.bricks.len() as f64) {
+    let finite = klo.iter().chain(&khi).all(|v| v.is_finite());
+    if !finite || columns >= grid.bricks.len() as f64 {
         return grid.bricks.keys().copied().filter(inside).collect();
     }
     // The bounds are integers within the columns' count of each other, so
