@@ -366,43 +366,50 @@ fn table1(a: &Args, cache: &SdfCache, one: &rayon::ThreadPool) {
     }
 }
 
+/// The dense `n`³ sphere-minus-torus field of the full-grid rows, and the
+/// same in bricks (clamped to the band), as the volume stores it.
+fn full_grid(n: usize) -> (Vec<f32>, SparseGrid) {
+    let h = 1.0 / n as f64;
+    let c = n as f64 * h * 0.5;
+    let mut dense = vec![0f32; n * n * n];
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                let p = [x as f64 * h - c, y as f64 * h - c, z as f64 * h - c];
+                let sphere = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 0.4;
+                let torus = ((p[0] * p[0] + p[1] * p[1]).sqrt() - 0.3).hypot(p[2]) - 0.12;
+                dense[x + n * (y + n * z)] = sphere.max(-torus) as f32;
+            }
+        }
+    }
+    // Into bricks (clamped to the band), then extraction as the volume
+    // does it.
+    let band = (3.0 * h) as f32;
+    let mut g = SparseGrid::new(h, band);
+    let nb = (n as i32) / BRICK;
+    for bz in 0..nb {
+        for by in 0..nb {
+            for bx in 0..nb {
+                let mut d = vec![0f32; 512];
+                for (l, dl) in d.iter_mut().enumerate() {
+                    let (x, y, z) = (l % 8, l / 8 % 8, l / 64);
+                    let gx = bx as usize * 8 + x;
+                    let gy = by as usize * 8 + y;
+                    let gz = bz as usize * 8 + z;
+                    *dl = dense[gx + n * (gy + n * gz)].clamp(-band, band);
+                }
+                g.set([bx, by, bz], Brick::dense(d, band));
+            }
+        }
+    }
+    (dense, g)
+}
+
 fn full(a: &Args, one: &rayon::ThreadPool) {
     let threads = rayon::current_num_threads();
     for n in [128usize, 256] {
-        let h = 1.0 / n as f64;
-        let c = n as f64 * h * 0.5;
         let dims = [n; 3];
-        let mut dense = vec![0f32; n * n * n];
-        for z in 0..n {
-            for y in 0..n {
-                for x in 0..n {
-                    let p = [x as f64 * h - c, y as f64 * h - c, z as f64 * h - c];
-                    let sphere = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 0.4;
-                    let torus = ((p[0] * p[0] + p[1] * p[1]).sqrt() - 0.3).hypot(p[2]) - 0.12;
-                    dense[x + n * (y + n * z)] = sphere.max(-torus) as f32;
-                }
-            }
-        }
-        // Into bricks (clamped to the band), then extraction as the volume
-        // does it.
-        let band = (3.0 * h) as f32;
-        let mut g = SparseGrid::new(h, band);
-        let nb = (n as i32) / BRICK;
-        for bz in 0..nb {
-            for by in 0..nb {
-                for bx in 0..nb {
-                    let mut d = vec![0f32; 512];
-                    for (l, dl) in d.iter_mut().enumerate() {
-                        let (x, y, z) = (l % 8, l / 8 % 8, l / 64);
-                        let gx = bx as usize * 8 + x;
-                        let gy = by as usize * 8 + y;
-                        let gz = bz as usize * 8 + z;
-                        *dl = dense[gx + n * (gy + n * gz)].clamp(-band, band);
-                    }
-                    g.set([bx, by, bz], Brick::dense(d, band));
-                }
-            }
-        }
+        let (dense, g) = full_grid(n);
         // Ours and the classify floor alternate, rep by rep, so that a
         // noisy machine slows both alike.
         let extract = || {
@@ -441,6 +448,70 @@ fn full(a: &Args, one: &rayon::ThreadPool) {
 /// Loops one phase for a profiler (`perf stat -e task-clock` gives its
 /// CPU time, which a loaded machine inflates far less than wall time).
 fn phase(a: &Args, cache: &SdfCache, workload: &str, phase: &str) {
+    if workload == "hash" {
+        // `--phase hash all`: a hash of every extraction's mesh (positions,
+        // normals, triangles), to check that a change keeps the bits.
+        let h = |m: &shapewright::mesh::TriMesh| {
+            use std::hash::{Hash, Hasher};
+            let mut s = std::collections::hash_map::DefaultHasher::new();
+            for p in m.positions.iter().chain(&m.normals) {
+                p.map(f64::to_bits).hash(&mut s);
+            }
+            m.triangles.hash(&mut s);
+            s.finish()
+        };
+        for n in [64usize, 128, 256] {
+            let (_, g) = full_grid(n);
+            let m = stitch(&g.extract_all(None));
+            println!("full {n}: {} tris {:016x}", m.triangle_count(), h(&m));
+        }
+        for (name, ops, drag) in workloads() {
+            for step in [0.012, 0.01, 0.006, 0.004] {
+                let mut v = SdfVolume::new(step).expect("step");
+                v.pending = ops.clone();
+                let u = v.updated_with(cache).expect("update");
+                let m = u.state_with(cache).expect("state").mesh.clone();
+                println!("{name} {step}: {} tris {:016x}", m.triangle_count(), h(&m));
+                // A drag: incremental re-extraction of the moved bricks.
+                let d = v
+                    .with_pending(|p| p[drag].transform.translate[0] += 0.0137)
+                    .updated_with(cache)
+                    .expect("drag");
+                let m = d.state_with(cache).expect("state").mesh.clone();
+                println!(
+                    "{name} {step} drag: {} tris {:016x}",
+                    m.triangle_count(),
+                    h(&m)
+                );
+            }
+        }
+        return;
+    }
+    if workload == "full" {
+        // `--phase full N`: the full-grid extraction at N³ (ours only).
+        let n: usize = phase.parse().expect("--phase full N");
+        let (_, g) = full_grid(n);
+        let (mut times, mut te, mut ta) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..a.reps {
+            let s = Instant::now();
+            let pieces = g.extract_all(None);
+            te.push(ms(s));
+            let s2 = Instant::now();
+            std::hint::black_box(stitch(&pieces));
+            ta.push(ms(s2));
+            drop(pieces);
+            times.push(ms(s));
+        }
+        eprintln!(
+            "pieces {:.3} ms, assemble {:.3} ms (medians)",
+            stats(te)[0],
+            stats(ta)[0]
+        );
+        let min = times.iter().copied().fold(f64::INFINITY, f64::min);
+        let [med, p25, p75] = stats(times);
+        eprintln!("full {n}: min {min:.3} ms, median {med:.3} ({p25:.3}..{p75:.3}) per rep (wall)");
+        return;
+    }
     let (_, ops, drag) = workloads()
         .into_iter()
         .find(|w| w.0 == workload)

@@ -7,9 +7,13 @@
 //!   when a brick is made, say whether a block changes sign at all, so
 //!   blocks without surface are never loaded.
 //! - Vertices are named by their slot in the brick's vertex table (see
-//!   [`Piece`]): found by a stamped table instead of a hash map, owned by
-//!   exactly one brick, numbered in slot order, so that a piece depends on
-//!   its block alone and incremental extraction equals a full one.
+//!   [`Piece`]), owned by exactly one brick, numbered in slot order, so
+//!   that a piece depends on its block alone and incremental extraction
+//!   equals a full one. Every crossing edge of a 9³ block belongs to a
+//!   cell of its brick, so a brick makes its edge vertices up front, in
+//!   slot order, from per-row inside bitmasks of the block (which also
+//!   give the crossing cells and their corner configurations): no lookup
+//!   table is stamped per vertex and nothing is sorted or renumbered.
 //! - Normals are the gradient of the field (the trilinear interpolant of a
 //!   canonical cell), computed by the owning brick: no pass over the
 //!   stitched triangles.
@@ -17,9 +21,11 @@
 //!   neighbours through a dense index over the bricks' bounding box, in
 //!   one parallel pass.
 //!
-//! Measured (`scripts/bench/sdf.py`, sphere minus torus, 2 threads):
-//! 128³ in about 1.8× and 256³ in about 1.1× a single-thread "classify
-//! every cell" pass over the dense grid.
+//! Measured against a single-thread "classify every cell" pass over the
+//! dense grid by `scripts/bench/sdf.py` (sphere minus torus); the README's
+//! performance table has the latest run. `sdf_bench --phase full N` loops
+//! this extraction alone for a profiler, `--phase hash all` prints the
+//! bits of every bench extraction (to check that a speed-up keeps them).
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -27,8 +33,8 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use super::features::{feature_apex, ExactField};
-use super::grid::{Brick, BrickKey, SparseGrid, BRICK, BRICK_LEN, SIGN_IN, SIGN_OUT};
-use super::mc::{polygonize, BuildKeyHasher, MeshSink, VertKey, MIN_TWICE_AREA_REL};
+use super::grid::{Brick, BrickKey, SparseGrid, BRICK, SIGN_IN, SIGN_OUT};
+use super::mc::{polygonize_config, BuildKeyHasher, MeshSink, VertKey, MIN_TWICE_AREA_REL};
 use crate::math::DVec3;
 use crate::mesh::TriMesh;
 
@@ -55,7 +61,9 @@ pub struct Piece {
     /// Per shared vertex: its owner (bit `a` set: `+1` along axis `a`)
     /// and its slot in the owner's table.
     pub(crate) shared: Vec<(u8, u32)>,
-    /// Triangles, counter-clockwise seen from outside.
+    /// Triangles, counter-clockwise seen from outside: the index of an
+    /// owned vertex, or [`SHARED_ID`]` | k` for shared vertex `k` (at
+    /// `positions[slots.len() + k]`).
     pub(crate) triangles: Vec<[u32; 3]>,
     /// The triangles (indices into `triangles`) of feature fans, each with
     /// its fan vertex first.
@@ -77,7 +85,6 @@ impl Piece {
 const N: usize = BRICK as usize + 1;
 /// Slots of edge vertices in a brick's vertex table (see [`Piece`]).
 pub const EDGE_SLOTS: u32 = (N * N * N * 3) as u32;
-const SLOTS: usize = EDGE_SLOTS as usize + BRICK_LEN * 4;
 
 /// The gradient of the trilinear interpolant of a cell's samples `c`
 /// (corner `i` at offset `(i & 1, i >> 1 & 1, i >> 2 & 1)`) at the local
@@ -114,45 +121,66 @@ fn unit_or_z(g: [f64; 3]) -> [f64; 3] {
     }
 }
 
-/// Per-thread scratch of brick extraction: the 9³ block, the vertex
-/// table (reset by a generation stamp instead of clearing) and the
-/// temporary buffers, reused from brick to brick.
+/// Marks a shared vertex's index in a piece's triangles (the owned ones
+/// are numbered first, as they are made, and the shared ones apart: so the
+/// triangles need no renumbering once the count of owned ones is known).
+pub(crate) const SHARED_ID: u32 = 1 << 31;
+
+/// Per-thread scratch of brick extraction: the 9³ block, its inside masks,
+/// the vertex id of every crossing edge slot and the temporary buffers,
+/// reused from brick to brick.
 struct Scratch {
     block: [f32; N * N * N],
-    stamp: Vec<u32>,
+    /// Per row `y + 9 z` of the block, bit `x` set for an inside sample.
+    rows: [u16; N * N],
+    out: Out,
+}
+
+/// The piece under construction (see [`PieceSink`]).
+struct Out {
+    /// Vertex id per edge slot; valid for the current brick's crossing
+    /// edges only (the only ones the cells ask for).
     id: Vec<u32>,
-    generation: u32,
-    slot: Vec<u32>,
+    slots: Vec<u32>,
     positions: Vec<[f64; 3]>,
+    normals: Vec<[f64; 3]>,
+    shared: Vec<(u8, u32)>,
+    shared_positions: Vec<[f64; 3]>,
     triangles: Vec<[u32; 3]>,
     feature_triangles: Vec<u32>,
-    order: Vec<u64>,
-    new_of_old: Vec<u32>,
 }
 
 thread_local! {
     static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch {
         block: [0.0; N * N * N],
-        stamp: vec![0; SLOTS],
-        id: vec![0; SLOTS],
-        generation: 0,
-        slot: Vec::new(),
-        positions: Vec::new(),
-        triangles: Vec::new(),
-        feature_triangles: Vec::new(),
-        order: Vec::new(),
-        new_of_old: Vec::new(),
+        rows: [0; N * N],
+        out: Out {
+            id: vec![0; EDGE_SLOTS as usize],
+            slots: Vec::new(),
+            positions: Vec::new(),
+            normals: Vec::new(),
+            shared: Vec::new(),
+            shared_positions: Vec::new(),
+            triangles: Vec::new(),
+            feature_triangles: Vec::new(),
+        },
     });
 }
 
-/// Builds one brick's piece: vertices get temporary ids in creation order
-/// and are renumbered (owned in slot order, then shared) at the end.
+/// Builds one brick's piece. The edge vertices are all made up front, in
+/// slot order, from the block's inside masks (every crossing edge of the
+/// 9³ block belongs to a cell of the brick, so the cells ask for exactly
+/// these): the owned ones are numbered in slot order at once and get their
+/// normals, the shared ones are numbered after the owned ones (and the
+/// cells' centroids, which come in slot order as the cells do) at the end.
 struct PieceSink<'a> {
     base: [i32; 3],
     step: f64,
     inv_step: f64,
     exact: Option<&'a ExactField>,
-    sc: &'a mut Scratch,
+    block: &'a [f32; N * N * N],
+    rows: &'a [u16; N * N],
+    out: &'a mut Out,
 }
 
 #[inline]
@@ -160,120 +188,134 @@ fn block_index(l: [usize; 3]) -> usize {
     l[0] + N * (l[1] + N * l[2])
 }
 
-impl PieceSink<'_> {
-    /// The unit normal of an owned vertex: the gradient of the trilinear
-    /// interpolant of the cell at the vertex's edge's lower corner (a
-    /// canonical cell, so the normal does not depend on which cell met the
-    /// vertex first), or of the centroid's own cell.
-    fn normal(&self, slot: u32, pos: [f64; 3]) -> [f64; 3] {
-        let b = &self.sc.block;
-        if slot >= EDGE_SLOTS {
-            let cell = ((slot - EDGE_SLOTS) / 4) as usize;
-            let bs = BRICK as usize;
-            let l = [cell % bs, cell / bs % bs, cell / (bs * bs)];
-            let mut c = [0f32; 8];
-            for (i, o) in super::mc::CORNER_OFFSETS.iter().enumerate() {
-                c[i] = b[block_index([0, 1, 2].map(|a| l[a] + o[a] as usize))];
-            }
-            let f = [0, 1, 2].map(|a| pos[a] * self.inv_step - (self.base[a] + l[a] as i32) as f64);
-            return unit_or_z(cell_gradient(&c, f));
-        }
-        let e = (slot / 3) as usize;
-        let axis = (slot % 3) as usize;
-        let l = [e % N, e / N % N, e / (N * N)];
-        let mut l1 = l;
-        l1[axis] += 1;
-        let (i0, i1) = (block_index(l), block_index(l1));
-        let (v0, v1) = (b[i0] as f64, b[i1] as f64);
-        // Where the vertex lies along its edge (read back from its
-        // position: a multiply instead of the division that placed it).
-        let t = pos[axis] * self.inv_step - (self.base[axis] + l[axis] as i32) as f64;
-        let mut g = [0.0; 3];
-        for (a, ga) in g.iter_mut().enumerate() {
-            *ga = if a == axis {
-                v1 - v0
-            } else {
-                let stride = [1, N, N * N][a];
-                let d0 = b[i0 + stride] as f64 - v0;
-                let d1 = b[i1 + stride] as f64 - v1;
-                d0 + (d1 - d0) * t
-            };
-        }
-        unit_or_z(g)
-    }
-
-    fn push(&mut self, slot: u32, pos: [f64; 3]) -> u32 {
-        let sc = &mut *self.sc;
-        let n = sc.positions.len() as u32;
-        sc.stamp[slot as usize] = sc.generation;
-        sc.id[slot as usize] = n;
-        sc.slot.push(slot);
-        sc.positions.push(pos);
-        n
-    }
-
-    /// Renumbers the vertices (owned first, in slot order) into a piece.
-    fn finish(self) -> Piece {
-        let n = self.sc.positions.len();
-        self.sc.order.clear();
-        let mut n_shared = 0;
-        for (t, &slot) in self.sc.slot.iter().enumerate() {
-            if is_owned(slot) {
-                self.sc.order.push((slot as u64) << 32 | t as u64);
-            } else {
-                n_shared += 1;
-            }
-        }
-        self.sc.order.sort_unstable();
-        let n_owned = self.sc.order.len();
-        let mut piece = Piece {
-            slots: Vec::with_capacity(n_owned),
-            positions: Vec::with_capacity(n),
-            normals: Vec::with_capacity(n_owned),
-            shared: Vec::with_capacity(n_shared),
-            triangles: Vec::with_capacity(self.sc.triangles.len()),
-            feature_triangles: Vec::new(),
-        };
-        self.sc.new_of_old.clear();
-        self.sc.new_of_old.resize(n, 0);
-        for k in 0..n_owned {
-            let o = self.sc.order[k];
-            let t = (o & 0xffff_ffff) as usize;
-            let slot = (o >> 32) as u32;
-            self.sc.new_of_old[t] = k as u32;
-            let p = self.sc.positions[t];
-            piece.slots.push(slot);
-            piece.positions.push(p);
-            piece.normals.push(self.normal(slot, p));
-        }
-        let sc = &mut *self.sc;
-        for (t, &slot) in sc.slot.iter().enumerate() {
-            if !is_owned(slot) {
-                let (owner, there) = slot_owner(slot);
-                sc.new_of_old[t] = piece.positions.len() as u32;
-                piece.positions.push(sc.positions[t]);
-                piece.shared.push((owner, there));
-            }
-        }
-        piece.triangles.extend(
-            sc.triangles
-                .iter()
-                .map(|t| t.map(|i| sc.new_of_old[i as usize])),
-        );
-        piece.feature_triangles = sc.feature_triangles.clone();
-        piece
-    }
-}
-
-/// Whether the brick owns the vertex in `slot` (a centroid, or an edge
-/// starting inside the brick).
+/// The unit normal of an owned vertex (in `slot` at `pos`, brick corner
+/// sample `base`): the gradient of the trilinear interpolant of the cell at
+/// the vertex's edge's lower corner (a canonical cell, so the normal does
+/// not depend on which cell met the vertex first), or of the centroid's own
+/// cell.
 #[inline]
-fn is_owned(slot: u32) -> bool {
+fn vertex_normal(
+    b: &[f32; N * N * N],
+    base: [i32; 3],
+    inv_step: f64,
+    slot: u32,
+    pos: [f64; 3],
+) -> [f64; 3] {
     if slot >= EDGE_SLOTS {
-        return true;
+        let cell = ((slot - EDGE_SLOTS) / 4) as usize;
+        let bs = BRICK as usize;
+        let l = [cell % bs, cell / bs % bs, cell / (bs * bs)];
+        let mut c = [0f32; 8];
+        for (i, o) in super::mc::CORNER_OFFSETS.iter().enumerate() {
+            c[i] = b[block_index([0, 1, 2].map(|a| l[a] + o[a] as usize))];
+        }
+        let f = [0, 1, 2].map(|a| pos[a] * inv_step - (base[a] + l[a] as i32) as f64);
+        return unit_or_z(cell_gradient(&c, f));
     }
     let e = (slot / 3) as usize;
-    e % N < BRICK as usize && e / N % N < BRICK as usize && e / (N * N) < BRICK as usize
+    let axis = (slot % 3) as usize;
+    // The edge's lower sample is block sample `e`.
+    let strides = [1, N, N * N];
+    let (i0, i1) = (e, e + strides[axis]);
+    let (v0, v1) = (b[i0] as f64, b[i1] as f64);
+    // Where the vertex lies along its edge (read back from its position: a
+    // multiply instead of the division that placed it).
+    let la = e / strides[axis] % N;
+    let t = pos[axis] * inv_step - (base[axis] + la as i32) as f64;
+    let mut g = [0.0; 3];
+    for (a, ga) in g.iter_mut().enumerate() {
+        *ga = if a == axis {
+            v1 - v0
+        } else {
+            let stride = strides[a];
+            let d0 = b[i0 + stride] as f64 - v0;
+            let d1 = b[i1 + stride] as f64 - v1;
+            d0 + (d1 - d0) * t
+        };
+    }
+    unit_or_z(g)
+}
+
+impl PieceSink<'_> {
+    /// Makes every crossing edge's vertex of the block, in slot order (see
+    /// the type's doc), from the rows' inside masks.
+    fn edge_vertices(&mut self) {
+        const B: usize = BRICK as usize;
+        let (block, rows, out) = (self.block, self.rows, &mut *self.out);
+        for z in 0..N {
+            for y in 0..N {
+                let m = rows[y + N * z];
+                // Crossing edges starting at x along x, y and z.
+                let ex = (m ^ (m >> 1)) & 0xff;
+                let ey = if y < B { m ^ rows[y + 1 + N * z] } else { 0 };
+                let ez = if z < B { m ^ rows[y + N * (z + 1)] } else { 0 };
+                let mut any = ex | ey | ez;
+                let row = N * (y + N * z);
+                while any != 0 {
+                    let x = any.trailing_zeros() as usize;
+                    any &= any - 1;
+                    let i = row + x;
+                    for (axis, mask) in [ex, ey, ez].into_iter().enumerate() {
+                        if mask >> x & 1 == 0 {
+                            continue;
+                        }
+                        let slot = (i * 3 + axis) as u32;
+                        let stride = [1, N, N * N][axis];
+                        let lo = [
+                            self.base[0] + x as i32,
+                            self.base[1] + y as i32,
+                            self.base[2] + z as i32,
+                        ];
+                        let pos = super::mc::edge_vertex(
+                            lo,
+                            axis,
+                            block[i],
+                            block[i + stride],
+                            self.step,
+                        );
+                        if x < B && y < B && z < B {
+                            out.id[slot as usize] = out.positions.len() as u32;
+                            out.slots.push(slot);
+                            out.positions.push(pos);
+                        } else {
+                            out.id[slot as usize] = SHARED_ID | out.shared.len() as u32;
+                            out.shared.push(slot_owner(slot));
+                            out.shared_positions.push(pos);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Numbers the shared vertices after the owned ones and copies the
+    /// piece out of the scratch.
+    fn finish(self) -> Piece {
+        // The owned vertices' normals, in one loop of independent
+        // iterations (a square root and a division each: interleaved with
+        // the vertices' making, their latency was not hidden).
+        let out = &mut *self.out;
+        let (block, base, inv_step) = (self.block, self.base, self.inv_step);
+        out.normals.extend(
+            out.slots
+                .iter()
+                .zip(&out.positions)
+                .map(|(&slot, &pos)| vertex_normal(block, base, inv_step, slot, pos)),
+        );
+        let sc = &*out;
+        let mut positions = Vec::with_capacity(sc.positions.len() + sc.shared_positions.len());
+        positions.extend_from_slice(&sc.positions);
+        positions.extend_from_slice(&sc.shared_positions);
+        let triangles = sc.triangles.clone();
+        Piece {
+            slots: sc.slots.clone(),
+            positions,
+            normals: sc.normals.clone(),
+            shared: sc.shared.clone(),
+            triangles,
+            feature_triangles: sc.feature_triangles.clone(),
+        }
+    }
 }
 
 /// The owner of the vertex in `slot` (bit `a`: the +`a` neighbour; 0: the
@@ -297,24 +339,34 @@ fn slot_owner(slot: u32) -> (u8, u32) {
 
 impl MeshSink for PieceSink<'_> {
     #[inline]
-    fn vertex(&mut self, key: VertKey, pos: impl FnOnce() -> [f64; 3]) -> u32 {
+    fn vertex(&mut self, key: VertKey, _pos: impl FnOnce() -> [f64; 3]) -> u32 {
+        // Made up front by `edge_vertices` (the same position).
         let l = [0, 1, 2].map(|a| (key.at[a] - self.base[a]) as usize);
-        let slot = (block_index(l) * 3) as u32 + key.kind as u32;
-        if self.sc.stamp[slot as usize] == self.sc.generation {
-            return self.sc.id[slot as usize];
-        }
-        self.push(slot, pos())
+        self.out.id[block_index(l) * 3 + key.kind as usize]
     }
 
     fn fresh(&mut self, key: VertKey, pos: [f64; 3]) -> u32 {
         let l = [0, 1, 2].map(|a| (key.at[a] - self.base[a]) as usize);
         let cell = l[0] + BRICK as usize * (l[1] + BRICK as usize * l[2]);
-        self.push(EDGE_SLOTS + (cell * 4) as u32 + (key.kind - 3) as u32, pos)
+        let slot = EDGE_SLOTS + (cell * 4) as u32 + (key.kind - 3) as u32;
+        let out = &mut *self.out;
+        let n = out.positions.len() as u32;
+        out.slots.push(slot);
+        out.positions.push(pos);
+        n
     }
 
     #[inline]
     fn position(&self, id: u32) -> [f64; 3] {
-        self.sc.positions[id as usize]
+        if id & SHARED_ID != 0 {
+            self.out.shared_positions[(id & !SHARED_ID) as usize]
+        } else {
+            self.out.positions[id as usize]
+        }
+    }
+
+    fn keeps_features(&self) -> bool {
+        self.exact.is_some()
     }
 
     fn feature_apex(&mut self, cell: [i32; 3], loop_points: &[[f64; 3]]) -> Option<[f64; 3]> {
@@ -325,14 +377,14 @@ impl MeshSink for PieceSink<'_> {
 
     #[inline]
     fn triangle(&mut self, t: [u32; 3]) {
-        self.sc.triangles.push(t)
+        self.out.triangles.push(t)
     }
 
     fn feature_triangle(&mut self, t: [u32; 3]) {
-        self.sc
+        self.out
             .feature_triangles
-            .push(self.sc.triangles.len() as u32);
-        self.sc.triangles.push(t)
+            .push(self.out.triangles.len() as u32);
+        self.out.triangles.push(t)
     }
 }
 
@@ -381,7 +433,7 @@ impl SparseGrid {
         let signs: Vec<[u8; 8]> = stored.iter().map(|(_, b)| b.region_signs()).collect();
         let (index, signs, stored) = (&index, &signs, &stored);
         // One task per (x, y) column: surface is unevenly spread over x.
-        let v: Vec<(BrickKey, Piece)> = (0..dims[0] * dims[1])
+        let v: Vec<(BrickKey, Arc<Piece>)> = (0..dims[0] * dims[1])
             .into_par_iter()
             .flat_map_iter(|xy| {
                 let (x, y) = (xy / dims[1], xy % dims[1]);
@@ -408,12 +460,12 @@ impl SparseGrid {
                         }
                         let key = [lo[0] + x as i32, lo[1] + y as i32, lo[2] + z as i32];
                         let piece = self.extract_with(key, &nbs, exact);
-                        (!piece.triangles.is_empty()).then_some((key, piece))
+                        (!piece.triangles.is_empty()).then(|| (key, Arc::new(piece)))
                     })
                 }
             })
             .collect();
-        v.into_iter().map(|(k, p)| (k, Arc::new(p))).collect()
+        v.into_iter().collect()
     }
 
     /// Marching cubes over brick `key`'s cells, given the 8 bricks
@@ -469,51 +521,59 @@ impl SparseGrid {
                     }
                 }
             }
-            sc.generation = sc.generation.wrapping_add(1);
-            if sc.generation == 0 {
-                sc.stamp.fill(0);
-                sc.generation = 1;
+            for (m, row) in sc.rows.iter_mut().zip(sc.block.chunks_exact(N)) {
+                *m = row
+                    .iter()
+                    .enumerate()
+                    .fold(0u16, |bits, (x, v)| bits | ((*v < 0.0) as u16) << x);
             }
             let base = key.map(|k| k * BRICK);
-            sc.slot.clear();
-            sc.positions.clear();
-            sc.triangles.clear();
-            sc.feature_triangles.clear();
-            let block = sc.block;
+            let Scratch { block, rows, out } = sc;
+            out.slots.clear();
+            out.positions.clear();
+            out.normals.clear();
+            out.shared.clear();
+            out.shared_positions.clear();
+            out.triangles.clear();
+            out.feature_triangles.clear();
+            let (block, rows) = (&*block, &*rows);
             let mut sink = PieceSink {
                 base,
                 step: self.step,
                 exact,
                 inv_step: 1.0 / self.step,
-                sc,
+                block,
+                rows,
+                out,
             };
-            // Per (y, z) row: inside counts of the 4-sample columns, so a
-            // cell's count is the sum of two columns (cells without a
-            // crossing are skipped after two loads).
-            let mut cols = [0u8; N];
+            sink.edge_vertices();
+            // Per (y, z) row of cells: the cells whose 8 corners are not
+            // all inside or all outside, from the four sample rows' masks.
             for z in 0..B {
                 for y in 0..B {
-                    let r = [
-                        N * (y + N * z),
-                        N * (y + 1 + N * z),
-                        N * (y + N * (z + 1)),
-                        N * (y + 1 + N * (z + 1)),
+                    let m = [
+                        rows[y + N * z],
+                        rows[y + 1 + N * z],
+                        rows[y + N * (z + 1)],
+                        rows[y + 1 + N * (z + 1)],
                     ];
-                    for (x, c) in cols.iter_mut().enumerate() {
-                        *c = r.iter().map(|&r| (block[r + x] < 0.0) as u8).sum();
-                    }
-                    for x in 0..B {
-                        let s = cols[x] + cols[x + 1];
-                        if s == 0 || s == 8 {
-                            continue;
-                        }
+                    let or = m[0] | m[1] | m[2] | m[3];
+                    let and = m[0] & m[1] & m[2] & m[3];
+                    let mut cells = (or | or >> 1) & !(and & and >> 1) & 0xff;
+                    while cells != 0 {
+                        let x = cells.trailing_zeros() as usize;
+                        cells &= cells - 1;
                         let mut v = [0f32; 8];
                         for (c, o) in super::mc::CORNER_OFFSETS.iter().enumerate() {
                             v[c] = block[(x + o[0] as usize)
                                 + N * ((y + o[1] as usize) + N * (z + o[2] as usize))];
                         }
+                        // Corner c's sign: bit x (c even) or x + 1 of
+                        // sample row c / 2.
+                        let config =
+                            (0..4).fold(0usize, |c, r| c | ((m[r] >> x & 3) as usize) << (2 * r));
                         let cell = [base[0] + x as i32, base[1] + y as i32, base[2] + z as i32];
-                        polygonize(cell, &v, self.step, &mut sink);
+                        polygonize_config(cell, &v, config, self.step, &mut sink);
                     }
                 }
             }
@@ -537,9 +597,9 @@ pub fn assemble(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> TriMesh {
         nv += p.slots.len();
         nt += p.triangles.len();
     }
-    let mut positions = vec![[0.0f64; 3]; nv];
-    let mut normals = vec![[0.0f64; 3]; nv];
-    let mut triangles = vec![[0u32; 3]; nt];
+    let mut positions = zeroed(nv, [0.0f64; 3]);
+    let mut normals = zeroed(nv, [0.0f64; 3]);
+    let mut triangles = zeroed(nt, [0u32; 3]);
     // Each piece's output ranges, split off in order.
     let mut jobs = Vec::with_capacity(list.len());
     {
@@ -588,11 +648,10 @@ pub fn assemble(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> TriMesh {
                 .collect();
             for (out, t) in tri.iter_mut().zip(&p.triangles) {
                 *out = t.map(|i| {
-                    let i = i as usize;
-                    if i < owned {
-                        base + i as u32
+                    if i & SHARED_ID == 0 {
+                        base + i
                     } else {
-                        remap[i - owned]
+                        remap[(i & !SHARED_ID) as usize]
                     }
                 });
             }
@@ -610,6 +669,14 @@ pub fn assemble(pieces: &BTreeMap<BrickKey, Arc<Piece>>) -> TriMesh {
     let mut mesh = TriMesh::new(positions, triangles);
     mesh.normals = normals;
     mesh
+}
+
+/// `n` copies of `z`, written on all threads (on small grids, zeroing the
+/// mesh arrays on one thread cost a tenth of the extraction on two).
+fn zeroed<T: Clone + Send>(n: usize, z: T) -> Vec<T> {
+    let mut v = Vec::with_capacity(n);
+    v.par_extend(rayon::iter::repeat_n(z, n));
+    v
 }
 
 /// Joins the fan vertices of neighbouring feature cells (Kobbelt et al.'s
@@ -724,12 +791,13 @@ fn add_orphans(
                 if triangles[t0 + k][c] != u32::MAX {
                     continue;
                 }
-                let (bits, slot) = p.shared[i as usize - owned];
+                let k = (i & !SHARED_ID) as usize;
+                let (bits, slot) = p.shared[k];
                 let owner = [0, 1, 2].map(|a| brick[a] + (bits >> a & 1) as i32);
                 let n = positions.len() as u32;
                 let id = *orphans.entry((owner, slot)).or_insert(n);
                 if id == n {
-                    positions.push(p.positions[i as usize]);
+                    positions.push(p.positions[owned + k]);
                     normals.push([0.0, 0.0, 1.0]);
                 }
                 triangles[t0 + k][c] = id;

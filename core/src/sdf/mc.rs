@@ -307,6 +307,11 @@ pub(crate) trait MeshSink {
     fn fresh(&mut self, key: VertKey, pos: [f64; 3]) -> u32;
     /// The position of vertex `id`.
     fn position(&self, id: u32) -> [f64; 3];
+    /// Whether [`Self::feature_apex`] may find a feature point (when not,
+    /// the loops are not even looked at for one).
+    fn keeps_features(&self) -> bool {
+        true
+    }
     /// The fan vertex for a single-loop cell on a sharp feature (see
     /// [`super::features`]), or `None` for the plain fan.
     fn feature_apex(&mut self, _cell: [i32; 3], _loop_points: &[[f64; 3]]) -> Option<[f64; 3]> {
@@ -342,6 +347,20 @@ pub(crate) fn polygonize<S: MeshSink>(cell: [i32; 3], v: &[f32; 8], step: f64, s
     if config == 0 || config == 255 {
         return;
     }
+    polygonize_config(cell, v, config, step, sink)
+}
+
+/// [`polygonize`] given the cell's inside-corner bitmask (1..=254), as a
+/// caller that classified the cells already knows it.
+#[inline]
+pub(crate) fn polygonize_config<S: MeshSink>(
+    cell: [i32; 3],
+    v: &[f32; 8],
+    config: usize,
+    step: f64,
+    sink: &mut S,
+) {
+    debug_assert_eq!(config, config_of(v));
     let case = cell_case(config, v);
     let mut ids = [0u32; 12];
     let mut pos = [[0.0f64; 3]; 12];
@@ -369,7 +388,7 @@ pub(crate) fn polygonize<S: MeshSink>(cell: [i32; 3], v: &[f32; 8], step: f64, s
     // (two sheets in one cell, as on a thin wall's rim) each point must be
     // nearer its own loop than any other, so the fans stay apart.
     let mut apex: [Option<[f64; 3]>; 4] = [None; 4];
-    if super::features::nonlinear(v, step) {
+    if sink.keeps_features() && super::features::nonlinear(v, step) {
         let mut centroids = [[0.0f64; 3]; 4];
         let mut begin = 0usize;
         for l in 0..case.n_loops as usize {

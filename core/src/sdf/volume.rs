@@ -436,11 +436,22 @@ impl SdfVolume {
             .map(|o| self.sample_entry(o, cache))
             .collect::<Result<Vec<_>, _>>()?;
         let mut grid = old.grid.clone();
+        // Nothing fused yet (the first update, or every operand queued
+        // again): every stored brick is new, so the incremental bookkeeping
+        // below would mark the whole grid dirty brick by brick and extract
+        // it through map lookups. One full extraction gives the same pieces
+        // (a piece depends on its block and the exact field alone).
+        let cold = old.grid.bricks.is_empty();
         let mut changed = BTreeSet::new();
         let mut fields = old.exact.fields().to_vec();
         for (o, e) in self.pending.iter().zip(&entries) {
-            changed.extend(fuse_sampled(&mut grid, &e.sampled, o.csg));
+            let fused = fuse_sampled(&mut grid, &e.sampled, o.csg);
             check_budget(&grid)?;
+            fields.push((e.field.clone(), o.csg));
+            if cold {
+                continue;
+            }
+            changed.extend(fused);
             // Exact normals at points in the operand's box may now come
             // from it, even where no sample changed: the bricks with
             // surface there are re-extracted. A block with surface reads a
@@ -450,15 +461,23 @@ impl SdfVolume {
             let (lo, hi) = e.field.world_box;
             let b = BRICK as f64 * self.step;
             let (klo, khi) = ((lo / b).floor() - 1.0, (hi / b).floor() + 1.0);
-            changed.extend(
-                grid.bricks
-                    .keys()
-                    .copied()
-                    .filter(|k| (0..3).all(|a| (k[a] as f64) >= klo[a] && (k[a] as f64) <= khi[a])),
-            );
-            fields.push((e.field.clone(), o.csg));
+            changed.extend(stored_in_box(&grid, klo.to_array(), khi.to_array()));
         }
         let exact = Arc::new(ExactField::new(fields, self.band() as f64));
+        if cold {
+            let pieces = grid.extract_all(Some(&exact));
+            let mesh = Arc::new(stitch(&pieces));
+            let mut next = self.clone();
+            next.fused.append(&mut next.pending);
+            next.state = OnceLock::new();
+            let _ = next.state.set(Arc::new(VolumeState {
+                grid,
+                pieces,
+                mesh,
+                exact,
+            }));
+            return Ok(next);
+        }
         let mut dirty = BTreeSet::new();
         for k in &changed {
             for o in super::mc::CORNER_OFFSETS {
@@ -559,6 +578,41 @@ fn check_budget(grid: &SparseGrid) -> Result<(), SdfError> {
         });
     }
     Ok(())
+}
+
+/// The keys of the stored bricks `k` with `klo <= k <= khi` (integral
+/// bounds) on every axis: through one range query per (x, y) column of the
+/// box when it has fewer columns than the grid has bricks, so that an
+/// update near a small operand does not walk the whole grid.
+fn stored_in_box(grid: &SparseGrid, klo: [f64; 3], khi: [f64; 3]) -> Vec<BrickKey> {
+    let inside = |k: &BrickKey| (0..3).all(|a| (k[a] as f64) >= klo[a] && (k[a] as f64) <= khi[a]);
+    let columns = (0..2)
+        .map(|a| (khi[a] - klo[a] + 1.0).max(0.0))
+        .product::<f64>();
+    let finite = klo.iter().chain(&khi).all(|v| v.is_finite());
+    if !finite || columns >= grid.bricks.len() as f64 {
+        return grid.bricks.keys().copied().filter(inside).collect();
+    }
+    // The bounds are integers within the columns' count of each other, so
+    // in i32 range unless the grid's own keys are not (then `inside`
+    // still decides).
+    let [x0, y0, z0] = klo.map(|v| v.max(i32::MIN as f64) as i32);
+    let [x1, y1, z1] = khi.map(|v| v.min(i32::MAX as f64) as i32);
+    let mut out = Vec::new();
+    if z0 > z1 {
+        return out;
+    }
+    for x in x0..=x1 {
+        for y in y0..=y1 {
+            out.extend(
+                grid.bricks
+                    .range([x, y, z0]..=[x, y, z1])
+                    .map(|(k, _)| *k)
+                    .filter(inside),
+            );
+        }
+    }
+    out
 }
 
 /// Extracts the bricks `keys` (in parallel, merged in key order); empty
