@@ -119,3 +119,93 @@ fn the_headset_view_shows_the_palette_with_labels_next_to_the_model() {
         .count();
     assert!(yellow > 2000, "the dragged shade: {yellow} yellow pixels");
 }
+
+/// The palette's mirror plane in the headset (issue 19): a sculpt sphere,
+/// "Mirror x" picked, the right controller held beside the sphere: the
+/// plane is drawn (violet square) and so is the mirrored brush, across
+/// the plane from the real one. The image is `target/headset_mirror.png`.
+#[test]
+fn the_mirror_plane_and_the_mirrored_brush_are_drawn() {
+    use shapewright::interact::testkit::{Button, Driver};
+    use shapewright::interact::{Hand, PaletteAction, Pose};
+    let mut d = Driver::new(72.0, "object");
+    d.pick_tool("sculpt").unwrap().close_palette();
+    d.puppet.click(Hand::Right, Button::Primary);
+    d.sync();
+    d.pick(|i| i.action == PaletteAction::Mirror).unwrap();
+    d.close_palette();
+    // The brush 12 cm right of the sphere's centre (world (0, 0.8, -0.5)).
+    let brush = glam::DVec3::new(0.12, 0.82, -0.5);
+    d.puppet
+        .move_to(Hand::Right, Pose::new(brush, glam::DQuat::IDENTITY), 0.3)
+        .wait(0.1);
+    d.sync();
+    let trace = d.trace("mirror plane");
+    let mut it =
+        Interaction::with_session(trace.header.session().unwrap(), OpLog::new(), None).unwrap();
+    for f in &trace.frames {
+        it.step(f);
+        it.flush();
+    }
+    assert!(it.session().snap().mirror.is_some(), "mirror on");
+    let violet = [0.85f32, 0.45, 1.0];
+    let lines = &it.scene().lines;
+    let plane: Vec<_> = lines.iter().filter(|v| v.color == violet).collect();
+    assert_eq!(plane.len(), 12, "a square and a cross");
+    // The plane x = 0 (model x is world x on the desk).
+    assert!(plane.iter().all(|v| v.pos[0].abs() < 1e-5), "{plane:?}");
+    // Brush circles on both sides of it, mirror images of each other.
+    let brush_color = [0.5f32, 0.85, 1.0];
+    let (mut right, mut left) = (Vec::new(), Vec::new());
+    for v in lines.iter().filter(|v| v.color == brush_color) {
+        if v.pos[0] > 0.0 {
+            right.push(v.pos);
+        } else {
+            left.push(v.pos);
+        }
+    }
+    assert!(!right.is_empty() && right.len() == left.len());
+    // The same circles, mirrored: bounds mirrored across x = 0.
+    let bounds = |pts: &[[f32; 3]], sx: f32| {
+        pts.iter()
+            .fold([f32::MAX, f32::MIN, f32::MAX, f32::MIN], |b, p| {
+                [
+                    b[0].min(sx * p[0]),
+                    b[1].max(sx * p[0]),
+                    b[2].min(p[1]),
+                    b[3].max(p[1]),
+                ]
+            })
+    };
+    let (br, bl) = (bounds(&right, 1.0), bounds(&left, -1.0));
+    println!("brush bounds {br:?}, mirrored {bl:?}");
+    assert!(br.iter().zip(&bl).all(|(a, b)| (a - b).abs() < 1e-4));
+    assert!(
+        (br[0] + br[1]) / 2.0 > 0.1,
+        "the brush is right of the plane"
+    );
+    // Seen from the right and above (the user's own head sees the plane
+    // edge on): eye 45 cm from the sphere, looking at it.
+    let (eye, at) = (
+        glam::Vec3::new(0.3, 1.1, -0.25),
+        glam::Vec3::new(0.0, 0.8, -0.5),
+    );
+    let z = (eye - at).normalize();
+    let x = glam::Vec3::Y.cross(z).normalize();
+    let look = glam::Quat::from_mat3(&glam::Mat3::from_cols(x, z.cross(x), z));
+    let ctx = Arc::new(GpuContext::new_offscreen().expect("a Vulkan 1.1 device (lavapipe)"));
+    let img = render_scene(&ctx, it.scene(), (eye, look), 1280, 800, 70.0).unwrap();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    write_png(&img, &root.join("target/headset_mirror.png")).unwrap();
+    let on_screen = (0..800)
+        .flat_map(|y| (0..1280).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let [r, g, b, _] = img.pixel(x, y).unwrap();
+            r > 150 && b > 200 && (g as i32) < r as i32 - 30
+        })
+        .count();
+    assert!(
+        on_screen > 100,
+        "the plane on screen: {on_screen} violet pixels"
+    );
+}
