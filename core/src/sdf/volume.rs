@@ -464,35 +464,26 @@ impl SdfVolume {
             changed.extend(stored_in_box(&grid, klo.to_array(), khi.to_array()));
         }
         let exact = Arc::new(ExactField::new(fields, self.band() as f64));
-        if cold {
-            let pieces = grid.extract_all(Some(&exact));
-            let mesh = Arc::new(stitch(&pieces));
-            let mut next = self.clone();
-            next.fused.append(&mut next.pending);
-            next.state = OnceLock::new();
-            let _ = next.state.set(Arc::new(VolumeState {
-                grid,
-                pieces,
-                mesh,
-                exact,
-            }));
-            return Ok(next);
-        }
-        let mut dirty = BTreeSet::new();
-        for k in &changed {
-            for o in super::mc::CORNER_OFFSETS {
-                dirty.insert([k[0] - o[0], k[1] - o[1], k[2] - o[2]]);
+        let pieces = if cold {
+            grid.extract_all(Some(&exact))
+        } else {
+            let mut dirty = BTreeSet::new();
+            for k in &changed {
+                for o in super::mc::CORNER_OFFSETS {
+                    dirty.insert([k[0] - o[0], k[1] - o[1], k[2] - o[2]]);
+                }
             }
-        }
-        let mut pieces = old.pieces.clone();
-        let todo: Vec<BrickKey> = dirty
-            .into_iter()
-            .filter(|k| {
-                pieces.remove(k);
-                grid.needs_extraction(*k)
-            })
-            .collect();
-        pieces.extend(extract_keys(&grid, &todo, Some(&exact)));
+            let mut pieces = old.pieces.clone();
+            let todo: Vec<BrickKey> = dirty
+                .into_iter()
+                .filter(|k| {
+                    pieces.remove(k);
+                    grid.needs_extraction(*k)
+                })
+                .collect();
+            pieces.extend(extract_keys(&grid, &todo, Some(&exact)));
+            pieces
+        };
         let mesh = Arc::new(stitch(&pieces));
         let mut next = self.clone();
         next.fused.append(&mut next.pending);
