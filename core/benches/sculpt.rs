@@ -88,7 +88,7 @@ fn frame_times(n: u32) {
         // schedstat advances in scheduler ticks, so only the mean is
         // meaningful per frame.
         println!(
-            "  mean per frame: wall {:.3} ms, on-CPU {:.3} ms (the rest is waiting for a core)",
+            "  mean per frame: wall {:.3} ms, on-CPU {:.3} ms summed over threads (more than wall: parallel passes; less: waiting for a core)",
             times.iter().sum::<f64>() / FRAMES as f64,
             cpu.iter().sum::<f64>() / FRAMES as f64
         );
