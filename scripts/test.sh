@@ -8,31 +8,32 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$root/scripts/setup.sh"
 cd "$root"
 
-echo "== cargo fmt"
+echo "== cargo fmt [at ${SECONDS} s]"
 cargo fmt --all -- --check
-echo "== cargo clippy"
+echo "== cargo clippy [at ${SECONDS} s]"
 cargo clippy --workspace --all-targets -q -- -D warnings
 # xr: Monado, the real OpenXR runtime xr_host/tests/monado.rs runs the host
 # against (built once into target/monado, cached with the target; then a
 # one-second check).
-echo "== monado"
+echo "== monado [at ${SECONDS} s]"
 SHAPEWRIGHT_MONADO_MANIFEST="$(bash scripts/monado.sh)"
 export SHAPEWRIGHT_MONADO_MANIFEST
-echo "== cargo test"
+echo "== cargo test [at ${SECONDS} s]"
 cargo test --workspace -q
-echo "== ruff"
+echo "== ruff [at ${SECONDS} s]"
 .venv/bin/ruff check scripts tests blender_addon
-echo "== pytest"
+echo "== pytest [at ${SECONDS} s]"
 cargo build --release -q -p shapewright-xr
 # `cargo test` above built the usd_tool example the USD tests drive.
 USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q tests/python tests/usd tests/blender
 # blender (issue 20): the extension in the newest bpy too (5.2.3, Python
 # 3.13, own venv): a smoke scenario with the zip the pytest run built.
-echo "== abuse sweep (quick subset; the full sweep is run by hand)"
+echo "== abuse sweep (quick subset; the full sweep is run by hand) [at ${SECONDS} s]"
 .venv/bin/python scripts/abuse_sweep.py --quick --bin target/release/shapewright-xr
-echo "== blender newest"
+echo "== blender newest [at ${SECONDS} s]"
 bash scripts/blender_newest.sh
 # io: every reader fuzzed for a fixed budget over its seed corpus (issue 22);
 # long runs: bash scripts/fuzz.sh 1800 (see fuzz/README.md).
-echo "== fuzz"
+echo "== fuzz [at ${SECONDS} s]"
 bash scripts/fuzz.sh "${SHAPEWRIGHT_FUZZ_SECONDS:-20}"
+echo "== done [at ${SECONDS} s]"
