@@ -35,10 +35,7 @@ pub fn mirror_plane(parent: &Gc) -> (DVec3, DVec3) {
     (o, parent.spine.plane_normal.normalize())
 }
 
-/// `p` reflected about the plane through `origin` with unit normal `n`.
-pub fn reflect(p: DVec3, origin: DVec3, n: DVec3) -> DVec3 {
-    p - n * (2.0 * (p - origin).dot(n))
-}
+pub use crate::math::reflect;
 
 fn flip_y_curve(c: &NurbsCurve) -> NurbsCurve {
     let flip = DAffine3::from_mat3(DMat3::from_diagonal(DVec3::new(1.0, -1.0, 1.0)));

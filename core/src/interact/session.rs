@@ -348,17 +348,17 @@ impl Session {
             }
             PaletteAction::Mirror => {
                 let off = m.dominant.other().index();
+                let tool = &self.tools[self.active];
+                let centre = tool.mirror_centre(doc);
+                // The tool's own view of the model (the sculpt tool turns
+                // it), else the session's.
+                let model = tool.preview().view.unwrap_or(self.model);
                 let mut mode = m.snap.mirror.map(|x| x.mode);
                 // A mode that cannot be placed now (no off hand for "at
                 // hand") is passed over.
                 m.snap.mirror = loop {
                     mode = MirrorMode::next(mode);
                     let Some(next) = mode else { break None };
-                    let tool = &self.tools[self.active];
-                    let centre = tool.mirror_centre(doc);
-                    // The tool's own view of the model (the sculpt tool
-                    // turns it), else the session's.
-                    let model = tool.preview().view.unwrap_or(self.model);
                     if let Some(plane) = mirror_plane(next, centre, doc, frame, off, &model) {
                         break Some(Mirror { mode: next, plane });
                     }

@@ -16,6 +16,11 @@ use serde::{Deserialize, Serialize};
 
 use super::LENGTH_EPS;
 
+/// `p` reflected about the plane through `origin` with unit normal `n`.
+pub fn reflect(p: DVec3, origin: DVec3, n: DVec3) -> DVec3 {
+    p - n * (2.0 * (p - origin).dot(n))
+}
+
 /// A plane in document space: strokes made with it set are mirrored
 /// across it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -77,8 +82,7 @@ impl MirrorPlane {
 
     /// `p` reflected across the plane.
     pub fn point(&self, p: DVec3) -> DVec3 {
-        let n = self.unit_normal();
-        p - n * (2.0 * (p - DVec3::from_array(self.point)).dot(n))
+        reflect(p, DVec3::from_array(self.point), self.unit_normal())
     }
 
     /// A direction reflected across the plane.

@@ -10,7 +10,7 @@ mod transform;
 
 pub use frames::{double_reflection, rmf_step, Frame};
 pub use glam::{DAffine3, DMat3, DMat4, DQuat, DVec2, DVec3};
-pub use mirror::{MirrorError, MirrorPlane};
+pub use mirror::{reflect, MirrorError, MirrorPlane};
 pub use transform::{Transform, TransformError};
 
 /// Lengths below this (in model units, metres) are treated as zero.

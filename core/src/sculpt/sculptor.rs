@@ -75,6 +75,14 @@ pub struct FrameStats {
     pub collapses: usize,
 }
 
+impl std::ops::AddAssign for FrameStats {
+    fn add_assign(&mut self, o: Self) {
+        self.moved += o.moved;
+        self.splits += o.splits;
+        self.collapses += o.collapses;
+    }
+}
+
 /// One vertex move of a frame: vertex, old and new position, and whether
 /// it moves rigidly with every neighbour (its triangles keep their shape).
 pub(super) type Move = (VertId, DVec3, DVec3, bool);

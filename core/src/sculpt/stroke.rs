@@ -162,9 +162,7 @@ impl<'a> StrokeFrames<'a> {
             max_len: self.settings.max_edge_rel * size,
             min_len: self.settings.min_edge_rel * size,
         });
-        self.total.moved += s.moved;
-        self.total.splits += s.splits;
-        self.total.collapses += s.collapses;
+        self.total += s;
         s
     }
 
@@ -224,10 +222,7 @@ pub fn run_strokes(
     }
     let mut total = FrameStats::default();
     for f in &frames {
-        let t = f.total();
-        total.moved += t.moved;
-        total.splits += t.splits;
-        total.collapses += t.collapses;
+        total += f.total();
     }
     Ok(total)
 }

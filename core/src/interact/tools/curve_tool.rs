@@ -192,7 +192,7 @@ impl DrawPlane {
     }
 
     fn mirror(&self, p: DVec3) -> DVec3 {
-        p - self.normal * (2.0 * (p - self.origin).dot(self.normal))
+        crate::math::reflect(p, self.origin, self.normal)
     }
 }
 
