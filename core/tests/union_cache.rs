@@ -44,6 +44,18 @@ fn resize(part: usize, section: usize, factor: f64) -> Op {
 /// bit, and a closed oriented 2-manifold; the document's hash is the one
 /// a fresh replay of its ops gives.
 fn assert_fresh(log: &OpLog, what: &str) {
+    assert_fresh_mesh(log, what);
+    let replayed = OpLog::replay(log.ops().to_vec(), log.cursor()).expect("replay");
+    assert_eq!(
+        replayed.document().content_hash(),
+        log.document().content_hash(),
+        "{what}: document hash"
+    );
+}
+
+/// The object's mesh is the fresh full recompute of its assembly, bit for
+/// bit, and a closed oriented 2-manifold.
+fn assert_fresh_mesh(log: &OpLog, what: &str) {
     let obj = log.document().get(ObjectId(1)).expect("object 1");
     let mut fresh: TriMesh = union_mesh(&assembly(log)).expect("fresh union");
     fresh.set_source(1);
@@ -61,12 +73,6 @@ fn assert_fresh(log: &OpLog, what: &str) {
         r.is_closed() && r.non_manifold_vertices == 0 && r.signed_volume > 0.0,
         "{what}: {}",
         r.problems()
-    );
-    let replayed = OpLog::replay(log.ops().to_vec(), log.cursor()).expect("replay");
-    assert_eq!(
-        replayed.document().content_hash(),
-        log.document().content_hash(),
-        "{what}: document hash"
     );
 }
 
@@ -190,4 +196,65 @@ fn a_cache_that_keeps_nothing_gives_the_same_bits() {
         assert_eq!(big.stats().result_hits, hits + 1);
     }
     assert!(big.bytes() > 0 && big.bytes() <= UnionCache::DEFAULT_BUDGET);
+}
+
+#[test]
+fn the_union_has_the_same_bits_on_one_and_two_threads() {
+    // manifold-rust's `parallel` option is on: its parallel sites must give
+    // the sequential bits, and so must the assembly's parallel meshing,
+    // trimming and importing, cached or not.
+    let log = common::run(&common::data("teapot.jsonl"));
+    let asm = assembly(&log);
+    let on = |threads: usize, cache: &UnionCache| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool")
+            .install(|| union_mesh_cached(&asm, cache).expect("union"))
+    };
+    let one = on(1, &UnionCache::new());
+    let two = on(2, &UnionCache::new());
+    assert_eq!(one, two);
+    assert_eq!(one, union_mesh(&asm).expect("fresh"));
+    // An edit re-united on two threads from a cache filled on one.
+    let shared = UnionCache::new();
+    on(1, &shared);
+    let mut log = log;
+    log.apply(resize(0, 1, 1.05)).expect("resize the body");
+    let asm = assembly(&log);
+    let cached = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .expect("pool")
+        .install(|| union_mesh_cached(&asm, &shared).expect("union"));
+    assert_eq!(cached, union_mesh(&asm).expect("fresh"));
+}
+
+#[test]
+fn adding_parts_then_undo_and_redo_never_gives_a_stale_union() {
+    // The chair: each op adds a part, so each commit unites the new part
+    // with the cached union of the others; after undo the cache still
+    // holds the longer fold, after redo the shorter one.
+    let chair = common::data("chair.jsonl");
+    let lines: Vec<&str> = chair.lines().filter(|l| !l.trim().is_empty()).collect();
+    // Its first seven ops (seat, four legs, two back posts), kept short.
+    let (head, tail) = lines[..7].split_at(4);
+    let mut log = common::run(&head.join("\n"));
+    assert_fresh_mesh(&log, "chair head");
+    for (k, line) in tail.iter().enumerate() {
+        run_script(&mut log, &parse_script(line).expect("parses")).expect("runs");
+        assert_fresh_mesh(&log, &format!("chair part {k}"));
+    }
+    for k in 0..2 {
+        log.undo().expect("undo");
+        assert_fresh_mesh(&log, &format!("chair undo {k}"));
+    }
+    log.redo().expect("redo");
+    assert_fresh_mesh(&log, "chair redo");
+    // A different part where the undone ones were: its own union, not the
+    // undone ones'.
+    log.apply(resize(1, 0, 1.2)).expect("resize a leg");
+    assert_fresh_mesh(&log, "chair branch");
+    log.undo().expect("undo");
+    assert_fresh(&log, "chair branch undone");
 }

@@ -111,37 +111,37 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
             break;
         }
     }
-    // The trimmed parts the fold needs, in parallel (independent
-    // booleans); errors reported in part order.
-    let trimmed: Vec<Result<Arc<TriMesh>, AssemblyError>> = (start..asm.parts.len())
+    // Part `i` with its sources set and the cavities cutting it cut out.
+    let trimmed_part = |i: usize| -> Result<Arc<TriMesh>, AssemblyError> {
+        if let Some(Value::Trimmed(m)) = cache.get(Tag::Trimmed, trim_keys[i]) {
+            cache.count(|s| s.trim_hits += 1);
+            return Ok(m);
+        }
+        let mut mesh = (*meshes[i].0).clone();
+        mesh.set_source(i as u32);
+        let cuts: Vec<&TriMesh> = cutters[i]
+            .iter()
+            .filter_map(|&j| cavities[j].0.as_ref().as_ref())
+            .collect();
+        if !cuts.is_empty() {
+            mesh = difference(&mesh, &cuts)?;
+            mesh.set_source(i as u32);
+        }
+        let m = Arc::new(mesh);
+        cache.put(Tag::Trimmed, trim_keys[i], Value::Trimmed(m.clone()));
+        cache.count(|s| s.trim_misses += 1);
+        Ok(m)
+    };
+    // The trimmed parts the fold needs, imported as union operands, in
+    // parallel (independent booleans and imports); errors reported in part
+    // order, a part's trim before its import, as sequentially.
+    let operands: Vec<Result<Option<UnionOperand>, AssemblyError>> = (start..asm.parts.len())
         .into_par_iter()
-        .map(|i| match cache.get(Tag::Trimmed, trim_keys[i]) {
-            Some(Value::Trimmed(m)) => {
-                cache.count(|s| s.trim_hits += 1);
-                Ok(m)
-            }
-            _ => {
-                let mut mesh = (*meshes[i].0).clone();
-                mesh.set_source(i as u32);
-                let cuts: Vec<&TriMesh> = cutters[i]
-                    .iter()
-                    .filter_map(|&j| cavities[j].0.as_ref().as_ref())
-                    .collect();
-                if !cuts.is_empty() {
-                    mesh = difference(&mesh, &cuts)?;
-                    mesh.set_source(i as u32);
-                }
-                let m = Arc::new(mesh);
-                cache.put(Tag::Trimmed, trim_keys[i], Value::Trimmed(m.clone()));
-                cache.count(|s| s.trim_misses += 1);
-                Ok(m)
-            }
-        })
+        .map(|i| trimmed_part(i).and_then(|m| Ok(UnionOperand::import(i, &m)?)))
         .collect();
-    for (i, trimmed) in (start..asm.parts.len()).zip(trimmed) {
-        let trimmed = trimmed?;
+    for (i, next) in (start..asm.parts.len()).zip(operands) {
         // As `crate::mesh::union`: a left fold, empty operands skipped.
-        if let Some(next) = UnionOperand::import(i, &trimmed)? {
+        if let Some(next) = next? {
             acc = Some(Arc::new(match acc {
                 None => next,
                 Some(a) => {
@@ -156,9 +156,9 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
         Some(a) => a.to_mesh()?,
         None => TriMesh::default(),
     };
-    let (out, report) = collapse_slivers(united);
+    let (out, ok) = collapse_slivers(united);
     // Manifold may leave zero-area slivers; they do not break closedness.
-    if !(report.is_closed() && report.non_manifold_vertices == 0 && report.signed_volume > 0.0) {
+    if !ok {
         // The full report (self-intersections too) says what is wrong.
         let report = validate(&out, &Default::default());
         return Err(AssemblyError::InvalidUnion(report.problems()));
@@ -205,16 +205,28 @@ fn part_cavity(
 /// neighbours across that edge become degenerate and are dropped); the
 /// cleaned mesh is kept only when it validates as a closed 2-manifold
 /// without degenerate triangles, otherwise the union is returned as is.
-/// Returns the mesh with its topology-only report.
-fn collapse_slivers(mesh: TriMesh) -> (TriMesh, ValidationReport) {
-    // Topology only: this runs on every GC commit (print checks the rest).
+/// Returns the mesh and whether it is closed, unpinched and of positive
+/// volume (the verdict of [`validate`]'s topology-only report).
+fn collapse_slivers(mesh: TriMesh) -> (TriMesh, bool) {
+    // Topology only: this runs on every GC commit (print checks the rest),
+    // so it takes the linear check, `validate` only for what that does not
+    // judge.
     let settings = crate::mesh::ValidationSettings::topology_only();
-    let report = validate(&mesh, &settings);
-    if report.degenerate_triangles == 0 {
-        return (mesh, report);
+    let verdict = |r: &ValidationReport| {
+        r.is_closed() && r.non_manifold_vertices == 0 && r.signed_volume > 0.0
+    };
+    let (degenerate, ok) = match quick_check(&mesh) {
+        Some(q) => (q.degenerate, q.closed && q.volume > 0.0),
+        None => {
+            let r = validate(&mesh, &settings);
+            (r.degenerate_triangles, verdict(&r))
+        }
+    };
+    if degenerate == 0 {
+        return (mesh, ok);
     }
     let Some((lo, hi)) = mesh.bbox() else {
-        return (mesh, report);
+        return (mesh, ok);
     };
     let area_tol = 1e-14 * (hi - lo).length_squared();
     let mut remap: Vec<u32> = (0..mesh.positions.len() as u32).collect();
@@ -259,10 +271,165 @@ fn collapse_slivers(mesh: TriMesh) -> (TriMesh, ValidationReport) {
         }
     }
     out.compute_normals();
-    let cleaned = validate(&out, &settings);
-    if cleaned.is_closed_manifold() {
-        (out, cleaned)
+    // `validate(&out).is_closed_manifold()`, through the linear check when
+    // it judges.
+    let cleaned = match quick_check(&out) {
+        Some(q) => !out.triangles.is_empty() && q.degenerate == 0 && q.closed && q.volume > 0.0,
+        None => validate(&out, &settings).is_closed_manifold(),
+    };
+    if cleaned {
+        (out, true)
     } else {
-        (mesh, report)
+        (mesh, ok)
+    }
+}
+
+/// What [`quick_check`] found.
+struct QuickCheck {
+    /// Triangles [`validate`] counts as degenerate.
+    degenerate: usize,
+    /// Every directed edge once, with its reverse, and every vertex one fan.
+    closed: bool,
+    /// The signed volume, summed as [`validate`] sums it.
+    volume: f64,
+}
+
+/// The parts of [`validate`]'s topology-only report the union's verdict
+/// reads, in linear time (a per-vertex list of outgoing edges instead of a
+/// sort of all edges, fans walked through it): the same degenerate count
+/// and volume (same formulas, same order) and the same verdict on
+/// closedness and pinched vertices. `None` (use [`validate`]) for what it
+/// does not judge: a triangle with a repeated or out-of-range index, or a
+/// non-finite coordinate.
+fn quick_check(mesh: &TriMesh) -> Option<QuickCheck> {
+    let n = mesh.positions.len();
+    if mesh.positions.iter().flatten().any(|x| !x.is_finite()) {
+        return None;
+    }
+    let tris = &mesh.triangles;
+    if tris
+        .iter()
+        .any(|t| t.iter().any(|&i| i as usize >= n) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+    {
+        return None;
+    }
+    let (lo, hi) = mesh.bbox()?;
+    let area_tol =
+        crate::mesh::ValidationSettings::default().degenerate_area_rel * (hi - lo).length_squared();
+    let origin = (lo + hi) * 0.5;
+    let (mut degenerate, mut volume) = (0, 0.0);
+    for t in tris {
+        let [a, b, c] = t.map(|i| glam::DVec3::from_array(mesh.positions[i as usize]) - origin);
+        let twice_area = (b - a).cross(c - a).length();
+        if (0.5 * twice_area).partial_cmp(&area_tol) != Some(std::cmp::Ordering::Greater) {
+            degenerate += 1;
+        }
+        volume += a.dot(b.cross(c));
+    }
+    volume /= 6.0;
+    // Corners grouped by vertex: (next, prev) around each.
+    let (start, link) = crate::mesh::validate::corners_by_vertex(n, tris);
+    let closed = (0..n).all(|v| {
+        let fan = &link[start[v] as usize..start[v + 1] as usize];
+        // Outgoing edges v->next are unique, and each has its reverse:
+        // some corner of `next` points back to v.
+        for (i, &(w, _)) in fan.iter().enumerate() {
+            if fan[..i].iter().any(|&(x, _)| x == w) {
+                return false;
+            }
+            let back = &link[start[w as usize] as usize..start[w as usize + 1] as usize];
+            if !back.iter().any(|&(x, _)| x as usize == v) {
+                return false;
+            }
+        }
+        // One fan: from a corner (next w, prev u), the next corner around
+        // v is the one whose next is u; every corner is reached.
+        if fan.is_empty() {
+            return true;
+        }
+        let mut at = 0;
+        for _ in 1..fan.len() {
+            let u = fan[at].1;
+            match fan.iter().position(|&(x, _)| x == u) {
+                Some(j) if j != 0 => at = j,
+                _ => return false,
+            }
+        }
+        fan.iter().position(|&(x, _)| x == fan[at].1) == Some(0)
+    });
+    Some(QuickCheck {
+        degenerate,
+        closed,
+        volume,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::ValidationSettings;
+    use crate::solid::{tessellate, SolidShape};
+    use glam::{DAffine3, DVec3};
+
+    use crate::mesh::test_meshes::tetra;
+
+    /// The quick check's verdict and counts are [`validate`]'s.
+    fn agrees(m: &TriMesh, what: &str) {
+        let r = validate(m, &ValidationSettings::topology_only());
+        let q = quick_check(m).unwrap_or_else(|| panic!("{what}: judged"));
+        assert_eq!(q.degenerate, r.degenerate_triangles, "{what}: degenerate");
+        assert_eq!(
+            q.closed,
+            r.is_closed() && r.non_manifold_vertices == 0,
+            "{what}: closed ({})",
+            r.problems()
+        );
+        assert_eq!(
+            q.volume.to_bits(),
+            r.signed_volume.to_bits(),
+            "{what}: volume"
+        );
+    }
+
+    #[test]
+    fn the_quick_check_agrees_with_validate() {
+        let sphere = tessellate(&SolidShape::Sphere { radius: 0.3 }, 48).expect("sphere");
+        agrees(&sphere, "sphere");
+        agrees(&tetra(), "tetrahedron");
+        let mut flipped = tetra();
+        flipped.triangles[0].swap(1, 2);
+        agrees(&flipped, "flipped face");
+        let mut open = sphere.clone();
+        open.triangles.pop();
+        agrees(&open, "hole");
+        let mut doubled = tetra();
+        doubled.triangles.push(doubled.triangles[0]);
+        agrees(&doubled, "a face twice");
+        // Two tetrahedra sharing a vertex: closed edges, a pinched vertex.
+        let mut pinched = tetra();
+        let mut other = tetra();
+        other.transform(&DAffine3::from_translation(DVec3::splat(-1.0)));
+        let base = pinched.positions.len() as u32;
+        pinched.append(&other);
+        for t in &mut pinched.triangles[4..] {
+            for i in t.iter_mut() {
+                if *i == base + 3 {
+                    *i = 0;
+                }
+            }
+        }
+        agrees(&pinched, "pinched");
+        assert!(!quick_check(&pinched).expect("judged").closed);
+        // A zero-area triangle (three collinear corners) in a closed mesh.
+        let mut sliver = tetra();
+        sliver.positions[3] = [0.5, 0.5, 0.0];
+        agrees(&sliver, "flat");
+        // What it does not judge goes to `validate`.
+        let mut repeated = tetra();
+        repeated.triangles[0] = [0, 0, 1];
+        assert!(quick_check(&repeated).is_none());
+        let mut nan = tetra();
+        nan.positions[0][0] = f64::NAN;
+        assert!(quick_check(&nan).is_none());
     }
 }

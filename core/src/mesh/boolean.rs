@@ -5,8 +5,10 @@
 //! Manifold passes a failed operand through silently (a boolean with a
 //! broken operand returns NoError and the other operand), so every import's
 //! `status()` is checked, and indices are validated before import because
-//! `MeshGL::merge` panics on out-of-range indices. Single-threaded (the
-//! crate's `parallel` feature is off), which keeps results deterministic.
+//! `MeshGL::merge` panics on out-of-range indices. The crate's `parallel`
+//! feature is on: it parallelises only the sites whose output is identical
+//! to the sequential build (manifold-rust's `par.rs`), so results are the
+//! same bits on 1 or 2 threads (`tests/union_cache.rs` checks it).
 //!
 //! [`union_snapped`] and [`snap`] give Manifold a tolerance: imported with
 //! `MeshGL::tolerance = t`, a mesh's epsilon becomes `t`, so Manifold's own

@@ -12,9 +12,9 @@ mod precision;
 mod selfx;
 mod stl;
 #[cfg(test)]
-mod test_meshes;
+pub(crate) mod test_meshes;
 mod trimesh;
-mod validate;
+pub(crate) mod validate;
 
 pub use boolean::{
     difference, manifold_accepts, snap, union, union_snapped, BooleanError, UnionOperand,

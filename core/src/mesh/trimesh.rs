@@ -90,22 +90,27 @@ impl TriMesh {
 
     /// Recomputes per-vertex normals as the angle-weighted average of the
     /// incident face normals.
+    ///
+    /// Each triangle's weighted normals (three `acos`, the cost) are
+    /// computed in parallel over fixed blocks of triangles and summed per
+    /// vertex in triangle order, as a sequential loop sums them: the same
+    /// bits on any number of threads.
     pub fn compute_normals(&mut self) {
+        use rayon::prelude::*;
+        const BLOCK: usize = 8192;
         let mut acc = vec![DVec3::ZERO; self.positions.len()];
-        for tri in &self.triangles {
-            let p = tri.map(|i| DVec3::from_array(self.positions[i as usize]));
-            let n = (p[1] - p[0]).cross(p[2] - p[0]);
-            let len = n.length();
-            if len <= 0.0 {
-                continue;
-            }
-            let n = n / len;
-            for k in 0..3 {
-                let e1 = p[(k + 1) % 3] - p[k];
-                let e2 = p[(k + 2) % 3] - p[k];
-                let angle = e1.angle_between(e2);
-                if angle.is_finite() {
-                    acc[tri[k] as usize] += n * angle;
+        let positions = &self.positions;
+        let mut terms: Vec<[Option<DVec3>; 3]> = Vec::new();
+        for block in self.triangles.chunks(BLOCK) {
+            block
+                .par_iter()
+                .map(|tri| corner_normals(positions, tri))
+                .collect_into_vec(&mut terms);
+            for (tri, t) in block.iter().zip(&terms) {
+                for k in 0..3 {
+                    if let Some(n) = t[k] {
+                        acc[tri[k] as usize] += n;
+                    }
                 }
             }
         }
@@ -181,5 +186,84 @@ impl TriMesh {
         }
         self.positions = positions;
         self.normals.clear();
+    }
+}
+
+/// A triangle's unit normal weighted by the angle at each corner (`None`
+/// where it adds nothing: a zero-area triangle, a non-finite angle).
+fn corner_normals(positions: &[[f64; 3]], tri: &[u32; 3]) -> [Option<DVec3>; 3] {
+    let p = tri.map(|i| DVec3::from_array(positions[i as usize]));
+    let n = (p[1] - p[0]).cross(p[2] - p[0]);
+    let len = n.length();
+    if len <= 0.0 {
+        return [None; 3];
+    }
+    let n = n / len;
+    std::array::from_fn(|k| {
+        let e1 = p[(k + 1) % 3] - p[k];
+        let e2 = p[(k + 2) % 3] - p[k];
+        let angle = e1.angle_between(e2);
+        angle.is_finite().then(|| n * angle)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solid::{tessellate, SolidShape};
+
+    /// The sequential loop the parallel one replaced.
+    fn normals_sequential(m: &TriMesh) -> Vec<[f64; 3]> {
+        let mut acc = vec![DVec3::ZERO; m.positions.len()];
+        for tri in &m.triangles {
+            let p = tri.map(|i| DVec3::from_array(m.positions[i as usize]));
+            let n = (p[1] - p[0]).cross(p[2] - p[0]);
+            let len = n.length();
+            if len <= 0.0 {
+                continue;
+            }
+            let n = n / len;
+            for k in 0..3 {
+                let angle = (p[(k + 1) % 3] - p[k]).angle_between(p[(k + 2) % 3] - p[k]);
+                if angle.is_finite() {
+                    acc[tri[k] as usize] += n * angle;
+                }
+            }
+        }
+        acc.into_iter()
+            .map(|n| n.try_normalize().unwrap_or(DVec3::Z).to_array())
+            .collect()
+    }
+
+    #[test]
+    fn parallel_normals_are_the_sequential_bits_on_any_threads() {
+        // More triangles than one block, a zero-area triangle and an
+        // unused vertex.
+        let mut m = tessellate(
+            &SolidShape::Torus {
+                major_radius: 1.0,
+                minor_radius: 0.3,
+            },
+            96,
+        )
+        .expect("torus");
+        assert!(m.triangle_count() > 8192);
+        m.positions.push([0.0, 0.0, 0.0]);
+        m.triangles.push([0, 0, 1]);
+        let want = normals_sequential(&m);
+        for threads in [1, 2, 3] {
+            let mut got = m.clone();
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("pool")
+                .install(|| got.compute_normals());
+            let same = got
+                .normals
+                .iter()
+                .zip(&want)
+                .all(|(a, b)| a.map(f64::to_bits) == b.map(f64::to_bits));
+            assert!(same && got.normals.len() == want.len(), "{threads} threads");
+        }
     }
 }

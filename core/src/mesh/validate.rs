@@ -384,9 +384,10 @@ fn count_pinched_vertices(n: usize, tris: &[[u32; 3]]) -> usize {
     pinched_vertices(n, tris).iter().filter(|&&p| p).count()
 }
 
-/// Per vertex: its incident triangles form more than one fan.
-fn pinched_vertices(n: usize, tris: &[[u32; 3]]) -> Vec<bool> {
-    // CSR of (vertex -> (next, prev) around that vertex).
+/// The corners of `tris` grouped by vertex, as (next, prev) around it:
+/// vertex `v`'s corners are `link[start[v]..start[v + 1]]` (CSR), in
+/// triangle order. Indices must be below `n`.
+pub(crate) fn corners_by_vertex(n: usize, tris: &[[u32; 3]]) -> (Vec<u32>, Vec<(u32, u32)>) {
     let mut start = vec![0u32; n + 1];
     for t in tris {
         for &v in t {
@@ -405,6 +406,12 @@ fn pinched_vertices(n: usize, tris: &[[u32; 3]]) -> Vec<bool> {
             fill[v] += 1;
         }
     }
+    (start, link)
+}
+
+/// Per vertex: its incident triangles form more than one fan.
+fn pinched_vertices(n: usize, tris: &[[u32; 3]]) -> Vec<bool> {
+    let (start, link) = corners_by_vertex(n, tris);
     let mut pinched = vec![false; n];
     let mut nodes: Vec<u32> = Vec::new();
     let mut parent: Vec<usize> = Vec::new();
