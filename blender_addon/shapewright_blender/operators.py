@@ -668,8 +668,14 @@ def generic_operator(op: str) -> type:
 
 def generic_ops() -> tuple[str, ...]:
     """The core's ops that have neither a typed operator (`op_table`) nor
-    a hand-written one here: each gets a generic operator."""
-    return tuple(n for n in schema.OPS if n not in op_table.BY_OP and n not in HAND_WRITTEN)
+    a hand-written one here: each gets a generic operator. Ops of kind
+    `session` (`reserve_ids`) are written by shared sessions, never by a
+    person, and get none."""
+    return tuple(
+        n
+        for n in schema.OPS
+        if n not in op_table.BY_OP and n not in HAND_WRITTEN and schema.OPS[n]["kind"] != "session"
+    )
 
 
 class SHAPEWRIGHT_OT_undo(bpy.types.Operator):

@@ -49,6 +49,7 @@ fn every_op_is_described_in_table_order_with_docs() {
             matches!(
                 o["kind"].as_str().unwrap(),
                 "document"
+                    | "session"
                     | "solid"
                     | "gc_assembly"
                     | "sdf_volume"
@@ -75,7 +76,9 @@ fn edits_name_their_object_first_and_typed_indices_are_marked() {
         let kind = o["kind"].as_str().unwrap();
         let fields = o["fields"].as_array().unwrap();
         let creates = name.ends_with("_create") || name == "add_solid";
-        if kind != "document" && !creates {
+        // Ops on one object name it first; document-wide and session ops
+        // (reserve_ids, written by shared sessions) name none.
+        if kind != "document" && kind != "session" && !creates {
             let first = &fields[0];
             assert_eq!(first["ref"], "object", "{name}: {first}");
             assert_eq!(first["required"], true, "{name}");

@@ -24,6 +24,13 @@ pub struct Document {
     next_id: u32,
     work: u64,
     print: PrintSetup,
+    /// The id the next created object gets, once a shared session has
+    /// placed it (`reserve_ids`): each participant creates objects in its
+    /// own id range, so objects made at the same time by two people never
+    /// collide and keep their ids when one person's ops are rebased onto
+    /// the other's. `None` (every single-user document): ids follow
+    /// `next_id`, as they always did.
+    block: Option<u32>,
 }
 
 impl Document {
@@ -69,12 +76,58 @@ impl Document {
 
     /// The id the next created object will get.
     pub fn next_id(&self) -> ObjectId {
-        ObjectId(self.next_id + 1)
+        ObjectId(self.block.unwrap_or(self.next_id.saturating_add(1)))
+    }
+
+    /// The id block a shared session placed (`None`: ids follow
+    /// [`Self::last_id`]).
+    pub fn id_block(&self) -> Option<u32> {
+        self.block
+    }
+
+    /// Restores the id block (a shared session undoing a reservation that
+    /// created nothing, see `doc::shared`).
+    pub(super) fn set_id_block(&mut self, block: Option<u32>) {
+        self.block = block;
+    }
+
+    /// The highest id ever given to an object (0: none yet).
+    pub fn last_id(&self) -> u32 {
+        self.next_id
+    }
+
+    /// Makes the next created objects take ids `first`, `first + 1`, ...
+    /// (`reserve_ids`; a shared session places each person's creations in
+    /// their own range). An id already in use is refused when an object
+    /// would take it ([`OpError::IdInUse`]), never overwritten.
+    pub fn reserve_ids(&mut self, first: u32) -> Result<(), OpError> {
+        if first == 0 || first == u32::MAX {
+            return Err(OpError::BadIdBlock(first));
+        }
+        self.block = Some(first);
+        Ok(())
+    }
+
+    /// The id a new object gets, checked to be free (inserted by
+    /// [`Self::take_id`] once the object is built).
+    fn fresh_id(&self) -> Result<ObjectId, OpError> {
+        let id = self.next_id();
+        if id.0 == u32::MAX || self.objects.contains_key(&id) {
+            return Err(OpError::IdInUse(id));
+        }
+        Ok(id)
+    }
+
+    fn take_id(&mut self, id: ObjectId) {
+        self.next_id = self.next_id.max(id.0);
+        if self.block.is_some() {
+            self.block = Some(id.0 + 1);
+        }
     }
 
     /// Evaluates `kind` and inserts it under a newly allocated id.
     pub fn insert(&mut self, kind: ObjectKind) -> Result<ObjectId, OpError> {
-        let id = self.next_id();
+        let id = self.fresh_id()?;
         let obj = self.build(
             id,
             kind,
@@ -82,7 +135,7 @@ impl Document {
             Transform::IDENTITY,
             Default::default(),
         )?;
-        self.next_id = id.0;
+        self.take_id(id);
         self.objects.insert(id, Arc::new(obj));
         Ok(id)
     }
@@ -123,13 +176,13 @@ impl Document {
     /// Copies object `id` (kind, name, placement and mesh) under a new id.
     pub fn duplicate(&mut self, id: ObjectId) -> Result<ObjectId, OpError> {
         let src = self.get(id)?.clone();
-        let new = self.next_id();
+        let new = self.fresh_id()?;
         let mut local = (*src.local_mesh).clone();
         local.set_source(new.0);
         let local = Arc::new(local);
         let mesh = place(&local, &src.placement)?;
         self.work += mesh.triangles.len() as u64 + 1;
-        self.next_id = new.0;
+        self.take_id(new);
         self.objects.insert(
             new,
             Arc::new(Object {
@@ -230,6 +283,12 @@ impl Document {
     pub fn content_hash(&self) -> u64 {
         let mut h = ContentHasher::new();
         h.u64(self.next_id as u64);
+        // Hashed only when set (shared sessions), so older documents keep
+        // their hashes.
+        if let Some(b) = self.block {
+            h.bytes(b"id_block");
+            h.u64(b as u64);
+        }
         // Hashed only when changed, so older documents keep their hashes.
         if !self.print.is_default() {
             h.bytes(b"print");
@@ -293,6 +352,8 @@ fn place(local: &Arc<TriMesh>, t: &Transform) -> Result<Arc<TriMesh>, OpError> {
 #[derive(Serialize)]
 struct DocumentOut<'a> {
     last_id: u32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    id_block: Option<u32>,
     #[serde(skip_serializing_if = "PrintSetup::is_default")]
     print: PrintSetup,
     objects: Vec<ObjectOut<'a>>,
@@ -317,6 +378,8 @@ fn is_identity(t: &Transform) -> bool {
 struct DocumentIn {
     last_id: u32,
     #[serde(default)]
+    id_block: Option<u32>,
+    #[serde(default)]
     print: PrintSetup,
     objects: Vec<ObjectIn>,
 }
@@ -336,6 +399,7 @@ impl Serialize for Document {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         DocumentOut {
             last_id: self.next_id,
+            id_block: self.block,
             print: self.print,
             objects: self
                 .objects
@@ -365,7 +429,12 @@ impl<'de> Deserialize<'de> for Document {
             next_id: input.last_id,
             work: 0,
             print: input.print,
+            block: None,
         };
+        if let Some(b) = input.id_block {
+            doc.reserve_ids(b)
+                .map_err(|e| D::Error::custom(e.to_string()))?;
+        }
         let mut prev = 0;
         for o in input.objects {
             if o.id.0 <= prev || o.id.0 > input.last_id {

@@ -12,6 +12,19 @@ pub enum OpError {
     /// never created (ids start at 1 and are never reused).
     #[error("object {0} does not exist (deleted, or never created)")]
     BadId(ObjectId),
+    /// A created object would take an id that is already in use (only a
+    /// shared session's id ranges, placed by `reserve_ids`, can do that:
+    /// a hostile or confused participant reusing someone's range).
+    #[error("object id {0} is already in use; an object's id is never reused")]
+    IdInUse(ObjectId),
+    /// In a shared session, an op would create an object with an id outside
+    /// its author's range (or without reserving one): refused so that ids
+    /// made by different people can never collide.
+    #[error("object id {0} is outside the id range of the op's author (shared session)")]
+    IdOutsideRange(ObjectId),
+    /// `reserve_ids` was given 0 or the largest id.
+    #[error("ids cannot start at {0}: the first id of a block must be between 1 and 4294967294")]
+    BadIdBlock(u32),
     /// The op needs another kind of object.
     #[error("object {id} is a {found}, but `{op}` needs a {expected}")]
     WrongKind {
@@ -122,6 +135,10 @@ pub enum LogError {
         /// What went wrong.
         error: OpError,
     },
+    /// A shared session refused the action (see
+    /// [`super::shared::SharedError`]).
+    #[error("{0}")]
+    Shared(String),
     /// A cursor past the end of the recorded ops.
     #[error("cursor {cursor} is past the {len} recorded ops")]
     BadCursor {

@@ -1,7 +1,10 @@
 //! [`OpLog`]: history of ops with a cursor, undo, redo, replay and
 //! checkpoints. See the module doc of [`crate::doc`] for the choices.
 
+use std::sync::OnceLock;
+
 use super::schema::check_op;
+use super::shared::SharedLog;
 use super::{Document, LogError, Op, OpOutcome};
 
 /// When the log takes a checkpoint (a snapshot of the document). Only
@@ -58,6 +61,13 @@ pub struct OpLog {
     ops_since: usize,
     work_since: u64,
     policy: CheckpointPolicy,
+    /// A shared session (issue 23), when this log is one participant's
+    /// side of it: the document, apply, undo and redo are the session's
+    /// (per person); the ops are its single-user history.
+    shared: Option<Box<SharedLog>>,
+    /// The shared session's single-user history, made when first asked
+    /// for after a change (saving asks; frames do not).
+    linear: OnceLock<Vec<Op>>,
 }
 
 impl Default for OpLog {
@@ -86,6 +96,39 @@ impl OpLog {
             ops_since: 0,
             work_since: 0,
             policy,
+            shared: None,
+            linear: OnceLock::new(),
+        }
+    }
+
+    /// A log that is one participant's side of a shared session: edits,
+    /// undo and redo go to `shared` (each person undoes their own ops),
+    /// and the history it reports and saves is the session's document as
+    /// single-user ops ([`SharedLog::linear_log`]).
+    pub fn from_shared(shared: SharedLog) -> Self {
+        let mut log = Self::new();
+        log.shared = Some(Box::new(shared));
+        log
+    }
+
+    /// The shared session, if this log is part of one.
+    pub fn shared(&self) -> Option<&SharedLog> {
+        self.shared.as_deref()
+    }
+
+    /// Runs `f` on the shared session (a host's network pump: entries
+    /// arriving, appends going out). `None` when the log is not shared.
+    pub fn with_shared<R>(&mut self, f: impl FnOnce(&mut SharedLog) -> R) -> Option<R> {
+        let s = self.shared.as_deref_mut()?;
+        let r = f(s);
+        self.linear = OnceLock::new();
+        Some(r)
+    }
+
+    fn linear(&self) -> &[Op] {
+        match &self.shared {
+            Some(s) => self.linear.get_or_init(|| s.view().linear_ops()),
+            None => &self.ops,
         }
     }
 
@@ -123,37 +166,49 @@ impl OpLog {
 
     /// The document at the cursor.
     pub fn document(&self) -> &Document {
-        &self.doc
+        match &self.shared {
+            Some(s) => s.document(),
+            None => &self.doc,
+        }
     }
 
     /// Every recorded op, including the redo tail past the cursor.
     pub fn ops(&self) -> &[Op] {
-        &self.ops
+        self.linear()
     }
 
     /// How many ops are applied.
     pub fn cursor(&self) -> usize {
-        self.cursor
+        match &self.shared {
+            Some(_) => self.linear().len(),
+            None => self.cursor,
+        }
     }
 
     /// Number of recorded ops.
     pub fn len(&self) -> usize {
-        self.ops.len()
+        self.linear().len()
     }
 
     /// True when no op was recorded.
     pub fn is_empty(&self) -> bool {
-        self.ops.is_empty()
+        self.linear().is_empty()
     }
 
     /// True when there is an op to undo.
     pub fn can_undo(&self) -> bool {
-        self.cursor > 0
+        match &self.shared {
+            Some(s) => s.can_undo(),
+            None => self.cursor > 0,
+        }
     }
 
     /// True when there is an op to redo.
     pub fn can_redo(&self) -> bool {
-        self.cursor < self.ops.len()
+        match &self.shared {
+            Some(s) => s.can_redo(),
+            None => self.cursor < self.ops.len(),
+        }
     }
 
     /// Number of checkpoints held (for tests and diagnostics).
@@ -164,6 +219,9 @@ impl OpLog {
     /// Applies `op` at the cursor. On success the redo tail is dropped and
     /// `op` is recorded; on error nothing changes.
     pub fn apply(&mut self, op: Op) -> Result<OpOutcome, LogError> {
+        if self.shared.is_some() {
+            return Ok(self.with_shared(|s| s.apply(op)).expect("shared")?);
+        }
         check_op(&op)?;
         let mut next = self.doc.clone();
         let outcome = op.apply(&mut next)?;
@@ -180,6 +238,9 @@ impl OpLog {
 
     /// Steps the cursor back one op.
     pub fn undo(&mut self) -> Result<(), LogError> {
+        if self.shared.is_some() {
+            return Ok(self.with_shared(|s| s.undo()).expect("shared")?);
+        }
         if self.cursor == 0 {
             return Err(LogError::NothingToUndo);
         }
@@ -188,6 +249,9 @@ impl OpLog {
 
     /// Re-applies the op after the cursor.
     pub fn redo(&mut self) -> Result<(), LogError> {
+        if self.shared.is_some() {
+            return Ok(self.with_shared(|s| s.redo()).expect("shared")?);
+        }
         if self.cursor == self.ops.len() {
             return Err(LogError::NothingToRedo);
         }
@@ -197,6 +261,11 @@ impl OpLog {
     /// Moves the cursor to `target` (0..=len), undoing or redoing as many
     /// ops as needed. On error nothing changes.
     pub fn seek(&mut self, target: usize) -> Result<(), LogError> {
+        if self.shared.is_some() {
+            return Err(LogError::Shared(
+                "a shared session has no single cursor: each person undoes and redoes their own ops".into(),
+            ));
+        }
         check_cursor(target, self.ops.len())?;
         if target == self.cursor {
             return Ok(());
@@ -304,27 +373,8 @@ impl OpLog {
     /// Drops old checkpoints (see [`CheckpointPolicy::dense`]); the one at
     /// 0 always stays. Depends only on op positions: deterministic.
     fn thin_checkpoints(&mut self) {
-        let n = self.checkpoints.len();
-        let dense = self.policy.dense.max(1);
-        if n <= dense + 1 {
-            return;
-        }
-        let mut keep = vec![false; n];
-        keep[0] = true;
-        for k in keep.iter_mut().skip(n - dense) {
-            *k = true;
-        }
-        let mut last = self.checkpoints[n - dense].at;
-        let mut gap = 2 * self.policy.every_ops.max(1);
-        for i in (1..n - dense).rev() {
-            let at = self.checkpoints[i].at;
-            if last - at >= gap {
-                keep[i] = true;
-                last = at;
-                gap = gap.saturating_mul(2);
-            }
-        }
-        let mut k = keep.into_iter();
+        let ats: Vec<usize> = self.checkpoints.iter().map(|c| c.at).collect();
+        let mut k = thinned(&ats, &self.policy).into_iter();
         self.checkpoints.retain(|_| k.next().unwrap_or(true));
     }
 
@@ -334,6 +384,34 @@ impl OpLog {
             Err(pos) => self.checkpoints.insert(pos, c),
         }
     }
+}
+
+/// Which of the checkpoints at op positions `ats` (ascending, the first
+/// being the base) to keep: the base, the newest `policy.dense`, and older
+/// ones at doubling gaps walking back in time (see
+/// [`CheckpointPolicy::dense`]). Shared by [`OpLog`] and the shared
+/// session's replica.
+pub(super) fn thinned(ats: &[usize], policy: &CheckpointPolicy) -> Vec<bool> {
+    let n = ats.len();
+    let dense = policy.dense.max(1);
+    if n <= dense + 1 {
+        return vec![true; n];
+    }
+    let mut keep = vec![false; n];
+    keep[0] = true;
+    for k in keep.iter_mut().skip(n - dense) {
+        *k = true;
+    }
+    let mut last = ats[n - dense];
+    let mut gap = 2 * policy.every_ops.max(1);
+    for i in (1..n - dense).rev() {
+        if last - ats[i] >= gap {
+            keep[i] = true;
+            last = ats[i];
+            gap = gap.saturating_mul(2);
+        }
+    }
+    keep
 }
 
 /// Every recorded op passes the door check (a file's ops too, not only

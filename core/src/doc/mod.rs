@@ -34,6 +34,7 @@ mod object;
 pub mod ops;
 pub mod schema;
 mod script;
+pub mod shared;
 
 pub use crate::hash::ContentHasher;
 pub use crate::id::ObjectId;
@@ -43,7 +44,7 @@ pub use log::{CheckpointPolicy, OpLog};
 pub use object::{KindOf, Object, ObjectKind, Solid};
 pub use ops::{
     AddSolid, Apply, Create, Delete, Duplicate, Edit, EditCx, EditSolid, ObjectCreate, ObjectEdit,
-    Op, OpOutcome, RenameObject, SetTransform, TransformBy, OP_KINDS, OP_NAMES,
+    Op, OpOutcome, RenameObject, ReserveIds, SetTransform, TransformBy, OP_KINDS, OP_NAMES,
 };
 pub use script::{
     parse_script, run_script, run_script_with, ScriptCommand, ScriptError, ScriptErrorKind,

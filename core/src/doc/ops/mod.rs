@@ -38,7 +38,7 @@ mod sdf;
 pub mod solid;
 mod styling;
 
-pub use object::{Delete, Duplicate, RenameObject, SetTransform, TransformBy};
+pub use object::{Delete, Duplicate, RenameObject, ReserveIds, SetTransform, TransformBy};
 pub use solid::{AddSolid, EditSolid};
 
 /// What applying an op produced.
@@ -322,7 +322,8 @@ macro_rules! ops {
         pub const OP_NAMES: &[&str] = &[$($name),*];
 
         /// `(name, kind)` of every op, in table order: the object kind each
-        /// acts on (`"document"` for ops on any object).
+        /// acts on (`"document"` for ops on any object, `"session"` for the
+        /// ops no person writes: a shared session does).
         pub const OP_KINDS: &[(&str, &str)] = &[$(($name, <$ty as Apply>::KIND)),*];
 
         impl Op {
@@ -460,4 +461,7 @@ ops! {
     /// Choose whether an edit that folds its object through itself is
     /// refused or applied and flagged as not printable.
     "set_self_intersection_policy" => SetSelfIntersectionPolicy(pr::SetSelfIntersectionPolicy),
+    /// Take the next created objects' ids from a given one on (written by
+    /// shared sessions, so ids made by different people never collide).
+    "reserve_ids" => ReserveIds(ReserveIds),
 }

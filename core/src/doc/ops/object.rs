@@ -1,5 +1,5 @@
 //! Ops on any object: placement (`set_transform`, `transform_by`),
-//! `duplicate`, `delete` and `rename_object`. One op family for every
+//! `duplicate`, `delete`, `rename_object` and `reserve_ids`. One op family for every
 //! kind; see [`crate::doc::Object`] for how each kind is placed.
 
 use schemars::JsonSchema;
@@ -105,6 +105,28 @@ impl Apply for RenameObject {
             });
         }
         doc.rename(self.id, &self.name)?;
+        Ok(OpOutcome::default())
+    }
+}
+
+/// Make the next created objects take ids from `first` on. Written by a
+/// shared session before each person's op that creates objects, so each
+/// person creates in their own id range (`crate::doc::shared`): two people
+/// creating at once never get the same id, and an op keeps the ids it
+/// created when it is rebased onto someone else's. Nobody types it; it is
+/// in the saved history so that a replay gives every object its id again.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ReserveIds {
+    /// The id the next created object takes.
+    #[schemars(range(min = 1, max = 4294967294u32))]
+    pub first: u32,
+}
+
+impl Apply for ReserveIds {
+    const KIND: &'static str = "session";
+    fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
+        doc.reserve_ids(self.first)?;
         Ok(OpOutcome::default())
     }
 }
