@@ -14,8 +14,10 @@ need_cmd python3 "install Python 3.11 first"
 # System packages (only those not present yet).
 apt_pkgs=()
 # cmake and g++ build the OpenXR loader bundled by the openxr crate;
-# libvulkan1 and mesa-vulkan-drivers give Vulkan on the CPU (lavapipe).
-for p in ${SHAPEWRIGHT_APT_PACKAGES:-cmake g++ libvulkan1 mesa-vulkan-drivers}; do
+# libvulkan1 and mesa-vulkan-drivers give Vulkan on the CPU (lavapipe);
+# nats-server (JetStream) carries shared sessions (scripts/nats.sh, and the
+# shapewright-net tests start their own on 127.0.0.1).
+for p in ${SHAPEWRIGHT_APT_PACKAGES:-cmake g++ libvulkan1 mesa-vulkan-drivers nats-server}; do
   dpkg -s "$p" >/dev/null 2>&1 || apt_pkgs+=("$p")
 done
 if [ "${#apt_pkgs[@]}" -gt 0 ]; then

@@ -18,6 +18,11 @@ Rows (what each measures is in the module that makes it):
   frame (`perf_goals sculpt`); GC edit commit p99 on the teapot trace and
   the chair script (`perf_goals gc-commit`); history bytes per 1,000 ops in
   the 20-object session (`history_bytes`);
+- shared sessions (issue 23, `session_bench` against a real nats-server
+  on loopback): op round trip p99 (one person's edit applied by every
+  other) with 2 and 16 people at 10 ops/s each, goal one 90 Hz frame;
+  joining a 10,000-op document from the latest snapshot vs replaying the
+  whole stream; the single-user apply of the same op in the note;
 - informative peers without a goal: ray picking vs NumPy
   (scripts/bench/interact.py), printable validation vs manifold3d's import
   (scripts/bench/print.py).
@@ -64,6 +69,7 @@ EXAMPLES = [
     "styling_systems",
     "interact_pick",
     "print_validate",
+    "session_bench",
 ]
 MIB = 2**20
 
@@ -312,6 +318,52 @@ def goal_rows(ex: Path, quick: bool) -> list[dict]:
     return out
 
 
+def session_rows(ex: Path, quick: bool) -> list[dict]:
+    lb = load()
+    cmd = [str(ex / "session_bench"), "2" if quick else "5", "1" if quick else "3"]
+    text = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    la = load()
+    rs = {}
+    for x in text.splitlines():
+        if x.startswith("{"):
+            r = json.loads(x)
+            rs.setdefault(r["row"], []).append(r)
+    apply = rs["single_user_apply"][0]
+    out = []
+    for r in rs["round_trip"]:
+        p99, lo, hi = r["p99_ms"]
+        out.append(
+            row(
+                f"shared session op round trip p99, {r['people']} people at {r['rate_hz']} ops/s each",
+                "ms",
+                [p99, lo, hi],
+                r["people"],
+                goal="< 11.1 ms",
+                note=f"nats-server 2.9 on loopback, one thread per person; p99 median (min-max) over {r['reps']} runs of "
+                f"{r['secs']:g} s, {r['samples']} round trips; p50 {r['p50_ms']:.2f} ms, max {r['max_ms']:.1f} ms; "
+                f"the same op applied alone (single user): p50 {apply['p50_ms'] * 1000:.0f} us",
+                lb=lb,
+                la=la,
+            )
+        )
+    (j,) = rs["join"]
+    out.append(
+        row(
+            f"joining a {j['entries']:,}-entry session: snapshot + tail ({j['tail']} entries)",
+            "ms",
+            [j["snapshot_ms"], *j["snapshot_spread"]],
+            1,
+            peer="replaying the whole stream",
+            peer_value=[j["replay_ms"], *j["replay_spread"]],
+            peer_threads=1,
+            note=f"{j['reps']} joins each (median, min-max); both end bit-identical to the writer",
+            lb=lb,
+            la=la,
+        )
+    )
+    return out
+
+
 def other_rows(ex: Path, quick: bool) -> list[dict]:
     import interact
     import print as print_bench
@@ -449,7 +501,7 @@ def main() -> int:
     ap.add_argument("--quick", action="store_true", help="tiny reps, smaller sizes: a smoke run (< 2 min)")
     ap.add_argument("--markdown", help="write the table as markdown here")
     ap.add_argument("--json", help="write every row as JSON here")
-    ap.add_argument("--only", help="comma list of sources: sdf,union,styling,goals,other (default all)")
+    ap.add_argument("--only", help="comma list of sources: sdf,union,styling,goals,session,other (default all)")
     args = ap.parse_args()
     start = time.time()
     m = machine()
@@ -459,6 +511,7 @@ def main() -> int:
         "union": union_rows,
         "styling": styling_rows,
         "goals": goal_rows,
+        "session": session_rows,
         "other": other_rows,
     }
     chosen = args.only.split(",") if args.only else list(sources)

@@ -26,6 +26,13 @@
 //! last good save (the autosaver replaces it atomically), so a failure
 //! loses at most the ops since then.
 //!
+//! Shared sessions (`run --join`): the commit thread also owns the
+//! session's [`shapewright_net::Link`]. It pumps it every few milliseconds
+//! (others' entries in, this person's appends out) and hands the frame a
+//! new document when others' edits arrived, exactly as after a local
+//! commit; the headset says when the server is out of reach and shows the
+//! refusals the session sends this person.
+//!
 //! Haptics: a short pulse on the hand(s) that made a command when its
 //! commit lands (the hands holding a button in the frame that produced
 //! it, else both), and a tick when a ray starts pointing at something.
@@ -81,12 +88,18 @@ pub struct InteractionStats {
     pub haptics: u64,
     /// Saves asked for through the palette.
     pub save_requests: u64,
+    /// Documents taken in from others' edits (a shared session).
+    pub remote_updates: u64,
 }
 
 /// The state the commit thread owns (the frame thread locks it only to
 /// read the log or the save counters).
 struct Shared {
     log: OpLog,
+    /// The shared session's connection (`run --join`).
+    link: Option<shapewright_net::Link>,
+    /// False while the shared session's server is out of reach.
+    online: bool,
     autosave: Option<Autosaver>,
     saves: usize,
     save_errors: Vec<String>,
@@ -151,6 +164,8 @@ struct Committed {
     mesh: DrawnDocument,
     error: Option<String>,
     ms: f64,
+    /// Others' edits (a shared session), not a command of ours.
+    remote: bool,
 }
 
 /// The document as drawn: every object in one mesh (None: empty
@@ -201,9 +216,52 @@ fn with_normals(
 /// How often the commit thread checks the autosave timer when idle.
 const TICK: Duration = Duration::from_millis(200);
 
+/// How often it pumps a shared session's link when idle.
+const NET_TICK: Duration = Duration::from_millis(4);
+
+/// Pumps the shared session's link: others' entries in, our next append
+/// out. Returns the new document when others' edits changed it, with the
+/// session's messages for this person.
+fn pump_link(s: &mut Shared) -> Option<(Document, Vec<String>)> {
+    let link = s.link.as_mut()?;
+    let (pumped, notices) = s.log.with_shared(|log| {
+        let p = link.pump(log);
+        (p, log.take_notices())
+    })?;
+    let online = link.is_online();
+    if online != s.online {
+        s.online = online;
+        eprintln!(
+            "shapewright-xr: shared session {}",
+            if online {
+                "back online; sending what was edited meanwhile"
+            } else {
+                "offline: edits are kept and sent on reconnect"
+            }
+        );
+    }
+    for e in link.take_errors() {
+        eprintln!("shapewright-xr: shared session: {e}");
+    }
+    let messages: Vec<String> = notices.into_iter().map(|n| n.message).collect();
+    if pumped.entries == 0 && messages.is_empty() {
+        return None;
+    }
+    if let Some(a) = &mut s.autosave {
+        let r = a.changed(&s.log).map(usize::from);
+        s.note_save(r);
+    }
+    Some((s.log.document().clone(), messages))
+}
+
 fn commit_loop(shared: Arc<Mutex<Shared>>, jobs: Receiver<Job>, done: Sender<Committed>) {
+    let tick = if lock(&shared).link.is_some() {
+        NET_TICK
+    } else {
+        TICK
+    };
     loop {
-        match jobs.recv_timeout(TICK) {
+        match jobs.recv_timeout(tick) {
             Ok(Job::Apply(cmd)) => {
                 let t0 = Instant::now();
                 let mut guard = lock(&shared);
@@ -224,6 +282,10 @@ fn commit_loop(shared: Arc<Mutex<Shared>>, jobs: Receiver<Job>, done: Sender<Com
                         Some(e.to_string()),
                     ),
                 };
+                // A shared session sends the edit at once.
+                if let Some(l) = &mut s.link {
+                    s.log.with_shared(|log| l.pump(log));
+                }
                 drop(guard);
                 let ms = t0.elapsed().as_secs_f64() * 1e3;
                 if done
@@ -232,6 +294,7 @@ fn commit_loop(shared: Arc<Mutex<Shared>>, jobs: Receiver<Job>, done: Sender<Com
                         mesh,
                         error,
                         ms,
+                        remote: false,
                     })
                     .is_err()
                 {
@@ -246,11 +309,26 @@ fn commit_loop(shared: Arc<Mutex<Shared>>, jobs: Receiver<Job>, done: Sender<Com
                 let _ = reply.send(());
             }
             Err(RecvTimeoutError::Timeout) => {
+                let t0 = Instant::now();
                 let mut guard = lock(&shared);
                 let s = &mut *guard;
                 if let Some(a) = &mut s.autosave {
                     let r = a.tick(&s.log).map(usize::from);
                     s.note_save(r);
+                }
+                if let Some((doc, messages)) = pump_link(s) {
+                    drop(guard);
+                    let mesh = document_mesh(&doc);
+                    let c = Committed {
+                        doc,
+                        mesh,
+                        error: messages.last().cloned(),
+                        ms: t0.elapsed().as_secs_f64() * 1e3,
+                        remote: true,
+                    };
+                    if done.send(c).is_err() {
+                        return;
+                    }
                 }
             }
             Err(RecvTimeoutError::Disconnected) => return,
@@ -326,6 +404,18 @@ impl Interaction {
         log: OpLog,
         autosave: Option<Autosaver>,
     ) -> Result<Self, InteractionError> {
+        Self::shared(session, log, autosave, None)
+    }
+
+    /// Runs `session` on `log`, one person's side of a shared session
+    /// when `link` is given (`log` then comes from
+    /// [`OpLog::from_shared`]).
+    pub fn shared(
+        session: Session,
+        log: OpLog,
+        autosave: Option<Autosaver>,
+        link: Option<shapewright_net::Link>,
+    ) -> Result<Self, InteractionError> {
         let model = *session.model();
         let doc = log.document().clone();
         let drawn = document_mesh(&doc);
@@ -338,6 +428,8 @@ impl Interaction {
         };
         let shared = Arc::new(Mutex::new(Shared {
             log,
+            link,
+            online: true,
             autosave,
             saves: 0,
             save_errors: Vec::new(),
@@ -441,6 +533,20 @@ impl Interaction {
     }
 
     fn take(&mut self, c: Committed) {
+        if c.remote {
+            // Others' edits: the new document, and this person's notices
+            // (an edit of theirs refused or skipped) shown like a refusal.
+            if let Some(e) = c.error {
+                let now = self.session.last_frame().map_or(0.0, |f| f.time);
+                self.refused = Some((e, now));
+            }
+            self.doc = c.doc;
+            self.scene.document = c.mesh.mesh;
+            self.scene.document_objects = c.mesh.objects;
+            self.scene.version += 1;
+            self.stats.remote_updates += 1;
+            return;
+        }
         let hands = self.pending.pop_front().unwrap_or([true, true]);
         self.stats.commit_ms.push(c.ms);
         match c.error {
@@ -476,6 +582,49 @@ impl Interaction {
         let _ = rx.recv();
         while let Ok(c) = self.done.try_recv() {
             self.take(c);
+        }
+    }
+
+    /// In a shared session: waits until every edit of ours is confirmed
+    /// and nothing new arrived for `quiet` (others are done too), taking
+    /// in the documents that came meanwhile. False if `limit` passed
+    /// first. Returns at once outside a shared session.
+    pub fn settle_shared(&mut self, quiet: Duration, limit: Duration) -> bool {
+        let t = Instant::now();
+        let mut last = (u64::MAX, usize::MAX);
+        let mut since = Instant::now();
+        loop {
+            self.flush();
+            while let Ok(c) = self.done.try_recv() {
+                self.take(c);
+            }
+            let state = {
+                let s = lock(&self.shared);
+                match s.log.shared() {
+                    Some(l) => (l.confirmed().last_seq(), l.pending_count()),
+                    None => return true,
+                }
+            };
+            if state != last {
+                last = state;
+                since = Instant::now();
+            }
+            if state.1 == 0 && since.elapsed() >= quiet {
+                // The frame thread's document is the log's.
+                let doc = lock(&self.shared).log.document().clone();
+                if doc.content_hash() != self.doc.content_hash() {
+                    let drawn = document_mesh(&doc);
+                    self.doc = doc;
+                    self.scene.document = drawn.mesh;
+                    self.scene.document_objects = drawn.objects;
+                    self.scene.version += 1;
+                }
+                return true;
+            }
+            if t.elapsed() > limit {
+                return false;
+            }
+            std::thread::sleep(Duration::from_millis(5));
         }
     }
 
@@ -624,12 +773,21 @@ impl FrameSink for Interaction {
     }
 
     fn notices(&self) -> Vec<Notice> {
+        let offline = {
+            let s = lock(&self.shared);
+            s.link.is_some() && !s.online
+        };
+        let offline = offline.then(|| Notice {
+            text: "OFFLINE: THE SHARED SESSION'S SERVER IS OUT OF REACH.\nYOUR EDITS ARE KEPT AND SENT ON RECONNECT".into(),
+            warning: true,
+        });
         self.save_failing()
             .map(|e| Notice {
                 text: format!("AUTOSAVE FAILED, RETRYING:\n{}", wrap(&e, 48)),
                 warning: true,
             })
             .into_iter()
+            .chain(offline)
             .collect()
     }
 

@@ -5,6 +5,7 @@
 
 mod cmd;
 mod import_cmd;
+mod join;
 mod render_cmd;
 mod replay_cmd;
 mod run_cmd;

@@ -46,6 +46,15 @@ pub struct ReplayArgs {
     /// The trace time of `--view-png` (seconds from the first frame).
     #[arg(long)]
     pub view_at: Option<f64>,
+    /// Play the trace as one person of a shared session (several replays
+    /// at once: a session of several people); at the end, wait until the
+    /// session is quiet this long before writing the outputs.
+    #[command(flatten)]
+    pub join: crate::join::JoinArgs,
+    /// With --join: seconds without news from the session that count as
+    /// quiet at the end.
+    #[arg(long, default_value_t = 1.5)]
+    pub quiet_secs: f64,
 }
 
 /// `replay`.
@@ -61,15 +70,21 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
         )
     })?;
     let tool = args.tool.as_deref().unwrap_or(&trace.header.tool);
+    let (log, link) = crate::join::join(&args.join, OpLog::new())?;
+    let shared = link.is_some();
     let mut it = match args.tool.as_deref() {
-        Some(tool) => Interaction::new(tool, model, OpLog::new(), None)
-            .with_context(|| format!("in {}", path.display()))?,
+        Some(tool) => {
+            let tool = shapewright::interact::tool_named(tool)
+                .with_context(|| format!("in {}", path.display()))?;
+            let session = shapewright::interact::Session::new(tool, model);
+            Interaction::shared(session, log, None, link)?
+        }
         None => {
             let session = trace
                 .header
                 .session()
                 .with_context(|| format!("in {}", path.display()))?;
-            Interaction::with_session(session, OpLog::new(), None)?
+            Interaction::shared(session, log, None, link)?
         }
     };
     let mut frame_ms = Vec::with_capacity(trace.frames.len());
@@ -96,6 +111,12 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
         it.flush();
         if let Some(c) = cmd {
             names.push(c.name());
+        }
+    }
+    if shared {
+        let quiet = std::time::Duration::from_secs_f64(args.quiet_secs.max(0.0));
+        if !it.settle_shared(quiet, std::time::Duration::from_secs(120)) {
+            anyhow::bail!("the shared session did not settle in 120 s");
         }
     }
     let stats = it.stats();
@@ -175,6 +196,7 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
     );
     println!("ops        {} (cursor {})", log.len(), log.cursor());
     println!("objects    {}", doc.len());
+    println!("content    {:016x}", doc.content_hash());
     match &printed {
         Ok(p) => println!(
             "mesh       {}, volume {:.6}",

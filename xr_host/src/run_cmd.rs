@@ -66,8 +66,13 @@ pub struct RunArgs {
     /// and, unless --save says otherwise, autosaves go back to it.
     #[arg(long)]
     pub open: Option<PathBuf>,
+    /// Join a shared session (with --open, an empty session starts from
+    /// that file).
+    #[command(flatten)]
+    pub join: crate::join::JoinArgs,
     /// Autosave the document with its op log here (.usda; default: the
-    /// --open file, else shapewright-session.usda).
+    /// --open file, else shapewright-session.usda, or
+    /// shapewright-DOC.usda in a shared session).
     #[arg(long)]
     pub save: Option<PathBuf>,
     /// Autosave after this many changes (ops applied, undone or redone).
@@ -241,10 +246,15 @@ pub fn run(args: &RunArgs) -> Result<()> {
         }
         None => OpLog::new(),
     };
+    let (log, link) = crate::join::join(&args.join, log)?;
     let save_path = args
         .save
         .clone()
         .or_else(|| args.open.clone())
+        .or_else(|| {
+            let doc = link.as_ref()?.url().doc.clone();
+            Some(PathBuf::from(format!("shapewright-{doc}.usda")))
+        })
         .unwrap_or_else(|| PathBuf::from("shapewright-session.usda"));
     let saver = Autosaver::new(
         &save_path,
@@ -259,7 +269,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         .similarity()
         .context("the default model placement is invalid")?;
     let session = Session::modeler(&args.tool, Hand::Right, model)?;
-    let interaction = Interaction::with_session(session, log, Some(saver))?;
+    let interaction = Interaction::shared(session, log, Some(saver), link)?;
     let out = match &args.record {
         Some(p) => Some(BufWriter::new(
             std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?,

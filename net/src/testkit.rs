@@ -1,0 +1,178 @@
+//! Test support (feature `testkit`): a real `nats-server -js` on
+//! 127.0.0.1 with file storage in a temporary directory (Debian's
+//! package, installed by scripts/setup.sh), and a reader that replays a
+//! whole stream in one process.
+
+use std::net::{TcpListener, TcpStream};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use shapewright::doc::shared::{Replica, SharedLog};
+
+use crate::{Link, LinkOptions, SessionUrl};
+
+/// A free TCP port on 127.0.0.1.
+pub fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .map(|a| a.port())
+        .expect("a free port")
+}
+
+/// A `nats-server -js` with file storage in a temporary directory.
+pub struct Server {
+    /// Its client port.
+    pub port: u16,
+    /// Its storage directory.
+    pub dir: PathBuf,
+    args: Vec<String>,
+    child: Option<Child>,
+}
+
+impl Server {
+    /// Starts one.
+    pub fn start() -> Self {
+        Self::with_args(&[])
+    }
+
+    /// Started with extra arguments (a config file, cluster routes).
+    pub fn with_args(extra: &[String]) -> Self {
+        let port = free_port();
+        let dir = std::env::temp_dir().join(format!("sw-nats-{}-{port}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut args = vec![
+            "-a".into(),
+            "127.0.0.1".into(),
+            "-p".into(),
+            port.to_string(),
+            "-js".into(),
+            "--store_dir".into(),
+            dir.to_string_lossy().into_owned(),
+        ];
+        args.extend(extra.iter().cloned());
+        let mut s = Self {
+            port,
+            dir,
+            args,
+            child: None,
+        };
+        s.spawn();
+        s
+    }
+
+    fn spawn(&mut self) {
+        let bin = std::env::var("SHAPEWRIGHT_NATS_SERVER").unwrap_or_else(|_| "nats-server".into());
+        let child = Command::new(&bin)
+            .args(&self.args)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap_or_else(|e| {
+                panic!("cannot start `{bin}` ({e}): run scripts/setup.sh, which installs Debian's nats-server")
+            });
+        self.child = Some(child);
+        wait_for_port(self.port);
+    }
+
+    /// The address of document `doc` on it.
+    pub fn url(&self, doc: &str) -> SessionUrl {
+        SessionUrl::parse(&format!("nats://127.0.0.1:{}/{doc}", self.port)).unwrap()
+    }
+
+    /// SIGKILL: no clean shutdown, as a crash or a power cut.
+    pub fn kill(&mut self) {
+        if let Some(mut c) = self.child.take() {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+    }
+
+    /// Starts again on the same port and storage.
+    pub fn restart(&mut self) {
+        self.kill();
+        self.spawn();
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        self.kill();
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
+/// A JetStream cluster of `n` servers on loopback (routes between them),
+/// each with its own storage.
+pub struct Cluster {
+    /// The servers.
+    pub nodes: Vec<Server>,
+}
+
+impl Cluster {
+    /// Starts `n` servers that route to each other.
+    pub fn start(n: usize) -> Self {
+        let routes: Vec<u16> = (0..n).map(|_| free_port()).collect();
+        let list = routes
+            .iter()
+            .map(|p| format!("nats://127.0.0.1:{p}"))
+            .collect::<Vec<_>>()
+            .join(",");
+        let nodes = routes
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                Server::with_args(&[
+                    "--server_name".into(),
+                    format!("sw-n{i}"),
+                    "--cluster_name".into(),
+                    "sw".into(),
+                    "--cluster".into(),
+                    format!("nats://127.0.0.1:{p}"),
+                    "--routes".into(),
+                    list.clone(),
+                ])
+            })
+            .collect();
+        Self { nodes }
+    }
+
+    /// Document `doc` on the cluster, every server listed.
+    pub fn url(&self, doc: &str) -> SessionUrl {
+        let servers: Vec<String> = self
+            .nodes
+            .iter()
+            .map(|s| format!("127.0.0.1:{}", s.port))
+            .collect();
+        SessionUrl::parse(&format!("nats://{}/{doc}", servers.join(","))).expect("a valid url")
+    }
+}
+
+/// Waits until something listens on `port`.
+pub fn wait_for_port(port: u16) {
+    let t = Instant::now();
+    while TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(
+            t.elapsed() < Duration::from_secs(20),
+            "nats-server did not start on {port}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// The whole stream replayed by one process (an observer that never
+/// publishes).
+pub fn read_stream(url: &SessionUrl) -> Replica {
+    let mut observer = SharedLog::new("observer", "observer", [0.5; 3]).unwrap();
+    let mut link = Link::connect(url, "observer", 0, LinkOptions::default()).unwrap();
+    let last = link.last_seq_at_connect();
+    let t = Instant::now();
+    while observer.confirmed().last_seq() < last {
+        // Only read: never publish the observer's join.
+        link.receive(&mut observer);
+        assert!(t.elapsed() < Duration::from_secs(30), "stream read stalled");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    observer.confirmed().clone()
+}

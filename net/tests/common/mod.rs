@@ -1,0 +1,220 @@
+//! A real `nats-server -js` on 127.0.0.1 for the tests (installed by
+//! scripts/setup.sh), participants driven through real links, and a TCP
+//! relay that can cut one participant off.
+
+#![allow(dead_code)]
+
+use std::io::{Read, Write};
+use std::net::{Shutdown, TcpListener, TcpStream};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use shapewright::doc::shared::SharedLog;
+use shapewright::doc::{ObjectId, Op};
+pub use shapewright_net::testkit::{free_port, read_stream, Cluster, Server};
+use shapewright_net::{Link, LinkOptions, SessionUrl};
+
+/// One participant: a shared log and its link.
+pub struct Person {
+    pub log: SharedLog,
+    pub link: Link,
+}
+
+impl Person {
+    pub fn join(url: &SessionUrl, me: &str) -> Self {
+        Self::join_with(url, me, LinkOptions::default())
+    }
+
+    pub fn join_with(url: &SessionUrl, me: &str, options: LinkOptions) -> Self {
+        let log = SharedLog::new(me, &format!("Person {me}"), [0.9, 0.4, 0.1]).unwrap();
+        let link = Link::connect(url, me, 0, options).unwrap();
+        Self { log, link }
+    }
+
+    pub fn pump(&mut self) {
+        self.link.pump(&mut self.log);
+    }
+}
+
+/// Pumps everyone until nobody has anything pending and all have the
+/// same last sequence for 150 ms.
+pub fn settle(people: &mut [&mut Person], limit: Duration) {
+    let t = Instant::now();
+    let mut stable_since: Option<Instant> = None;
+    let mut last = (u64::MAX, 0);
+    loop {
+        for p in people.iter_mut() {
+            p.pump();
+        }
+        let seqs: Vec<u64> = people
+            .iter()
+            .map(|p| p.log.confirmed().last_seq())
+            .collect();
+        let pending: usize = people.iter().map(|p| p.log.pending_count()).sum();
+        let same = seqs.iter().all(|&s| s == seqs[0]);
+        let state = (seqs[0], pending);
+        if pending == 0 && same {
+            if state != last || stable_since.is_none() {
+                stable_since = Some(Instant::now());
+            }
+            if stable_since.is_some_and(|s| s.elapsed() > Duration::from_millis(150)) {
+                return;
+            }
+        } else {
+            stable_since = None;
+        }
+        last = state;
+        assert!(
+            t.elapsed() < limit,
+            "no quiescence in {limit:?}: last sequences {seqs:?}, {pending} pending, errors {:?}",
+            people
+                .iter_mut()
+                .map(|p| p.link.take_errors())
+                .collect::<Vec<_>>()
+        );
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
+/// Every replica has the same document, equal to one replay of the whole
+/// stream by a fresh reader; returns its hash.
+pub fn check_converged(url: &SessionUrl, people: &[&Person]) -> u64 {
+    let solo = read_stream(url);
+    let want = solo.document().content_hash();
+    for p in people {
+        assert_eq!(p.log.document().content_hash(), want, "{}", p.log.me());
+        assert_eq!(
+            p.log.confirmed().op_states(),
+            solo.op_states(),
+            "{}",
+            p.log.me()
+        );
+    }
+    want
+}
+
+/// Runs `f` to completion on a runtime of its own (the tests' raw NATS
+/// calls, beside the links).
+fn block_on<F: std::future::Future>(f: F) -> F::Output {
+    tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .unwrap()
+        .block_on(f)
+}
+
+/// The stream's last sequence, asked of the server.
+pub fn last_sequence(url: &SessionUrl) -> u64 {
+    block_on(async {
+        let client = async_nats::connect(url.servers.clone()).await.unwrap();
+        let js = async_nats::jetstream::new(client);
+        let mut s = js.get_stream(url.stream()).await.unwrap();
+        s.info().await.unwrap().state.last_sequence
+    })
+}
+
+/// Raw messages appended without any check (a hostile or broken client),
+/// with optional message ids.
+pub fn inject(url: &SessionUrl, msgs: &[(Option<&str>, Vec<u8>)]) -> Vec<Result<u64, String>> {
+    block_on(async {
+        let client = async_nats::connect(url.servers.clone()).await.unwrap();
+        let js = async_nats::jetstream::new(client);
+        let mut out = Vec::new();
+        for (id, bytes) in msgs {
+            let mut m = async_nats::jetstream::message::PublishMessage::build()
+                .payload(bytes.clone().into());
+            if let Some(id) = id {
+                m = m.message_id(id);
+            }
+            let r = match js.send_publish(url.log_subject(), m).await {
+                Ok(ack) => ack.await.map(|a| a.sequence).map_err(|e| e.to_string()),
+                Err(e) => Err(e.to_string()),
+            };
+            out.push(r);
+        }
+        out
+    })
+}
+
+pub fn op(json: &str) -> Op {
+    serde_json::from_str(json).unwrap()
+}
+
+pub fn sphere(x: f64) -> Op {
+    op(&format!(
+        r#"{{"op":"add_solid","shape":{{"kind":"sphere","radius":0.1}},"segments":8,"transform":{{"translate":[{x},0,0]}}}}"#
+    ))
+}
+
+pub fn nudge(id: ObjectId, dy: f64) -> Op {
+    op(&format!(
+        r#"{{"op":"transform_by","id":{},"transform":{{"translate":[0,{dy},0]}}}}"#,
+        id.0
+    ))
+}
+
+pub fn delete(id: ObjectId) -> Op {
+    op(&format!(r#"{{"op":"delete","id":{}}}"#, id.0))
+}
+
+/// A TCP relay to the server that can cut its clients off: while cut,
+/// open connections are closed and new ones refused at once.
+pub struct Relay {
+    pub port: u16,
+    cut: Arc<AtomicBool>,
+    conns: Arc<Mutex<Vec<TcpStream>>>,
+}
+
+impl Relay {
+    pub fn new(to: u16) -> Self {
+        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+        let port = listener.local_addr().unwrap().port();
+        let cut = Arc::new(AtomicBool::new(false));
+        let conns = Arc::new(Mutex::new(Vec::new()));
+        let (c, k) = (cut.clone(), conns.clone());
+        std::thread::spawn(move || {
+            for inbound in listener.incoming() {
+                let Ok(inbound) = inbound else { continue };
+                if c.load(Ordering::SeqCst) {
+                    let _ = inbound.shutdown(Shutdown::Both);
+                    continue;
+                }
+                let Ok(outbound) = TcpStream::connect(("127.0.0.1", to)) else {
+                    continue;
+                };
+                k.lock().unwrap().push(inbound.try_clone().unwrap());
+                k.lock().unwrap().push(outbound.try_clone().unwrap());
+                pipe(inbound.try_clone().unwrap(), outbound.try_clone().unwrap());
+                pipe(outbound, inbound);
+            }
+        });
+        Self { port, cut, conns }
+    }
+
+    pub fn cut(&self, on: bool) {
+        self.cut.store(on, Ordering::SeqCst);
+        if on {
+            for s in self.conns.lock().unwrap().drain(..) {
+                let _ = s.shutdown(Shutdown::Both);
+            }
+        }
+    }
+}
+
+fn pipe(mut from: TcpStream, mut to: TcpStream) {
+    std::thread::spawn(move || {
+        let mut buf = [0u8; 16384];
+        loop {
+            match from.read(&mut buf) {
+                Ok(0) | Err(_) => break,
+                Ok(n) => {
+                    if to.write_all(&buf[..n]).is_err() {
+                        break;
+                    }
+                }
+            }
+        }
+        let _ = to.shutdown(Shutdown::Both);
+    });
+}
