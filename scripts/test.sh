@@ -5,35 +5,42 @@
 #   bash scripts/test.sh
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+# CI's clean machine has a bounded disk (a cold run once ran out of space
+# in the debug build): no incremental caches and no pip cache there, and
+# each stage prints the space left where the target dir lives.
+if [ "${CI:-}" = "true" ]; then
+  export CARGO_INCREMENTAL=0 PIP_NO_CACHE_DIR=1
+fi
 source "$root/scripts/setup.sh"
 cd "$root"
+free() { df -Ph "${CARGO_TARGET_DIR:-$root}" | awk 'NR==2 {print $4 " free"}'; }
 
-echo "== cargo fmt [at ${SECONDS} s]"
+echo "== cargo fmt [at ${SECONDS} s, $(free)]"
 cargo fmt --all -- --check
-echo "== cargo clippy [at ${SECONDS} s]"
+echo "== cargo clippy [at ${SECONDS} s, $(free)]"
 cargo clippy --workspace --all-targets -q -- -D warnings
 # xr: Monado, the real OpenXR runtime xr_host/tests/monado.rs runs the host
 # against (built once into target/monado, cached with the target; then a
 # one-second check).
-echo "== monado [at ${SECONDS} s]"
+echo "== monado [at ${SECONDS} s, $(free)]"
 SHAPEWRIGHT_MONADO_MANIFEST="$(bash scripts/monado.sh)"
 export SHAPEWRIGHT_MONADO_MANIFEST
-echo "== cargo test [at ${SECONDS} s]"
+echo "== cargo test [at ${SECONDS} s, $(free)]"
 cargo test --workspace -q
-echo "== ruff [at ${SECONDS} s]"
+echo "== ruff [at ${SECONDS} s, $(free)]"
 .venv/bin/ruff check scripts tests blender_addon
-echo "== pytest [at ${SECONDS} s]"
+echo "== pytest [at ${SECONDS} s, $(free)]"
 cargo build --release -q -p shapewright-xr
 # `cargo test` above built the usd_tool example the USD tests drive.
 USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q tests/python tests/usd tests/blender
 # blender (issue 20): the extension in the newest bpy too (5.2.3, Python
 # 3.13, own venv): a smoke scenario with the zip the pytest run built.
-echo "== abuse sweep (quick subset; the full sweep is run by hand) [at ${SECONDS} s]"
+echo "== abuse sweep (quick subset; the full sweep is run by hand) [at ${SECONDS} s, $(free)]"
 .venv/bin/python scripts/abuse_sweep.py --quick --bin target/release/shapewright-xr
-echo "== blender newest [at ${SECONDS} s]"
+echo "== blender newest [at ${SECONDS} s, $(free)]"
 bash scripts/blender_newest.sh
 # io: every reader fuzzed for a fixed budget over its seed corpus (issue 22);
 # long runs: bash scripts/fuzz.sh 1800 (see fuzz/README.md).
-echo "== fuzz [at ${SECONDS} s]"
+echo "== fuzz [at ${SECONDS} s, $(free)]"
 bash scripts/fuzz.sh "${SHAPEWRIGHT_FUZZ_SECONDS:-20}"
-echo "== done [at ${SECONDS} s]"
+echo "== done [at ${SECONDS} s, $(free)]"
