@@ -12,10 +12,12 @@
 
 #![forbid(unsafe_code)]
 
+pub mod access;
+pub mod join;
 mod link;
 #[cfg(feature = "testkit")]
 pub mod testkit;
 mod url;
 
-pub use link::{fetch_snapshot, Link, LinkError, LinkOptions, Pumped};
+pub use link::{fetch_snapshot, Link, LinkError, LinkOptions, PresenceChannel, PumpReport, Pumped};
 pub use url::{SessionUrl, UrlError};

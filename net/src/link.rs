@@ -13,12 +13,14 @@
 
 use std::collections::BTreeMap;
 use std::sync::mpsc as std_mpsc;
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use async_nats::jetstream::{self, consumer, context::PublishErrorKind, stream};
 use futures_util::StreamExt;
-use shapewright::doc::shared::{Publish, Published, SharedLog, MAX_ENTRY_BYTES};
+use shapewright::doc::shared::{Presence, Publish, Published, SharedLog, MAX_ENTRY_BYTES};
+use shapewright::doc::OpLog;
 use tokio::sync::mpsc;
 
 use crate::SessionUrl;
@@ -38,6 +40,15 @@ pub enum LinkError {
     /// (JetStream off: start the server with `-js`; or not allowed).
     #[error("the server at {url} would not open the document's stream: {why}")]
     Stream {
+        /// The address.
+        url: String,
+        /// What the server said.
+        why: String,
+    },
+    /// The server refused this user: a wrong user or password, or no
+    /// grant for this document (see [`crate::access`]).
+    #[error("the server at {url} does not let you into this document: {why}")]
+    NotAllowed {
         /// The address.
         url: String,
         /// What the server said.
@@ -71,10 +82,19 @@ impl Default for LinkOptions {
 }
 
 enum Cmd {
+    /// The link is dropped (presence channels may still hold senders).
+    Stop,
     Publish(Publish),
     Presence(Vec<u8>),
-    Snapshot { seq: u64, bytes: Vec<u8> },
+    Snapshot {
+        seq: u64,
+        bytes: Vec<u8>,
+    },
 }
+
+/// How long the stream subscription may deliver nothing before the link
+/// asks the server whether it missed something.
+const STALL_CHECK: Duration = Duration::from_secs(1);
 
 /// The object holding the latest snapshot in the bucket.
 const SNAPSHOT_OBJECT: &str = "latest";
@@ -90,10 +110,9 @@ enum Event {
         error: Option<String>,
     },
     Online(bool),
-    Presence {
-        who: String,
-        bytes: Vec<u8>,
-    },
+    /// The server refused a publish (the message of its permissions
+    /// violation).
+    Denied(String),
     Error(String),
 }
 
@@ -106,6 +125,30 @@ pub struct Pumped {
     pub published: usize,
     /// The author and counter of each entry applied, in order.
     pub arrived: Vec<(String, u64)>,
+}
+
+/// What one [`Link::pump_log`] brought.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct PumpReport {
+    /// Stream entries applied.
+    pub entries: usize,
+    /// The session's messages for this person: their edits refused or
+    /// skipped, restored (see [`shapewright::doc::shared::Notice`]).
+    pub notices: Vec<String>,
+    /// The link's errors since the last pump, for the host's log.
+    pub errors: Vec<String>,
+    /// The server is reachable.
+    pub online: bool,
+    /// The server refused this person's edits (a viewer).
+    pub view_only: bool,
+}
+
+impl PumpReport {
+    /// Whether the document may have changed (entries arrived, or an
+    /// edit of this person's was taken back).
+    pub fn changed(&self) -> bool {
+        self.entries > 0 || !self.notices.is_empty()
+    }
 }
 
 /// A participant's connection to a session.
@@ -121,8 +164,10 @@ pub struct Link {
     /// After a failed append (server unreachable, no stream), the next
     /// one waits until then.
     retry_at: Option<Instant>,
-    presence: BTreeMap<String, (Instant, Vec<u8>)>,
+    presence: PresenceChannel,
     errors: Vec<String>,
+    /// The server refused our appends: we may only view the document.
+    view_only: bool,
 }
 
 impl Link {
@@ -142,11 +187,13 @@ impl Link {
         let (cmd_tx, cmd_rx) = mpsc::unbounded_channel();
         let (ev_tx, ev_rx) = std_mpsc::channel();
         let (ready_tx, ready_rx) = std_mpsc::sync_channel(1);
+        let seen = Arc::new(Mutex::new(BTreeMap::new()));
         let task = Task {
             url: url.clone(),
             me: me.to_string(),
             after,
             options: options.clone(),
+            seen: Arc::clone(&seen),
         };
         let thread = std::thread::Builder::new()
             .name("shapewright-net".into())
@@ -182,14 +229,18 @@ impl Link {
             stream_last,
             url: url.clone(),
             me: me.to_string(),
+            presence: PresenceChannel {
+                tx: cmd_tx.clone(),
+                seen,
+            },
             cmds: Some(cmd_tx),
             events: ev_rx,
             thread: Some(thread),
             online: true,
             blocked_since: None,
             retry_at: None,
-            presence: BTreeMap::new(),
             errors: Vec::new(),
+            view_only: false,
         })
     }
 
@@ -226,6 +277,13 @@ impl Link {
         self.online
     }
 
+    /// True once the server refused an append: this user may only view the
+    /// document (their log was told, see
+    /// [`shapewright::doc::shared::SharedLog::deny`]).
+    pub fn is_view_only(&self) -> bool {
+        self.view_only
+    }
+
     /// Takes the errors the link met since the last call (a lost stream
     /// subscription, a refused append), for the host's log.
     pub fn take_errors(&mut self) -> Vec<String> {
@@ -250,6 +308,23 @@ impl Link {
             }
         }
         done
+    }
+
+    /// [`Self::pump`] for a host's [`OpLog`] (one made by
+    /// [`OpLog::from_shared`]), with the person's messages and the link's
+    /// state; `None` when `log` is not shared.
+    pub fn pump_log(&mut self, log: &mut OpLog) -> Option<PumpReport> {
+        let (pumped, notices) = log.with_shared(|log| {
+            let p = self.pump(log);
+            (p, log.take_notices())
+        })?;
+        Some(PumpReport {
+            entries: pumped.entries,
+            notices: notices.into_iter().map(|n| n.message).collect(),
+            errors: self.take_errors(),
+            online: self.online,
+            view_only: self.view_only,
+        })
     }
 
     /// [`Self::pump`] without appending: applies what arrived (a reader
@@ -285,10 +360,12 @@ impl Link {
                         log.connection_lost();
                     }
                 }
-                Ok(Event::Presence { who, bytes }) => {
-                    if who != self.me {
-                        self.presence.insert(who, (Instant::now(), bytes));
+                Ok(Event::Denied(why)) => {
+                    if why.contains(&self.url.log_subject()) {
+                        self.view_only = true;
+                        log.deny("the server refused your edit");
                     }
+                    self.errors.push(format!("the server refused: {why}"));
                 }
                 Ok(Event::Error(e)) => self.errors.push(e),
                 Err(_) => break,
@@ -308,27 +385,52 @@ impl Link {
         done
     }
 
-    /// Sends this participant's presence (not stored; at most ~30 Hz is
-    /// sensible).
-    pub fn send_presence(&self, bytes: Vec<u8>) {
-        if let Some(tx) = &self.cmds {
-            let _ = tx.send(Cmd::Presence(bytes));
-        }
+    /// Presence in both directions, for any thread (see
+    /// [`PresenceChannel`]).
+    pub fn presence(&self) -> PresenceChannel {
+        self.presence.clone()
     }
 
-    /// The latest presence message of each other participant heard from
-    /// within `max_age`.
-    pub fn presence(&self, max_age: Duration) -> impl Iterator<Item = (&str, &[u8])> {
-        self.presence
-            .iter()
-            .filter(move |(_, (t, _))| t.elapsed() <= max_age)
-            .map(|(who, (_, b))| (who.as_str(), b.as_slice()))
+    /// This participant's id.
+    pub fn me(&self) -> &str {
+        &self.me
+    }
+}
+
+/// Presence in both directions: sends this participant's and holds the
+/// latest of every other participant. Cloneable and usable from any
+/// thread (a host's frame thread, while the [`Link`] lives with the log on
+/// the commit thread); the network thread fills it directly, so reading it
+/// never waits for an op to apply. Works until the link is dropped.
+#[derive(Clone)]
+pub struct PresenceChannel {
+    tx: mpsc::UnboundedSender<Cmd>,
+    seen: Arc<Mutex<BTreeMap<String, (Instant, Presence)>>>,
+}
+
+impl PresenceChannel {
+    /// Sends `p` (not stored; hosts send at most
+    /// [`shapewright::doc::shared::PRESENCE_HZ`] per second).
+    pub fn send(&self, p: &Presence) {
+        let _ = self.tx.send(Cmd::Presence(p.to_bytes()));
+    }
+
+    /// The latest presence of each other participant heard from within
+    /// `max_age`, by participant id.
+    pub fn others(&self, max_age: Duration) -> Vec<(String, Presence)> {
+        let seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
+        seen.iter()
+            .filter(|(_, (t, _))| t.elapsed() <= max_age)
+            .map(|(who, (_, p))| (who.clone(), p.clone()))
+            .collect()
     }
 }
 
 impl Drop for Link {
     fn drop(&mut self) {
-        self.cmds = None;
+        if let Some(tx) = self.cmds.take() {
+            let _ = tx.send(Cmd::Stop);
+        }
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
@@ -340,6 +442,7 @@ struct Task {
     me: String,
     after: u64,
     options: LinkOptions,
+    seen: Arc<Mutex<BTreeMap<String, (Instant, Presence)>>>,
 }
 
 impl Task {
@@ -350,6 +453,10 @@ impl Task {
         ready: std_mpsc::SyncSender<Result<u64, LinkError>>,
     ) {
         let ev = events.clone();
+        // A permissions violation while connecting makes the connect's
+        // error a clear "not allowed".
+        let denied = std::sync::Arc::new(std::sync::Mutex::new(None::<String>));
+        let denied_cb = std::sync::Arc::clone(&denied);
         let mut options = async_nats::ConnectOptions::new()
             .connection_timeout(self.options.connect_timeout)
             .request_timeout(Some(self.options.request_timeout))
@@ -358,10 +465,20 @@ impl Task {
             })
             .event_callback(move |e| {
                 let ev = ev.clone();
+                let denied = std::sync::Arc::clone(&denied_cb);
                 async move {
                     let up = match e {
                         async_nats::Event::Connected => true,
                         async_nats::Event::Disconnected => false,
+                        async_nats::Event::ServerError(async_nats::ServerError::Other(m))
+                            if m.to_lowercase().contains("permissions violation") =>
+                        {
+                            if let Ok(mut d) = denied.lock() {
+                                d.get_or_insert_with(|| m.clone());
+                            }
+                            let _ = ev.send(Event::Denied(m));
+                            return;
+                        }
                         _ => return,
                     };
                     let _ = ev.send(Event::Online(up));
@@ -381,7 +498,7 @@ impl Task {
         .await
         {
             Ok(Ok(c)) => c,
-            Ok(Err(e)) => return drop(ready.send(Err(unreachable(e.to_string())))),
+            Ok(Err(e)) => return drop(ready.send(Err(connect_error(&self.url, e)))),
             Err(_) => return drop(ready.send(Err(unreachable("timed out".into())))),
         };
         let js = jetstream::ContextBuilder::new()
@@ -406,10 +523,15 @@ impl Task {
         let mut stream = match made {
             Ok(s) => s,
             Err(e) => {
-                return drop(ready.send(Err(LinkError::Stream {
-                    url: self.url.to_string(),
-                    why: e.to_string(),
-                })))
+                let url = self.url.to_string();
+                let refused = denied.lock().ok().and_then(|d| d.clone());
+                return drop(ready.send(Err(match refused {
+                    Some(why) => LinkError::NotAllowed { url, why },
+                    None => LinkError::Stream {
+                        url,
+                        why: e.to_string(),
+                    },
+                })));
             }
         };
         let presence = client
@@ -428,13 +550,18 @@ impl Task {
             events.clone(),
         ));
         let listen = presence.ok().map(|mut sub| {
-            let events = events.clone();
+            let (seen, me) = (Arc::clone(&self.seen), self.me.clone());
             tokio::spawn(async move {
                 while let Some(m) = sub.next().await {
-                    let who = m.subject.rsplit('.').next().unwrap_or_default().to_string();
-                    let bytes = m.payload.to_vec();
-                    if events.send(Event::Presence { who, bytes }).is_err() {
-                        break;
+                    let who = m.subject.rsplit('.').next().unwrap_or_default();
+                    if who == me {
+                        continue;
+                    }
+                    // A message that cannot be drawn is dropped (the
+                    // sender's problem); the last good one stays.
+                    if let Ok(p) = Presence::decode(&m.payload) {
+                        let mut seen = seen.lock().unwrap_or_else(|e| e.into_inner());
+                        seen.insert(who.to_string(), (Instant::now(), p));
                     }
                 }
             })
@@ -443,6 +570,7 @@ impl Task {
         let presence_subject = self.url.presence_subject(&self.me);
         while let Some(cmd) = cmds.recv().await {
             match cmd {
+                Cmd::Stop => break,
                 Cmd::Publish(p) => {
                     tokio::spawn(append(js.clone(), subject.clone(), p, events.clone()));
                 }
@@ -467,6 +595,18 @@ impl Task {
             l.abort();
         }
         let _ = tokio::time::timeout(Duration::from_secs(1), client.flush()).await;
+    }
+}
+
+/// A failed connect as the host shows it: a refused user or password is
+/// "not allowed", anything else "unreachable".
+fn connect_error(url: &SessionUrl, e: async_nats::ConnectError) -> LinkError {
+    let url = url.to_string();
+    let why = e.to_string();
+    match e.kind() {
+        async_nats::ConnectErrorKind::AuthorizationViolation
+        | async_nats::ConnectErrorKind::Authentication => LinkError::NotAllowed { url, why },
+        _ => LinkError::Unreachable { url, why },
     }
 }
 
@@ -536,7 +676,7 @@ pub fn fetch_snapshot(
         )
         .await
         .map_err(|_| unreachable("timed out".into()))?
-        .map_err(|e| unreachable(e.to_string()))?;
+        .map_err(|e| connect_error(url, e))?;
         let js = jetstream::ContextBuilder::new()
             .timeout(options.request_timeout)
             .build(client);
@@ -565,7 +705,7 @@ pub fn fetch_snapshot(
 /// the host listens; re-subscribes from the last one delivered whenever
 /// the subscription breaks (server restart, lost connection).
 async fn consume(
-    stream: jetstream::stream::Stream,
+    mut stream: jetstream::stream::Stream,
     subject: String,
     mut last: u64,
     events: std_mpsc::Sender<Event>,
@@ -587,31 +727,52 @@ async fn consume(
             Err(e) => Err(e.to_string()),
         };
         match messages {
-            Ok(mut messages) => {
-                while let Some(m) = messages.next().await {
-                    match m {
-                        Ok(m) => {
-                            let Ok(info) = m.info() else { continue };
-                            let seq = info.stream_sequence;
-                            if seq <= last {
-                                continue;
+            Ok(mut messages) => loop {
+                let m = match tokio::time::timeout(STALL_CHECK, messages.next()).await {
+                    Ok(Some(m)) => m,
+                    Ok(None) => break,
+                    Err(_) => {
+                        // Quiet for a while: fine if the stream is too. An
+                        // ordered consumer whose server died in a cluster
+                        // can go quiet with no error while the stream
+                        // moves on (seen with nats-server 2.9.10).
+                        match stream.info().await {
+                            Ok(info) if info.state.last_sequence > last => {
+                                let msg = format!(
+                                    "stream subscription stalled at {last} of {}; resubscribing",
+                                    info.state.last_sequence
+                                );
+                                if events.send(Event::Error(msg)).is_err() {
+                                    return;
+                                }
+                                break;
                             }
-                            last = seq;
-                            let bytes = m.payload.to_vec();
-                            if events.send(Event::Entry { seq, bytes }).is_err() {
-                                return;
-                            }
-                        }
-                        Err(e) => {
-                            let msg = format!("stream subscription lost ({e}); resubscribing");
-                            if events.send(Event::Error(msg)).is_err() {
-                                return;
-                            }
-                            break;
+                            _ => continue,
                         }
                     }
+                };
+                match m {
+                    Ok(m) => {
+                        let Ok(info) = m.info() else { continue };
+                        let seq = info.stream_sequence;
+                        if seq <= last {
+                            continue;
+                        }
+                        last = seq;
+                        let bytes = m.payload.to_vec();
+                        if events.send(Event::Entry { seq, bytes }).is_err() {
+                            return;
+                        }
+                    }
+                    Err(e) => {
+                        let msg = format!("stream subscription lost ({e}); resubscribing");
+                        if events.send(Event::Error(msg)).is_err() {
+                            return;
+                        }
+                        break;
+                    }
                 }
-            }
+            },
             Err(e) => {
                 let msg = format!("cannot subscribe to the stream ({e}); retrying");
                 if events.send(Event::Error(msg)).is_err() {

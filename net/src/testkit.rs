@@ -36,8 +36,18 @@ impl Server {
         Self::with_args(&[])
     }
 
-    /// Started with extra arguments (a config file, cluster routes).
+    /// Started with the configuration `config` (written to a file in its
+    /// storage directory), e.g. [`crate::access::server_config`]'s users.
+    pub fn with_config(config: &str) -> Self {
+        Self::start_with(&[], Some(config))
+    }
+
+    /// Started with extra arguments (cluster routes).
     pub fn with_args(extra: &[String]) -> Self {
+        Self::start_with(extra, None)
+    }
+
+    fn start_with(extra: &[String], config: Option<&str>) -> Self {
         let port = free_port();
         let dir = std::env::temp_dir().join(format!("sw-nats-{}-{port}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
@@ -51,6 +61,11 @@ impl Server {
             "--store_dir".into(),
             dir.to_string_lossy().into_owned(),
         ];
+        if let Some(text) = config {
+            let path = dir.join("server.conf");
+            std::fs::write(&path, text).unwrap();
+            args.extend(["-c".into(), path.to_string_lossy().into_owned()]);
+        }
         args.extend(extra.iter().cloned());
         let mut s = Self {
             port,

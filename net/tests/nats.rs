@@ -11,10 +11,11 @@ use std::time::{Duration, Instant};
 
 use common::*;
 use shapewright::doc::shared::{
-    Body, Entry, NoticeKind, Replica, SharedLog, ENTRY_VERSION, MAX_ENTRY_BYTES,
+    Body, Entry, NoticeKind, Replica, SharedError, SharedLog, ENTRY_VERSION, MAX_ENTRY_BYTES,
 };
 use shapewright::doc::ObjectId;
-use shapewright_net::{Link, LinkOptions};
+use shapewright_net::access::{server_config, Member};
+use shapewright_net::{Link, LinkError, LinkOptions, SessionUrl};
 
 /// A tiny deterministic generator (the tests' randomness).
 struct Rng(u64);
@@ -381,10 +382,13 @@ fn a_late_joiner_loads_the_latest_snapshot_and_replays_only_the_tail() {
     let (seq, bytes) = shapewright_net::fetch_snapshot(&url, &LinkOptions::default())
         .unwrap()
         .expect("a snapshot was written");
-    assert_eq!(
-        seq,
-        last / 100 * 100,
-        "the latest boundary's snapshot ({last} entries)"
+    // The latest boundary's writer snapshots what it has applied when it
+    // sees its entry past the boundary (entries arrive in batches, so a
+    // few more may be in): at or after the boundary, before the next.
+    let boundary = last / 100 * 100;
+    assert!(
+        (boundary..(boundary + 100).min(last + 1)).contains(&seq),
+        "the latest boundary's snapshot: {seq} of {last} entries"
     );
     let replica = Replica::from_snapshot(&bytes).unwrap();
     assert_eq!(replica.last_seq(), seq);
@@ -414,7 +418,6 @@ fn a_late_joiner_loads_the_latest_snapshot_and_replays_only_the_tail() {
 }
 
 #[test]
-#[ignore = "not passing yet: after one node of three is killed, appends get no responders for a minute on nats-server 2.9.10 here (issue 23, left open)"]
 fn a_three_node_cluster_keeps_an_r3_stream_through_a_node_loss() {
     let mut cluster = Cluster::start(3);
     let url = cluster.url("cluster");
@@ -437,6 +440,7 @@ fn a_three_node_cluster_keeps_an_r3_stream_through_a_node_loss() {
             }
         }
     };
+    let formed = t.elapsed();
     let mut b = Person::join_with(&url, "b", options);
     settle(&mut [&mut a, &mut b], Duration::from_secs(30));
     let x = a.log.apply(sphere(0.0)).unwrap().created.unwrap();
@@ -451,6 +455,7 @@ fn a_three_node_cluster_keeps_an_r3_stream_through_a_node_loss() {
     let committed = a.log.confirmed().last_seq();
     // The first listed server (the one both clients reach first) dies.
     cluster.nodes[0].kill();
+    let killed = Instant::now();
     for _ in 0..20 {
         a.log.apply(nudge(x, 0.01)).unwrap();
         b.log.apply(nudge(y, 0.01)).unwrap();
@@ -459,6 +464,10 @@ fn a_three_node_cluster_keeps_an_r3_stream_through_a_node_loss() {
         std::thread::sleep(Duration::from_millis(20));
     }
     settle(&mut [&mut a, &mut b], Duration::from_secs(60));
+    eprintln!(
+        "cluster: stream made after {formed:?}; all 40 edits made during a node's loss landed {:?} after it",
+        killed.elapsed()
+    );
     assert_eq!(
         a.log.confirmed().last_seq(),
         committed + 40,
@@ -491,4 +500,143 @@ fn people_opening_a_new_document_at_the_same_moment_all_get_in() {
         Duration::from_secs(30),
     );
     assert!(people.iter().all(|p| p.log.is_joined()));
+}
+
+#[test]
+fn a_viewer_reads_but_its_edits_are_refused_and_change_nothing() {
+    let members =
+        Member::parse_list("ana pa doc:editor\nvic pv doc:viewer\neve pe other:editor\n").unwrap();
+    let server = Server::with_config(&server_config(&members));
+    let url = |cred: &str| {
+        SessionUrl::parse(&format!("nats://{cred}@127.0.0.1:{}/doc", server.port)).unwrap()
+    };
+    let mut ana = Person::join(&url("ana:pa"), "ana");
+    settle(&mut [&mut ana], Duration::from_secs(30));
+    let a = ana.log.apply(sphere(0.0)).unwrap().created.unwrap();
+    settle(&mut [&mut ana], Duration::from_secs(30));
+
+    // Vic may only view: the server refuses his join, and his log knows.
+    let mut vic = Person::join(&url("vic:pv"), "vic");
+    let t = Instant::now();
+    while !vic.link.is_view_only() {
+        vic.pump();
+        ana.pump();
+        assert!(
+            t.elapsed() < Duration::from_secs(10),
+            "no refusal: {:?}",
+            vic.link.take_errors()
+        );
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    assert!(vic.log.view_only().is_some());
+    let refused = vic.log.apply(nudge(a, 1.0));
+    assert!(
+        matches!(refused, Err(SharedError::ViewOnly(_))),
+        "{refused:?}"
+    );
+    // He still sees Ana's edits.
+    ana.log.apply(nudge(a, 0.5)).unwrap();
+    settle(&mut [&mut ana, &mut vic], Duration::from_secs(30));
+    let seen = vic.log.document().get(a).unwrap().transform().translate;
+    assert_eq!(seen, [0.0, 0.5, 0.0]);
+
+    // A raw publish with his password, past our client: refused, and the
+    // stream does not change.
+    let before = last_sequence(&url("ana:pa"));
+    let raw = block_on(async {
+        let client = raw_client(&url("vic:pv")).await.unwrap();
+        let js = async_nats::jetstream::ContextBuilder::new()
+            .timeout(Duration::from_secs(1))
+            .build(client);
+        match js.publish("sw.doc.log", b"{}".to_vec().into()).await {
+            Ok(ack) => ack.await.map(|a| a.sequence).map_err(|e| e.to_string()),
+            Err(e) => Err(e.to_string()),
+        }
+    });
+    assert!(raw.is_err(), "a viewer's raw publish was stored at {raw:?}");
+    assert_eq!(last_sequence(&url("ana:pa")), before);
+    let hash = check_converged(&url("ana:pa"), &[&ana, &vic]);
+    let solo = read_stream(&url("ana:pa"));
+    let authors: Vec<&str> = solo.participants().iter().map(|p| p.id.as_str()).collect();
+    assert_eq!(authors, ["ana"]);
+    eprintln!("viewer: refused in {:?}, document {hash:016x}", t.elapsed());
+
+    // Eve has no grant for this document, and a wrong password is no
+    // better: both are told they are not allowed in.
+    for cred in ["eve:pe", "ana:wrong"] {
+        match Link::connect(&url(cred), "eve", 0, LinkOptions::default()) {
+            Err(LinkError::NotAllowed { why, .. }) => eprintln!("{cred}: {why}"),
+            Err(e) => panic!("{cred}: {e}"),
+            Ok(_) => panic!("{cred} got in"),
+        }
+    }
+}
+
+#[test]
+fn presence_reaches_the_others_and_bad_presence_is_dropped() {
+    use shapewright::doc::shared::{Presence, PresencePose};
+    let server = Server::start();
+    let url = server.url("presence");
+    let a = Link::connect(&url, "ana", 0, LinkOptions::default()).unwrap();
+    let b = Link::connect(&url, "ben", 0, LinkOptions::default()).unwrap();
+    let (pa, pb) = (a.presence(), b.presence());
+    let good = Presence {
+        head: Some(PresencePose {
+            p: [0.1, 0.2, 0.3],
+            q: [0.0, 0.0, 0.0, 1.0],
+        }),
+        selected: Some(7),
+        ..Presence::empty()
+    };
+    let wait_for = |what: &dyn Fn() -> bool| {
+        let t = Instant::now();
+        while !what() {
+            assert!(
+                t.elapsed() < Duration::from_secs(10),
+                "presence did not arrive"
+            );
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    };
+    // Sent until heard (a subscription may still be starting).
+    wait_for(&|| {
+        pa.send(&good);
+        pb.others(Duration::from_secs(2)) == vec![("ana".to_string(), good.clone())]
+    });
+    // Nobody hears themselves.
+    assert!(pa.others(Duration::from_secs(2)).is_empty());
+    // A NaN pose, a message from the future and garbage are dropped; the
+    // last good presence stays. Then a good one replaces it.
+    let subject = url.presence_subject("ana");
+    block_on(async {
+        let client = raw_client(&url).await.unwrap();
+        for bad in [
+            &br#"{"v":1,"head":{"p":[1e999,0,0],"q":[0,0,0,1]}}"#[..],
+            &br#"{"v":9}"#[..],
+            &b"\xff\xfe"[..],
+            &vec![b' '; 4096][..],
+        ] {
+            client
+                .publish(subject.clone(), bad.to_vec().into())
+                .await
+                .unwrap();
+        }
+        client.flush().await.unwrap();
+    });
+    std::thread::sleep(Duration::from_millis(200));
+    assert_eq!(
+        pb.others(Duration::from_secs(2)),
+        vec![("ana".to_string(), good.clone())]
+    );
+    let moved = Presence {
+        selected: None,
+        ..good.clone()
+    };
+    wait_for(&|| {
+        pa.send(&moved);
+        pb.others(Duration::from_secs(2)) == vec![("ana".to_string(), moved.clone())]
+    });
+    // Stale presence is not listed.
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(pb.others(Duration::from_millis(100)).is_empty());
 }

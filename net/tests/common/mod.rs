@@ -96,7 +96,7 @@ pub fn check_converged(url: &SessionUrl, people: &[&Person]) -> u64 {
 
 /// Runs `f` to completion on a runtime of its own (the tests' raw NATS
 /// calls, beside the links).
-fn block_on<F: std::future::Future>(f: F) -> F::Output {
+pub fn block_on<F: std::future::Future>(f: F) -> F::Output {
     tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
@@ -104,10 +104,19 @@ fn block_on<F: std::future::Future>(f: F) -> F::Output {
         .block_on(f)
 }
 
+/// A plain NATS client for `url`, with its user and password if any.
+pub async fn raw_client(url: &SessionUrl) -> Result<async_nats::Client, async_nats::ConnectError> {
+    let mut options = async_nats::ConnectOptions::new();
+    if let Some((u, p)) = &url.user {
+        options = options.user_and_password(u.clone(), p.clone());
+    }
+    options.connect(url.servers.clone()).await
+}
+
 /// The stream's last sequence, asked of the server.
 pub fn last_sequence(url: &SessionUrl) -> u64 {
     block_on(async {
-        let client = async_nats::connect(url.servers.clone()).await.unwrap();
+        let client = raw_client(url).await.unwrap();
         let js = async_nats::jetstream::new(client);
         let mut s = js.get_stream(url.stream()).await.unwrap();
         s.info().await.unwrap().state.last_sequence
@@ -118,7 +127,7 @@ pub fn last_sequence(url: &SessionUrl) -> u64 {
 /// with optional message ids.
 pub fn inject(url: &SessionUrl, msgs: &[(Option<&str>, Vec<u8>)]) -> Vec<Result<u64, String>> {
     block_on(async {
-        let client = async_nats::connect(url.servers.clone()).await.unwrap();
+        let client = raw_client(url).await.unwrap();
         let js = async_nats::jetstream::new(client);
         let mut out = Vec::new();
         for (id, bytes) in msgs {

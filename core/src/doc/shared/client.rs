@@ -38,6 +38,10 @@ pub enum SharedError {
     /// The entry was refused (too large, ...).
     #[error("{0}")]
     Refused(String),
+    /// The session's server refused this participant's appends: they may
+    /// only view the document (see [`SharedLog::deny`]).
+    #[error("view only: {0}")]
+    ViewOnly(String),
 }
 
 impl From<EntryError> for SharedError {
@@ -123,6 +127,8 @@ pub struct SharedLog {
     snapshot_k: u64,
     /// Our entry crossed a boundary: we write that snapshot.
     snapshot_due: bool,
+    /// The server refused our appends, saying this (a viewer).
+    view_only: Option<String>,
 }
 
 impl SharedLog {
@@ -182,6 +188,7 @@ impl SharedLog {
             snapshot_every: DEFAULT_SNAPSHOT_EVERY,
             snapshot_k: 0,
             snapshot_due: false,
+            view_only: None,
         };
         log.snapshot_k = log.confirmed.last_seq() / log.snapshot_every;
         log.push_local(Body::Join {
@@ -246,6 +253,7 @@ impl SharedLog {
     /// Applies `op` at once (pending until the stream confirms it). A
     /// creation takes ids from this participant's own range.
     pub fn apply(&mut self, op: Op) -> Result<OpOutcome, SharedError> {
+        self.writable()?;
         let Some(first) = self.next_id else {
             return Err(SharedError::NotJoined);
         };
@@ -259,6 +267,7 @@ impl SharedLog {
     /// Starts the session from a single-user history (a file this
     /// participant opened): only as the session's first op entry.
     pub fn seed(&mut self, ops: Vec<Op>) -> Result<(), SharedError> {
+        self.writable()?;
         if !self.is_joined() {
             return Err(SharedError::NotJoined);
         }
@@ -267,6 +276,7 @@ impl SharedLog {
 
     /// Takes back this participant's latest op in effect.
     pub fn undo(&mut self) -> Result<(), SharedError> {
+        self.writable()?;
         let target = self
             .view()
             .undo_target(&self.me)
@@ -276,6 +286,7 @@ impl SharedLog {
 
     /// Brings back this participant's last undone op.
     pub fn redo(&mut self) -> Result<(), SharedError> {
+        self.writable()?;
         let target = self
             .view()
             .redo_target(&self.me)
@@ -283,9 +294,48 @@ impl SharedLog {
         self.push_local(Body::Redo(target)).map(|_| ())
     }
 
+    /// The server refused this participant's appends (`why` says how): they
+    /// may only view the document. Every pending entry is dropped (the view
+    /// is the stream's document again), each dropped op is reported once
+    /// as refused, and every later edit fails with
+    /// [`SharedError::ViewOnly`]. Entries keep arriving as before.
+    pub fn deny(&mut self, why: &str) {
+        if self.view_only.is_some() {
+            return;
+        }
+        for p in std::mem::take(&mut self.pending) {
+            if matches!(p.entry.body, Body::Join { .. }) {
+                continue;
+            }
+            self.notices.push(Notice {
+                author: self.me.clone(),
+                n: p.entry.n,
+                kind: NoticeKind::Refused,
+                message: format!("not sent: you may only view this document ({why})"),
+            });
+        }
+        self.view = None;
+        self.blocked_at = None;
+        self.view_only = Some(why.to_string());
+    }
+
+    fn writable(&self) -> Result<(), SharedError> {
+        match &self.view_only {
+            Some(why) => Err(SharedError::ViewOnly(why.clone())),
+            None => Ok(()),
+        }
+    }
+
+    /// Why this participant may only view the document, once the server
+    /// refused an append (see [`Self::deny`]).
+    pub fn view_only(&self) -> Option<&str> {
+        self.view_only.as_deref()
+    }
+
     /// Makes `body` this participant's next entry and applies it to the
     /// view; on error nothing changes.
     fn push_local(&mut self, body: Body) -> Result<Option<OpOutcome>, SharedError> {
+        self.writable()?;
         let mut entry = Entry {
             v: ENTRY_VERSION,
             author: self.me.clone(),

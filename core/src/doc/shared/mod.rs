@@ -56,11 +56,16 @@
 //!   author's to undo.
 
 mod client;
+mod presence;
 mod replica;
 #[cfg(test)]
 mod tests;
 
 pub use client::{Publish, Published, SharedError, SharedLog, DEFAULT_SNAPSHOT_EVERY};
+pub use presence::{
+    Presence, PresenceError, PresencePose, MAX_PRESENCE_BYTES, PRESENCE_HZ, PRESENCE_STALE_SECS,
+    PRESENCE_VERSION,
+};
 pub use replica::{
     EntryError, Integrated, Notice, NoticeKind, Participant, Replica, Skipped, SNAPSHOT_FORMAT,
 };

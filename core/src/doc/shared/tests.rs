@@ -433,6 +433,46 @@ fn hostile_and_broken_messages_are_skipped_identically_everywhere() {
 }
 
 #[test]
+fn a_participant_the_server_refuses_only_views_and_changes_nothing() {
+    let mut sim = joined(2);
+    let a = sim.log(0).apply(sphere(0.0)).unwrap().created.unwrap();
+    sim.quiesce();
+    let before = sim.clients[0].0.document().content_hash();
+    // B edits, and the server refuses B's append (B may only view).
+    let b = sim.log(1).apply(sphere(1.0)).unwrap().created.unwrap();
+    assert!(sim.clients[1].0.document().get(b).is_ok());
+    sim.log(1)
+        .deny("permissions violation for publish to sw.doc.log");
+    let viewer = &mut sim.clients[1].0;
+    assert_eq!(viewer.pending_count(), 0);
+    assert_eq!(viewer.document().content_hash(), before, "B's edit is gone");
+    let notices = viewer.take_notices();
+    assert_eq!(notices.len(), 1, "{notices:?}");
+    assert_eq!(notices[0].kind, NoticeKind::Refused);
+    assert!(notices[0].message.contains("only view"));
+    assert!(viewer.view_only().is_some());
+    for refused in [
+        viewer.apply(nudge(a, 1.0)).map(|_| ()),
+        viewer.undo(),
+        viewer.redo(),
+        viewer.seed(vec![sphere(2.0)]),
+    ] {
+        assert!(
+            matches!(refused, Err(SharedError::ViewOnly(_))),
+            "{refused:?}"
+        );
+    }
+    assert!(viewer.next_publish().is_none());
+    // A's later edits still reach B.
+    sim.log(0).apply(nudge(a, 0.5)).unwrap();
+    sim.quiesce();
+    let doc = sim.clients[1].0.document().clone();
+    assert_eq!(doc.get(a).unwrap().transform().translate, [0.0, 0.5, 0.0]);
+    assert!(doc.get(b).is_err());
+    sim.check_converged();
+}
+
+#[test]
 fn duplicate_publishes_land_once() {
     let mut sim = joined(2);
     sim.log(0).apply(sphere(0.0)).unwrap();
