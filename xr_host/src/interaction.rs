@@ -47,6 +47,9 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use glam::{DMat4, Mat4};
+use shapewright::doc::shared::{
+    colour_for, Presence, PresencePose, PRESENCE_HZ, PRESENCE_STALE_SECS,
+};
 use shapewright::doc::{Document, ObjectId, OpLog, ScriptCommand};
 use shapewright::interact::{
     self, apply_command, tool_named, SanitizerStats, Session, Similarity, TraceError,
@@ -90,21 +93,40 @@ pub struct InteractionStats {
     pub save_requests: u64,
     /// Documents taken in from others' edits (a shared session).
     pub remote_updates: u64,
+    /// The most other participants drawn in one frame (a shared
+    /// session's presence).
+    pub others_drawn: usize,
 }
 
 /// The state the commit thread owns (the frame thread locks it only to
-/// read the log or the save counters).
+/// read the log or the save counters, never once per frame: the commit
+/// thread holds it while an op applies, up to a quarter second for a GC
+/// edit, which a frame cannot wait for).
 struct Shared {
     log: OpLog,
     /// The shared session's connection (`run --join`).
     link: Option<shapewright_net::Link>,
-    /// False while the shared session's server is out of reach.
-    online: bool,
     autosave: Option<Autosaver>,
     saves: usize,
     save_errors: Vec<String>,
+    /// What every frame shows (its own lock, held only to copy it).
+    status: Arc<Mutex<Status>>,
+}
+
+/// The warnings every frame draws, kept apart from the log so reading
+/// them never waits for a commit.
+#[derive(Default)]
+struct Status {
     /// The last save failed with this (cleared by the next good save).
     failing: Option<String>,
+    /// The shared session's server is out of reach.
+    offline: bool,
+    /// The shared session's server refused our edits (a viewer).
+    view_only: bool,
+}
+
+fn lock_status(m: &Mutex<Status>) -> MutexGuard<'_, Status> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 impl Shared {
@@ -113,7 +135,7 @@ impl Shared {
             Ok(n) => {
                 self.saves += n;
                 if n > 0 {
-                    self.failing = None;
+                    lock_status(&self.status).failing = None;
                 }
             }
             Err(e) => {
@@ -122,7 +144,7 @@ impl Shared {
                     "shapewright-xr: autosave failed (will retry; {unsaved} changes since the last good save are not on disk yet): {e}"
                 );
                 self.save_errors.push(e.to_string());
-                self.failing = Some(e.to_string());
+                lock_status(&self.status).failing = Some(e.to_string());
             }
         }
     }
@@ -166,6 +188,26 @@ struct Committed {
     ms: f64,
     /// Others' edits (a shared session), not a command of ours.
     remote: bool,
+    /// A shared session's participants (id, name, colour), sent with
+    /// others' edits (a join is one).
+    people: Vec<Person>,
+}
+
+/// An axis-aligned box in model space: its low and high corners.
+type ModelBox = [glam::DVec3; 2];
+
+/// A participant: id, name, colour.
+type Person = (String, String, [f32; 3]);
+
+/// The participants of `log`'s shared session (none outside one).
+fn people_of(log: &OpLog) -> Vec<Person> {
+    log.shared().map_or_else(Vec::new, |s| {
+        s.confirmed()
+            .participants()
+            .iter()
+            .map(|p| (p.id.clone(), p.name.clone(), p.colour))
+            .collect()
+    })
 }
 
 /// The document as drawn: every object in one mesh (None: empty
@@ -223,30 +265,34 @@ const NET_TICK: Duration = Duration::from_millis(4);
 /// out. Returns the new document when others' edits changed it, with the
 /// session's messages for this person.
 fn pump_link(s: &mut Shared) -> Option<(Document, Vec<String>)> {
-    let link = s.link.as_mut()?;
-    let (pumped, notices) = s.log.with_shared(|log| {
-        let p = link.pump(log);
-        (p, log.take_notices())
-    })?;
-    let online = link.is_online();
-    if online != s.online {
-        s.online = online;
+    let report = s.link.as_mut()?.pump_log(&mut s.log)?;
+    let (was_offline, was_view_only) = {
+        let mut status = lock_status(&s.status);
+        (
+            std::mem::replace(&mut status.offline, !report.online),
+            std::mem::replace(&mut status.view_only, report.view_only),
+        )
+    };
+    if report.view_only && !was_view_only {
+        eprintln!("shapewright-xr: shared session: the server lets you view this document but not edit it");
+    }
+    if was_offline == report.online {
         eprintln!(
             "shapewright-xr: shared session {}",
-            if online {
+            if report.online {
                 "back online; sending what was edited meanwhile"
             } else {
                 "offline: edits are kept and sent on reconnect"
             }
         );
     }
-    for e in link.take_errors() {
+    for e in &report.errors {
         eprintln!("shapewright-xr: shared session: {e}");
     }
-    let messages: Vec<String> = notices.into_iter().map(|n| n.message).collect();
-    if pumped.entries == 0 && messages.is_empty() {
+    if !report.changed() {
         return None;
     }
+    let messages = report.notices;
     if let Some(a) = &mut s.autosave {
         let r = a.changed(&s.log).map(usize::from);
         s.note_save(r);
@@ -295,6 +341,7 @@ fn commit_loop(shared: Arc<Mutex<Shared>>, jobs: Receiver<Job>, done: Sender<Com
                         error,
                         ms,
                         remote: false,
+                        people: Vec::new(),
                     })
                     .is_err()
                 {
@@ -317,6 +364,7 @@ fn commit_loop(shared: Arc<Mutex<Shared>>, jobs: Receiver<Job>, done: Sender<Com
                     s.note_save(r);
                 }
                 if let Some((doc, messages)) = pump_link(s) {
+                    let people = people_of(&s.log);
                     drop(guard);
                     let mesh = document_mesh(&doc);
                     let c = Committed {
@@ -325,6 +373,7 @@ fn commit_loop(shared: Arc<Mutex<Shared>>, jobs: Receiver<Job>, done: Sender<Com
                         error: messages.last().cloned(),
                         ms: t0.elapsed().as_secs_f64() * 1e3,
                         remote: true,
+                        people,
                     };
                     if done.send(c).is_err() {
                         return;
@@ -353,6 +402,17 @@ pub struct Interaction {
     /// The last committed document: what the tool sees.
     doc: Document,
     shared: Arc<Mutex<Shared>>,
+    /// The warnings every frame draws (see [`Status`]).
+    status: Arc<Mutex<Status>>,
+    /// A shared session's presence: ours out, others' in.
+    presence: Option<shapewright_net::PresenceChannel>,
+    /// The frame time our presence was last sent.
+    presence_sent: f64,
+    /// A shared session's participants (id, name, colour).
+    people: Vec<Person>,
+    /// Model-space boxes of the drawn objects others selected, for the
+    /// scene version they were measured on.
+    selection_boxes: (u64, Vec<(ObjectId, Option<ModelBox>)>),
     jobs: Option<Sender<Job>>,
     done: Receiver<Committed>,
     worker: Option<JoinHandle<()>>,
@@ -418,6 +478,8 @@ impl Interaction {
     ) -> Result<Self, InteractionError> {
         let model = *session.model();
         let doc = log.document().clone();
+        let presence = link.as_ref().map(shapewright_net::Link::presence);
+        let people = people_of(&log);
         let drawn = document_mesh(&doc);
         let scene = Scene {
             version: 1,
@@ -426,14 +488,14 @@ impl Interaction {
             model_to_world: to_mat4(&model),
             ..Default::default()
         };
+        let status = Arc::new(Mutex::new(Status::default()));
         let shared = Arc::new(Mutex::new(Shared {
             log,
             link,
-            online: true,
             autosave,
             saves: 0,
             save_errors: Vec::new(),
-            failing: None,
+            status: Arc::clone(&status),
         }));
         let (jobs, jobs_rx) = mpsc::channel();
         let (done_tx, done) = mpsc::channel();
@@ -445,6 +507,11 @@ impl Interaction {
             session,
             doc,
             shared,
+            status,
+            presence,
+            presence_sent: f64::NEG_INFINITY,
+            people,
+            selection_boxes: (0, Vec::new()),
             jobs: Some(jobs),
             done,
             worker: Some(worker),
@@ -501,6 +568,7 @@ impl Interaction {
             self.send(Job::Save(tx));
             self.stats.save_requests += 1;
         }
+        self.send_presence();
         self.update_preview();
         // A tick when a ray starts pointing at something.
         let hits = self
@@ -545,6 +613,7 @@ impl Interaction {
             self.scene.document_objects = c.mesh.objects;
             self.scene.version += 1;
             self.stats.remote_updates += 1;
+            self.people = c.people;
             return;
         }
         let hands = self.pending.pop_front().unwrap_or([true, true]);
@@ -689,6 +758,127 @@ impl Interaction {
         let wrapped = message.map(|(m, age)| (wrap(m, 56), age));
         let message = wrapped.as_ref().map(|(m, age)| (m.as_str(), *age));
         crate::ui::overlay(&mut self.font, &self.session, message, &mut self.scene.ui);
+        let others = self.avatars();
+        self.stats.others_drawn = self.stats.others_drawn.max(others.len());
+        let viewer = self.session.last_frame().and_then(|f| f.head);
+        crate::ui::avatars(
+            &mut self.font,
+            &others,
+            viewer,
+            &mut self.scene.lines,
+            &mut self.scene.ui,
+        );
+    }
+
+    /// Sends where this person's head and hands are and what they have
+    /// selected, in model space, at most [`PRESENCE_HZ`] times a second
+    /// (a shared session only).
+    fn send_presence(&mut self) {
+        let Some(channel) = &self.presence else {
+            return;
+        };
+        let Some(f) = self.session.last_frame() else {
+            return;
+        };
+        if f.time - self.presence_sent < 1.0 / PRESENCE_HZ {
+            return;
+        }
+        self.presence_sent = f.time;
+        let to_model = self.session.model().inverse();
+        let pose = |p: &interact::Pose| PresencePose {
+            p: to_model.apply(p.position).as_vec3().to_array(),
+            q: (to_model.rotate * p.orientation)
+                .normalize()
+                .as_quat()
+                .to_array(),
+        };
+        let hand = |h: interact::Hand| {
+            f.controller(h)
+                .and_then(|c| c.grip)
+                .or_else(|| f.hand(h).and_then(|j| j.pose(interact::Joint::Palm)))
+                .map(|p| pose(&p))
+        };
+        channel.send(&Presence {
+            head: f.head.as_ref().map(pose),
+            hands: [hand(interact::Hand::Left), hand(interact::Hand::Right)],
+            selected: self.session.preview().selected.map(|id| id.0),
+            ..Presence::empty()
+        });
+    }
+
+    /// The other participants heard from lately, placed in this person's
+    /// world (each sees the model where they put it).
+    fn avatars(&mut self) -> Vec<crate::ui::Avatar> {
+        let Some(channel) = &self.presence else {
+            return Vec::new();
+        };
+        let others = channel.others(Duration::from_secs_f64(PRESENCE_STALE_SECS));
+        if others.is_empty() {
+            return Vec::new();
+        }
+        let model = *self.session.model();
+        let world = |p: [f32; 3]| model.apply(glam::Vec3::from(p).as_dvec3()).as_vec3();
+        if self.selection_boxes.0 != self.scene.version {
+            self.selection_boxes = (self.scene.version, Vec::new());
+        }
+        let mut out = Vec::with_capacity(others.len());
+        for (who, p) in others {
+            let (name, colour) = self
+                .people
+                .iter()
+                .find(|(id, _, _)| *id == who)
+                .map_or_else(
+                    || (who.clone(), colour_for(&who)),
+                    |(_, n, c)| (n.clone(), *c),
+                );
+            let selected = p.selected.and_then(|id| {
+                let [lo, hi] = self.object_box(ObjectId(id))?;
+                Some(std::array::from_fn(|i| {
+                    let pick = |bit: usize, a: f64, b: f64| if i & bit == 0 { a } else { b };
+                    let c = glam::DVec3::new(
+                        pick(1, lo.x, hi.x),
+                        pick(2, lo.y, hi.y),
+                        pick(4, lo.z, hi.z),
+                    );
+                    model.apply(c).as_vec3()
+                }))
+            });
+            out.push(crate::ui::Avatar {
+                name,
+                colour,
+                head: p.head.map(|h| {
+                    let q = model.rotate * glam::Quat::from_array(h.q).as_dquat();
+                    (world(h.p), q.normalize().as_quat())
+                }),
+                hands: p.hands.map(|h| h.map(|h| world(h.p))),
+                selected,
+            });
+        }
+        out
+    }
+
+    /// The model-space box of object `id` as drawn (None: not drawn),
+    /// measured once per scene version.
+    fn object_box(&mut self, id: ObjectId) -> Option<ModelBox> {
+        if let Some((_, b)) = self.selection_boxes.1.iter().find(|(o, _)| *o == id) {
+            return *b;
+        }
+        let b = (|| {
+            let mesh = self.scene.document.as_ref()?;
+            let (_, r) = self.scene.document_objects.iter().find(|(o, _)| *o == id)?;
+            let mut lo = glam::DVec3::splat(f64::INFINITY);
+            let mut hi = -lo;
+            for t in &mesh.triangles[r.start as usize..r.end as usize] {
+                for &v in t {
+                    let p = glam::DVec3::from_array(mesh.positions[v as usize]);
+                    lo = lo.min(p);
+                    hi = hi.max(p);
+                }
+            }
+            (lo.x <= hi.x).then_some([lo, hi])
+        })();
+        self.selection_boxes.1.push((id, b));
+        b
     }
 
     /// Changes not yet on disk (0 without an autosaver), once every
@@ -729,7 +919,7 @@ impl Interaction {
 
     /// The error of the last save, if it failed (cleared by a good save).
     pub fn save_failing(&self) -> Option<String> {
-        lock(&self.shared).failing.clone()
+        lock_status(&self.status).failing.clone()
     }
 
     /// The session (preview, gestures).
@@ -773,10 +963,15 @@ impl FrameSink for Interaction {
     }
 
     fn notices(&self) -> Vec<Notice> {
-        let offline = {
-            let s = lock(&self.shared);
-            s.link.is_some() && !s.online
+        let (offline, view_only) = {
+            let s = lock_status(&self.status);
+            (s.offline, s.view_only)
         };
+        let view_only = view_only.then(|| Notice {
+            text: "VIEW ONLY: THE SESSION'S SERVER LETS YOU LOOK\nBUT NOT EDIT THIS DOCUMENT"
+                .into(),
+            warning: true,
+        });
         let offline = offline.then(|| Notice {
             text: "OFFLINE: THE SHARED SESSION'S SERVER IS OUT OF REACH.\nYOUR EDITS ARE KEPT AND SENT ON RECONNECT".into(),
             warning: true,
@@ -788,6 +983,7 @@ impl FrameSink for Interaction {
             })
             .into_iter()
             .chain(offline)
+            .chain(view_only)
             .collect()
     }
 
@@ -1024,6 +1220,34 @@ mod tests {
         let loaded = load_file(&path, LoadOptions::default()).unwrap();
         assert_eq!(loaded.log.len(), it.log().len());
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_frame_reads_its_notices_while_a_commit_holds_the_log() {
+        // The commit thread holds the log while an op applies (a quarter
+        // second for a GC edit); the frame's notices must not wait for it.
+        let trace = fixture();
+        let model = trace.header.model.similarity().unwrap();
+        let it = Interaction::new("object", model, OpLog::new(), None).unwrap();
+        let held = Arc::clone(&it.shared);
+        let (locked_tx, locked) = mpsc::channel();
+        let (release, release_rx) = mpsc::channel::<()>();
+        let holder = std::thread::spawn(move || {
+            let _guard = lock(&held);
+            locked_tx.send(()).unwrap();
+            let _ = release_rx.recv_timeout(Duration::from_secs(10));
+        });
+        locked.recv().unwrap();
+        let t0 = Instant::now();
+        let notes = it.notices();
+        let waited = t0.elapsed();
+        release.send(()).unwrap();
+        holder.join().unwrap();
+        assert!(notes.is_empty());
+        assert!(
+            waited < Duration::from_secs(5),
+            "notices() waited {waited:?} for the log"
+        );
     }
 
     #[test]

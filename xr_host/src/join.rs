@@ -4,10 +4,7 @@
 //! only connects, catches up (from the latest snapshot when there is one)
 //! and hands the interaction an [`OpLog`] backed by the session.
 
-use std::time::Duration;
-
 use anyhow::{bail, Result};
-use shapewright::doc::shared::{Replica, SharedLog};
 use shapewright::doc::OpLog;
 use shapewright_net::{Link, LinkOptions, SessionUrl};
 
@@ -43,9 +40,8 @@ pub fn join(args: &JoinArgs, log: OpLog) -> Result<(OpLog, Option<Link>)> {
     }
 }
 
-/// Connects to the shared session at `url`, catches up with it (from the
-/// latest snapshot when there is one), and, when the session is empty and
-/// a file was opened, starts it from that file.
+/// Connects to the shared session at `url` and catches up with it (see
+/// [`shapewright_net::join::join`]).
 pub fn join_session(
     url: &str,
     args: &JoinArgs,
@@ -57,64 +53,31 @@ pub fn join_session(
         .clone()
         .or_else(|| std::env::var("USER").ok())
         .unwrap_or_else(|| "someone".into());
-    let me = args.me.clone().unwrap_or_else(|| {
-        name.chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .take(64)
-            .collect()
-    });
-    let colour = shapewright::doc::shared::colour_for(&me);
+    let me = args
+        .me
+        .clone()
+        .unwrap_or_else(|| shapewright_net::join::participant_id(&name));
     let options = LinkOptions {
         replicas: args.replicas.max(1),
         ..Default::default()
     };
-    let restored = match shapewright_net::fetch_snapshot(&url, &options)? {
-        Some((seq, bytes)) => match Replica::from_snapshot(&bytes) {
-            Ok(r) if r.last_seq() == seq => Some(r),
-            Ok(_) => None,
-            Err(e) => {
-                eprintln!("shapewright-xr: the session's snapshot is unusable ({e}); replaying the whole stream");
-                None
-            }
-        },
-        None => None,
-    };
-    let (replica, after) = match restored {
-        Some(r) => {
-            let seq = r.last_seq();
-            (r, seq)
-        }
-        None => (Replica::new(), 0),
-    };
-    let mut shared = SharedLog::resume(&me, &name, colour, replica, 1)?;
-    let mut link = Link::connect(&url, &me, after, options)?;
-    println!(
-        "joined {url} as {me} ({} entries to catch up on)",
-        link.last_seq_at_connect()
-    );
-    if !link.catch_up(&mut shared, Duration::from_secs(120)) {
-        bail!("could not catch up with {url} in 120 s");
+    let (log, link, messages) = shapewright_net::join::join(&url, &name, &me, options, &opened)?;
+    for m in messages {
+        println!("shapewright-xr: {m}");
     }
-    // Our join comes back before we may create anything.
-    let t = std::time::Instant::now();
-    while !shared.is_joined() {
-        link.pump(&mut shared);
-        if t.elapsed() > Duration::from_secs(30) {
-            bail!("the server at {url} did not confirm the join in 30 s");
-        }
-        std::thread::sleep(Duration::from_millis(2));
+    Ok((log, link))
+}
+
+/// `session-access FILE`: the nats-server configuration for the member
+/// list in `path` (see [`shapewright_net::access`]).
+pub fn access_config(path: &std::path::Path) -> Result<String> {
+    use anyhow::Context;
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read the member list {}", path.display()))?;
+    let members = shapewright_net::access::Member::parse_list(&text)
+        .with_context(|| format!("member list {}", path.display()))?;
+    if members.is_empty() {
+        bail!("the member list {} names nobody", path.display());
     }
-    if !opened.is_empty() {
-        if shared.confirmed().op_count() > 0 {
-            bail!("{url} already has a document; join without --open to model on it");
-        }
-        shared.seed(opened.ops()[..opened.cursor()].to_vec())?;
-    }
-    Ok((OpLog::from_shared(shared), link))
+    Ok(shapewright_net::access::server_config(&members))
 }

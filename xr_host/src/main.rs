@@ -75,6 +75,13 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Print the nats-server configuration that lets each member of a
+    /// member list (lines `USER PASSWORD DOC:editor|viewer ...`) do exactly
+    /// that in shared sessions (scripts/nats.sh --users FILE uses it).
+    SessionAccess {
+        /// The member list.
+        users: PathBuf,
+    },
     /// Render a mesh file (.stl, .obj) to a PNG with the host's Vulkan renderer.
     Render {
         /// The mesh file.
@@ -119,6 +126,7 @@ fn main() -> ExitCode {
             width,
             height,
         } => render_cmd::render(&file, &png, width, height),
+        Command::SessionAccess { users } => join::access_config(&users).map(|c| print!("{c}")),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

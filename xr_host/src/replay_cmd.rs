@@ -197,6 +197,12 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
     println!("ops        {} (cursor {})", log.len(), log.cursor());
     println!("objects    {}", doc.len());
     println!("content    {:016x}", doc.content_hash());
+    if shared {
+        println!(
+            "people     {} other(s) drawn at most in one frame",
+            stats.others_drawn
+        );
+    }
     match &printed {
         Ok(p) => println!(
             "mesh       {}, volume {:.6}",

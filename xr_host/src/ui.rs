@@ -340,3 +340,71 @@ pub fn hands_and_controllers(session: &Session, out: &mut Vec<LineVertex>) {
         }
     }
 }
+
+/// Another participant of a shared session as the headset draws them
+/// (world space).
+pub struct Avatar {
+    /// Their name.
+    pub name: String,
+    /// Their colour.
+    pub colour: [f32; 3],
+    /// Head position and orientation, when tracked.
+    pub head: Option<(Vec3, Quat)>,
+    /// Left and right hand, when tracked.
+    pub hands: [Option<Vec3>; 2],
+    /// The corners of the box around what they selected (corner `i` has
+    /// bit 0 for +x, bit 1 for +y, bit 2 for +z).
+    pub selected: Option<[Vec3; 8]>,
+}
+
+/// The em height of the name above an avatar's head (metres).
+const NAME_EM: f32 = 0.03;
+
+/// Others as simple avatars: the head as a ring in the plane of their face
+/// with a line where they look, hands as small crosses joined to the head,
+/// their selection as a box, all in their colour, and their name above
+/// the head facing the viewer (`viewer`: this person's head).
+pub fn avatars(
+    font: &mut Font,
+    others: &[Avatar],
+    viewer: Option<shapewright::interact::Pose>,
+    lines: &mut Vec<LineVertex>,
+    ui: &mut Vec<LineVertex>,
+) {
+    for a in others {
+        let c = a.colour;
+        let dim = c.map(|x| x * 0.6);
+        if let Some((h, q)) = a.head {
+            circle(lines, h, q * Vec3::X, q * Vec3::Y, 0.1, c);
+            line(lines, h, h + q * Vec3::NEG_Z * 0.18, c);
+            line(lines, h - Vec3::Y * 0.1, h - Vec3::Y * 0.3, dim);
+            for hand in a.hands.iter().flatten() {
+                line(lines, h - Vec3::Y * 0.3, *hand, dim);
+            }
+            let label = DVec3::from(h + Vec3::Y * 0.13);
+            let em = NAME_EM / STATUS_EM;
+            // The status lines' layout at the name's size.
+            let mut text = Vec::new();
+            lines_at(font, label, viewer, &[(a.name.as_str(), c)], &mut text);
+            let anchor = v3(label);
+            ui.extend(text.into_iter().map(|v| LineVertex {
+                pos: (anchor + (Vec3::from(v.pos) - anchor) * em).to_array(),
+                color: v.color,
+            }));
+        }
+        for p in a.hands.iter().flatten() {
+            for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
+                line(lines, *p - axis * 0.03, *p + axis * 0.03, c);
+            }
+        }
+        if let Some(k) = &a.selected {
+            for i in 0..8usize {
+                for bit in [1, 2, 4] {
+                    if i & bit == 0 {
+                        line(lines, k[i], k[i | bit], c);
+                    }
+                }
+            }
+        }
+    }
+}
