@@ -13,10 +13,23 @@ from __future__ import annotations
 if "bpy" in locals():
     import importlib
 
-    for _m in (props, history, sync, schema, op_table, draw, operators, sketch, xr, panels, usd_hook):  # noqa: F821
+    for _m in (props, history, sync, schema, op_table, draw, shared, operators, sketch, xr, panels, usd_hook):  # noqa: F821
         importlib.reload(_m)
 else:
-    from . import draw, history, op_table, operators, panels, props, schema, sketch, sync, usd_hook, xr
+    from . import (
+        draw,
+        history,
+        op_table,
+        operators,
+        panels,
+        props,
+        schema,
+        shared,
+        sketch,
+        sync,
+        usd_hook,
+        xr,
+    )
 
 import bpy  # noqa: E402
 
@@ -30,6 +43,7 @@ def register() -> None:
 
 
 def unregister() -> None:
+    shared.unregister()
     history.unregister()
     for m in reversed(_modules):
         m.unregister()

@@ -104,10 +104,17 @@ class Base:
 
 _bases: dict[str, Base] = {}
 _gen_seen = 0
+# Scenes in a shared session (`shared.py`): their session is the shared
+# one, whatever the scene's properties say (Blender's undo cannot take a
+# shared edit back; `reconcile_all` writes the session back to the scene).
+shared_sessions: dict[str, sw.Session] = {}
 
 
 def session(scene: bpy.types.Scene) -> sw.Session:
     """The core session of `scene`, reconciled with the scene's log."""
+    shared = shared_sessions.get(scene.name)
+    if shared is not None:
+        return shared
     s = _sessions.get(scene.name)
     props = scene.shapewright
     if s is None or not s.ops_jsonl().startswith(props.ops):
@@ -189,11 +196,29 @@ def _blender_can(kind: str) -> bool:
         return False
 
 
+def _shared_step(scene: bpy.types.Scene, kind: str) -> str | None:
+    """In a shared session, undo and redo take back this person's own
+    edits (the session's rule), never Blender's undo steps. None outside
+    one."""
+    s = shared_sessions.get(scene.name)
+    if s is None:
+        return None
+    can = s.can_undo if kind == "undo" else s.can_redo
+    if not can:
+        return "nothing"
+    s.undo() if kind == "undo" else s.redo()
+    record(scene, s)
+    return "log"
+
+
 def undo_step(context) -> str:
     """One undo, as the panel's Undo and Ctrl-Z do it. Returns what moved:
     `blender` (Blender's undo), `log` (the log, at the base) or `nothing`."""
     scene = context.scene
     finish_pending(scene)
+    shared = _shared_step(scene, "undo")
+    if shared is not None:
+        return shared
     bottom = not _blender_can("undo")
     if not bottom and not at_base(scene):
         bpy.ops.ed.undo()
@@ -216,6 +241,9 @@ def redo_step(context) -> str:
     module doc). Returns `blender`, `log` or `nothing`."""
     scene = context.scene
     finish_pending(scene)
+    shared = _shared_step(scene, "redo")
+    if shared is not None:
+        return shared
     props = scene.shapewright
     base = _bases.get(scene.name)
     s = session(scene) if props.ops else None
@@ -241,8 +269,16 @@ def redo_step(context) -> str:
     return "nothing"
 
 
+def forget_session(scene: bpy.types.Scene) -> None:
+    """Drops the scene's in-memory session (it is rebuilt from the scene)."""
+    _sessions.pop(scene.name, None)
+    _bases.pop(scene.name, None)
+
+
 def forget() -> None:
-    """Drops every in-memory session (e.g. before loading a file)."""
+    """Drops every in-memory session (e.g. before loading a file); a
+    shared session is left (its document stays in the scene)."""
+    shared_sessions.clear()
     _sessions.clear()
     _bases.clear()
     _validation.clear()
@@ -253,6 +289,13 @@ def reconcile_all() -> None:
     from . import usd_hook
 
     for scene in bpy.data.scenes:
+        shared = shared_sessions.get(scene.name)
+        if shared is not None:
+            # Blender's undo moved the scene's log; the shared session's
+            # document stands (each person undoes their own edits).
+            if (scene.shapewright.ops, scene.shapewright.cursor) != (shared.ops_jsonl(), shared.cursor):
+                record(scene, shared)
+            continue
         base = _bases.get(scene.name)
         props = scene.shapewright
         if base is not None and base.override is not None and props.gen == base.gen:

@@ -45,7 +45,7 @@ from bpy.props import (
     StringProperty,
 )
 
-from . import history, op_table, schema, sync
+from . import history, op_table, schema, shared, sync
 
 SKIP = {"SKIP_SAVE"}
 
@@ -706,6 +706,46 @@ class SHAPEWRIGHT_OT_redo(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class SHAPEWRIGHT_OT_join(bpy.types.Operator):
+    """Join the shared session at the Join address: everyone's edits reach everyone, each undoes their own"""
+
+    bl_idname = "shapewright.join"
+    bl_label = "Join"
+
+    @classmethod
+    def poll(cls, context):
+        return context.scene is not None and shared.joined(context.scene) is None
+
+    def execute(self, context):
+        wm = context.window_manager.shapewright_join
+        if not wm.url.strip():
+            self.report({"ERROR"}, "Type the session's address first: nats://HOST:PORT/DOC")
+            return {"CANCELLED"}
+        try:
+            messages = shared.join(context.scene, wm.url, wm.name)
+        except sw.ShapewrightError as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        for m in messages:
+            self.report({"INFO"}, m)
+        return {"FINISHED"}
+
+
+class SHAPEWRIGHT_OT_leave(bpy.types.Operator):
+    """Leave the shared session: the document stays here as your own history"""
+
+    bl_idname = "shapewright.leave"
+    bl_label = "Leave"
+
+    @classmethod
+    def poll(cls, context):
+        return context.scene is not None and shared.joined(context.scene) is not None
+
+    def execute(self, context):
+        shared.leave(context.scene)
+        return {"FINISHED"}
+
+
 class SHAPEWRIGHT_OT_undo_past_load(bpy.types.Operator):
     """Ctrl-Z where Blender's undo history ends (after opening a file): undo the op log"""
 
@@ -890,6 +930,8 @@ classes = (
     SHAPEWRIGHT_OT_apply_op,
     SHAPEWRIGHT_OT_undo,
     SHAPEWRIGHT_OT_redo,
+    SHAPEWRIGHT_OT_join,
+    SHAPEWRIGHT_OT_leave,
     SHAPEWRIGHT_OT_undo_past_load,
     SHAPEWRIGHT_OT_redo_past_load,
     SHAPEWRIGHT_OT_export_mesh,

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import bpy
 
-from . import history, op_table, operators, schema, sync
+from . import history, op_table, operators, schema, shared, sync
 
 
 class _Sidebar:
@@ -127,6 +127,18 @@ class VIEW3D_PT_shapewright_history(_SubPanel, bpy.types.Panel):
         layout.operator("shapewright.render_png", icon="RENDER_STILL")
         layout.prop(props, "show_parametric")
         layout.prop(props, "xr_tool")
+        box = layout.box()
+        s = shared.joined(context.scene)
+        if s is None:
+            box.prop(context.window_manager.shapewright_join, "url")
+            box.prop(context.window_manager.shapewright_join, "name")
+            box.operator("shapewright.join", icon="COMMUNITY")
+        else:
+            box.label(text=s.shared_url or "", icon="COMMUNITY")
+            state = shared.status.get(context.scene.name, "")
+            people = ", ".join(name for _, name, _ in s.participants())
+            box.label(text=f"{state}: {people}", icon="ERROR" if state != "online" else "NONE")
+            box.operator("shapewright.leave")
         if props.ops:
             report = history.validation(context.scene)
             if report is None:

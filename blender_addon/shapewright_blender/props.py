@@ -76,16 +76,37 @@ class ShapewrightSceneProps(bpy.types.PropertyGroup):
     )
 
 
-classes = (ShapewrightSceneProps,)
+class ShapewrightJoinProps(bpy.types.PropertyGroup):
+    """Where to join a shared session (on the window manager: never saved
+    in the .blend, as the address may hold a password)."""
+
+    url: StringProperty(
+        name="Join",
+        description=(
+            "A shared session's address, nats://[USER:PASSWORD@]HOST:PORT/DOC "
+            "(scripts/nats.sh starts a server; headsets join with shapewright-xr run --join)"
+        ),
+        default="",
+    )
+    name: StringProperty(
+        name="Name",
+        description="Your name in the shared session, shown to the others",
+        default="Blender",
+    )
+
+
+classes = (ShapewrightSceneProps, ShapewrightJoinProps)
 
 
 def register() -> None:
     for cls in classes:
         bpy.utils.register_class(cls)
     bpy.types.Scene.shapewright = PointerProperty(type=ShapewrightSceneProps)
+    bpy.types.WindowManager.shapewright_join = PointerProperty(type=ShapewrightJoinProps)
 
 
 def unregister() -> None:
+    del bpy.types.WindowManager.shapewright_join
     del bpy.types.Scene.shapewright
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

@@ -5,9 +5,15 @@ operators in headless Blender (`bpy` 5.0.1). The fixtures are in
 
 from __future__ import annotations
 
+import socket
+import subprocess
+import time
 from collections.abc import Callable
+from pathlib import Path
 
 import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.mark.parametrize(
@@ -44,3 +50,34 @@ import pytest
 )
 def test_scenario(scenario: str, run_scenario: Callable[..., str]) -> None:
     run_scenario(scenario)
+
+
+def test_shared_session_with_a_headset(run_scenario: Callable[..., str], tmp_path: Path) -> None:
+    """Issue 23: a headset host and Blender, both headless, in one session
+    on a real nats-server (installed by scripts/setup.sh)."""
+    host = ROOT / "target" / "release" / "shapewright-xr"
+    if not host.exists():
+        subprocess.run(["cargo", "build", "--release", "-q", "-p", "shapewright-xr"], cwd=ROOT, check=True)
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    server = subprocess.Popen(
+        ["nats-server", "-js", "-a", "127.0.0.1", "-p", str(port), "--store_dir", str(tmp_path / "nats")],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    try:
+        deadline = time.monotonic() + 20
+        while socket.socket().connect_ex(("127.0.0.1", port)) != 0:
+            assert time.monotonic() < deadline, "nats-server did not start"
+            time.sleep(0.05)
+        out = run_scenario(
+            "shared_session",
+            SHAPEWRIGHT_JOIN_URL=f"nats://127.0.0.1:{port}/blender_and_headset",
+            SHAPEWRIGHT_HOST_BIN=str(host),
+            SHAPEWRIGHT_TRACE=str(ROOT / "tests" / "data" / "primitives_session.trace.jsonl"),
+        )
+        print(out.splitlines()[-2])
+    finally:
+        server.kill()
+        server.wait()

@@ -1,22 +1,27 @@
 //! The document and its history: `Session` wraps the core `OpLog`.
 
+use std::sync::Mutex;
+use std::time::Duration;
+
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
+use shapewright::doc::shared::{Presence, PRESENCE_STALE_SECS};
 use shapewright::doc::{parse_script, run_script, ObjectId, Op, OpLog, ScriptCommand, OP_NAMES};
 use shapewright::mesh::validate;
+use shapewright_net::{Link, LinkOptions, SessionUrl};
 
-use crate::error::{log_err, op_err, script_err, ParseError};
+use crate::error::{log_err, op_err, script_err, ParseError, SessionError};
 use crate::mesh::{buffers, report_dict};
 
-/// A document with its undoable op log.
+/// A document with its undoable op log, and, in a shared session, its
+/// connection (`join`).
 #[pyclass(module = "shapewright._native")]
-#[repr(transparent)]
-pub struct Session(OpLog);
+pub struct Session(OpLog, Option<Mutex<Link>>);
 
 impl Session {
     /// A session over an existing log.
     pub(crate) fn from_log(log: OpLog) -> Self {
-        Self(log)
+        Self(log, None)
     }
 
     /// The log.
@@ -35,7 +40,7 @@ impl Session {
     /// An empty document.
     #[new]
     fn new() -> Self {
-        Self(OpLog::new())
+        Self(OpLog::new(), None)
     }
 
     /// Rebuilds a session from recorded ops (JSON lines) and a cursor.
@@ -43,7 +48,7 @@ impl Session {
     fn from_ops(py: Python<'_>, ops_jsonl: &str, cursor: usize) -> PyResult<Self> {
         let ops = parse_ops(ops_jsonl)?;
         py.detach(|| OpLog::replay(ops, cursor))
-            .map(Self)
+            .map(Self::from_log)
             .map_err(log_err)
     }
 
@@ -70,9 +75,106 @@ impl Session {
     }
 
     /// A copy of the session sharing its meshes (cheap): background jobs
-    /// work on it while the session keeps changing.
+    /// work on it while the session keeps changing. (A copy of a shared
+    /// session is not connected.)
     fn snapshot(&self) -> Self {
-        Self(self.0.clone())
+        Self(self.0.clone(), None)
+    }
+
+    /// Joins the shared session at `url` (`nats://[USER:PASS@]HOST:PORT/DOC`)
+    /// as `name` (participant id `me`, by default made from the name),
+    /// catching up from the latest snapshot; `opened` (a session holding a
+    /// file's history) starts an empty session from it. Returns the
+    /// session and messages for the person. Each person undoes their own
+    /// edits; call `pump` often (the add-on's timer does).
+    #[staticmethod]
+    #[pyo3(signature = (url, name, me=None, replicas=1, opened=None))]
+    fn join(
+        py: Python<'_>,
+        url: &str,
+        name: &str,
+        me: Option<String>,
+        replicas: usize,
+        opened: Option<PyRef<'_, Session>>,
+    ) -> PyResult<(Self, Vec<String>)> {
+        let url = SessionUrl::parse(url).map_err(|e| SessionError::new_err(e.to_string()))?;
+        let me = me.unwrap_or_else(|| shapewright_net::join::participant_id(name));
+        let opened = opened.map_or_else(OpLog::new, |s| s.0.clone());
+        let options = LinkOptions {
+            replicas: replicas.max(1),
+            ..Default::default()
+        };
+        let (log, link, messages) = py
+            .detach(|| shapewright_net::join::join(&url, name, &me, options, &opened))
+            .map_err(|e| SessionError::new_err(e.to_string()))?;
+        Ok((Self(log, Some(Mutex::new(link))), messages))
+    }
+
+    /// Takes in others' edits and sends ours (never blocks). Returns
+    /// `{"changed", "messages", "errors", "online", "view_only"}`;
+    /// `changed` is False and the rest empty outside a shared session.
+    fn pump<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let report = match &self.1 {
+            Some(link) => {
+                // On the caller's thread (Blender's timer): applying a
+                // big edit of someone else's takes what applying it takes.
+                let mut link = link.lock().unwrap_or_else(|e| e.into_inner());
+                link.pump_log(&mut self.0).unwrap_or_default()
+            }
+            None => Default::default(),
+        };
+        let d = PyDict::new(py);
+        d.set_item("changed", report.changed())?;
+        d.set_item("messages", report.notices)?;
+        d.set_item("errors", report.errors)?;
+        d.set_item("online", report.online || self.1.is_none())?;
+        d.set_item("view_only", report.view_only)?;
+        Ok(d)
+    }
+
+    /// The shared session's address (`None` outside one).
+    #[getter]
+    fn shared_url(&self) -> Option<String> {
+        let link = self.1.as_ref()?.lock().unwrap_or_else(|e| e.into_inner());
+        Some(link.url().to_string())
+    }
+
+    /// The shared session's participants: `(id, name, (r, g, b))`.
+    fn participants(&self) -> Vec<(String, String, (f32, f32, f32))> {
+        self.0.shared().map_or_else(Vec::new, |s| {
+            s.confirmed()
+                .participants()
+                .iter()
+                .map(|p| (p.id.clone(), p.name.clone(), p.colour.into()))
+                .collect()
+        })
+    }
+
+    /// Sends this person's presence (a JSON presence message: `head`,
+    /// `hands`, `selected` in model space); ignored outside a shared
+    /// session. Refuses a message others could not draw.
+    fn send_presence(&self, presence_json: &str) -> PyResult<()> {
+        let p = Presence::decode(presence_json.as_bytes())
+            .map_err(|e| ParseError::new_err(e.to_string()))?;
+        if let Some(link) = &self.1 {
+            let link = link.lock().unwrap_or_else(|e| e.into_inner());
+            link.presence().send(&p);
+        }
+        Ok(())
+    }
+
+    /// The others heard from in the last two seconds: `(id, presence
+    /// JSON)`.
+    fn others(&self) -> Vec<(String, String)> {
+        let Some(link) = &self.1 else {
+            return Vec::new();
+        };
+        let link = link.lock().unwrap_or_else(|e| e.into_inner());
+        link.presence()
+            .others(Duration::from_secs_f64(PRESENCE_STALE_SECS))
+            .into_iter()
+            .map(|(who, p)| (who, String::from_utf8_lossy(&p.to_bytes()).into_owned()))
+            .collect()
     }
 
     /// An object's kind: `solid`, `gc_assembly`, `sdf_volume`,

@@ -30,12 +30,20 @@ create_exception!(
     "A JSON op or script could not be parsed."
 );
 
+create_exception!(
+    shapewright,
+    SessionError,
+    ShapewrightError,
+    "A shared session could not be joined (unreachable, not allowed, ...)."
+);
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("ShapewrightError", py.get_type::<ShapewrightError>())?;
     m.add("OpRejected", py.get_type::<OpRejected>())?;
     m.add("HistoryError", py.get_type::<HistoryError>())?;
     m.add("ParseError", py.get_type::<ParseError>())?;
+    m.add("SessionError", py.get_type::<SessionError>())?;
     Ok(())
 }
 

@@ -1,6 +1,6 @@
 //! Python bindings of the Shapewright core (`shapewright._native`), used by
 //! the Blender add-on. Thin by design: each file mirrors one core module,
-//! core types are wrapped in `#[repr(transparent)]` newtypes, errors convert
+//! core types are wrapped in newtypes, errors convert
 //! in `error.rs`, heavy work runs with the GIL released, and no geometry is
 //! computed here.
 

@@ -1,0 +1,189 @@
+"""Shared sessions in Blender (issue 23): the History panel's Join field.
+
+A scene joins a session with `nats://[USER:PASS@]HOST:PORT/DOC` (the same
+address headsets use with `shapewright-xr run --join`). While joined:
+- the scene's core session is the shared one (`history.session`): the
+  panel's operators apply to it, and their edits reach everyone;
+- Undo and Redo (the panel's buttons and the add-on's Ctrl-Z) take back
+  this person's own latest edit, not the last edit in the session;
+  Blender's own undo steps cannot change the shared document: after one,
+  the scene is synced from the session again;
+- a timer pumps the connection every 50 ms: others' edits arrive, ours go
+  out, refused edits and lost connections are reported in the status bar;
+- the others show as empties in their colour in the collection
+  "Shapewright people": a sphere at the head, axes at each hand (from
+  their presence, in model space, which is Blender's world space here);
+- Blender sends its own presence: in Blender's VR session the viewer's
+  head, and always the selected Shapewright object.
+Leaving keeps the document as it is, as a single-user history.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+
+import bpy
+import shapewright as sw
+
+from . import history, sync
+
+TICK = 0.05
+PEOPLE = "Shapewright people"
+# Blender sends its presence at most this often (seconds).
+PRESENCE_EVERY = 1.0 / 30.0
+
+_last_presence = 0.0
+# What the last pumps said, per scene (shown in the panel).
+status: dict[str, str] = {}
+
+
+def joined(scene: bpy.types.Scene) -> sw.Session | None:
+    """The scene's shared session, if it is in one."""
+    return history.shared_sessions.get(scene.name)
+
+
+def join(scene: bpy.types.Scene, url: str, name: str) -> list[str]:
+    """Joins `url` as `name`; the scene's document (if any) starts an
+    empty session. Raises sw.ShapewrightError (SessionError) with the
+    reason when the server cannot be reached or refuses."""
+    if joined(scene) is not None:
+        raise sw.SessionError(f"already in {joined(scene).shared_url}; leave it first")
+    history.finish_pending(scene)
+    opened = history.session(scene) if scene.shapewright.ops else None
+    s, messages = sw.Session.join(url.strip(), name.strip() or "Blender", opened=opened)
+    history.shared_sessions[scene.name] = s
+    history.record(scene, s)
+    status[scene.name] = "online"
+    if not bpy.app.timers.is_registered(tick):
+        bpy.app.timers.register(tick, first_interval=TICK, persistent=True)
+    return messages
+
+
+def leave(scene: bpy.types.Scene) -> None:
+    """Leaves the session: the document stays, as single-user history."""
+    s = history.shared_sessions.pop(scene.name, None)
+    status.pop(scene.name, None)
+    if s is None:
+        return
+    local = sw.Session.from_ops(s.ops_jsonl(), s.cursor)
+    history.forget_session(scene)
+    history.record(scene, local)
+    _clear_people(scene)
+
+
+def pump(scene: bpy.types.Scene) -> bool:
+    """Takes in others' edits and sends ours once; returns whether the
+    document changed (then the scene is synced)."""
+    s = joined(scene)
+    if s is None:
+        return False
+    r = s.pump()
+    for m in r["messages"]:
+        print(f"Shapewright: shared session: {m}")
+    for e in r["errors"]:
+        print(f"Shapewright: shared session: {e}")
+    status[scene.name] = (
+        "view only" if r["view_only"] else "online" if r["online"] else "offline: edits are kept"
+    )
+    if r["changed"]:
+        history.record(scene, s)
+    _send_presence(scene, s)
+    _show_people(scene, s)
+    return bool(r["changed"])
+
+
+def tick() -> float | None:
+    """The timer: pumps every joined scene."""
+    scenes = [bpy.data.scenes.get(n) for n in list(history.shared_sessions)]
+    if not scenes:
+        return None
+    changed = False
+    for scene in scenes:
+        if scene is not None:
+            changed |= pump(scene)
+    if changed:
+        history._tag_redraw()
+    return TICK
+
+
+def _pose(location, rotation) -> dict:
+    q = rotation  # Blender's (w, x, y, z)
+    return {"p": [float(c) for c in location], "q": [float(q[1]), float(q[2]), float(q[3]), float(q[0])]}
+
+
+def _send_presence(scene: bpy.types.Scene, s: sw.Session) -> None:
+    global _last_presence
+    now = time.monotonic()
+    if now - _last_presence < PRESENCE_EVERY:
+        return
+    _last_presence = now
+    msg: dict = {"v": 1}
+    xr = getattr(bpy.context.window_manager, "xr_session_state", None)
+    if xr is not None:
+        msg["head"] = _pose(xr.viewer_pose_location, xr.viewer_pose_rotation)
+    obj = bpy.context.view_layer.objects.active if bpy.context.view_layer else None
+    if obj is not None and sync.ID_PROP in obj:
+        msg["selected"] = int(obj[sync.ID_PROP])
+    s.send_presence(json.dumps(msg))
+
+
+def _empty(coll, name: str, display: str, size: float, colour) -> bpy.types.Object:
+    obj = bpy.data.objects.get(name)
+    if obj is None:
+        obj = bpy.data.objects.new(name, None)
+        coll.objects.link(obj)
+    obj.empty_display_type = display
+    obj.empty_display_size = size
+    obj.color = (*colour, 1.0)
+    obj.hide_select = True
+    return obj
+
+
+def _show_people(scene: bpy.types.Scene, s: sw.Session) -> None:
+    """One empty per other person's head and hands, in their colour;
+    those not heard from lately are removed."""
+    people = {pid: (name, colour) for pid, name, colour in s.participants()}
+    others = s.others()
+    if not others and bpy.data.collections.get(PEOPLE) is None:
+        return
+    coll = sync.collection(scene, PEOPLE)
+    keep = set()
+    for pid, text in others:
+        p = json.loads(text)
+        name, colour = people.get(pid, (pid, (0.8, 0.8, 0.8)))
+        poses = [("head", p.get("head"), "SPHERE", 0.12)]
+        hands = (list(p.get("hands") or []) + [None, None])[:2]
+        sides = ("left hand", "right hand")
+        poses += [(side, h, "PLAIN_AXES", 0.05) for side, h in zip(sides, hands, strict=True)]
+        for part, pose, display, size in poses:
+            if pose is None:
+                continue
+            obj = _empty(coll, f"{name} ({part})", display, size, colour)
+            x, y, z, w = pose["q"]
+            obj.location = pose["p"]
+            obj.rotation_mode = "QUATERNION"
+            obj.rotation_quaternion = (w, x, y, z)
+            obj["shapewright_person"] = pid
+            keep.add(obj.name)
+    for obj in list(coll.objects):
+        if obj.name not in keep:
+            bpy.data.objects.remove(obj)
+
+
+def _clear_people(scene: bpy.types.Scene) -> None:
+    coll = bpy.data.collections.get(PEOPLE)
+    if coll is None:
+        return
+    for obj in list(coll.objects):
+        bpy.data.objects.remove(obj)
+    bpy.data.collections.remove(coll)
+
+
+def unregister() -> None:
+    for name in list(history.shared_sessions):
+        scene = bpy.data.scenes.get(name)
+        if scene is not None:
+            leave(scene)
+    if bpy.app.timers.is_registered(tick):
+        bpy.app.timers.unregister(tick)
