@@ -363,7 +363,7 @@ impl Link {
                 Ok(Event::Denied(why)) => {
                     if why.contains(&self.url.log_subject()) {
                         self.view_only = true;
-                        log.deny("the server refused your edit");
+                        log.deny("the session's server lets you view this document, not edit it");
                     }
                     self.errors.push(format!("the server refused: {why}"));
                 }
