@@ -184,6 +184,18 @@ fn line(out: &mut Vec<LineVertex>, a: Vec3, b: Vec3, color: [f32; 3]) {
     });
 }
 
+/// The 12 edges of a box given its corners (corner `i` has bit 0 set for
+/// +x, bit 1 for +y, bit 2 for +z).
+fn box_edges(out: &mut Vec<LineVertex>, corner: impl Fn(usize) -> Vec3, color: [f32; 3]) {
+    for i in 0..8usize {
+        for bit in [1, 2, 4] {
+            if i & bit == 0 {
+                line(out, corner(i), corner(i | bit), color);
+            }
+        }
+    }
+}
+
 /// A circle of `r` about `c` in the plane spanned by unit `u`, `v`.
 fn circle(out: &mut Vec<LineVertex>, c: Vec3, u: Vec3, v: Vec3, r: f32, color: [f32; 3]) {
     let n = 32;
@@ -331,13 +343,7 @@ pub fn hands_and_controllers(session: &Session, out: &mut Vec<LineVertex>) {
             );
             o + q * (s * half)
         };
-        for i in 0..8usize {
-            for bit in [1, 2, 4] {
-                if i & bit == 0 {
-                    line(out, corner(i), corner(i | bit), BONE);
-                }
-            }
-        }
+        box_edges(out, corner, BONE);
     }
 }
 
@@ -398,13 +404,7 @@ pub fn avatars(
             }
         }
         if let Some(k) = &a.selected {
-            for i in 0..8usize {
-                for bit in [1, 2, 4] {
-                    if i & bit == 0 {
-                        line(lines, k[i], k[i | bit], c);
-                    }
-                }
-            }
+            box_edges(lines, |i| k[i], c);
         }
     }
 }
