@@ -1,7 +1,7 @@
 //! Triangle meshes: the flat buffer every border uses, validation of the
 //! closed 2-manifold invariants (with an exact self-intersection search and
 //! checks at the precision a file stores), booleans (the printable union),
-//! and OBJ / STL / PLY files.
+//! and STL / 3MF (millimetres) and OBJ / PLY (metres) files.
 
 mod boolean;
 mod error;
@@ -13,6 +13,7 @@ mod selfx;
 mod stl;
 #[cfg(test)]
 pub(crate) mod test_meshes;
+mod threemf;
 mod trimesh;
 pub(crate) mod validate;
 
@@ -20,12 +21,13 @@ pub use boolean::{
     difference, manifold_accepts, snap, union, union_snapped, BooleanError, UnionOperand,
 };
 pub use error::MeshIoError;
-pub use format::MeshFormat;
+pub use format::{FileUnit, MeshFormat, PartNames, MESH_EXTENSIONS};
 pub use obj::{read_obj, write_obj};
 pub use ply::{read_ply, write_ply};
-pub use precision::{at_precision, Precision};
+pub use precision::{at_precision, at_precision_in, Precision};
 pub use selfx::{self_intersections, SelfIntersections, MAX_EXACT_COORDINATE};
 pub use stl::{read_stl, write_stl};
+pub use threemf::{read_3mf, write_3mf};
 pub use trimesh::TriMesh;
 pub use validate::{
     problem_triangles, validate, ValidationReport, ValidationSettings, LISTED_PAIRS,

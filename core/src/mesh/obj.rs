@@ -1,5 +1,8 @@
-//! Wavefront OBJ: positions and faces. Polygons are fan-triangulated;
-//! texture coordinates, normals, groups and materials are ignored on read.
+//! Wavefront OBJ: positions and faces, in metres (the core's unit; OBJ
+//! has no unit field, and modelling tools read one unit as one metre: see
+//! [`super::format`]), said in a header comment. Polygons are
+//! fan-triangulated; texture coordinates, normals, groups and materials
+//! are ignored on read.
 //!
 //! The reader takes outside data: no indexing that can panic (checked by
 //! `clippy::indexing_slicing`); linear in the file's size.
@@ -10,11 +13,12 @@ use std::io::Write;
 use super::error::parse_point;
 use super::{MeshIoError, TriMesh};
 
-/// Writes `mesh` as OBJ (positions, normals when present, faces).
+/// Writes `mesh` as OBJ in metres (positions, normals when present,
+/// faces).
 pub fn write_obj(mesh: &TriMesh, w: &mut impl Write) -> std::io::Result<()> {
     writeln!(
         w,
-        "# Shapewright OBJ: {} vertices, {} triangles",
+        "# Shapewright OBJ: {} vertices, {} triangles\n# units: metres (1 unit = 1 m)",
         mesh.vertex_count(),
         mesh.triangle_count()
     )?;

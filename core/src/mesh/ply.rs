@@ -1,6 +1,8 @@
 //! PLY: output in binary little-endian (float positions and normals,
 //! uchar count + int indices), the layout slicers and Blender read; input
-//! in all three encodings (ascii, binary little- and big-endian).
+//! in all three encodings (ascii, binary little- and big-endian). Lengths
+//! are metres (PLY has no unit field; modelling tools read one unit as one
+//! metre: see [`super::format`]), said in a header comment.
 //!
 //! Reading takes the `vertex` element's `x`, `y`, `z` (any numeric type)
 //! and the `face` element's `vertex_indices` (or `vertex_index`) list,
@@ -18,7 +20,9 @@ use super::{MeshIoError, TriMesh};
 /// Writes `mesh` as binary little-endian PLY.
 pub fn write_ply(mesh: &TriMesh, w: &mut impl Write) -> std::io::Result<()> {
     let with_normals = mesh.normals.len() == mesh.positions.len() && !mesh.normals.is_empty();
-    let mut head = String::from("ply\nformat binary_little_endian 1.0\ncomment Shapewright\n");
+    let mut head = String::from(
+        "ply\nformat binary_little_endian 1.0\ncomment Shapewright\ncomment units: metres (1 unit = 1 m)\n",
+    );
     head += &format!(
         "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
         mesh.vertex_count()

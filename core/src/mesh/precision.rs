@@ -9,14 +9,21 @@
 //! bit-identical positions), so validating its result validates the file.
 //! Negative zero is written as positive zero, so that readers welding by
 //! bits and readers welding by value see the same vertices.
+//!
+//! A file in millimetres rounds the millimetre value, not the metre value
+//! ([`at_precision_in`]): the model a reader sees is `f32(x * 1000) / 1000`
+//! in metres, which the writer turns back into exactly the same `f32`
+//! (the division's error is far below half a float32 step), so validating
+//! it still validates the file, bit for bit.
 
-use super::{MeshFormat, TriMesh};
+use super::{FileUnit, MeshFormat, TriMesh};
 
 /// How a file stores coordinates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Precision {
-    /// IEEE single precision (binary STL, PLY, USD `point3f[]`).
+    /// IEEE single precision (binary STL, 3MF as we write it, PLY, USD
+    /// `point3f[]`).
     F32,
     /// IEEE double precision, or text that round-trips it exactly (our OBJ
     /// writer prints the shortest round-trip form of every f64).
@@ -27,7 +34,7 @@ impl Precision {
     /// The precision our writer uses for `format`.
     pub fn of_format(format: MeshFormat) -> Self {
         match format {
-            MeshFormat::Stl | MeshFormat::Ply => Self::F32,
+            MeshFormat::Stl | MeshFormat::ThreeMf | MeshFormat::Ply => Self::F32,
             MeshFormat::Obj => Self::F64,
         }
     }
@@ -35,9 +42,23 @@ impl Precision {
     /// `x` as the file stores it (f32: rounded to nearest, overflow to
     /// infinity), with negative zero made positive.
     pub fn round(self, x: f64) -> f64 {
+        self.round_in(x, FileUnit::Metre)
+    }
+
+    /// `x` (metres) as a file in `unit` stores it and a reader converts it
+    /// back to metres: `x * per_metre` rounded to the precision, divided by
+    /// `per_metre`, negative zero made positive. Metres: [`Self::round`].
+    pub fn round_in(self, x: f64, unit: FileUnit) -> f64 {
+        let s = unit.per_metre();
+        if s == 1.0 {
+            return match self {
+                Self::F32 => (x as f32) as f64 + 0.0,
+                Self::F64 => x + 0.0,
+            };
+        }
         match self {
-            Self::F32 => (x as f32) as f64 + 0.0,
-            Self::F64 => x + 0.0,
+            Self::F32 => ((x * s) as f32) as f64 / s + 0.0,
+            Self::F64 => (x * s) / s + 0.0,
         }
     }
 
@@ -47,6 +68,11 @@ impl Precision {
             Self::F32 => f32::MAX as f64,
             Self::F64 => f64::MAX,
         }
+    }
+
+    /// Largest finite magnitude in metres a file in `unit` can hold.
+    pub fn max_finite_in(self, unit: FileUnit) -> f64 {
+        self.max_finite() / unit.per_metre()
     }
 
     /// The name a report prints.
@@ -64,11 +90,18 @@ impl Precision {
 /// so a triangle that collapsed shows up as a repeated index; normals are
 /// recomputed.
 pub fn at_precision(mesh: &TriMesh, precision: Precision) -> TriMesh {
+    at_precision_in(mesh, precision, FileUnit::Metre)
+}
+
+/// `mesh` as a reader of a file written at `precision` in `unit` sees it,
+/// back in metres ([`Precision::round_in`], then welded as
+/// [`at_precision`] does).
+pub fn at_precision_in(mesh: &TriMesh, precision: Precision, unit: FileUnit) -> TriMesh {
     let mut out = TriMesh {
         positions: mesh
             .positions
             .iter()
-            .map(|p| p.map(|x| precision.round(x)))
+            .map(|p| p.map(|x| precision.round_in(x, unit)))
             .collect(),
         normals: Vec::new(),
         triangles: mesh.triangles.clone(),
@@ -94,7 +127,7 @@ mod tests {
         let mut bytes = Vec::new();
         write_stl(&m, &mut bytes).unwrap();
         let back = read_stl(&bytes).unwrap();
-        let ours = at_precision(&m, Precision::F32);
+        let ours = at_precision_in(&m, Precision::F32, FileUnit::Millimetre);
         let used = |t: &TriMesh| {
             let mut v: Vec<[u64; 3]> = t
                 .triangles
@@ -118,6 +151,41 @@ mod tests {
         assert_eq!(Precision::F32.round(-0.0).to_bits(), 0.0f64.to_bits());
         assert_eq!(Precision::F64.round(0.1), 0.1);
         assert_eq!(Precision::of_format(MeshFormat::Stl), Precision::F32);
+        assert_eq!(Precision::of_format(MeshFormat::ThreeMf), Precision::F32);
         assert_eq!(Precision::of_format(MeshFormat::Obj), Precision::F64);
+        let mm = FileUnit::Millimetre;
+        assert_eq!(Precision::F32.max_finite_in(mm), f32::MAX as f64 / 1000.0);
+        assert_eq!(
+            Precision::F32.round_in(-0.0, mm).to_bits(),
+            0.0f64.to_bits()
+        );
+    }
+
+    /// A file in millimetres stores `f32(x * 1000)`, not `f32(x) * 1000`:
+    /// the mesh the print path validates must be the one the STL holds,
+    /// bit for bit once read back, or the check is of another mesh.
+    #[test]
+    fn millimetre_rounding_is_what_the_stl_holds() {
+        let mut m = tetra();
+        for p in &mut m.positions {
+            *p = p.map(|x| x * 0.123_456_789_123 + 0.071_234_567_891);
+        }
+        let mut bytes = Vec::new();
+        write_stl(&m, &mut bytes).unwrap();
+        let back = read_stl(&bytes).unwrap();
+        let bits = |t: &TriMesh| {
+            let mut v: Vec<[u64; 3]> = t.positions.iter().map(|p| p.map(f64::to_bits)).collect();
+            v.sort();
+            v
+        };
+        let mm = at_precision_in(&m, Precision::F32, FileUnit::Millimetre);
+        assert_eq!(bits(&back), bits(&mm));
+        // Rounding the metres instead gives other values: a different mesh.
+        let metres = at_precision(&m, Precision::F32);
+        assert_ne!(bits(&back), bits(&metres));
+        // Writing the validated mesh again stores the same values.
+        let mut again = Vec::new();
+        write_stl(&mm, &mut again).unwrap();
+        assert_eq!(bits(&read_stl(&again).unwrap()), bits(&mm));
     }
 }

@@ -1,5 +1,8 @@
-//! STL, binary and ASCII. Triangles carry their own corners, so reading
-//! welds bit-identical positions back into shared vertices.
+//! STL, binary and ASCII, in millimetres (every slicer reads STL as
+//! millimetres; see [`super::format`]): the writer multiplies the model's
+//! metres by 1000 before rounding to float32, the reader divides by 1000.
+//! Triangles carry their own corners, so reading welds bit-identical
+//! positions back into shared vertices.
 //!
 //! The reader takes outside data: no indexing that can panic (checked by
 //! `clippy::indexing_slicing`).
@@ -10,11 +13,14 @@ use std::io::Write;
 use super::error::parse_point;
 use super::{MeshIoError, TriMesh};
 
-/// Writes `mesh` as binary STL (little-endian f32, facet normals computed
-/// from the corners).
+/// File units per model unit (millimetres per metre).
+const MM: f64 = 1000.0;
+
+/// Writes `mesh` (metres) as binary STL in millimetres (little-endian
+/// f32, facet normals computed from the corners).
 pub fn write_stl(mesh: &TriMesh, w: &mut impl Write) -> std::io::Result<()> {
     let mut header = [0u8; 80];
-    let tag = b"Shapewright binary STL";
+    let tag = b"Shapewright binary STL, units: millimetres";
     for (h, t) in header.iter_mut().zip(tag) {
         *h = *t;
     }
@@ -24,9 +30,12 @@ pub fn write_stl(mesh: &TriMesh, w: &mut impl Write) -> std::io::Result<()> {
     for t in 0..mesh.triangles.len() {
         let [a, b, c] = mesh.corners(t);
         let n = (b - a).cross(c - a).normalize_or_zero();
-        for v in [n, a, b, c] {
+        for x in n.to_array() {
+            buf.extend_from_slice(&(x as f32).to_le_bytes());
+        }
+        for v in [a, b, c] {
             for x in v.to_array() {
-                buf.extend_from_slice(&(x as f32).to_le_bytes());
+                buf.extend_from_slice(&((x * MM) as f32).to_le_bytes());
             }
         }
         buf.extend_from_slice(&[0, 0]);
@@ -34,8 +43,9 @@ pub fn write_stl(mesh: &TriMesh, w: &mut impl Write) -> std::io::Result<()> {
     w.write_all(&buf)
 }
 
-/// Reads binary or ASCII STL. Binary files must be exactly as long as
-/// their triangle count says; any non-finite coordinate is rejected.
+/// Reads binary or ASCII STL (millimetres) into metres. Binary files must
+/// be exactly as long as their triangle count says; any non-finite
+/// coordinate is rejected.
 ///
 /// Linear in the file's size; allocations are bounded by it (a count in
 /// the header is checked against the bytes present before anything is
@@ -51,7 +61,12 @@ pub fn read_stl(bytes: &[u8]) -> Result<TriMesh, MeshIoError> {
     if mesh.triangles.is_empty() {
         return Err(MeshIoError::Empty);
     }
+    // Welding by the file's values, then metres: `x / 1000` keeps distinct
+    // values distinct, and is what `at_precision_in` computes.
     mesh.weld_exact();
+    for p in &mut mesh.positions {
+        *p = p.map(|x| x / MM + 0.0);
+    }
     Ok(mesh)
 }
 
@@ -162,6 +177,31 @@ mod tests {
         assert_eq!(m.vertex_count(), 4);
         let r = crate::mesh::validate(&m, &Default::default());
         assert!(r.is_closed_manifold(), "{}", r.problems());
+    }
+
+    /// Slicers read STL in millimetres: a 0.35 m teapot must be 350 in
+    /// the file (issue 31: it was 0.35, a 0.35 mm teapot).
+    #[test]
+    fn writes_millimetres_and_reads_them_back_as_metres() {
+        let mut m = tetra();
+        for p in &mut m.positions {
+            *p = p.map(|x| x * 0.35);
+        }
+        let mut out = Vec::new();
+        write_stl(&m, &mut out).unwrap();
+        let f = |at: usize| f32::from_le_bytes(out[at..at + 4].try_into().unwrap());
+        let corners: Vec<f32> = (0..9).map(|k| f(84 + 12 + 4 * k)).collect();
+        let [a, b, c] = m.triangles[0].map(|i| m.positions[i as usize]);
+        let want: Vec<f32> = [a, b, c]
+            .iter()
+            .flatten()
+            .map(|x| (x * 1000.0) as f32)
+            .collect();
+        assert_eq!(corners, want);
+        assert!(corners.iter().any(|&x| x == 350.0), "{corners:?}");
+        let back = read_stl(&out).unwrap();
+        let (lo, hi) = back.bbox().unwrap();
+        assert!(((hi - lo).max_element() - 0.35).abs() < 1e-9);
     }
 
     #[test]
