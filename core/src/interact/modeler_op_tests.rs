@@ -416,13 +416,20 @@ fn print_settings_are_set_from_the_palette() {
     assert!(matches!(last_op(&d), Op::SetWallThickness(_)));
     pick(&mut d, "Overlaps", "refuse");
     assert!(matches!(last_op(&d), Op::SetSelfIntersectionPolicy(_)));
+    pick(&mut d, "Printer", "Bambu X1");
+    assert!(matches!(last_op(&d), Op::SetPrinter(_)));
     assert!(d.rejected.is_empty(), "{:?}", d.rejected);
     let setup = *d.log.document().print_setup();
     assert_eq!(setup.wall_thickness, 0.003);
     assert_eq!(setup.on_self_intersection, SelfIntersectionPolicy::Refuse);
+    assert_eq!(setup.printer.size, [0.256; 3]);
     d.puppet.wait(0.05);
     d.sync();
-    for (g, o) in [choice(&d, "Wall", "3 mm"), choice(&d, "Overlaps", "refuse")] {
+    for (g, o) in [
+        choice(&d, "Wall", "3 mm"),
+        choice(&d, "Overlaps", "refuse"),
+        choice(&d, "Printer", "Bambu X1"),
+    ] {
         assert_eq!(d.session().tool().choices()[g].active, o);
     }
     // Picking the current setting again is no op.

@@ -46,7 +46,7 @@ fn the_palette_reaches_every_tool_and_every_choice() {
                     // An action on the fused result: nothing to copy in an
                     // empty volume (tested on the cup below).
                     assert_eq!(d.commands.len(), before);
-                } else if ["Grid step", "Wall", "Overlaps"].contains(&group.name) {
+                } else if ["Grid step", "Wall", "Overlaps", "Printer"].contains(&group.name) {
                     // A document setting: its op, applied, then shown.
                     let stepped =
                         d.commands.len() > before || d.session().tool().choices()[g].active == o;
@@ -73,7 +73,10 @@ fn the_palette_reaches_every_tool_and_every_choice() {
         d.commands.iter().all(|c| matches!(
             c,
             ScriptCommand::Op(
-                Op::SdfSetStep(_) | Op::SetWallThickness(_) | Op::SetSelfIntersectionPolicy(_)
+                Op::SdfSetStep(_)
+                    | Op::SetWallThickness(_)
+                    | Op::SetSelfIntersectionPolicy(_)
+                    | Op::SetPrinter(_)
             )
         )),
         "{names:?}"

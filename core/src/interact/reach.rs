@@ -170,6 +170,12 @@ pub const HEADSET_REACH: &[Reach] = &[
         "palette Overlaps refuse/flag (a document setting)",
         "modeler_op_tests::print_settings_are_set_from_the_palette",
     ),
+    tool(
+        "set_printer",
+        "object",
+        "palette Printer: a preset (a document setting; a custom size is typed on the desktop)",
+        "modeler_op_tests::print_settings_are_set_from_the_palette",
+    ),
     Reach {
         op: "reserve_ids",
         how: How::Automatic {

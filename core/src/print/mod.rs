@@ -24,7 +24,8 @@
 //!    away, which is what nearly coincident, touching and duplicated-in-place
 //!    parts leave behind.
 //! 4. **Validate at the written precision**: the union rounded as the file
-//!    stores it (float32 for STL, PLY and USD points; exact for our OBJ) and
+//!    stores it (float32 millimetres for STL and 3MF, float32 metres for
+//!    PLY and USD points; exact metres for our OBJ) and
 //!    welded as a reader welds it, then checked: non-empty, finite, in
 //!    range, closed, oriented, no degenerate triangle, no pinched vertex,
 //!    positive volume, no self-intersection (exact predicates). If rounding
@@ -40,9 +41,13 @@
 //! intersect itself is refused with [`PrintError::SelfIntersecting`]; under
 //! `flag` it applies and every print exit names the object.
 //!
-//! The result is the mesh as written (its coordinates are exactly the
-//! file's values), with a [`PrintReport`] listing what was done to each
-//! object, the tolerance used and every check. Choices and why:
+//! The result is the mesh as written (its coordinates, in metres, are
+//! exactly the file's values converted back), with a [`PrintReport`]
+//! listing what was done to each object, the tolerance used, every check
+//! and the printed size ([`PrintedSize`]: bounding box in mm, volume in
+//! cm³), which hosts hold against the document's printer ([`Printer`],
+//! the `set_printer` op) to say whether and by how much it outgrows the
+//! bed ([`BedFit`]). Choices and why:
 //! - Snapping by Manifold's own clean-up (rather than our own welding) keeps
 //!   the result a closed 2-manifold by construction; we only check it.
 //! - The tolerance is relative to the largest coordinate, not the part's
@@ -53,13 +58,18 @@
 
 mod document;
 mod error;
+mod fit;
 mod pipeline;
 mod report;
 mod settings;
 mod thicken;
 
-pub use document::{document_parts, print_document};
+pub use document::{document_names, document_parts, document_size, print_document, print_status};
 pub use error::PrintError;
+pub use fit::{
+    mm3, BedFit, PrintStatus, PrintedSize, Printer, PrinterPreset, SetPrinter, MAX_BED_SIDE,
+    MIN_BED_SIDE,
+};
 pub use pipeline::{check_edit, check_part, printable, PrintPart, Printable};
 pub use report::{PartReport, PrintReport, Treatment};
 pub use settings::{

@@ -8,7 +8,7 @@ use super::report::{PartReport, PrintReport, Treatment};
 use super::thicken::{hollow, thicken};
 use super::{ClosedSurfaces, PrintError, PrintSettings};
 use crate::mesh::{
-    at_precision, self_intersections, snap, union_snapped, validate, BooleanError, Precision,
+    at_precision_in, self_intersections, snap, union_snapped, validate, BooleanError, Precision,
     TriMesh, ValidationReport, ValidationSettings,
 };
 
@@ -117,7 +117,7 @@ pub fn printable(parts: &[PrintPart], settings: &PrintSettings) -> Result<Printa
                 Err(_) => break,
             };
         }
-        let written = at_precision(&current, settings.precision);
+        let written = at_precision_in(&current, settings.precision, settings.unit);
         let checks = validate(&written, &check);
         if checks.is_printable() {
             return Ok(Printable {
@@ -125,6 +125,7 @@ pub fn printable(parts: &[PrintPart], settings: &PrintSettings) -> Result<Printa
                 report: PrintReport {
                     parts: reports,
                     precision: settings.precision,
+                    unit: settings.unit,
                     tolerance: tol,
                     rounds: round as u32 + 1,
                     checks,
@@ -337,7 +338,7 @@ fn blame(
         .collect();
     // An object that passes through itself is the cause, whatever else.
     for r in ready.iter().filter(|r| ids.contains(&r.id)) {
-        let alone = at_precision(&r.mesh, settings.precision);
+        let alone = at_precision_in(&r.mesh, settings.precision, settings.unit);
         let s = self_intersections(&alone);
         if !s.pairs.is_empty() {
             return PrintError::SelfIntersecting {

@@ -5,8 +5,8 @@ use std::fmt;
 
 use serde::Serialize;
 
-use super::ShellOffset;
-use crate::mesh::{Precision, ValidationReport};
+use super::{PrintedSize, ShellOffset};
+use crate::mesh::{FileUnit, Precision, ValidationReport};
 
 /// What happened to one object.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -60,6 +60,9 @@ pub struct PrintReport {
     pub parts: Vec<PartReport>,
     /// The precision the mesh was validated (and rounded) at.
     pub precision: Precision,
+    /// The unit of the file it was rounded for (float32 millimetres and
+    /// float32 metres round differently).
+    pub unit: FileUnit,
     /// The snapping tolerance that gave a valid mesh (model units).
     pub tolerance: f64,
     /// Snapping rounds run (1 when the first was valid).
@@ -90,6 +93,14 @@ impl PrintReport {
             .filter(|p| matches!(p.treatment, Treatment::Skipped { .. }))
             .map(|p| p.label.as_str())
             .collect()
+    }
+
+    /// The printed size: the checked mesh's bounding box and volume
+    /// (`None` for an empty mesh, which the path never returns).
+    pub fn size(&self) -> Option<PrintedSize> {
+        self.checks
+            .bbox
+            .map(|b| PrintedSize::new(b, Some(self.checks.signed_volume)))
     }
 }
 
@@ -126,10 +137,14 @@ impl fmt::Display for PrintReport {
         for p in &self.parts {
             writeln!(f, "  {p}")?;
         }
+        if let Some(size) = self.size() {
+            writeln!(f, "  printed size {size}")?;
+        }
         write!(
             f,
-            "  checked at {}, snapping tolerance {:.3e} ({} round{})",
+            "  checked at {} in {}, snapping tolerance {:.3e} m ({} round{})",
             self.precision.name(),
+            self.unit.symbol(),
             self.tolerance,
             self.rounds,
             if self.rounds == 1 { "" } else { "s" }

@@ -1,13 +1,13 @@
 //! [`PrintSettings`]: what the printable path needs to know besides the
 //! objects; [`PrintSetup`]: the part of it the document stores (set by the
-//! `set_wall_thickness` and `set_self_intersection_policy` ops, saved with
-//! the document, replayed like any op).
+//! `set_wall_thickness`, `set_self_intersection_policy` and `set_printer`
+//! ops, saved with the document, replayed like any op).
 
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use super::PrintError;
-use crate::mesh::Precision;
+use super::{PrintError, Printer};
+use crate::mesh::{FileUnit, MeshFormat, Precision};
 
 /// Where a shell lies relative to the surface it thickens.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -51,6 +51,10 @@ pub struct PrintSettings {
     pub closed_surfaces: ClosedSurfaces,
     /// Precision of the file to be written ([`Precision::of_format`]).
     pub precision: Precision,
+    /// Unit of the file to be written ([`MeshFormat::unit`]): the model is
+    /// rounded and validated as the file stores it (float32 millimetres
+    /// for STL and 3MF).
+    pub unit: FileUnit,
     /// Coordinates beyond this magnitude (model units) are refused:
     /// 1e6 (a thousand kilometres) by default.
     pub max_abs_coordinate: f64,
@@ -63,16 +67,29 @@ impl Default for PrintSettings {
             shell_offset: ShellOffset::Centered,
             closed_surfaces: ClosedSurfaces::Fill,
             precision: Precision::F32,
+            unit: FileUnit::Millimetre,
             max_abs_coordinate: 1e6,
         }
     }
 }
 
 impl PrintSettings {
-    /// The settings for a file at `precision`, the rest default.
+    /// The settings for a file in metres at `precision`, the rest default
+    /// (use [`Self::for_format`] for a mesh file).
     pub fn for_precision(precision: Precision) -> Self {
         Self {
             precision,
+            unit: FileUnit::Metre,
+            ..Self::default()
+        }
+    }
+
+    /// The settings for writing `format`: its precision and unit, the rest
+    /// default. The default settings are STL's (float32 millimetres).
+    pub fn for_format(format: MeshFormat) -> Self {
+        Self {
+            precision: Precision::of_format(format),
+            unit: format.unit(),
             ..Self::default()
         }
     }
@@ -101,7 +118,7 @@ impl PrintSettings {
             );
         }
         if !(self.max_abs_coordinate.is_finite() && self.max_abs_coordinate > 0.0)
-            || self.max_abs_coordinate > self.precision.max_finite() / 4.0
+            || self.max_abs_coordinate > self.precision.max_finite_in(self.unit) / 4.0
         {
             return bad(
                 "max_abs_coordinate",
@@ -144,7 +161,7 @@ pub enum SelfIntersectionPolicy {
 }
 
 /// The print settings a document stores. Default: 2 mm walls, folding
-/// edits flagged.
+/// edits flagged, a 250 x 210 x 220 mm printer (Prusa MK4).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PrintSetup {
@@ -153,6 +170,11 @@ pub struct PrintSetup {
     pub wall_thickness: f64,
     /// What an edit that would fold its object does.
     pub on_self_intersection: SelfIntersectionPolicy,
+    /// The printer the model is for (its build volume); omitted from the
+    /// saved document while it is the default, so documents that never
+    /// set it keep their bytes and hashes.
+    #[serde(skip_serializing_if = "Printer::is_default")]
+    pub printer: Printer,
 }
 
 impl Default for PrintSetup {
@@ -160,6 +182,7 @@ impl Default for PrintSetup {
         Self {
             wall_thickness: PrintSettings::default().wall_thickness,
             on_self_intersection: SelfIntersectionPolicy::default(),
+            printer: Printer::default(),
         }
     }
 }
@@ -182,7 +205,7 @@ impl PrintSetup {
                 reason: "must be between 0.0001 m (0.1 mm) and 0.1 m; the model is in metres (2 mm is 0.002)",
             });
         }
-        Ok(())
+        self.printer.validate()
     }
 
     /// `settings` with this document's wall thickness.

@@ -461,6 +461,9 @@ ops! {
     /// Choose whether an edit that folds its object through itself is
     /// refused or applied and flagged as not printable.
     "set_self_intersection_policy" => SetSelfIntersectionPolicy(pr::SetSelfIntersectionPolicy),
+    /// Set the printer the document is for (its build volume): a preset
+    /// or a custom size; exports say when the model does not fit it.
+    "set_printer" => SetPrinter(pr::SetPrinter),
     /// Take the next created objects' ids from a given one on (written by
     /// shared sessions, so ids made by different people never collide).
     "reserve_ids" => ReserveIds(ReserveIds),

@@ -1,5 +1,5 @@
-//! The print ops (issue 17): `set_wall_thickness` and
-//! `set_self_intersection_policy` change the document's
+//! The print ops (issues 17 and 31): `set_wall_thickness`,
+//! `set_self_intersection_policy` and `set_printer` change the document's
 //! [`crate::print::PrintSetup`]; [`check_fold`] is the edit-time check GC
 //! and sculpt ops run after they apply (see [`super::ObjectEdit::CHECK_FOLDS`]).
 
@@ -9,7 +9,8 @@ use super::{Apply, OpOutcome};
 use crate::doc::{Document, ObjectId, OpError};
 use crate::mesh::TriMesh;
 use crate::print::{
-    check_edit, PrintSetup, SelfIntersectionPolicy, SetSelfIntersectionPolicy, SetWallThickness,
+    check_edit, PrintSetup, Printer, SelfIntersectionPolicy, SetPrinter, SetSelfIntersectionPolicy,
+    SetWallThickness,
 };
 
 impl Apply for SetWallThickness {
@@ -28,6 +29,17 @@ impl Apply for SetSelfIntersectionPolicy {
     fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
         doc.set_print_setup(PrintSetup {
             on_self_intersection: self.policy,
+            ..*doc.print_setup()
+        })?;
+        Ok(OpOutcome::default())
+    }
+}
+
+impl Apply for SetPrinter {
+    const KIND: &'static str = "document";
+    fn apply(&self, doc: &mut Document) -> Result<OpOutcome, OpError> {
+        doc.set_print_setup(PrintSetup {
+            printer: Printer::new(self.printer, self.size)?,
             ..*doc.print_setup()
         })?;
         Ok(OpOutcome::default())

@@ -30,7 +30,9 @@
 //! flag edits that fold an object through itself); "Scale" (uniform, x, y,
 //! z): with an axis chosen, a two-hand grab scales the grabbed object only
 //! along that axis of its own frame (its placement's per-axis scale, by
-//! the same `set_transform`; the hands still move and turn it). Sculpts
+//! the same `set_transform`; the hands still move and turn it); "Printer"
+//! (`set_printer` with a preset: the build volume the HUD's print line
+//! holds the model against; a custom size is typed on the desktop). Sculpts
 //! refuse a per-axis placement (their brushes work in a uniformly scaled
 //! frame), so a sculpt always scales uniformly and the readout says so.
 //!
@@ -49,7 +51,8 @@ use crate::doc::{
 };
 use crate::math::{DVec3, Transform};
 use crate::print::{
-    PrintSetup, SelfIntersectionPolicy, SetSelfIntersectionPolicy, SetWallThickness,
+    PrintSetup, PrinterPreset, SelfIntersectionPolicy, SetPrinter, SetSelfIntersectionPolicy,
+    SetWallThickness,
 };
 use crate::solid::SolidShape;
 
@@ -604,6 +607,17 @@ impl Tool for ObjectTool {
                 options: ["uniform", "x", "y", "z"].map(String::from).to_vec(),
                 active: self.scale_axis.map_or(0, |k| k + 1),
             },
+            ChoiceGroup {
+                name: "Printer",
+                options: PrinterPreset::ALL
+                    .iter()
+                    .map(|p| p.label().to_string())
+                    .collect(),
+                active: PrinterPreset::ALL
+                    .iter()
+                    .position(|p| *p == self.print.printer.preset)
+                    .unwrap_or(usize::MAX),
+            },
         ]
     }
 
@@ -627,6 +641,15 @@ impl Tool for ObjectTool {
                 )));
             }
             3 if option < 4 => self.scale_axis = option.checked_sub(1),
+            4 if PrinterPreset::ALL
+                .get(option)
+                .is_some_and(|p| *p != setup.printer.preset) =>
+            {
+                return Some(ScriptCommand::Op(Op::SetPrinter(SetPrinter {
+                    printer: PrinterPreset::ALL[option],
+                    size: None,
+                })));
+            }
             _ => {}
         }
         None
