@@ -17,6 +17,7 @@ use std::time::{Duration, Instant};
 
 use shapewright::doc::OpLog;
 
+use crate::package::UsdEncoding;
 use crate::{author, SaveError, SaveOptions, Unwritten};
 
 /// What a save wrote.
@@ -41,12 +42,16 @@ impl SaveReport {
     }
 }
 
-/// Saves `log` to `path` as usda, crash-safely. Fails only when nothing
-/// could be written (the previous file is then untouched); parts left out
-/// are listed in the report.
+/// Saves `log` to `path` crash-safely: usda text, or a USDZ package for
+/// `.usdz`; `.usdc` is refused before anything is authored
+/// ([`crate::package`]). Fails only when nothing could be written (the
+/// previous file is then untouched); parts left out are listed in the
+/// report.
 pub fn save_file(path: &Path, log: &OpLog, options: &SaveOptions) -> Result<SaveReport, SaveError> {
+    let encoding = UsdEncoding::of(path)?;
     let authored = author(log, options)?;
-    let written = shapewright_atomic::write_bytes(path, authored.text.as_bytes())?;
+    let bytes = encoding.encode(path, &authored.text)?;
+    let written = shapewright_atomic::write_bytes(path, &bytes)?;
     Ok(SaveReport {
         bytes: written.bytes,
         removed_stale: written.removed_stale,

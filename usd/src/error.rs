@@ -12,6 +12,16 @@ pub enum SaveError {
     /// the previous file is untouched.
     #[error(transparent)]
     Write(#[from] shapewright_atomic::AtomicError),
+    /// The file's extension names a USD encoding this build does not write
+    /// (`.usdc`: our crate files would not open in Pixar USD); nothing was
+    /// written.
+    #[error("cannot save {path}: {why}")]
+    Unsupported {
+        /// The file.
+        path: String,
+        /// Why, naming the extensions that work.
+        why: String,
+    },
 }
 
 /// Why a Shapewright USD file could not be loaded.

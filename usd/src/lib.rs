@@ -40,7 +40,8 @@
 //!   ([`check`]); a full replay check is an option ([`LoadOptions`]).
 //! - **Writing uses `openusd`** (`=0.6.0`) to author the layer and emit usda;
 //!   its usdc writer is not accepted by Pixar's reader, so we write usda
-//!   only and read usda, usdc and usdz. An op or snapshot whose JSON holds
+//!   (`.usda`, `.usd`) and USDZ packages of it (`.usdz`), refuse `.usdc`
+//!   naming those ([`package`]), and read usda, usdc and usdz. An op or snapshot whose JSON holds
 //!   a backslash (a JSON escape: openusd keeps it, Pixar unescapes it) is
 //!   stored as `hex:` and its bytes' hex digits ([`save::encode_json`]), so
 //!   every document can be saved and both readers agree.
@@ -74,6 +75,7 @@ pub mod kinds;
 pub mod layout;
 pub mod limits;
 mod load;
+pub mod package;
 pub mod parametric;
 pub mod prims;
 pub mod save;
@@ -88,6 +90,7 @@ pub use load::{
     load_file, load_from_bytes, load_from_data, load_from_str, read_layer, LoadOptions, Loaded,
     SnapshotUse,
 };
+pub use package::{UsdEncoding, SAVE_EXTENSIONS};
 pub use save::{author, save_to_string, Authored, SaveOptions, Unwritten};
 
 /// Version of the file layout this build writes.
