@@ -5,12 +5,15 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use shapewright::doc::{parse_script, run_script_with, Document, OpLog};
-use shapewright::mesh::{self, MeshFormat, Precision, TriMesh, ValidationReport};
-use shapewright::print::{print_document, PrintSettings, Printable};
+use shapewright::mesh::{self, MeshFormat, ValidationReport, MESH_EXTENSIONS};
+use shapewright::print::{
+    document_names, print_document, PrintSettings, Printable, PrintedSize, Printer,
+};
 pub use shapewright_xr::files::read_mesh;
 
 /// `apply SCRIPT --out FILE`.
 pub fn apply(script: &Path, out: &Path) -> Result<()> {
+    check_out(out)?;
     let text =
         std::fs::read_to_string(script).with_context(|| format!("reading {}", script.display()))?;
     let lines = parse_script(&text).with_context(|| format!("in {}", script.display()))?;
@@ -33,7 +36,7 @@ pub fn apply(script: &Path, out: &Path) -> Result<()> {
         return Ok(());
     }
     let printed = print_for(doc, out)?;
-    write_mesh(&printed.mesh, out)?;
+    write_printed(doc, &printed, out)?;
     println!(
         "{}: {} ops, {} objects -> {} ({})",
         script.display(),
@@ -42,6 +45,49 @@ pub fn apply(script: &Path, out: &Path) -> Result<()> {
         out.display(),
         print_summary(&printed)
     );
+    println!("{}", fit_line(doc, &printed));
+    Ok(())
+}
+
+/// Writes the printable model `p` of `doc` to `out` (the format by its
+/// extension; 3MF objects named after the document's objects), and warns
+/// on stderr, by how much per axis, when it does not fit the document's
+/// printer.
+pub fn write_printed(doc: &Document, p: &Printable, out: &Path) -> Result<()> {
+    shapewright_xr::files::write_mesh_named(&p.mesh, &document_names(doc), out)?;
+    if let Some(fit) = p.report.size().map(|s| s.fit(&doc.print_setup().printer)) {
+        if !fit.fits {
+            eprintln!(
+                "shapewright-xr: warning: {}: the model {fit}",
+                out.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// `printer    Prusa MK4 (250 x 210 x 220 mm): fits` or `... does NOT
+/// fit ...: too big by x 100.0 mm; ...`, for the summaries.
+pub fn fit_line(doc: &Document, p: &Printable) -> String {
+    let printer = &doc.print_setup().printer;
+    match p.report.size() {
+        Some(size) => format!("printer    {}", size.fit(printer)),
+        None => format!("printer    {}", printer.describe()),
+    }
+}
+
+/// Refuses an output path no writer takes (an unknown extension, `.usdc`)
+/// before any work is done, naming the extensions that work.
+pub fn check_out(out: &Path) -> Result<()> {
+    if crate::usd_cmd::is_usd(out) {
+        shapewright_usd::UsdEncoding::of(out)?;
+    } else if MeshFormat::from_path(out).is_none() {
+        bail!(
+            "cannot write {}: unknown extension (use {MESH_EXTENSIONS} for the printable model, or {} for the document with its op log)",
+            out.display(),
+            shapewright_usd::SAVE_EXTENSIONS
+        );
+    }
     Ok(())
 }
 
@@ -51,11 +97,12 @@ pub fn apply(script: &Path, out: &Path) -> Result<()> {
 pub fn print_for(doc: &Document, out: &Path) -> Result<Printable> {
     let Some(format) = MeshFormat::from_path(out) else {
         bail!(
-            "cannot write {}: unknown extension (use .stl, .obj or .ply)",
-            out.display()
+            "cannot write {}: unknown extension (use {MESH_EXTENSIONS}, or {} for the document with its op log)",
+            out.display(),
+            shapewright_usd::SAVE_EXTENSIONS
         );
     };
-    let settings = PrintSettings::for_precision(Precision::of_format(format));
+    let settings = PrintSettings::for_format(format);
     let printed =
         print_document(doc, &settings).with_context(|| format!("{} not written", out.display()))?;
     for part in printed.report.skipped() {
@@ -70,10 +117,14 @@ pub fn print_summary(p: &Printable) -> String {
     use shapewright::print::Treatment;
     let r = &p.report;
     let mut s = format!(
-        "{} triangles, printable closed 2-manifold at {}",
+        "{} triangles, printable closed 2-manifold at {} {}",
         p.mesh.triangle_count(),
-        r.precision.name()
+        r.precision.name(),
+        r.unit.symbol()
     );
+    if let Some(size) = r.size() {
+        s += &format!("; printed size {size}");
+    }
     for part in &r.parts {
         match &part.treatment {
             Treatment::Thickened { thickness, .. } => {
@@ -94,28 +145,39 @@ pub fn print_summary(p: &Printable) -> String {
     s
 }
 
-/// `info FILE`.
+/// `info FILE`: the validation report of a mesh file read at its unit
+/// (STL and 3MF in millimetres, OBJ and PLY in metres), with its printed
+/// size and whether it fits the default printer.
 pub fn info(file: &Path) -> Result<()> {
     let mesh = read_mesh(file)?;
     let report = mesh::validate(&mesh, &Default::default());
     print!("{}", format_report(file, &report));
+    if let Some(b) = report.bbox {
+        let size = PrintedSize::new(b, Some(report.signed_volume));
+        println!("bed:                  {}", size.fit(&Printer::default()));
+    }
     print!("{}", shapewright_xr::files::interrupted_note(file));
     Ok(())
 }
 
-/// Writes `mesh` in the format named by `path`'s extension, crash-safely
-/// ([`shapewright_xr::files`]).
-pub fn write_mesh(mesh: &TriMesh, path: &Path) -> Result<()> {
-    shapewright_xr::files::write_mesh(mesh, path).map(|_| ())
-}
-
-/// The report as `info` prints it.
+/// The report as `info` prints it (lengths in millimetres, the volume in
+/// m³ and cm³).
 pub fn format_report(file: &Path, r: &ValidationReport) -> String {
+    let mm = |v: f64| v * 1e3;
     let bbox = r.bbox.map_or("none".to_string(), |[lo, hi]| {
         format!(
-            "[{:.4}, {:.4}, {:.4}] .. [{:.4}, {:.4}, {:.4}]",
-            lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
+            "[{:.2}, {:.2}, {:.2}] .. [{:.2}, {:.2}, {:.2}] mm",
+            mm(lo[0]),
+            mm(lo[1]),
+            mm(lo[2]),
+            mm(hi[0]),
+            mm(hi[1]),
+            mm(hi[2])
         )
+    });
+    let size = r.bbox.map_or("none".to_string(), |b| {
+        let [x, y, z] = PrintedSize::new(b, None).extent_mm();
+        format!("{x:.2} x {y:.2} x {z:.2} mm")
     });
     let genus = r
         .genus
@@ -148,9 +210,10 @@ pub fn format_report(file: &Path, r: &ValidationReport) -> String {
          components:           {}\n\
          euler characteristic: {}\n\
          genus:                {}\n\
-         signed volume:        {:.6}\n\
-         surface area:         {:.6}\n\
-         bounding box:         {}\n",
+         signed volume:        {:.9e} m³ ({:.3} cm³)\n\
+         surface area:         {:.6e} m²\n\
+         bounding box:         {}\n\
+         size:                 {size}\n",
         file.display(),
         if r.is_printable() {
             "yes (closed, oriented, embedded 2-manifold)"
@@ -166,6 +229,7 @@ pub fn format_report(file: &Path, r: &ValidationReport) -> String {
         r.euler_characteristic,
         genus,
         r.signed_volume,
+        r.signed_volume * 1e6,
         r.area,
         bbox,
     )

@@ -8,18 +8,25 @@ use std::io::Write;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use shapewright::mesh::{MeshFormat, TriMesh};
+use shapewright::mesh::{MeshFormat, PartNames, TriMesh, MESH_EXTENSIONS};
 pub use shapewright_atomic::{interrupted_writes, StaleTemp, Written};
 
 /// Writes `mesh` in the format named by `path`'s extension, crash-safely.
 pub fn write_mesh(mesh: &TriMesh, path: &Path) -> Result<Written> {
+    write_mesh_named(mesh, &PartNames::new(), path)
+}
+
+/// Writes `mesh` in the format named by `path`'s extension, crash-safely,
+/// naming its parts (3MF objects) by `names` (the document's names by
+/// object id, [`shapewright::print::document_names`]).
+pub fn write_mesh_named(mesh: &TriMesh, names: &PartNames, path: &Path) -> Result<Written> {
     let Some(format) = MeshFormat::from_path(path) else {
         bail!(
-            "cannot write {}: unknown extension (use .stl, .obj or .ply)",
+            "cannot write {}: unknown extension (use {MESH_EXTENSIONS})",
             path.display()
         );
     };
-    shapewright_atomic::write_with(path, |w| format.write(mesh, w))
+    shapewright_atomic::write_with(path, |w| format.write_named(mesh, names, w))
         .with_context(|| format!("writing {}", path.display()))
 }
 
@@ -29,11 +36,13 @@ pub fn write_text(path: &Path, text: &str) -> Result<Written> {
         .with_context(|| format!("writing {}", path.display()))
 }
 
-/// Reads a mesh in the format named by `path`'s extension.
+/// Reads a mesh in the format named by `path`'s extension, in metres
+/// (each format's unit converted: STL and 3MF millimetres, OBJ and PLY
+/// metres).
 pub fn read_mesh(path: &Path) -> Result<TriMesh> {
     let Some(format) = MeshFormat::from_path(path) else {
         bail!(
-            "cannot read {}: unknown extension (use .stl, .obj or .ply)",
+            "cannot read {}: unknown extension (use {MESH_EXTENSIONS})",
             path.display()
         );
     };

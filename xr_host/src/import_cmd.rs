@@ -40,7 +40,8 @@ pub struct ImportArgs {
     /// What the meshes become.
     #[arg(long = "as", value_enum)]
     pub target: ImportAs,
-    /// The Shapewright document (.usda) to add the op to; created when missing.
+    /// The Shapewright document (.usda or .usdz; .usdc is refused) to add
+    /// the op to; created when missing.
     #[arg(long)]
     pub into: Option<PathBuf>,
     /// Component name (default: the file's stem).
@@ -81,6 +82,7 @@ pub fn import(args: &ImportArgs) -> Result<()> {
     let Some(into) = &args.into else {
         bail!("--as component/base needs --into DOC.usda");
     };
+    shapewright_usd::UsdEncoding::of(into)?;
     let mut log = open_or_new(into)?;
     let target = match args.target {
         ImportAs::Component => ImportTarget::Component {

@@ -428,6 +428,9 @@ pub struct Interaction {
     font: Font,
     /// The last refused edit and the frame time it came back at.
     refused: Option<(String, f64)>,
+    /// The print line of the HUD (size, bed fit) and the scene version it
+    /// was computed for (once per document change, not per frame).
+    print_status: (u64, Option<shapewright::print::PrintStatus>),
     /// The last preview source mesh and it with normals.
     preview_cache: Option<(Arc<TriMesh>, Arc<TriMesh>)>,
 }
@@ -522,6 +525,7 @@ impl Interaction {
             ray_hit: [false; 2],
             font: Font::bundled(),
             refused: None,
+            print_status: (u64::MAX, None),
             preview_cache: None,
         })
     }
@@ -757,7 +761,19 @@ impl Interaction {
             .filter(|(_, age)| *age < crate::ui::MESSAGE_SECS);
         let wrapped = message.map(|(m, age)| (wrap(m, 56), age));
         let message = wrapped.as_ref().map(|(m, age)| (m.as_str(), *age));
-        crate::ui::overlay(&mut self.font, &self.session, message, &mut self.scene.ui);
+        if self.print_status.0 != self.scene.version {
+            self.print_status = (
+                self.scene.version,
+                shapewright::print::print_status(&self.doc),
+            );
+        }
+        crate::ui::overlay(
+            &mut self.font,
+            &self.session,
+            message,
+            self.print_status.1.as_ref(),
+            &mut self.scene.ui,
+        );
         let others = self.avatars();
         self.stats.others_drawn = self.stats.others_drawn.max(others.len());
         let viewer = self.session.last_frame().and_then(|f| f.head);

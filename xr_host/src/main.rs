@@ -31,35 +31,42 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Replay an op script (.jsonl) and export the result (.stl, .obj, .ply
-    /// as the printable union; .usda with the whole op log).
+    /// Replay an op script (.jsonl) and export the result (.stl or .3mf in
+    /// millimetres for slicers, .obj or .ply in metres, as the printable
+    /// union; .usda or .usdz with the whole op log).
     Apply {
         /// The script: one JSON op per line.
         script: PathBuf,
-        /// Output file; the format follows the extension.
+        /// Output file; the format follows the extension (.stl, .3mf, .obj,
+        /// .ply, .usda, .usdz; .usdc is refused: use .usda).
         #[arg(long)]
         out: PathBuf,
     },
     /// Replay a recorded input trace (.trace.jsonl) through the interaction
     /// core, write any of --out/--stl/--png and print a summary.
     Replay(replay_cmd::ReplayArgs),
-    /// Print the validation report of a mesh file (.stl, .obj), or the
-    /// objects, op count and reports of a Shapewright USD file.
+    /// Print the validation report of a mesh file (.stl, .3mf, .obj, .ply,
+    /// read at its unit: size in mm, volume in cm³, bed fit), or the
+    /// objects, op count, reports, printed size and bed fit of a
+    /// Shapewright USD file.
     Info {
         /// The mesh or USD file.
         file: PathBuf,
     },
-    /// Export the document of a Shapewright USD file as STL, OBJ and/or PLY.
+    /// Export the document of a Shapewright USD file as STL, 3MF, OBJ and/or PLY.
     Export {
         /// The .usda/.usdc/.usdz file.
         file: PathBuf,
-        /// Write binary STL here.
+        /// Write binary STL (millimetres) here.
         #[arg(long)]
         stl: Option<PathBuf>,
-        /// Write OBJ here.
+        /// Write 3MF (millimetres, one named object per piece) here.
+        #[arg(long = "3mf")]
+        three_mf: Option<PathBuf>,
+        /// Write OBJ (metres) here.
         #[arg(long)]
         obj: Option<PathBuf>,
-        /// Write PLY here.
+        /// Write PLY (metres) here.
         #[arg(long)]
         ply: Option<PathBuf>,
     },
@@ -82,7 +89,7 @@ enum Command {
         /// The member list.
         users: PathBuf,
     },
-    /// Render a mesh file (.stl, .obj) to a PNG with the host's Vulkan renderer.
+    /// Render a mesh file (.stl, .3mf, .obj, .ply) to a PNG with the host's Vulkan renderer.
     Render {
         /// The mesh file.
         file: PathBuf,
@@ -98,7 +105,41 @@ enum Command {
     },
 }
 
+/// Exit status of a tool whose reader went away: 128 + SIGPIPE, what a
+/// shell shows for a tool the signal ended (`yes | head` under pipefail).
+const CLOSED_PIPE_EXIT: i32 = 141;
+
+/// A reader that goes away (`shapewright-xr ops --json | head`) closes the
+/// pipe: Rust ignores SIGPIPE, so the next `print!` fails with EPIPE and
+/// std panics ("failed printing to stdout: Broken pipe"). A command-line
+/// tool ends quietly instead: this hook, for exactly that panic (stdout or
+/// stderr, EPIPE on Unix, ERROR_NO_DATA / ERROR_BROKEN_PIPE on Windows),
+/// exits with [`CLOSED_PIPE_EXIT`] before any message is printed; every
+/// other panic goes to the default hook. One hook covers every subcommand
+/// and needs no unsafe code (resetting SIGPIPE to its default would).
+fn quiet_on_closed_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let payload = info.payload();
+        let msg = payload
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| payload.downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        let printing = msg.starts_with("failed printing to stdout")
+            || msg.starts_with("failed printing to stderr");
+        let closed = ["os error 32)", "os error 232)", "os error 109)"]
+            .iter()
+            .any(|code| msg.ends_with(code));
+        if printing && closed {
+            std::process::exit(CLOSED_PIPE_EXIT);
+        }
+        default(info);
+    }));
+}
+
 fn main() -> ExitCode {
+    quiet_on_closed_pipe();
     let cli = Cli::parse();
     shapewright_xr::sdf_store::DirStore::install_default();
     let result = match cli.command {
@@ -110,9 +151,16 @@ fn main() -> ExitCode {
         Command::Export {
             file,
             stl,
+            three_mf,
             obj,
             ply,
-        } => usd_cmd::export(&file, stl.as_deref(), obj.as_deref(), ply.as_deref()),
+        } => {
+            let targets: Vec<&std::path::Path> = [&stl, &three_mf, &obj, &ply]
+                .into_iter()
+                .filter_map(|p| p.as_deref())
+                .collect();
+            usd_cmd::export(&file, &targets)
+        }
         Command::Replay(args) => replay_cmd::replay(&args),
         Command::Import(args) => import_cmd::import(&args),
         Command::Run(args) => run_cmd::run(&args),

@@ -1,7 +1,7 @@
 //! `replay TRACE [--out FILE] [--stl X.stl] [--png X.png]`: plays a
 //! recorded input trace through the same interaction step as `run` (no
 //! OpenXR runtime), writes any subset of outputs (`--out` by extension:
-//! .usda with the op log, or .stl/.obj/.ply; the PNG from the host's own
+//! .usda/.usdz with the op log, or .stl/.3mf/.obj/.ply; the PNG from the host's own
 //! Vulkan renderer, lavapipe without a GPU), and prints a one-screen
 //! summary with the per-frame CPU time of interaction + preview update.
 
@@ -11,24 +11,24 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use shapewright::doc::OpLog;
 use shapewright::interact::Trace;
-use shapewright::mesh::{MeshFormat, Precision};
+use shapewright::mesh::MeshFormat;
 use shapewright::print::{print_document, PrintSettings};
 use shapewright_xr::interaction::Interaction;
 use shapewright_xr::render::{render_mesh_png, RenderSettings};
 use shapewright_xr::xr::quantile;
-
-use crate::cmd::write_mesh;
 
 /// Outputs of `replay`.
 #[derive(clap::Args, Debug)]
 pub struct ReplayArgs {
     /// The trace: a header line, then one input frame per line.
     pub trace: PathBuf,
-    /// Output file; the format follows the extension (.usda keeps the op
-    /// log; .stl, .obj, .ply the combined mesh).
+    /// Output file; the format follows the extension (.usda or .usdz
+    /// keeps the op log; .stl or .3mf (millimetres, for slicers), .obj or
+    /// .ply (metres) the printable union).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Write the combined mesh as binary STL here.
+    /// Write the printable union here too: binary STL in millimetres (or
+    /// 3MF, OBJ, PLY by the extension).
     #[arg(long)]
     pub stl: Option<PathBuf>,
     /// Render the model to this PNG with the host's Vulkan renderer.
@@ -59,6 +59,9 @@ pub struct ReplayArgs {
 
 /// `replay`.
 pub fn replay(args: &ReplayArgs) -> Result<()> {
+    for out in [&args.out, &args.stl].into_iter().flatten() {
+        crate::cmd::check_out(out)?;
+    }
     let path = &args.trace;
     let text =
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
@@ -127,7 +130,7 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
     let log = &*log;
     let doc = log.document();
     // The printable model (one path for every exit: union, open surfaces
-    // thickened, checked at float32), needed for mesh outputs and the
+    // thickened, checked at float32 in mm), needed for mesh outputs and the
     // summary; an unprintable document fails a mesh output with the reason
     // but still renders (the objects as they are) and saves its USD.
     let wants_mesh = args.stl.is_some()
@@ -149,12 +152,16 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
             if crate::usd_cmd::is_usd(path) {
                 continue;
             }
-            // STL and PLY are float32, as `printed` was checked; OBJ is not.
-            let is_f32 = MeshFormat::from_path(path)
-                .is_some_and(|f| Precision::of_format(f) == Precision::F32);
+            // STL and 3MF are float32 millimetres, as `printed` was
+            // checked; OBJ and PLY are metres and are checked for their own.
+            let same = MeshFormat::from_path(path).is_some_and(|f| {
+                let s = PrintSettings::for_format(f);
+                let d = PrintSettings::default();
+                (s.precision, s.unit) == (d.precision, d.unit)
+            });
             match &printed {
-                Ok(p) if is_f32 => write_mesh(&p.mesh, path)?,
-                _ => write_mesh(&crate::cmd::print_for(doc, path)?.mesh, path)?,
+                Ok(p) if same => crate::cmd::write_printed(doc, p, path)?,
+                _ => crate::cmd::write_printed(doc, &crate::cmd::print_for(doc, path)?, path)?,
             }
             written.push(path.display().to_string());
         }
@@ -204,11 +211,10 @@ pub fn replay(args: &ReplayArgs) -> Result<()> {
         );
     }
     match &printed {
-        Ok(p) => println!(
-            "mesh       {}, volume {:.6}",
-            crate::cmd::print_summary(p),
-            p.report.checks.signed_volume
-        ),
+        Ok(p) => {
+            println!("mesh       {}", crate::cmd::print_summary(p));
+            println!("{}", crate::cmd::fit_line(doc, p));
+        }
         Err(e) => println!("mesh       NOT printable: {e}"),
     }
     println!("frame time {p50:.3} ms p50, {p99:.3} ms p99 (input + interaction + preview; budget 11.1 ms)");

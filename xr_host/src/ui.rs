@@ -143,13 +143,16 @@ fn hand_position(session: &Session, hand: Hand) -> Option<DVec3> {
 }
 
 /// Builds the whole overlay of a frame: palette (when open), the status
-/// line with the readout next to the dominant hand, and `message` (a
-/// refused edit, wrapped into lines, with its age in seconds) while it is
-/// fresh.
+/// line with the readout next to the dominant hand, the print line (the
+/// model's size in mm and whether it fits the document's printer; red
+/// while it does not, so the user learns it before leaving the headset),
+/// and `message` (a refused edit, wrapped into lines, with its age in
+/// seconds) while it is fresh.
 pub fn overlay(
     font: &mut Font,
     session: &Session,
     message: Option<(&str, f64)>,
+    print: Option<&shapewright::print::PrintStatus>,
     out: &mut Vec<LineVertex>,
 ) {
     out.clear();
@@ -170,6 +173,10 @@ pub fn overlay(
     }
     lines.push((status.trim_end(), STATUS));
     lines.push((&p.readout, READOUT));
+    let print_line = print.map(|s| (s.line(), if s.warn() { REFUSED } else { STATUS }));
+    if let Some((text, color)) = &print_line {
+        lines.push((text, *color));
+    }
     lines_at(font, hand, head, &lines, out);
 }
 

@@ -8,23 +8,20 @@ use shapewright::mesh::validate;
 use shapewright::print::{print_document, PrintSettings};
 use shapewright_usd::{load_file, LoadOptions, Mismatch};
 
-/// `export FILE.usda --stl/--obj/--ply OUT`: the printable model of the
-/// document at the saved cursor (the union of every object, open surfaces
-/// thickened, validated at each format's precision), to each requested
-/// format. Nothing is written when it is not printable.
+/// `export FILE.usda --stl/--3mf/--obj/--ply OUT`: the printable model of
+/// the document at the saved cursor (the union of every object, open
+/// surfaces thickened, validated at each format's precision and unit), to
+/// each requested format. Nothing is written when it is not printable; a
+/// model that outgrows the document's printer is written with a warning
+/// saying by how much.
 ///
 /// The log is the truth: a snapshot that does not parse or that disagrees
 /// with the log is replaced by the replayed log (the load does that and
 /// says so), and stored meshes that disagree with the document are only
 /// reported; what is exported is always the log's document.
-pub fn export(
-    file: &Path,
-    stl: Option<&Path>,
-    obj: Option<&Path>,
-    ply: Option<&Path>,
-) -> Result<()> {
-    if stl.is_none() && obj.is_none() && ply.is_none() {
-        bail!("nothing to export: give --stl, --obj and/or --ply with an output path");
+pub fn export(file: &Path, targets: &[&Path]) -> Result<()> {
+    if targets.is_empty() {
+        bail!("nothing to export: give --stl, --3mf, --obj and/or --ply with an output path");
     }
     let loaded = load_file(file, LoadOptions::default())
         .with_context(|| format!("loading {}", file.display()))?;
@@ -55,19 +52,22 @@ pub fn export(
     let doc = loaded.log.document();
     // Every target is checked before any is written.
     let mut printed = Vec::new();
-    for path in [stl, obj, ply].into_iter().flatten() {
+    for path in targets {
         let p = crate::cmd::print_for(doc, path)
             .with_context(|| format!("exporting {}", file.display()))?;
         printed.push((path, p));
     }
     for (path, p) in &printed {
-        crate::cmd::write_mesh(&p.mesh, path)?;
+        crate::cmd::write_printed(doc, p, path)?;
         println!(
             "{} -> {} ({})",
             file.display(),
             path.display(),
             crate::cmd::print_summary(p)
         );
+    }
+    if let Some((_, p)) = printed.first() {
+        println!("{}", crate::cmd::fit_line(doc, p));
     }
     Ok(())
 }
@@ -130,11 +130,15 @@ pub fn info(file: &Path) -> Result<String> {
         Ok(p) => {
             writeln!(
                 s,
-                "printable: yes, as STL ({})",
+                "printable: yes, as STL or 3MF ({})",
                 crate::cmd::print_summary(&p)
             )?;
+            writeln!(s, "{}", crate::cmd::fit_line(doc, &p))?;
         }
-        Err(e) => writeln!(s, "printable: NO: {e}")?,
+        Err(e) => {
+            writeln!(s, "printable: NO: {e}")?;
+            writeln!(s, "printer    {}", doc.print_setup().printer.describe())?;
+        }
     }
     Ok(s)
 }

@@ -308,16 +308,25 @@ impl Session {
         report_dict(py, &report)
     }
 
-    /// Writes the printable union of all objects to `path` (.stl, .obj or
-    /// .ply); refuses (writing nothing) an empty result or one that is not
-    /// a closed 2-manifold at the file's precision. Returns `{"path",
-    /// "triangles", "volume"}`. For long exports use `ExportJob`.
+    /// Writes the printable union of all objects to `path` (.stl or .3mf
+    /// in millimetres, .obj or .ply in metres); refuses (writing nothing)
+    /// an empty result or one that is not a closed 2-manifold at the
+    /// file's precision. Returns `{"path", "triangles", "volume", "size_mm",
+    /// "volume_cm3", "fits", "fit", "over_mm"}`. For long exports use
+    /// `ExportJob`.
     fn export_mesh<'py>(
         &self,
         py: Python<'py>,
         path: std::path::PathBuf,
     ) -> PyResult<Bound<'py, PyDict>> {
         crate::jobs::export_now(py, self.0.document(), &path)
+    }
+
+    /// The print line for the History panel (issue 31): the objects' size
+    /// in mm against the document's printer, or None for an empty
+    /// document. See `jobs::print_status_dict`.
+    fn print_status<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        crate::jobs::print_status_dict(py, self.0.document())
     }
 
     /// A hash of the document's content (ids, parameters, mesh bits).

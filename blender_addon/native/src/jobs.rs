@@ -27,8 +27,8 @@ use std::thread::JoinHandle;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use shapewright::doc::Document;
-use shapewright::mesh::{validate, MeshFormat, Precision, TriMesh};
-use shapewright::print::{print_document, PrintSettings};
+use shapewright::mesh::{MeshFormat, PartNames, TriMesh, MESH_EXTENSIONS};
+use shapewright::print::{document_names, print_document, BedFit, PrintSettings, PrintedSize};
 
 use crate::doc::Session;
 use crate::error::{OpRejected, ParseError};
@@ -66,7 +66,7 @@ pub(crate) const PHASES: [(&str, f64); 4] = [
 pub(crate) fn format_of(path: &Path) -> PyResult<MeshFormat> {
     MeshFormat::from_path(path).ok_or_else(|| {
         ParseError::new_err(format!(
-            "{}: unknown extension (use .stl, .obj or .ply)",
+            "{}: unknown extension (use {MESH_EXTENSIONS}; STL and 3MF are written in millimetres for slicers, OBJ and PLY in metres)",
             path.display()
         ))
     })
@@ -74,34 +74,37 @@ pub(crate) fn format_of(path: &Path) -> PyResult<MeshFormat> {
 
 /// The printable model of `doc` as `format` writes it: the core's one
 /// printable path (union of every object, open surfaces thickened,
-/// validated at the file's precision), refused with the core's typed
-/// reason (empty, out of range, not a closed 2-manifold when written).
+/// validated at the file's precision and unit), refused with the core's
+/// typed reason (empty, out of range, not a closed 2-manifold when
+/// written), with its printed size.
 pub(crate) fn printable(
     doc: &Document,
     format: MeshFormat,
     phase: &AtomicU8,
     cancel: &AtomicBool,
-) -> Result<TriMesh, ExportError> {
-    let settings = PrintSettings::for_precision(Precision::of_format(format));
+) -> Result<(TriMesh, Option<PrintedSize>), ExportError> {
+    let settings = PrintSettings::for_format(format);
     let printed = print_document(doc, &settings)
         .map_err(|e| ExportError::Refused(format!("{e}: nothing was written")))?;
     phase.store(1, Ordering::Relaxed);
     if cancel.load(Ordering::Relaxed) {
         return Err(ExportError::Cancelled);
     }
-    Ok(printed.mesh)
+    let size = printed.report.size();
+    Ok((printed.mesh, size))
 }
 
 /// Writes `mesh` to `path` crash-safely (the workspace's one writer:
 /// temp file, fsync, rename); a cancel before the rename keeps the old file.
 pub(crate) fn write_atomic(
     mesh: &TriMesh,
+    names: &PartNames,
     format: MeshFormat,
     path: &Path,
     cancel: &AtomicBool,
 ) -> Result<(), ExportError> {
     shapewright_atomic::write_with(path, |w| {
-        format.write(mesh, w)?;
+        format.write_named(mesh, names, w)?;
         if cancel.load(Ordering::Relaxed) {
             return Err(std::io::Error::new(
                 std::io::ErrorKind::Interrupted,
@@ -123,7 +126,8 @@ pub(crate) fn write_atomic(
 /// What a finished export wrote.
 pub(crate) struct Written {
     triangles: usize,
-    volume: f64,
+    size: Option<PrintedSize>,
+    fit: Option<BedFit>,
 }
 
 fn run(
@@ -133,23 +137,63 @@ fn run(
     phase: &AtomicU8,
     cancel: &AtomicBool,
 ) -> Result<Written, ExportError> {
-    let mesh = printable(doc, format, phase, cancel)?;
+    let (mesh, size) = printable(doc, format, phase, cancel)?;
     phase.store(2, Ordering::Relaxed);
-    write_atomic(&mesh, format, path, cancel)?;
+    write_atomic(&mesh, &document_names(doc), format, path, cancel)?;
     phase.store(3, Ordering::Relaxed);
-    let volume = validate(&mesh, &Default::default()).signed_volume;
     Ok(Written {
         triangles: mesh.triangles.len(),
-        volume,
+        size,
+        fit: size.map(|s| s.fit(&doc.print_setup().printer)),
     })
 }
 
+/// `{"path", "triangles", "volume" (m³), "size_mm" [x, y, z],
+/// "volume_cm3", "fits", "fit" (the sentence to show: fits the printer,
+/// or by how much it outgrows it per axis), "over_mm" [x, y, z]}`.
 fn summary<'py>(py: Python<'py>, w: &Written, path: &Path) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("path", path.display().to_string())?;
     d.set_item("triangles", w.triangles)?;
-    d.set_item("volume", w.volume)?;
+    d.set_item("volume", w.size.and_then(|s| s.volume).unwrap_or(0.0))?;
+    if let Some(s) = &w.size {
+        d.set_item("size_mm", s.extent_mm().to_vec())?;
+        d.set_item("volume_cm3", s.volume_cm3().unwrap_or(0.0))?;
+    }
+    if let Some(f) = &w.fit {
+        d.set_item("fits", f.fits)?;
+        d.set_item("fit", f.to_string())?;
+        d.set_item("over_mm", f.over_mm.to_vec())?;
+    }
     Ok(d)
+}
+
+/// `{"line", "warn", "size_mm" [x, y, z], "fits", "over_mm" [x, y, z],
+/// "printer", "printer_size_mm" [x, y, z]}` for the History panel: the
+/// core's print status (the objects' bounding box, no union, so it is
+/// cheap after every edit) against the document's printer; `line` is the
+/// text to show (`print 120 x 80 x 95 mm, fits Prusa MK4`, or `... too
+/// big for Prusa MK4 by x 100.0 mm`), `warn` says to show it as a
+/// warning. None for a document with nothing to print.
+pub(crate) fn print_status_dict<'py>(
+    py: Python<'py>,
+    doc: &Document,
+) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let Some(status) = py.detach(|| shapewright::print::print_status(doc)) else {
+        return Ok(None);
+    };
+    let d = PyDict::new(py);
+    d.set_item("line", status.line())?;
+    d.set_item("warn", status.warn())?;
+    d.set_item("size_mm", status.size.extent_mm().to_vec())?;
+    d.set_item("fits", status.fit.fits)?;
+    d.set_item("over_mm", status.fit.over_mm.to_vec())?;
+    d.set_item("printer", status.fit.printer.preset.label())?;
+    d.set_item(
+        "printer_size_mm",
+        status.fit.printer.size.map(|v| v * 1e3).to_vec(),
+    )?;
+    Ok(Some(d))
 }
 
 /// Exports `doc`'s printable union to `path` on the calling thread (GIL
@@ -183,7 +227,8 @@ pub struct ExportJob {
 #[pymethods]
 impl ExportJob {
     /// Starts exporting `doc`'s printable union (as it is now; later edits
-    /// do not change this export) to `path` (.stl, .obj or .ply).
+    /// do not change this export) to `path` (.stl or .3mf in millimetres,
+    /// .obj or .ply in metres).
     #[new]
     fn new(doc: &Session, path: PathBuf) -> PyResult<Self> {
         let format = format_of(&path)?;
