@@ -17,7 +17,9 @@ apt_pkgs=()
 # libvulkan1 and mesa-vulkan-drivers give Vulkan on the CPU (lavapipe);
 # nats-server (JetStream) carries shared sessions (scripts/nats.sh, and the
 # shapewright-net tests start their own on 127.0.0.1).
-for p in ${SHAPEWRIGHT_APT_PACKAGES:-cmake g++ libvulkan1 mesa-vulkan-drivers nats-server}; do
+# prusa-slicer (Debian's 2.5, slices from the command line without a display)
+# checks that exported STL and 3MF files print at true size (tests/python/test_slicer.py).
+for p in ${SHAPEWRIGHT_APT_PACKAGES:-cmake g++ libvulkan1 mesa-vulkan-drivers nats-server prusa-slicer}; do
   dpkg -s "$p" >/dev/null 2>&1 || apt_pkgs+=("$p")
 done
 if [ "${#apt_pkgs[@]}" -gt 0 ]; then

@@ -4,11 +4,14 @@ import importlib.util
 import json
 import os
 import shutil
+import struct
 import subprocess
 import sys
+import zipfile
 from pathlib import Path
 
-from conftest import run_tool
+import pytest
+from conftest import ROOT, run_tool
 from pxr import Sdf, Usd, UsdGeom, UsdValidation
 
 
@@ -43,9 +46,7 @@ def _compliance_checker():
     spec = importlib.util.find_spec("bpy")
     assert spec is not None and spec.origin, "bpy (for complianceChecker.py) is not installed"
     found = sorted(
-        Path(spec.origin).parent.glob(
-            "*/python/lib/python3*/site-packages/pxr/UsdUtils/complianceChecker.py"
-        )
+        Path(spec.origin).parent.glob("*/python/lib/python3*/site-packages/pxr/UsdUtils/complianceChecker.py")
     )
     assert found, "complianceChecker.py not found in bpy"
     mod_spec = importlib.util.spec_from_file_location("sw_compliance_checker", found[-1])
@@ -121,11 +122,7 @@ def test_pxr_reads_identical_points_and_indices(tool: Path, written: list[Path])
         stage = Usd.Stage.Open(str(f))
         # Object meshes (a patch of more than 4 sides is also a Mesh prim,
         # PatchK, beside its boundary curves: a parametric part).
-        meshes = [
-            p
-            for p in stage.Traverse()
-            if p.IsA(UsdGeom.Mesh) and not p.GetName().startswith("Patch")
-        ]
+        meshes = [p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh) and not p.GetName().startswith("Patch")]
         assert len(meshes) == len(ours["meshes"])
         for m in ours["meshes"]:
             mesh = UsdGeom.Mesh(stage.GetPrimAtPath(m["prim"]))
@@ -181,3 +178,88 @@ def test_pxr_resave_still_loads(tool: Path, written: list[Path], tmp_path: Path)
             assert again["ops"] == ours["ops"]
             assert again["cursor"] == ours["cursor"]
             assert again["consistent"], again["report"]
+
+
+# Every USD file the command line writes (issue 31): each extension that
+# `--help` lists opens in Pixar USD and passes its validators, or is refused
+# naming the extensions that work, with nothing written.
+
+
+@pytest.fixture(scope="session")
+def host_bin() -> Path:
+    subprocess.run(["cargo", "build", "--release", "-q", "-p", "shapewright-xr"], cwd=ROOT, check=True)
+    return Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release" / "shapewright-xr"
+
+
+def _host(host_bin: Path, *args: object) -> subprocess.CompletedProcess:
+    return subprocess.run([str(host_bin), *map(str, args)], capture_output=True, text=True, check=False)
+
+
+def _opens_in_pxr(path: Path, objects: int) -> None:
+    stage = Usd.Stage.Open(str(path))
+    assert stage, path
+    assert _validation_errors(path) == [], path.name
+    assert UsdGeom.GetStageMetersPerUnit(stage) == 1.0
+    meshes = [
+        p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh) and p.GetParent().GetParent().GetName() == "World"
+    ]
+    assert len(meshes) >= objects, (path.name, [str(m.GetPath()) for m in meshes])
+    assert stage.GetPrimAtPath("/ShapewrightLog"), path.name
+
+
+def _usdz_layout(path: Path) -> None:
+    """USDZ: a zip whose first entry is the root layer, every entry stored
+    (uncompressed) with its data 64-byte aligned."""
+    with zipfile.ZipFile(path) as z:
+        infos = z.infolist()
+        assert infos[0].filename.endswith((".usda", ".usdc", ".usd")), infos[0].filename
+        raw = path.read_bytes()
+        for i in infos:
+            assert i.compress_type == zipfile.ZIP_STORED, i.filename
+            name_len, extra_len = struct.unpack_from("<HH", raw, i.header_offset + 26)
+            assert (i.header_offset + 30 + name_len + extra_len) % 64 == 0, i.filename
+
+
+@pytest.mark.parametrize("ext", ["usda", "usd", "usdz"])
+def test_every_written_usd_file_opens_in_pixar(host_bin: Path, tmp_path: Path, ext: str) -> None:
+    data = ROOT / "tests" / "data"
+    apply_out = tmp_path / f"apply.{ext}"
+    r = _host(host_bin, "apply", data / "primitives.jsonl", "--out", apply_out)
+    assert r.returncode == 0, r.stderr
+    replay_out = tmp_path / f"replay.{ext}"
+    r = _host(host_bin, "replay", data / "csg_cup.trace.jsonl", "--out", replay_out)
+    assert r.returncode == 0, r.stderr
+    # import --into a new document and again into the one just written.
+    into = tmp_path / f"into.{ext}"
+    for _ in range(2):
+        r = _host(
+            host_bin, "import", apply_out, "--as", "base", "--prefix", "/World/Object_1", "--into", into
+        )
+        assert r.returncode == 0, r.stderr
+    for path, objects in ((apply_out, 8), (replay_out, 1), (into, 2)):
+        _opens_in_pxr(path, objects)
+        if ext == "usdz":
+            _usdz_layout(path)
+        # ... and reopens in Shapewright with its history.
+        r = _host(host_bin, "info", path)
+        assert r.returncode == 0, r.stderr
+        assert "replaying the history gives the snapshot" in r.stdout, r.stdout
+    # export reads each of them.
+    stl = tmp_path / f"from_{ext}.stl"
+    r = _host(host_bin, "export", apply_out, "--stl", stl)
+    assert r.returncode == 0, r.stderr
+
+
+def test_usdc_is_refused_naming_what_works(host_bin: Path, tmp_path: Path) -> None:
+    data = ROOT / "tests" / "data"
+    out = tmp_path / "x.usdc"
+    for args in (
+        ("apply", data / "primitives.jsonl", "--out", out),
+        ("replay", data / "csg_cup.trace.jsonl", "--out", out),
+        ("import", ROOT / "tests" / "data" / "missing.usda", "--as", "base", "--into", out),
+    ):
+        r = _host(host_bin, *args)
+        assert r.returncode != 0, args
+        assert ".usda" in r.stderr and ".usdz" in r.stderr, r.stderr
+        assert "panicked" not in r.stderr
+        assert not out.exists(), args
