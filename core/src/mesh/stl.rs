@@ -198,7 +198,7 @@ mod tests {
             .map(|x| (x * 1000.0) as f32)
             .collect();
         assert_eq!(corners, want);
-        assert!(corners.iter().any(|&x| x == 350.0), "{corners:?}");
+        assert!(corners.contains(&350.0), "{corners:?}");
         let back = read_stl(&out).unwrap();
         let (lo, hi) = back.bbox().unwrap();
         assert!(((hi - lo).max_element() - 0.35).abs() < 1e-9);

@@ -398,6 +398,8 @@ fn flatten(
 }
 
 type Parsed = (f64, BTreeMap<u32, Object>, Vec<(u32, Affine)>);
+/// The object being read: its id, mesh and components.
+type Reading = (u32, TriMesh, Vec<(u32, Affine)>);
 
 fn parse_model(text: &str) -> Result<Parsed, MeshIoError> {
     use quick_xml::events::Event;
@@ -405,8 +407,7 @@ fn parse_model(text: &str) -> Result<Parsed, MeshIoError> {
     let mut unit = 1e-3;
     let mut objects = BTreeMap::new();
     let mut items = Vec::new();
-    // The object being read: its id, mesh and components.
-    let mut current: Option<(u32, TriMesh, Vec<(u32, Affine)>)> = None;
+    let mut current: Option<Reading> = None;
     loop {
         let pos = r.buffer_position() as usize;
         let at = |m: String| MeshIoError::BadData {
