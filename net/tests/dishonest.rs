@@ -296,6 +296,11 @@ fn a_dishonest_editor_changes_nothing_anyone_sees() {
         std::thread::sleep(Duration::from_millis(2));
     }
     notices.extend(cat_link.pump_log(&mut cat_log).unwrap().notices);
+    let cat_hash = cat_log.document().content_hash();
+    assert_eq!(
+        cat_hash, before,
+        "the late joiner has the stream's document"
+    );
     assert_eq!(
         cat_link.snapshot_state(),
         &SnapshotState::Replaced {
@@ -307,11 +312,6 @@ fn a_dishonest_editor_changes_nothing_anyone_sees() {
         "{notices:?}"
     );
     eprintln!("cat: bob's snapshot replaced after {:?}", t.elapsed());
-    let cat_hash = cat_log.document().content_hash();
-    assert_eq!(
-        cat_hash, before,
-        "the late joiner has the stream's document"
-    );
     drop(cat_link);
     assert_eq!(
         read_stream_with(&url, as_ana).document().content_hash(),
