@@ -21,7 +21,7 @@ shift || true
 # CI runs the readers; usd_load and op_script with SW_FUZZ_APPLY=1 apply ops,
 # whose budgets are other lanes' work (issue 22): run them in long runs.
 targets=("$@")
-[ "${#targets[@]}" -gt 0 ] || targets=(mesh_readers usd_layer usd_import op_script trace)
+[ "${#targets[@]}" -gt 0 ] || targets=(mesh_readers usd_layer usd_import op_script trace session_entry session_presence session_snapshot)
 triple="$(rustc -vV | sed -n 's/^host: //p')"
 export RUSTFLAGS="--cfg fuzzing -Cpasses=sancov-module -Cllvm-args=-sanitizer-coverage-level=4 \
 -Cllvm-args=-sanitizer-coverage-inline-8bit-counters -Cllvm-args=-sanitizer-coverage-pc-table \

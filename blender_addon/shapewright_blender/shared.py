@@ -1,7 +1,12 @@
 """Shared sessions in Blender (issue 23): the History panel's Join field.
 
-A scene joins a session with `nats://[USER:PASS@]HOST:PORT/DOC` (the same
-address headsets use with `shapewright-xr run --join`). While joined:
+A scene joins a session with `tls://HOST:PORT/DOC` (the same address
+headsets use with `shapewright-xr run --join`; `nats://` on a server of
+this machine without TLS). The person's user, password and the team's CA
+certificate come from their credentials file, named by the environment
+variable SHAPEWRIGHT_SESSION_CREDENTIALS (or given to `join`), never
+from the address: it shows in the panel and in logs (issue 35). While
+joined:
 - the scene's core session is the shared one (`history.session`): the
   panel's operators apply to it, and their edits reach everyone;
 - Undo and Redo (the panel's buttons and the add-on's Ctrl-Z) take back
@@ -21,6 +26,7 @@ Leaving keeps the document as it is, as a single-user history.
 from __future__ import annotations
 
 import json
+import os
 import time
 
 import bpy
@@ -29,6 +35,9 @@ import shapewright as sw
 from . import history, sync
 
 TICK = 0.05
+# The environment variable naming a person's credentials file (the core
+# reads it when Join is pressed).
+CREDENTIALS_ENV = "SHAPEWRIGHT_SESSION_CREDENTIALS"
 PEOPLE = "Shapewright people"
 # Blender sends its presence at most this often (seconds).
 PRESENCE_EVERY = 1.0 / 30.0
@@ -43,10 +52,15 @@ def joined(scene: bpy.types.Scene) -> sw.Session | None:
     return history.shared_sessions.get(scene.name)
 
 
-def join(scene: bpy.types.Scene, url: str, name: str) -> list[str]:
+def join(scene: bpy.types.Scene, url: str, name: str, credentials: str | None = None) -> list[str]:
     """Joins `url` as `name`; the scene's document (if any) starts an
-    empty session. Raises sw.ShapewrightError (SessionError) with the
-    reason when the server cannot be reached or refuses."""
+    empty session. `credentials` names the person's credentials file
+    (default: the one SHAPEWRIGHT_SESSION_CREDENTIALS names); with a user
+    in it, that user is who they are in the session. Raises
+    sw.ShapewrightError (SessionError) with the reason when the server
+    cannot be reached or refuses, or the address holds a password."""
+    if credentials:
+        os.environ[CREDENTIALS_ENV] = os.path.abspath(bpy.path.abspath(credentials))
     if joined(scene) is not None:
         raise sw.SessionError(f"already in {joined(scene).shared_url}; leave it first")
     history.finish_pending(scene)

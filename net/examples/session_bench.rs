@@ -1,10 +1,12 @@
-//! The shared-session benchmark (issue 23), against a real `nats-server
-//! -js` it starts on 127.0.0.1:
+//! The shared-session benchmark (issues 23 and 35), against a real
+//! `nats-server -js` it starts on 127.0.0.1, over TLS (certificates from
+//! scripts/session_certs.sh, verified by every client):
 //! - op round trip: a nudge applied by one person until it is applied by
 //!   each other person, with 2 and 16 people each editing at 10 ops/s
 //!   (one thread per person, as one host each; all on this machine);
 //! - joining a 10,000-op document: from the latest snapshot plus the
-//!   tail, and by replaying the whole stream;
+//!   tail (and how long the background check of that snapshot against
+//!   the stream takes), and by replaying the whole stream;
 //! - the single-user apply time of the same op, for comparison.
 //!
 //! `cargo run --release -p shapewright-net --example session_bench [SECS
@@ -18,8 +20,8 @@ use std::time::{Duration, Instant};
 
 use shapewright::doc::shared::{Replica, SharedLog};
 use shapewright::doc::{ObjectId, Op, OpLog};
-use shapewright_net::testkit::Server;
-use shapewright_net::{fetch_snapshot, Link, LinkOptions, SessionUrl};
+use shapewright_net::testkit::{options, Server};
+use shapewright_net::{fetch_snapshot, Link, SessionUrl, SnapshotState};
 
 fn op(json: &str) -> Op {
     serde_json::from_str(json).expect("a valid op")
@@ -68,7 +70,7 @@ fn round_trips(url: &SessionUrl, people: usize, rate: f64, secs: f64) -> Vec<f64
             std::thread::spawn(move || {
                 let me = format!("p{i}");
                 let mut log = SharedLog::new(&me, &me, [0.5; 3]).unwrap();
-                let mut link = Link::connect(&url, &me, 0, LinkOptions::default()).unwrap();
+                let mut link = Link::connect(&url, &me, 0, options()).unwrap();
                 wait_joined(&mut link, &mut log);
                 let id = log.apply(sphere(i as f64)).unwrap().created.unwrap();
                 wait_joined(&mut link, &mut log);
@@ -165,7 +167,7 @@ fn main() {
     // A 10,000-op document: one sphere nudged 9,999 times.
     let url = server.url("join10k");
     let mut log = SharedLog::new("w", "writer", [0.5; 3]).unwrap();
-    let mut link = Link::connect(&url, "w", 0, LinkOptions::default()).unwrap();
+    let mut link = Link::connect(&url, "w", 0, options()).unwrap();
     wait_joined(&mut link, &mut log);
     let id = log.apply(sphere(0.0)).unwrap().created.unwrap();
     let mut solo = OpLog::new();
@@ -188,23 +190,33 @@ fn main() {
     let la = load();
     let mut from_snapshot = Vec::new();
     let mut replayed = Vec::new();
+    let mut checked = Vec::new();
     let mut tail = 0;
     for rep in 0..3 {
         let me = format!("late{rep}");
         let t = Instant::now();
-        let (seq, bytes) = fetch_snapshot(&url, &LinkOptions::default())
+        let stored = fetch_snapshot(&url, &options())
             .unwrap()
             .expect("a snapshot");
-        let replica = Replica::from_snapshot(&bytes).unwrap();
+        let seq = stored.seq;
+        let replica = Replica::from_snapshot(&stored.bytes).unwrap();
         let mut j = SharedLog::resume(&me, &me, [0.5; 3], replica, 1).unwrap();
-        let mut l = Link::connect(&url, &me, seq, LinkOptions::default()).unwrap();
+        let mut l = Link::connect(&url, &me, seq, options()).unwrap();
+        l.check_snapshot(seq, stored.bytes, &stored.writer);
         assert!(l.catch_up(&mut j, Duration::from_secs(60)));
         from_snapshot.push(t.elapsed().as_secs_f64() * 1e3);
         tail = entries - seq;
         assert_eq!(j.document().content_hash(), log.document().content_hash());
+        while matches!(l.snapshot_state(), SnapshotState::Checking { .. }) {
+            l.receive(&mut j);
+            assert!(t.elapsed() < Duration::from_secs(120), "check stalled");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        assert_eq!(l.snapshot_state(), &SnapshotState::Confirmed);
+        checked.push(t.elapsed().as_secs_f64() * 1e3);
         let t = Instant::now();
         let mut j = SharedLog::new(&me, &me, [0.5; 3]).unwrap();
-        let mut l = Link::connect(&url, &me, 0, LinkOptions::default()).unwrap();
+        let mut l = Link::connect(&url, &me, 0, options()).unwrap();
         assert!(l.catch_up(&mut j, Duration::from_secs(120)));
         replayed.push(t.elapsed().as_secs_f64() * 1e3);
         assert_eq!(j.document().content_hash(), log.document().content_hash());
@@ -218,8 +230,9 @@ fn main() {
         quantile(&mut from_snapshot, 1.0),
     );
     let (rmin, rmax) = (quantile(&mut replayed, 0.0), quantile(&mut replayed, 1.0));
+    let c50 = quantile(&mut checked, 0.5);
     println!(
-        "{{\"row\":\"join\",\"entries\":{entries},\"tail\":{tail},\"snapshot_ms\":{s50:.1},\"snapshot_spread\":[{smin:.1},{smax:.1}],\"replay_ms\":{r50:.1},\"replay_spread\":[{rmin:.1},{rmax:.1}],\"reps\":3,\"load_before\":\"{la}\",\"load_after\":\"{}\"}}",
+        "{{\"row\":\"join\",\"entries\":{entries},\"tail\":{tail},\"snapshot_ms\":{s50:.1},\"snapshot_spread\":[{smin:.1},{smax:.1}],\"checked_ms\":{c50:.1},\"replay_ms\":{r50:.1},\"replay_spread\":[{rmin:.1},{rmax:.1}],\"reps\":3,\"load_before\":\"{la}\",\"load_after\":\"{}\"}}",
         load()
     );
     let a50 = quantile(&mut apply_ms, 0.5);

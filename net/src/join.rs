@@ -1,5 +1,7 @@
 //! Joining a session as a host does it (the headset host and the Blender
-//! add-on share this): the latest snapshot when there is one, the tail of
+//! add-on share this): the person's credentials (from the options, or the
+//! file [`crate::CREDENTIALS_ENV`] names), the latest snapshot when there
+//! is one (checked against the stream in the background), the tail of
 //! the stream, the join confirmed, and an empty session seeded from the
 //! file the person opened.
 
@@ -8,7 +10,8 @@ use std::time::{Duration, Instant};
 use shapewright::doc::shared::{colour_for, Replica, SharedError, SharedLog};
 use shapewright::doc::{LogError, OpLog};
 
-use crate::{fetch_snapshot, Link, LinkError, LinkOptions, SessionUrl};
+use crate::{fetch_snapshot, Credentials, CredentialsError, Link, LinkError, LinkOptions};
+use crate::{SessionUrl, StoredSnapshot};
 
 /// Why joining failed. Nothing was written to the session.
 #[derive(Debug, thiserror::Error)]
@@ -16,6 +19,9 @@ pub enum JoinError {
     /// The server could not be reached or would not let us in.
     #[error(transparent)]
     Link(#[from] LinkError),
+    /// The credentials file could not be read.
+    #[error(transparent)]
+    Credentials(#[from] CredentialsError),
     /// The participant was refused (bad id or name, session full).
     #[error(transparent)]
     Shared(#[from] SharedError),
@@ -60,17 +66,20 @@ pub fn participant_id(name: &str) -> String {
 }
 
 /// Joins the session at `url` as `me` (shown as `name` in the colour
-/// [`colour_for`] gives `me`): restores the latest snapshot (replaying
-/// the whole stream if it is missing or unusable, with a note in the
-/// returned messages), catches up, waits for the join to come back, and,
-/// when `opened` holds a file's history and the session is empty, starts
-/// the session from it. Returns the person's log (an ordinary [`OpLog`]
-/// backed by the session), the link, and messages for the person.
+/// [`colour_for`] gives `me`; with credentials, `me` is their user name,
+/// the only one the server lets this person write as): restores the
+/// newest snapshot and checks it against the stream in the background
+/// ([`Link::check_snapshot`]; replaying the whole stream at once if there
+/// is none or it is unusable, with a note in the returned messages),
+/// catches up, waits for the join to come back, and, when `opened` holds
+/// a file's history and the session is empty, starts the session from
+/// it. Returns the person's log (an ordinary [`OpLog`] backed by the
+/// session), the link, and messages for the person.
 pub fn join(
     url: &SessionUrl,
     name: &str,
     me: &str,
-    options: LinkOptions,
+    mut options: LinkOptions,
     opened: &OpLog,
 ) -> Result<(OpLog, Link, Vec<String>), JoinError> {
     let mut messages = Vec::new();
@@ -78,13 +87,33 @@ pub fn join(
         url: url.to_string(),
         what: what.to_string(),
     };
-    let restored = match fetch_snapshot(url, &options)? {
-        Some((seq, bytes)) => match Replica::from_snapshot(&bytes) {
-            Ok(r) if r.last_seq() == seq => Some(r),
-            Ok(_) => None,
+    if options.credentials.is_none() {
+        options.credentials = Credentials::from_env()?;
+    }
+    let user = options.credentials.as_ref().and_then(|c| c.user.clone());
+    let me = match user {
+        Some(user) if user != me => {
+            messages.push(format!(
+                "you are `{user}` in this session (your user name on its server)"
+            ));
+            user
+        }
+        _ => me.to_string(),
+    };
+    let me = me.as_str();
+    let stored = fetch_snapshot(url, &options)?;
+    let restored = match &stored {
+        Some(StoredSnapshot { seq, bytes, writer }) => match Replica::from_snapshot(bytes) {
+            Ok(r) if r.last_seq() == *seq => Some(r),
+            Ok(_) => {
+                messages.push(format!(
+                    "`{writer}`'s snapshot does not hold the sequence it claims; replaying the whole stream"
+                ));
+                None
+            }
             Err(e) => {
                 messages.push(format!(
-                    "the session's snapshot is unusable ({e}); replaying the whole stream"
+                    "`{writer}`'s snapshot is unusable ({e}); replaying the whole stream"
                 ));
                 None
             }
@@ -95,6 +124,13 @@ pub fn join(
     let after = replica.last_seq();
     let mut shared = SharedLog::resume(me, name, colour_for(me), replica, 1)?;
     let mut link = Link::connect(url, me, after, options)?;
+    if let (Some(s), true) = (stored, after > 0) {
+        messages.push(format!(
+            "started from `{}`'s snapshot at entry {}; checking it against the stream",
+            s.writer, s.seq
+        ));
+        link.check_snapshot(s.seq, s.bytes, &s.writer);
+    }
     messages.push(format!(
         "joined {url} as {me} ({} entries to catch up on)",
         link.last_seq_at_connect() - after.min(link.last_seq_at_connect())

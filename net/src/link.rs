@@ -5,11 +5,15 @@
 //! [`SharedLog`] and the log's next entry to the server.
 //!
 //! On the server: one JetStream stream per document (`SW_<doc>`, file
-//! storage, a two-minute de-duplication window), entries appended on
-//! `sw.<doc>.log` with `Nats-Msg-Id` = author:counter and
-//! `Nats-Expected-Last-Sequence` = the last sequence the author had seen;
-//! presence on `sw.<doc>.presence.<who>`, plain NATS (never stored);
-//! snapshots in the object store bucket `SW_<doc>_snapshots`.
+//! storage, a two-minute de-duplication window, deletes and purges
+//! refused), each person appending on their own subject
+//! `sw.<doc>.log.<token>` ([`shapewright::doc::shared::subject_token`])
+//! with `Nats-Msg-Id` = author:counter:nonce (the nonce is this link's,
+//! random, so nobody can pre-empt an entry's id and have it dropped as a
+//! duplicate) and `Nats-Expected-Last-Sequence` = the last sequence the
+//! author had seen; presence on `sw.<doc>.presence.<token>`, plain NATS
+//! (never stored); snapshots in the object store bucket
+//! `SW_<doc>_snapshots` (see [`crate::fetch_snapshot`]).
 
 use std::collections::BTreeMap;
 use std::sync::mpsc as std_mpsc;
@@ -17,13 +21,12 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use async_nats::jetstream::{self, consumer, context::PublishErrorKind, stream};
-use futures_util::StreamExt;
-use shapewright::doc::shared::{Presence, Publish, Published, SharedLog, MAX_ENTRY_BYTES};
+use shapewright::doc::shared::{Presence, Publish, Published, SharedLog, SnapshotCheck, Verdict};
 use shapewright::doc::OpLog;
 use tokio::sync::mpsc;
 
-use crate::SessionUrl;
+use crate::task::{nonce, Task};
+use crate::{Credentials, SessionUrl};
 
 /// Why a link could not start.
 #[derive(Debug, thiserror::Error)]
@@ -31,6 +34,15 @@ pub enum LinkError {
     /// The server did not answer (not running, wrong address, refused).
     #[error("cannot reach the session server {url}: {why}")]
     Unreachable {
+        /// The address.
+        url: String,
+        /// What the client said.
+        why: String,
+    },
+    /// The server's certificate is not signed by the team's CA (or the
+    /// server speaks no TLS, or its name is not in its certificate).
+    #[error("the session server {url} failed the TLS check: {why} (is `ca` in your credentials file the team's CA certificate, and the server's certificate made for the name in the address? see scripts/session_certs.sh)")]
+    Tls {
         /// The address.
         url: String,
         /// What the client said.
@@ -45,6 +57,27 @@ pub enum LinkError {
         /// What the server said.
         why: String,
     },
+    /// The document's stream was made by a Shapewright from before
+    /// per-person subjects (issue 35): its entries cannot say who sent
+    /// them, so it is not joined.
+    #[error("{url}: the document's stream {stream} was made by an older Shapewright, where an entry's author was whatever its sender wrote, so it is not joined; open its last autosave (shapewright-DOC.usda) and start a new document from it with --open, or ask the server's operator to remove the stream {stream}")]
+    OldStream {
+        /// The address.
+        url: String,
+        /// The stream.
+        stream: String,
+    },
+    /// The document's stream exists with settings Shapewright does not
+    /// make (someone made it by hand, or made it first with others).
+    #[error("{url}: the document's stream {stream} was not made by Shapewright ({why}), so its history cannot be trusted; ask the server's operator to remove it")]
+    Foreign {
+        /// The address.
+        url: String,
+        /// The stream.
+        stream: String,
+        /// What is wrong with it.
+        why: String,
+    },
     /// The server refused this user: a wrong user or password, or no
     /// grant for this document (see [`crate::access`]).
     #[error("the server at {url} does not let you into this document: {why}")]
@@ -54,6 +87,9 @@ pub enum LinkError {
         /// What the server said.
         why: String,
     },
+    /// The participant id cannot be a subject token.
+    #[error("participant id `{0}` must be 1 to 64 bytes of A-Z a-z 0-9 _ - .")]
+    BadParticipant(String),
     /// The operating system refused the link's thread.
     #[error("could not start the network thread: {0}")]
     Thread(#[from] std::io::Error),
@@ -69,6 +105,10 @@ pub struct LinkOptions {
     pub connect_timeout: Duration,
     /// How long a request (append, stream lookup) may take.
     pub request_timeout: Duration,
+    /// User, password and CA certificate (none: an open server without
+    /// TLS). [`crate::join::join`] reads them from the environment when
+    /// unset.
+    pub credentials: Option<Credentials>,
 }
 
 impl Default for LinkOptions {
@@ -77,11 +117,12 @@ impl Default for LinkOptions {
             replicas: 1,
             connect_timeout: Duration::from_secs(5),
             request_timeout: Duration::from_secs(3),
+            credentials: None,
         }
     }
 }
 
-enum Cmd {
+pub(crate) enum Cmd {
     /// The link is dropped (presence channels may still hold senders).
     Stop,
     Publish(Publish),
@@ -90,18 +131,14 @@ enum Cmd {
         seq: u64,
         bytes: Vec<u8>,
     },
+    /// Replay the stream up to the snapshot's sequence and compare.
+    Check(Box<SnapshotCheck>),
 }
 
-/// How long the stream subscription may deliver nothing before the link
-/// asks the server whether it missed something.
-const STALL_CHECK: Duration = Duration::from_secs(1);
-
-/// The object holding the latest snapshot in the bucket.
-const SNAPSHOT_OBJECT: &str = "latest";
-
-enum Event {
+pub(crate) enum Event {
     Entry {
         seq: u64,
+        from: String,
         bytes: Vec<u8>,
     },
     Published {
@@ -114,6 +151,33 @@ enum Event {
     /// violation).
     Denied(String),
     Error(String),
+    /// The snapshot check's verdict.
+    Checked(Verdict),
+}
+
+/// Where a joiner's snapshot check stands ([`Link::check_snapshot`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SnapshotState {
+    /// No snapshot was loaded (the whole stream was replayed).
+    None,
+    /// The stream is being replayed in the background to check it.
+    Checking {
+        /// Who stored the snapshot.
+        writer: String,
+    },
+    /// It was the stream's replay, byte for byte.
+    Confirmed,
+    /// It was not: the document is now the stream's.
+    Replaced {
+        /// Who stored the snapshot.
+        writer: String,
+    },
+}
+
+struct Checking {
+    writer: String,
+    /// Entries applied since the snapshot, for the replay to catch up.
+    live: Vec<(u64, String, Vec<u8>)>,
 }
 
 /// What one [`Link::pump`] did.
@@ -168,6 +232,8 @@ pub struct Link {
     errors: Vec<String>,
     /// The server refused our appends: we may only view the document.
     view_only: bool,
+    checking: Option<Checking>,
+    snapshot: SnapshotState,
 }
 
 impl Link {
@@ -175,15 +241,19 @@ impl Link {
     /// document's stream if it is new, and starts receiving its entries
     /// after sequence `after` (0: from the start; a late joiner restored
     /// from a snapshot passes the snapshot's sequence). Fails with a clear
-    /// error when the server cannot be reached at all; once connected,
-    /// losing the server is not an error: the link reconnects by itself
-    /// and [`Link::is_online`] says so meanwhile.
+    /// error when the server cannot be reached at all, refuses the user
+    /// or the TLS check, or holds a stream Shapewright did not make this
+    /// way; once connected, losing the server is not an error: the link
+    /// reconnects by itself and [`Link::is_online`] says so meanwhile.
     pub fn connect(
         url: &SessionUrl,
         me: &str,
         after: u64,
         options: LinkOptions,
     ) -> Result<Self, LinkError> {
+        if url.log_subject(me).is_none() {
+            return Err(LinkError::BadParticipant(me.chars().take(80).collect()));
+        }
         let (cmd_tx, cmd_rx) = mpsc::unbounded_channel();
         let (ev_tx, ev_rx) = std_mpsc::channel();
         let (ready_tx, ready_rx) = std_mpsc::sync_channel(1);
@@ -194,6 +264,7 @@ impl Link {
             after,
             options: options.clone(),
             seen: Arc::clone(&seen),
+            nonce: nonce(),
         };
         let thread = std::thread::Builder::new()
             .name("shapewright-net".into())
@@ -241,7 +312,54 @@ impl Link {
             retry_at: None,
             errors: Vec::new(),
             view_only: false,
+            checking: None,
+            snapshot: SnapshotState::None,
         })
+    }
+
+    /// Checks the snapshot this link's log started from (`bytes`, stored
+    /// by `writer`, claiming the stream up to `seq`, which must be the
+    /// `after` this link connected with): the stream is replayed up to
+    /// `seq` on a thread of its own and compared; should the snapshot
+    /// differ, a later [`Self::pump`] switches the log to the stream's
+    /// document and tells its person (see
+    /// [`shapewright::doc::shared::SnapshotCheck`]).
+    pub fn check_snapshot(&mut self, seq: u64, bytes: Vec<u8>, writer: &str) {
+        let Some(tx) = &self.cmds else { return };
+        let check = Box::new(SnapshotCheck::new(seq, bytes));
+        if tx.send(Cmd::Check(check)).is_ok() {
+            self.checking = Some(Checking {
+                writer: writer.to_string(),
+                live: Vec::new(),
+            });
+            self.snapshot = SnapshotState::Checking {
+                writer: writer.to_string(),
+            };
+        }
+    }
+
+    /// Where the check of the snapshot this link's log started from
+    /// stands.
+    pub fn snapshot_state(&self) -> &SnapshotState {
+        &self.snapshot
+    }
+
+    fn settle(&mut self, log: &mut SharedLog, verdict: Verdict) {
+        let Some(c) = self.checking.take() else {
+            return;
+        };
+        let why = format!(
+            "the snapshot you joined from (stored by `{}`) is not what the session's stream holds: your document is now the stream's, and your edits since joining were applied to it again",
+            c.writer
+        );
+        self.snapshot = match verdict {
+            Verdict::Same => SnapshotState::Confirmed,
+            differs => {
+                differs.settle(log, &c.live, &why);
+                self.errors.push(why);
+                SnapshotState::Replaced { writer: c.writer }
+            }
+        };
     }
 
     /// The session's address.
@@ -333,12 +451,16 @@ impl Link {
         let mut done = Pumped::default();
         loop {
             match self.events.try_recv() {
-                Ok(Event::Entry { seq, bytes }) => {
-                    if let Some(key) = log.integrate(seq, &bytes) {
+                Ok(Event::Entry { seq, from, bytes }) => {
+                    if let Some(key) = log.integrate(seq, &from, &bytes) {
                         done.arrived.push(key);
                     }
                     done.entries += 1;
+                    if let Some(c) = &mut self.checking {
+                        c.live.push((seq, from, bytes));
+                    }
                 }
+                Ok(Event::Checked(verdict)) => self.settle(log, verdict),
                 Ok(Event::Published { n, result, error }) => {
                     log.published(n, result);
                     if result == Published::Conflict {
@@ -361,7 +483,8 @@ impl Link {
                     }
                 }
                 Ok(Event::Denied(why)) => {
-                    if why.contains(&self.url.log_subject()) {
+                    let mine = self.url.log_subject(&self.me).unwrap_or_default();
+                    if why.contains(&mine) {
                         self.view_only = true;
                         log.deny("the session's server lets you view this document, not edit it");
                     }
@@ -435,381 +558,4 @@ impl Drop for Link {
             let _ = t.join();
         }
     }
-}
-
-struct Task {
-    url: SessionUrl,
-    me: String,
-    after: u64,
-    options: LinkOptions,
-    seen: Arc<Mutex<BTreeMap<String, (Instant, Presence)>>>,
-}
-
-impl Task {
-    async fn run(
-        self,
-        mut cmds: mpsc::UnboundedReceiver<Cmd>,
-        events: std_mpsc::Sender<Event>,
-        ready: std_mpsc::SyncSender<Result<u64, LinkError>>,
-    ) {
-        let ev = events.clone();
-        // A permissions violation while connecting makes the connect's
-        // error a clear "not allowed".
-        let denied = std::sync::Arc::new(std::sync::Mutex::new(None::<String>));
-        let denied_cb = std::sync::Arc::clone(&denied);
-        let mut options = async_nats::ConnectOptions::new()
-            .connection_timeout(self.options.connect_timeout)
-            .request_timeout(Some(self.options.request_timeout))
-            .reconnect_delay_callback(|attempts| {
-                Duration::from_millis((100 * attempts as u64).min(1000))
-            })
-            .event_callback(move |e| {
-                let ev = ev.clone();
-                let denied = std::sync::Arc::clone(&denied_cb);
-                async move {
-                    let up = match e {
-                        async_nats::Event::Connected => true,
-                        async_nats::Event::Disconnected => false,
-                        async_nats::Event::ServerError(async_nats::ServerError::Other(m))
-                            if m.to_lowercase().contains("permissions violation") =>
-                        {
-                            if let Ok(mut d) = denied.lock() {
-                                d.get_or_insert_with(|| m.clone());
-                            }
-                            let _ = ev.send(Event::Denied(m));
-                            return;
-                        }
-                        _ => return,
-                    };
-                    let _ = ev.send(Event::Online(up));
-                }
-            });
-        if let Some((u, p)) = &self.url.user {
-            options = options.user_and_password(u.clone(), p.clone());
-        }
-        let unreachable = |why: String| LinkError::Unreachable {
-            url: self.url.to_string(),
-            why,
-        };
-        let client = match tokio::time::timeout(
-            self.options.connect_timeout,
-            options.connect(self.url.servers.clone()),
-        )
-        .await
-        {
-            Ok(Ok(c)) => c,
-            Ok(Err(e)) => return drop(ready.send(Err(connect_error(&self.url, e)))),
-            Err(_) => return drop(ready.send(Err(unreachable("timed out".into())))),
-        };
-        let js = jetstream::ContextBuilder::new()
-            .timeout(self.options.request_timeout)
-            .build(client.clone());
-        let config = stream::Config {
-            name: self.url.stream(),
-            subjects: vec![self.url.log_subject()],
-            storage: stream::StorageType::File,
-            num_replicas: self.options.replicas,
-            duplicate_window: Duration::from_secs(120),
-            max_message_size: (MAX_ENTRY_BYTES + 4096) as i32,
-            ..Default::default()
-        };
-        let name = config.name.clone();
-        // Two people opening a new document at once both try to make its
-        // stream: the loser's create fails, and the winner's is there.
-        let made = match js.get_or_create_stream(config).await {
-            Ok(s) => Ok(s),
-            Err(e) => js.get_stream(&name).await.map_err(|_| e),
-        };
-        let mut stream = match made {
-            Ok(s) => s,
-            Err(e) => {
-                let url = self.url.to_string();
-                let refused = denied.lock().ok().and_then(|d| d.clone());
-                return drop(ready.send(Err(match refused {
-                    Some(why) => LinkError::NotAllowed { url, why },
-                    None => LinkError::Stream {
-                        url,
-                        why: e.to_string(),
-                    },
-                })));
-            }
-        };
-        let presence = client
-            .subscribe(format!("sw.{}.presence.*", self.url.doc))
-            .await;
-        let last = match stream.info().await {
-            Ok(info) => info.state.last_sequence,
-            Err(_) => stream.cached_info().state.last_sequence,
-        };
-        let _ = ready.send(Ok(last));
-
-        let consume = tokio::spawn(consume(
-            stream,
-            self.url.log_subject(),
-            self.after,
-            events.clone(),
-        ));
-        let listen = presence.ok().map(|mut sub| {
-            let (seen, me) = (Arc::clone(&self.seen), self.me.clone());
-            tokio::spawn(async move {
-                while let Some(m) = sub.next().await {
-                    let who = m.subject.rsplit('.').next().unwrap_or_default();
-                    if who == me {
-                        continue;
-                    }
-                    // A message that cannot be drawn is dropped (the
-                    // sender's problem); the last good one stays.
-                    if let Ok(p) = Presence::decode(&m.payload) {
-                        let mut seen = seen.lock().unwrap_or_else(|e| e.into_inner());
-                        seen.insert(who.to_string(), (Instant::now(), p));
-                    }
-                }
-            })
-        });
-        let subject = self.url.log_subject();
-        let presence_subject = self.url.presence_subject(&self.me);
-        while let Some(cmd) = cmds.recv().await {
-            match cmd {
-                Cmd::Stop => break,
-                Cmd::Publish(p) => {
-                    tokio::spawn(append(js.clone(), subject.clone(), p, events.clone()));
-                }
-                Cmd::Presence(bytes) => {
-                    let _ = client.publish(presence_subject.clone(), bytes.into()).await;
-                }
-                Cmd::Snapshot { seq, bytes } => {
-                    let (js, bucket, events) =
-                        (js.clone(), self.url.snapshot_bucket(), events.clone());
-                    let replicas = self.options.replicas;
-                    tokio::spawn(async move {
-                        if let Err(e) = put_snapshot(&js, bucket, replicas, seq, bytes).await {
-                            let _ = events
-                                .send(Event::Error(format!("snapshot at {seq} not stored: {e}")));
-                        }
-                    });
-                }
-            }
-        }
-        consume.abort();
-        if let Some(l) = listen {
-            l.abort();
-        }
-        let _ = tokio::time::timeout(Duration::from_secs(1), client.flush()).await;
-    }
-}
-
-/// A failed connect as the host shows it: a refused user or password is
-/// "not allowed", anything else "unreachable".
-fn connect_error(url: &SessionUrl, e: async_nats::ConnectError) -> LinkError {
-    let url = url.to_string();
-    let why = e.to_string();
-    match e.kind() {
-        async_nats::ConnectErrorKind::AuthorizationViolation
-        | async_nats::ConnectErrorKind::Authentication => LinkError::NotAllowed { url, why },
-        _ => LinkError::Unreachable { url, why },
-    }
-}
-
-async fn snapshot_store(
-    js: &jetstream::Context,
-    bucket: String,
-    replicas: usize,
-) -> Result<jetstream::object_store::ObjectStore, String> {
-    match js.get_object_store(&bucket).await {
-        Ok(s) => Ok(s),
-        Err(_) => js
-            .create_object_store(jetstream::object_store::Config {
-                bucket,
-                storage: stream::StorageType::File,
-                num_replicas: replicas,
-                ..Default::default()
-            })
-            .await
-            .map_err(|e| e.to_string()),
-    }
-}
-
-async fn put_snapshot(
-    js: &jetstream::Context,
-    bucket: String,
-    replicas: usize,
-    seq: u64,
-    bytes: Vec<u8>,
-) -> Result<(), String> {
-    let store = snapshot_store(js, bucket, replicas).await?;
-    let meta = jetstream::object_store::ObjectMetadata {
-        name: SNAPSHOT_OBJECT.into(),
-        description: Some(format!("seq={seq}")),
-        ..Default::default()
-    };
-    store
-        .put(meta, &mut bytes.as_slice())
-        .await
-        .map(|_| ())
-        .map_err(|e| e.to_string())
-}
-
-/// The latest snapshot of the session at `url` (the sequence it covers
-/// and its bytes), or `None` when none was written yet. A late joiner
-/// loads it ([`shapewright::doc::shared::Replica::from_snapshot`]) and
-/// connects after its sequence instead of replaying the whole stream.
-pub fn fetch_snapshot(
-    url: &SessionUrl,
-    options: &LinkOptions,
-) -> Result<Option<(u64, Vec<u8>)>, LinkError> {
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()?;
-    rt.block_on(async {
-        let unreachable = |why: String| LinkError::Unreachable {
-            url: url.to_string(),
-            why,
-        };
-        let mut connect =
-            async_nats::ConnectOptions::new().connection_timeout(options.connect_timeout);
-        if let Some((u, p)) = &url.user {
-            connect = connect.user_and_password(u.clone(), p.clone());
-        }
-        let client = tokio::time::timeout(
-            options.connect_timeout,
-            connect.connect(url.servers.clone()),
-        )
-        .await
-        .map_err(|_| unreachable("timed out".into()))?
-        .map_err(|e| connect_error(url, e))?;
-        let js = jetstream::ContextBuilder::new()
-            .timeout(options.request_timeout)
-            .build(client);
-        let Ok(store) = js.get_object_store(url.snapshot_bucket()).await else {
-            return Ok(None);
-        };
-        let Ok(mut object) = store.get(SNAPSHOT_OBJECT).await else {
-            return Ok(None);
-        };
-        let seq = object
-            .info()
-            .description
-            .as_deref()
-            .and_then(|d| d.strip_prefix("seq="))
-            .and_then(|n| n.parse::<u64>().ok());
-        let mut bytes = Vec::new();
-        use tokio::io::AsyncReadExt;
-        if object.read_to_end(&mut bytes).await.is_err() {
-            return Ok(None);
-        }
-        Ok(seq.map(|s| (s, bytes)))
-    })
-}
-
-/// Delivers the stream's entries after `last`, in order, for as long as
-/// the host listens; re-subscribes from the last one delivered whenever
-/// the subscription breaks (server restart, lost connection).
-async fn consume(
-    mut stream: jetstream::stream::Stream,
-    subject: String,
-    mut last: u64,
-    events: std_mpsc::Sender<Event>,
-) {
-    loop {
-        let config = consumer::pull::OrderedConfig {
-            filter_subject: subject.clone(),
-            deliver_policy: if last == 0 {
-                consumer::DeliverPolicy::All
-            } else {
-                consumer::DeliverPolicy::ByStartSequence {
-                    start_sequence: last + 1,
-                }
-            },
-            ..Default::default()
-        };
-        let messages = match stream.create_consumer(config).await {
-            Ok(c) => c.messages().await.map_err(|e| e.to_string()),
-            Err(e) => Err(e.to_string()),
-        };
-        match messages {
-            Ok(mut messages) => loop {
-                let m = match tokio::time::timeout(STALL_CHECK, messages.next()).await {
-                    Ok(Some(m)) => m,
-                    Ok(None) => break,
-                    Err(_) => {
-                        // Quiet for a while: fine if the stream is too. An
-                        // ordered consumer whose server died in a cluster
-                        // can go quiet with no error while the stream
-                        // moves on (seen with nats-server 2.9.10).
-                        match stream.info().await {
-                            Ok(info) if info.state.last_sequence > last => {
-                                let msg = format!(
-                                    "stream subscription stalled at {last} of {}; resubscribing",
-                                    info.state.last_sequence
-                                );
-                                if events.send(Event::Error(msg)).is_err() {
-                                    return;
-                                }
-                                break;
-                            }
-                            _ => continue,
-                        }
-                    }
-                };
-                match m {
-                    Ok(m) => {
-                        let Ok(info) = m.info() else { continue };
-                        let seq = info.stream_sequence;
-                        if seq <= last {
-                            continue;
-                        }
-                        last = seq;
-                        let bytes = m.payload.to_vec();
-                        if events.send(Event::Entry { seq, bytes }).is_err() {
-                            return;
-                        }
-                    }
-                    Err(e) => {
-                        let msg = format!("stream subscription lost ({e}); resubscribing");
-                        if events.send(Event::Error(msg)).is_err() {
-                            return;
-                        }
-                        break;
-                    }
-                }
-            },
-            Err(e) => {
-                let msg = format!("cannot subscribe to the stream ({e}); retrying");
-                if events.send(Event::Error(msg)).is_err() {
-                    return;
-                }
-            }
-        }
-        tokio::time::sleep(Duration::from_millis(250)).await;
-    }
-}
-
-/// Appends one entry, conditionally, and reports how it ended.
-async fn append(
-    js: jetstream::Context,
-    subject: String,
-    p: Publish,
-    events: std_mpsc::Sender<Event>,
-) {
-    let msg = jetstream::message::PublishMessage::build()
-        .payload(p.bytes.into())
-        .message_id(&p.msg_id)
-        .expected_last_sequence(p.expected_last_seq);
-    let r = match js.send_publish(subject, msg).await {
-        Ok(ack) => ack.await,
-        Err(e) => Err(e),
-    };
-    let (result, error) = match r {
-        Ok(ack) => (Published::Stored(ack.sequence), None),
-        Err(e) if e.kind() == PublishErrorKind::WrongLastSequence => (Published::Conflict, None),
-        Err(e) => (
-            Published::Failed,
-            Some(format!("append of {} failed: {e}", p.msg_id)),
-        ),
-    };
-    let _ = events.send(Event::Published {
-        n: p.n,
-        result,
-        error,
-    });
 }

@@ -1,16 +1,78 @@
 //! Test support (feature `testkit`): a real `nats-server -js` on
 //! 127.0.0.1 with file storage in a temporary directory (Debian's
-//! package, installed by scripts/setup.sh), and a reader that replays a
-//! whole stream in one process.
+//! package, installed by scripts/setup.sh), always over TLS with
+//! certificates made by scripts/session_certs.sh (one team CA per test
+//! process), and a reader that replays a whole stream in one process.
 
 use std::net::{TcpListener, TcpStream};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use shapewright::doc::shared::{Replica, SharedLog};
 
-use crate::{Link, LinkOptions, SessionUrl};
+use crate::{Credentials, Link, LinkOptions, SessionUrl};
+
+/// This process's certificates (ca.pem, server.pem, server-key.pem), made
+/// once by scripts/session_certs.sh for 127.0.0.1 and localhost.
+pub fn certs() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = std::env::temp_dir().join(format!("sw-certs-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/session_certs.sh");
+        let out = Command::new("bash")
+            .arg(&script)
+            .arg(&dir)
+            .args(["127.0.0.1", "localhost"])
+            .output()
+            .expect("bash runs scripts/session_certs.sh");
+        assert!(
+            out.status.success(),
+            "scripts/session_certs.sh failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        dir
+    })
+}
+
+/// Link options that verify the test servers' TLS (no user).
+pub fn options() -> LinkOptions {
+    LinkOptions {
+        credentials: Some(Credentials {
+            ca: Some(certs().join("ca.pem")),
+            ..Default::default()
+        }),
+        ..Default::default()
+    }
+}
+
+/// A credentials file naming only the test CA (for a host process:
+/// `--credentials FILE` or [`crate::CREDENTIALS_ENV`]).
+pub fn credentials_file() -> PathBuf {
+    let path = certs().join("ca-only.credentials");
+    if !path.exists() {
+        let creds = Credentials {
+            ca: Some(certs().join("ca.pem")),
+            ..Default::default()
+        };
+        creds.write(&path).expect("the credentials file is written");
+    }
+    path
+}
+
+/// [`options`] as member `user` with `password`.
+pub fn member(user: &str, password: &str) -> LinkOptions {
+    LinkOptions {
+        credentials: Some(Credentials {
+            user: Some(user.into()),
+            password: Some(password.into()),
+            ca: Some(certs().join("ca.pem")),
+        }),
+        ..Default::default()
+    }
+}
 
 /// A free TCP port on 127.0.0.1.
 pub fn free_port() -> u16 {
@@ -52,6 +114,7 @@ impl Server {
         let dir = std::env::temp_dir().join(format!("sw-nats-{}-{port}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
+        let certs = certs();
         let mut args = vec![
             "-a".into(),
             "127.0.0.1".into(),
@@ -60,6 +123,11 @@ impl Server {
             "-js".into(),
             "--store_dir".into(),
             dir.to_string_lossy().into_owned(),
+            "--tls".into(),
+            "--tlscert".into(),
+            certs.join("server.pem").to_string_lossy().into_owned(),
+            "--tlskey".into(),
+            certs.join("server-key.pem").to_string_lossy().into_owned(),
         ];
         if let Some(text) = config {
             let path = dir.join("server.conf");
@@ -91,9 +159,9 @@ impl Server {
         wait_for_port(self.port);
     }
 
-    /// The address of document `doc` on it.
+    /// The address of document `doc` on it (TLS: join with [`options`]).
     pub fn url(&self, doc: &str) -> SessionUrl {
-        SessionUrl::parse(&format!("nats://127.0.0.1:{}/{doc}", self.port)).unwrap()
+        SessionUrl::parse(&format!("tls://127.0.0.1:{}/{doc}", self.port)).unwrap()
     }
 
     /// SIGKILL: no clean shutdown, as a crash or a power cut.
@@ -160,7 +228,7 @@ impl Cluster {
             .iter()
             .map(|s| format!("127.0.0.1:{}", s.port))
             .collect();
-        SessionUrl::parse(&format!("nats://{}/{doc}", servers.join(","))).expect("a valid url")
+        SessionUrl::parse(&format!("tls://{}/{doc}", servers.join(","))).expect("a valid url")
     }
 }
 
@@ -177,10 +245,15 @@ pub fn wait_for_port(port: u16) {
 }
 
 /// The whole stream replayed by one process (an observer that never
-/// publishes).
+/// publishes), with [`options`].
 pub fn read_stream(url: &SessionUrl) -> Replica {
+    read_stream_with(url, options())
+}
+
+/// [`read_stream`] with `options` (a member's credentials).
+pub fn read_stream_with(url: &SessionUrl, options: LinkOptions) -> Replica {
     let mut observer = SharedLog::new("observer", "observer", [0.5; 3]).unwrap();
-    let mut link = Link::connect(url, "observer", 0, LinkOptions::default()).unwrap();
+    let mut link = Link::connect(url, "observer", 0, options).unwrap();
     let last = link.last_seq_at_connect();
     let t = Instant::now();
     while observer.confirmed().last_seq() < last {

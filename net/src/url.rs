@@ -1,4 +1,10 @@
-//! `nats://[USER:PASS@]HOST:PORT/DOC`: where a shared session lives.
+//! `nats://HOST:PORT/DOC` or `tls://HOST:PORT/DOC`: where a shared
+//! session lives. Passwords never go in the address (it shows in `ps`,
+//! in shell history and in logs): they come from a credentials file
+//! ([`crate::Credentials`]); an address with `USER:PASSWORD@` is refused
+//! with a message saying so.
+
+use shapewright::doc::shared::subject_token;
 
 /// A session address: the server and the document's name on it.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -7,35 +13,42 @@ pub struct SessionUrl {
     pub servers: Vec<String>,
     /// The document: 1 to 64 bytes of `A-Z a-z 0-9 _ -`.
     pub doc: String,
-    /// NATS user and password, if the server asks for them.
-    pub user: Option<(String, String)>,
+    /// `tls://`: the connection must be TLS (it also is whenever the
+    /// credentials name a CA certificate).
+    pub tls: bool,
 }
 
 /// Why a session address was refused.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum UrlError {
     /// Not `nats://HOST:PORT/DOC`.
-    #[error("`{0}` is not a session address: expected nats://HOST:PORT/DOC (for example nats://127.0.0.1:4222/teapot)")]
+    #[error("`{0}` is not a session address: expected nats://HOST:PORT/DOC or tls://HOST:PORT/DOC (for example tls://192.168.1.20:4222/teapot)")]
     Shape(String),
     /// The document name has characters a stream name cannot.
     #[error("document name `{0}` must be 1 to 64 bytes of A-Z a-z 0-9 _ -")]
     Doc(String),
+    /// The address holds a user and password (the old form).
+    #[error("a session address no longer holds a password (it would show in `ps`, shell history and logs): use {0} and put the user and password in a credentials file (--credentials FILE or the environment variable SHAPEWRIGHT_SESSION_CREDENTIALS; `shapewright-xr session-access --invite` writes one)")]
+    Password(String),
 }
 
 impl SessionUrl {
-    /// Parses `nats://[USER:PASS@]HOST:PORT[,HOST:PORT...]/DOC`.
+    /// Parses `nats://HOST:PORT[,HOST:PORT...]/DOC` (or `tls://...`).
     pub fn parse(text: &str) -> Result<Self, UrlError> {
         let shape = || UrlError::Shape(text.chars().take(200).collect());
-        let rest = text.strip_prefix("nats://").ok_or_else(shape)?;
-        let (authority, doc) = rest.split_once('/').ok_or_else(shape)?;
-        let (user, hosts) = match authority.rsplit_once('@') {
-            Some((cred, hosts)) => {
-                let (u, p) = cred.split_once(':').ok_or_else(shape)?;
-                (Some((u.to_string(), p.to_string())), hosts)
-            }
-            None => (None, authority),
+        let (tls, rest) = match (text.strip_prefix("nats://"), text.strip_prefix("tls://")) {
+            (Some(rest), _) => (false, rest),
+            (_, Some(rest)) => (true, rest),
+            _ => return Err(shape()),
         };
-        let servers: Vec<String> = hosts.split(',').map(str::to_string).collect();
+        let (authority, doc) = rest.split_once('/').ok_or_else(shape)?;
+        if let Some((_, hosts)) = authority.rsplit_once('@') {
+            let scheme = if tls { "tls" } else { "nats" };
+            let doc: String = doc.chars().take(80).collect();
+            let hosts: String = hosts.chars().take(200).collect();
+            return Err(UrlError::Password(format!("{scheme}://{hosts}/{doc}")));
+        }
+        let servers: Vec<String> = authority.split(',').map(str::to_string).collect();
         for s in &servers {
             let (host, port) = s.rsplit_once(':').ok_or_else(shape)?;
             if host.is_empty() || port.parse::<u16>().is_err() {
@@ -53,8 +66,18 @@ impl SessionUrl {
         Ok(Self {
             servers,
             doc: doc.to_string(),
-            user,
+            tls,
         })
+    }
+
+    /// The servers as the NATS client takes them (`tls://` when TLS is
+    /// required).
+    pub fn server_urls(&self) -> Vec<String> {
+        let scheme = if self.tls { "tls" } else { "nats" };
+        self.servers
+            .iter()
+            .map(|s| format!("{scheme}://{s}"))
+            .collect()
     }
 
     /// The JetStream stream holding the document's entries.
@@ -62,14 +85,30 @@ impl SessionUrl {
         format!("SW_{}", self.doc)
     }
 
-    /// The subject entries are appended on.
-    pub fn log_subject(&self) -> String {
+    /// The subjects of the document's stream: one per person.
+    pub fn log_subjects(&self) -> String {
+        format!("sw.{}.log.>", self.doc)
+    }
+
+    /// The one subject of streams made before issue 35 (everyone on it).
+    pub fn old_log_subject(&self) -> String {
         format!("sw.{}.log", self.doc)
     }
 
+    /// The subject participant `who` appends on (the server lets only
+    /// them publish there). `None` when `who` is not a participant id.
+    pub fn log_subject(&self, who: &str) -> Option<String> {
+        subject_token(who).map(|t| format!("sw.{}.log.{t}", self.doc))
+    }
+
     /// The subject participant `who` sends presence on (not stored).
-    pub fn presence_subject(&self, who: &str) -> String {
-        format!("sw.{}.presence.{}", self.doc, who.replace('.', "_"))
+    pub fn presence_subject(&self, who: &str) -> Option<String> {
+        subject_token(who).map(|t| format!("sw.{}.presence.{t}", self.doc))
+    }
+
+    /// Everyone's presence.
+    pub fn presence_subjects(&self) -> String {
+        format!("sw.{}.presence.*", self.doc)
     }
 
     /// The object-store bucket holding snapshots.
@@ -80,7 +119,8 @@ impl SessionUrl {
 
 impl std::fmt::Display for SessionUrl {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "nats://{}/{}", self.servers.join(","), self.doc)
+        let scheme = if self.tls { "tls" } else { "nats" };
+        write!(f, "{scheme}://{}/{}", self.servers.join(","), self.doc)
     }
 }
 
@@ -94,9 +134,14 @@ mod tests {
         assert_eq!(u.servers, ["127.0.0.1:4222"]);
         assert_eq!(u.doc, "teapot");
         assert_eq!(u.stream(), "SW_teapot");
-        let u = SessionUrl::parse("nats://ana:pw@a:1,b:2/chair-2").unwrap();
+        assert!(!u.tls);
+        let u = SessionUrl::parse("tls://a:1,b:2/chair-2").unwrap();
         assert_eq!(u.servers, ["a:1", "b:2"]);
-        assert_eq!(u.user, Some(("ana".into(), "pw".into())));
+        assert_eq!(u.server_urls(), ["tls://a:1", "tls://b:2"]);
+        assert!(u.tls);
+        assert_eq!(u.to_string(), "tls://a:1,b:2/chair-2");
+        assert_eq!(u.log_subject("ana.b").unwrap(), "sw.chair-2.log.ana%2Eb");
+        assert_eq!(u.log_subject("a b"), None);
         for bad in [
             "http://a:1/x",
             "nats://a/x",
@@ -114,5 +159,14 @@ mod tests {
                 "{bad}"
             );
         }
+        // The old form is refused, and the message does not repeat the
+        // password.
+        let e = SessionUrl::parse("nats://ana:s3cret@a:1/x").unwrap_err();
+        let text = e.to_string();
+        assert!(matches!(e, UrlError::Password(_)), "{text}");
+        assert!(
+            !text.contains("s3cret") && text.contains("use nats://a:1/x"),
+            "{text}"
+        );
     }
 }

@@ -15,7 +15,7 @@ use shapewright::doc::shared::{
 };
 use shapewright::doc::ObjectId;
 use shapewright_net::access::{server_config, Member};
-use shapewright_net::{Link, LinkError, LinkOptions, SessionUrl};
+use shapewright_net::{Link, LinkError, LinkOptions, SnapshotState};
 
 /// A tiny deterministic generator (the tests' randomness).
 struct Rng(u64);
@@ -147,7 +147,7 @@ fn a_participant_cut_off_for_ten_seconds_keeps_editing_and_rebases() {
     let url = server.url("cutoff");
     let relay = Relay::new(server.port);
     let via_relay =
-        shapewright_net::SessionUrl::parse(&format!("nats://127.0.0.1:{}/cutoff", relay.port))
+        shapewright_net::SessionUrl::parse(&format!("tls://127.0.0.1:{}/cutoff", relay.port))
             .unwrap();
     let mut a = Person::join(&url, "a");
     let mut b = Person::join(&via_relay, "b");
@@ -214,6 +214,7 @@ fn duplicate_publishes_land_once() {
     // The same append three times (a retry after a lost ack): one lands.
     let r = inject(
         &url,
+        "a",
         &[
             (Some(&id), bytes.clone()),
             (Some(&id), bytes.clone()),
@@ -308,7 +309,7 @@ fn hostile_messages_are_skipped_identically_by_every_replica() {
             ),
         ),
     ];
-    let r = inject(&url, &msgs);
+    let r = inject(&url, "b", &msgs);
     assert!(r.iter().all(Result::is_ok), "{r:?}");
     settle(&mut [&mut a, &mut b], Duration::from_secs(30));
     for p in [&a, &b] {
@@ -345,7 +346,7 @@ fn an_unreachable_server_is_a_clear_error() {
             .unwrap();
     let opts = shapewright_net::LinkOptions {
         connect_timeout: Duration::from_millis(500),
-        ..Default::default()
+        ..options()
     };
     let e = shapewright_net::Link::connect(&url, "a", 0, opts)
         .err()
@@ -379,9 +380,10 @@ fn a_late_joiner_loads_the_latest_snapshot_and_replays_only_the_tail() {
     }
     settle(&mut [&mut a, &mut b], Duration::from_secs(60));
     let last = last_sequence(&url);
-    let (seq, bytes) = shapewright_net::fetch_snapshot(&url, &LinkOptions::default())
+    let stored = shapewright_net::fetch_snapshot(&url, &options())
         .unwrap()
         .expect("a snapshot was written");
+    let (seq, bytes) = (stored.seq, stored.bytes);
     // The latest boundary's writer snapshots what it has applied when it
     // sees its entry past the boundary (entries arrive in batches, so a
     // few more may be in): at or after the boundary, before the next.
@@ -392,12 +394,29 @@ fn a_late_joiner_loads_the_latest_snapshot_and_replays_only_the_tail() {
     );
     let replica = Replica::from_snapshot(&bytes).unwrap();
     assert_eq!(replica.last_seq(), seq);
-    // The joiner starts from it and reads only the tail.
+    assert!(
+        ["a", "b"].contains(&stored.writer.as_str()),
+        "{}",
+        stored.writer
+    );
+    // The joiner starts from it, reads only the tail, and checks it
+    // against the stream in the background: an honest snapshot is the
+    // stream's replay byte for byte.
     let mut c = Person {
         log: SharedLog::resume("c", "Person c", [0.1, 0.8, 0.3], replica, 1).unwrap(),
-        link: Link::connect(&url, "c", seq, LinkOptions::default()).unwrap(),
+        link: Link::connect(&url, "c", seq, options()).unwrap(),
     };
+    c.link.check_snapshot(seq, bytes.clone(), &stored.writer);
     settle(&mut [&mut a, &mut b, &mut c], Duration::from_secs(30));
+    let t = Instant::now();
+    while matches!(c.link.snapshot_state(), SnapshotState::Checking { .. }) {
+        settle(&mut [&mut a, &mut b, &mut c], Duration::from_secs(30));
+        assert!(
+            t.elapsed() < Duration::from_secs(30),
+            "the check did not end"
+        );
+    }
+    assert_eq!(c.link.snapshot_state(), &SnapshotState::Confirmed);
     assert!(c.log.confirmed().op_count() > 0);
     check_converged(&url, &[&a, &b, &c]);
     // Undo of ops made before the snapshot works for everyone, the joiner
@@ -423,7 +442,7 @@ fn a_three_node_cluster_keeps_an_r3_stream_through_a_node_loss() {
     let url = cluster.url("cluster");
     let options = LinkOptions {
         replicas: 3,
-        ..Default::default()
+        ..options()
     };
     // The cluster elects its JetStream leader in a few seconds; until then
     // the stream cannot be made.
@@ -506,17 +525,16 @@ fn people_opening_a_new_document_at_the_same_moment_all_get_in() {
 fn a_viewer_reads_but_its_edits_are_refused_and_change_nothing() {
     let members =
         Member::parse_list("ana pa doc:editor\nvic pv doc:viewer\neve pe other:editor\n").unwrap();
-    let server = Server::with_config(&server_config(&members));
-    let url = |cred: &str| {
-        SessionUrl::parse(&format!("nats://{cred}@127.0.0.1:{}/doc", server.port)).unwrap()
-    };
-    let mut ana = Person::join(&url("ana:pa"), "ana");
+    let server = Server::with_config(&server_config(&members).unwrap());
+    let url = server.url("doc");
+    let (as_ana, as_vic) = (member("ana", "pa"), member("vic", "pv"));
+    let mut ana = Person::join_with(&url, "ana", as_ana.clone());
     settle(&mut [&mut ana], Duration::from_secs(30));
     let a = ana.log.apply(sphere(0.0)).unwrap().created.unwrap();
     settle(&mut [&mut ana], Duration::from_secs(30));
 
     // Vic may only view: the server refuses his join, and his log knows.
-    let mut vic = Person::join(&url("vic:pv"), "vic");
+    let mut vic = Person::join_with(&url, "vic", as_vic.clone());
     let t = Instant::now();
     while !vic.link.is_view_only() {
         vic.pump();
@@ -542,32 +560,32 @@ fn a_viewer_reads_but_its_edits_are_refused_and_change_nothing() {
 
     // A raw publish with his password, past our client: refused, and the
     // stream does not change.
-    let before = last_sequence(&url("ana:pa"));
+    let before = last_sequence_with(&url, &as_ana);
     let raw = block_on(async {
-        let client = raw_client(&url("vic:pv")).await.unwrap();
+        let client = raw_client_with(&url, &as_vic).await.unwrap();
         let js = async_nats::jetstream::ContextBuilder::new()
             .timeout(Duration::from_secs(1))
             .build(client);
-        match js.publish("sw.doc.log", b"{}".to_vec().into()).await {
+        match js.publish("sw.doc.log.vic", b"{}".to_vec().into()).await {
             Ok(ack) => ack.await.map(|a| a.sequence).map_err(|e| e.to_string()),
             Err(e) => Err(e.to_string()),
         }
     });
     assert!(raw.is_err(), "a viewer's raw publish was stored at {raw:?}");
-    assert_eq!(last_sequence(&url("ana:pa")), before);
-    let hash = check_converged(&url("ana:pa"), &[&ana, &vic]);
-    let solo = read_stream(&url("ana:pa"));
+    assert_eq!(last_sequence_with(&url, &as_ana), before);
+    let hash = check_converged_with(&url, as_ana.clone(), &[&ana, &vic]);
+    let solo = read_stream_with(&url, as_ana);
     let authors: Vec<&str> = solo.participants().iter().map(|p| p.id.as_str()).collect();
     assert_eq!(authors, ["ana"]);
     eprintln!("viewer: refused in {:?}, document {hash:016x}", t.elapsed());
 
     // Eve has no grant for this document, and a wrong password is no
     // better: both are told they are not allowed in.
-    for cred in ["eve:pe", "ana:wrong"] {
-        match Link::connect(&url(cred), "eve", 0, LinkOptions::default()) {
-            Err(LinkError::NotAllowed { why, .. }) => eprintln!("{cred}: {why}"),
-            Err(e) => panic!("{cred}: {e}"),
-            Ok(_) => panic!("{cred} got in"),
+    for (user, password) in [("eve", "pe"), ("ana", "wrong")] {
+        match Link::connect(&url, user, 0, member(user, password)) {
+            Err(LinkError::NotAllowed { why, .. }) => eprintln!("{user}: {why}"),
+            Err(e) => panic!("{user}: {e}"),
+            Ok(_) => panic!("{user} got in"),
         }
     }
 }
@@ -577,8 +595,8 @@ fn presence_reaches_the_others_and_bad_presence_is_dropped() {
     use shapewright::doc::shared::{Presence, PresencePose};
     let server = Server::start();
     let url = server.url("presence");
-    let a = Link::connect(&url, "ana", 0, LinkOptions::default()).unwrap();
-    let b = Link::connect(&url, "ben", 0, LinkOptions::default()).unwrap();
+    let a = Link::connect(&url, "ana", 0, options()).unwrap();
+    let b = Link::connect(&url, "ben", 0, options()).unwrap();
     let (pa, pb) = (a.presence(), b.presence());
     let good = Presence {
         head: Some(PresencePose {
@@ -607,7 +625,7 @@ fn presence_reaches_the_others_and_bad_presence_is_dropped() {
     assert!(pa.others(Duration::from_secs(2)).is_empty());
     // A NaN pose, a message from the future and garbage are dropped; the
     // last good presence stays. Then a good one replaces it.
-    let subject = url.presence_subject("ana");
+    let subject = url.presence_subject("ana").unwrap();
     block_on(async {
         let client = raw_client(&url).await.unwrap();
         for bad in [

@@ -339,7 +339,7 @@ def session_rows(ex: Path, quick: bool) -> list[dict]:
                 [p99, lo, hi],
                 r["people"],
                 goal="< 11.1 ms",
-                note=f"nats-server 2.9 on loopback, one thread per person; p99 median (min-max) over {r['reps']} runs of "
+                note=f"nats-server 2.9 on loopback over TLS (team CA, per-person subjects), one thread per person; p99 median (min-max) over {r['reps']} runs of "
                 f"{r['secs']:g} s, {r['samples']} round trips; p50 {r['p50_ms']:.2f} ms, max {r['max_ms']:.1f} ms; "
                 f"the same op applied alone (single user): p50 {apply['p50_ms'] * 1000:.0f} us",
                 lb=lb,
@@ -356,7 +356,8 @@ def session_rows(ex: Path, quick: bool) -> list[dict]:
             peer="replaying the whole stream",
             peer_value=[j["replay_ms"], *j["replay_spread"]],
             peer_threads=1,
-            note=f"{j['reps']} joins each (median, min-max); both end bit-identical to the writer",
+            note=f"{j['reps']} joins each (median, min-max), over TLS; both end bit-identical to the writer; "
+            f"the background check of the snapshot against the stream ends {j['checked_ms']:.0f} ms after the join starts",
             lb=lb,
             la=la,
         )

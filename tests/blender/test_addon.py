@@ -54,15 +54,23 @@ def test_scenario(scenario: str, run_scenario: Callable[..., str]) -> None:
 
 def test_shared_session_with_a_headset(run_scenario: Callable[..., str], tmp_path: Path) -> None:
     """Issue 23: a headset host and Blender, both headless, in one session
-    on a real nats-server (installed by scripts/setup.sh)."""
+    on a real nats-server (installed by scripts/setup.sh), over TLS with a
+    team CA from scripts/session_certs.sh (issue 35): both verify the
+    server with the CA their credentials file names."""
     host = ROOT / "target" / "release" / "shapewright-xr"
     if not host.exists():
         subprocess.run(["cargo", "build", "--release", "-q", "-p", "shapewright-xr"], cwd=ROOT, check=True)
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))
         port = sock.getsockname()[1]
+    certs = tmp_path / "certs"
+    subprocess.run(["bash", str(ROOT / "scripts" / "session_certs.sh"), str(certs), "127.0.0.1"], check=True)
+    credentials = tmp_path / "team.credentials"
+    credentials.write_text(f"ca = {certs / 'ca.pem'}\n")
+    tls = ["--tls", "--tlscert", str(certs / "server.pem"), "--tlskey", str(certs / "server-key.pem")]
+    js = ["-js", "--store_dir", str(tmp_path / "nats")]
     server = subprocess.Popen(
-        ["nats-server", "-js", "-a", "127.0.0.1", "-p", str(port), "--store_dir", str(tmp_path / "nats")],
+        ["nats-server", "-a", "127.0.0.1", "-p", str(port), *js, *tls],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
     )
@@ -73,7 +81,8 @@ def test_shared_session_with_a_headset(run_scenario: Callable[..., str], tmp_pat
             time.sleep(0.05)
         out = run_scenario(
             "shared_session",
-            SHAPEWRIGHT_JOIN_URL=f"nats://127.0.0.1:{port}/blender_and_headset",
+            SHAPEWRIGHT_JOIN_URL=f"tls://127.0.0.1:{port}/blender_and_headset",
+            SHAPEWRIGHT_SESSION_CREDENTIALS=str(credentials),
             SHAPEWRIGHT_HOST_BIN=str(host),
             SHAPEWRIGHT_TRACE=str(ROOT / "tests" / "data" / "primitives_session.trace.jsonl"),
         )

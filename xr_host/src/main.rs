@@ -83,12 +83,10 @@ enum Command {
         json: bool,
     },
     /// Print the nats-server configuration that lets each member of a
-    /// member list (lines `USER PASSWORD DOC:editor|viewer ...`) do exactly
-    /// that in shared sessions (scripts/nats.sh --users FILE uses it).
-    SessionAccess {
-        /// The member list.
-        users: PathBuf,
-    },
+    /// member list (lines `USER PASSWORD-HASH DOC:editor|viewer ...`) do
+    /// exactly that in shared sessions (scripts/nats.sh --users FILE uses
+    /// it); --hash hashes the list's passwords, --invite adds a member.
+    SessionAccess(join::AccessArgs),
     /// Render a mesh file (.stl, .3mf, .obj, .ply) to a PNG with the host's Vulkan renderer.
     Render {
         /// The mesh file.
@@ -174,7 +172,7 @@ fn main() -> ExitCode {
             width,
             height,
         } => render_cmd::render(&file, &png, width, height),
-        Command::SessionAccess { users } => join::access_config(&users).map(|c| print!("{c}")),
+        Command::SessionAccess(args) => join::session_access(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -7,7 +7,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use shapewright_net::testkit::{read_stream, Server};
+use shapewright_net::testkit::{credentials_file, options, read_stream, Server};
 
 fn content_line(out: &str) -> String {
     out.lines()
@@ -27,6 +27,8 @@ fn two_recorded_sessions_played_at_once_build_one_model() {
             .arg("replay")
             .arg(data.join(trace))
             .args(["--join", &url.to_string(), "--me", me, "--quiet-secs", "1"])
+            .arg("--credentials")
+            .arg(credentials_file())
             .output()
             .expect("shapewright-xr runs")
     };
@@ -79,7 +81,7 @@ fn two_recorded_sessions_played_at_once_build_one_model() {
 fn each_person_sees_the_others_as_avatars() {
     use shapewright::doc::shared::{id_range, Presence, PresencePose, SharedLog};
     use shapewright::interact::Trace;
-    use shapewright_net::{Link, LinkOptions};
+    use shapewright_net::Link;
     use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
     use std::time::Duration;
 
@@ -107,7 +109,7 @@ fn each_person_sees_the_others_as_avatars() {
         ..Presence::empty()
     };
     let mut ana = SharedLog::new("ana", "Ana", [0.95, 0.35, 0.55]).unwrap();
-    let mut link = Link::connect(&url, "ana", 0, LinkOptions::default()).unwrap();
+    let mut link = Link::connect(&url, "ana", 0, options()).unwrap();
     let t = std::time::Instant::now();
     while !ana.is_joined() {
         link.pump(&mut ana);
@@ -139,6 +141,8 @@ fn each_person_sees_the_others_as_avatars() {
             .arg("replay")
             .arg(&trace_path)
             .args(["--join", &url.to_string(), "--me", "ben", "--name", "Ben"])
+            .arg("--credentials")
+            .arg(credentials_file())
             .args(["--quiet-secs", "0.5", "--view-at", "43.5"])
             .arg("--view-png")
             .arg(&png)

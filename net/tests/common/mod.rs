@@ -2,7 +2,7 @@
 //! scripts/setup.sh), participants driven through real links, and a TCP
 //! relay that can cut one participant off.
 
-#![allow(dead_code)]
+#![allow(dead_code, unused_imports)]
 
 use std::io::{Read, Write};
 use std::net::{Shutdown, TcpListener, TcpStream};
@@ -12,7 +12,9 @@ use std::time::{Duration, Instant};
 
 use shapewright::doc::shared::SharedLog;
 use shapewright::doc::{ObjectId, Op};
-pub use shapewright_net::testkit::{free_port, read_stream, Cluster, Server};
+pub use shapewright_net::testkit::{
+    free_port, member, options, read_stream, read_stream_with, Cluster, Server,
+};
 use shapewright_net::{Link, LinkOptions, SessionUrl};
 
 /// One participant: a shared log and its link.
@@ -23,7 +25,7 @@ pub struct Person {
 
 impl Person {
     pub fn join(url: &SessionUrl, me: &str) -> Self {
-        Self::join_with(url, me, LinkOptions::default())
+        Self::join_with(url, me, options())
     }
 
     pub fn join_with(url: &SessionUrl, me: &str, options: LinkOptions) -> Self {
@@ -80,7 +82,12 @@ pub fn settle(people: &mut [&mut Person], limit: Duration) {
 /// Every replica has the same document, equal to one replay of the whole
 /// stream by a fresh reader; returns its hash.
 pub fn check_converged(url: &SessionUrl, people: &[&Person]) -> u64 {
-    let solo = read_stream(url);
+    check_converged_with(url, options(), people)
+}
+
+/// [`check_converged`], the reader with `options` (a member's).
+pub fn check_converged_with(url: &SessionUrl, options: LinkOptions, people: &[&Person]) -> u64 {
+    let solo = read_stream_with(url, options);
     let want = solo.document().content_hash();
     for p in people {
         assert_eq!(p.log.document().content_hash(), want, "{}", p.log.me());
@@ -104,28 +111,54 @@ pub fn block_on<F: std::future::Future>(f: F) -> F::Output {
         .block_on(f)
 }
 
-/// A plain NATS client for `url`, with its user and password if any.
-pub async fn raw_client(url: &SessionUrl) -> Result<async_nats::Client, async_nats::ConnectError> {
-    let mut options = async_nats::ConnectOptions::new();
-    if let Some((u, p)) = &url.user {
-        options = options.user_and_password(u.clone(), p.clone());
+/// A plain NATS client for `url` with `options`' credentials (TLS
+/// verified, the user's own inbox prefix): what a dishonest member could
+/// write with their own password.
+pub async fn raw_client_with(
+    url: &SessionUrl,
+    options: &LinkOptions,
+) -> Result<async_nats::Client, async_nats::ConnectError> {
+    let creds = options.credentials.clone().unwrap_or_default();
+    let mut c = async_nats::ConnectOptions::new().require_tls(true);
+    if let Some(ca) = &creds.ca {
+        c = c.add_root_certificates(ca.clone());
     }
-    options.connect(url.servers.clone()).await
+    if let (Some(u), Some(p)) = (&creds.user, &creds.password) {
+        c = c
+            .user_and_password(u.clone(), p.clone())
+            .custom_inbox_prefix(shapewright_net::access::inbox_prefix(u));
+    }
+    c.connect(url.server_urls()).await
+}
+
+/// [`raw_client_with`] the test CA and no user.
+pub async fn raw_client(url: &SessionUrl) -> Result<async_nats::Client, async_nats::ConnectError> {
+    raw_client_with(url, &options()).await
 }
 
 /// The stream's last sequence, asked of the server.
 pub fn last_sequence(url: &SessionUrl) -> u64 {
+    last_sequence_with(url, &options())
+}
+
+/// [`last_sequence`] with a member's options.
+pub fn last_sequence_with(url: &SessionUrl, options: &LinkOptions) -> u64 {
     block_on(async {
-        let client = raw_client(url).await.unwrap();
+        let client = raw_client_with(url, options).await.unwrap();
         let js = async_nats::jetstream::new(client);
         let mut s = js.get_stream(url.stream()).await.unwrap();
         s.info().await.unwrap().state.last_sequence
     })
 }
 
-/// Raw messages appended without any check (a hostile or broken client),
-/// with optional message ids.
-pub fn inject(url: &SessionUrl, msgs: &[(Option<&str>, Vec<u8>)]) -> Vec<Result<u64, String>> {
+/// Raw messages appended on `from`'s subject without any check (a
+/// hostile or broken client), with optional message ids.
+pub fn inject(
+    url: &SessionUrl,
+    from: &str,
+    msgs: &[(Option<&str>, Vec<u8>)],
+) -> Vec<Result<u64, String>> {
+    let subject = url.log_subject(from).unwrap();
     block_on(async {
         let client = raw_client(url).await.unwrap();
         let js = async_nats::jetstream::new(client);
@@ -136,7 +169,7 @@ pub fn inject(url: &SessionUrl, msgs: &[(Option<&str>, Vec<u8>)]) -> Vec<Result<
             if let Some(id) = id {
                 m = m.message_id(id);
             }
-            let r = match js.send_publish(url.log_subject(), m).await {
+            let r = match js.send_publish(subject.clone(), m).await {
                 Ok(ack) => ack.await.map(|a| a.sequence).map_err(|e| e.to_string()),
                 Err(e) => Err(e.to_string()),
             };

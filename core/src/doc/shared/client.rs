@@ -371,12 +371,13 @@ impl SharedLog {
         Ok(outcome)
     }
 
-    /// Applies the stream's message at `seq` (in stream order): our own
-    /// entry coming back confirms it; anyone else's rebases our pending
-    /// entries onto it.
+    /// Applies the stream's message at `seq` (in stream order), sent on
+    /// the subject whose last token is `from` (see
+    /// [`Replica::integrate`]): our own entry coming back confirms it;
+    /// anyone else's rebases our pending entries onto it.
     /// Returns the entry's author and counter when it decoded.
-    pub fn integrate(&mut self, seq: u64, bytes: &[u8]) -> Option<(String, u64)> {
-        let r = self.confirmed.integrate(seq, bytes);
+    pub fn integrate(&mut self, seq: u64, from: &str, bytes: &[u8]) -> Option<(String, u64)> {
+        let r = self.confirmed.integrate(seq, from, bytes);
         if r.redelivery {
             return None;
         }
@@ -423,6 +424,34 @@ impl SharedLog {
         }
         self.rebase();
         key
+    }
+
+    /// Replaces the confirmed replica with `truth`, the stream's own
+    /// replay up to the same sequence (a joiner's snapshot turned out to
+    /// differ from it, see [`super::SnapshotCheck`]): the pending entries
+    /// are re-applied on it, counters and the id range move past anything
+    /// of ours it holds, and this participant is told `why`. Refused
+    /// (returns false, nothing changes) when `truth` is not at the
+    /// confirmed replica's sequence.
+    pub fn adopt(&mut self, truth: Replica, why: &str) -> bool {
+        if truth.last_seq() != self.confirmed.last_seq() {
+            return false;
+        }
+        self.confirmed = truth;
+        if let Some(p) = self.confirmed.participant(&self.me) {
+            self.next_n = self.next_n.max(p.last_n + 1);
+        }
+        self.notices.push(Notice {
+            author: self.me.clone(),
+            n: 0,
+            kind: NoticeKind::Replaced,
+            message: why.to_string(),
+        });
+        // Pending creations made in a range the snapshot gave us but the
+        // stream does not are refused here; the next id is the stream's.
+        self.rebase();
+        self.next_id = self.view().next_free_id(&self.me);
+        true
     }
 
     /// Re-applies the pending entries on the confirmed replica; those that

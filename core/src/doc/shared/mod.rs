@@ -51,15 +51,31 @@
 //!   others' ops do not.
 //! - An entry is refused (skipped with a logged reason, identically
 //!   everywhere) when it is not valid JSON, larger than [`MAX_ENTRY_BYTES`],
-//!   from someone who has not joined, a duplicate of one already applied,
-//!   reserves ids outside its author's range, or undoes what is not its
-//!   author's to undo.
+//!   sent on another person's subject than its author's, from someone who
+//!   has not joined, a duplicate of one already applied, reserves ids
+//!   outside its author's range, or undoes what is not its author's to
+//!   undo.
+//!
+//! **Authorship is the sender's.** Each person appends on a subject of
+//! their own (`sw.DOC.log.<token>`, [`subject_token`]), which the server
+//! lets only that person publish on (issue 35); the transport hands each
+//! message to [`Replica::integrate`] with the token of the subject it came
+//! on, and an entry whose `author` is not that subject's person is refused
+//! by every replica, with a notice to both the sender and the person it
+//! claimed to be. So nobody can join, edit, undo or redo as someone else.
+//!
+//! **Snapshots are checked, not trusted** ([`SnapshotCheck`]): a joiner
+//! that starts from a snapshot replays the stream up to the snapshot's
+//! sequence in the background and, when the two differ, switches to the
+//! stream's document ([`SharedLog::adopt`]), telling the person whose
+//! snapshot it was.
 
 mod client;
 mod presence;
 mod replica;
 #[cfg(test)]
 mod tests;
+mod verify;
 
 pub use client::{Publish, Published, SharedError, SharedLog, DEFAULT_SNAPSHOT_EVERY};
 pub use presence::{
@@ -69,6 +85,7 @@ pub use presence::{
 pub use replica::{
     EntryError, Integrated, Notice, NoticeKind, Participant, Replica, Skipped, SNAPSHOT_FORMAT,
 };
+pub use verify::{SnapshotCheck, Verdict};
 
 use serde::{Deserialize, Serialize};
 
@@ -186,6 +203,20 @@ pub fn valid_author(id: &str) -> bool {
         && id
             .bytes()
             .all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-' || b == b'.')
+}
+
+/// Participant `id` as one token of a NATS subject (the last of
+/// `sw.DOC.log.<token>` and `sw.DOC.presence.<token>`): a `.` would split
+/// the subject, so it becomes `%2E`; ids never hold `%`, so two ids never
+/// share a token. `None` when `id` is not a valid participant id.
+pub fn subject_token(id: &str) -> Option<String> {
+    valid_author(id).then(|| id.replace('.', "%2E"))
+}
+
+/// The participant id whose [`subject_token`] is `token`, if any.
+pub fn id_from_token(token: &str) -> Option<String> {
+    let id = token.replace("%2E", ".");
+    (subject_token(&id).as_deref() == Some(token)).then_some(id)
 }
 
 /// Applies `op` to `doc` taking ids from `ids_from` (if any); every id it

@@ -8,9 +8,13 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::MAX_PARTICIPANTS;
-use super::{apply_op, id_range, valid_author, Body, Entry, ENTRY_VERSION, MAX_ENTRY_BYTES};
+use super::{apply_op, id_from_token, id_range, subject_token, valid_author};
+use super::{Body, Entry, ENTRY_VERSION, MAX_ENTRY_BYTES};
 use crate::doc::log::thinned;
 use crate::doc::{CheckpointPolicy, Document, Op, OpError, OpLog, OpOutcome, ReserveIds};
+
+mod snapshot;
+pub use snapshot::SNAPSHOT_FORMAT;
 
 /// Someone in the session.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -36,6 +40,9 @@ pub enum NoticeKind {
     Skipped,
     /// A skipped op of theirs applies again (that op was redone).
     Restored,
+    /// The snapshot they joined from differed from the stream's replay:
+    /// their document is now the stream's (see [`super::SnapshotCheck`]).
+    Replaced,
 }
 
 /// A message for one author about one of their entries.
@@ -237,13 +244,16 @@ impl Replica {
         Some(used.max(taken).max(first))
     }
 
-    /// Applies the stream message `bytes` at sequence `seq`. A message at
-    /// or before the last sequence applied is ignored (a redelivery). A
-    /// message that cannot apply is skipped, recorded in
-    /// [`Self::skipped`], and its author (when known) gets a notice.
+    /// Applies the stream message `bytes` at sequence `seq`, which came on
+    /// the subject of the person whose [`super::subject_token`] is `from`
+    /// (the subject's last token). A message at or before the last
+    /// sequence applied is ignored (a redelivery). A message that cannot
+    /// apply is skipped, recorded in [`Self::skipped`], and its author
+    /// (when known) gets a notice; an entry claiming an author other than
+    /// the subject's person is refused, and both are told.
     /// Returns the entry's author and counter when it decoded, and the
     /// op's outcome or the reason it was refused.
-    pub fn integrate(&mut self, seq: u64, bytes: &[u8]) -> Integrated {
+    pub fn integrate(&mut self, seq: u64, from: &str, bytes: &[u8]) -> Integrated {
         if seq <= self.last_seq {
             return Integrated {
                 key: None,
@@ -258,6 +268,9 @@ impl Replica {
         let decoded = decode(bytes);
         let (key, result) = match decoded {
             Err(reason) => (None, Err(EntryError::Refused(reason))),
+            Ok(entry) if subject_token(&entry.author).as_deref() != Some(from) => {
+                (None, Err(self.impostor(&entry, from)))
+            }
             Ok(entry) => {
                 let key = Some((entry.author.clone(), entry.n));
                 (key, self.apply_entry(&entry))
@@ -274,6 +287,35 @@ impl Replica {
             result,
             redelivery: false,
         }
+    }
+
+    /// Moves the last applied sequence up to `seq` when the stream holds
+    /// no messages between (nothing applies).
+    pub(super) fn skip_to(&mut self, seq: u64) {
+        self.last_seq = self.last_seq.max(seq);
+    }
+
+    /// Refuses `e`, sent on the subject of `from` but claiming another
+    /// author: the sender and the person it claimed to be (when they are
+    /// in the session) are told.
+    fn impostor(&mut self, e: &Entry, from: &str) -> EntryError {
+        let sender = id_from_token(from);
+        let why = format!(
+            "an entry claiming to be `{}`'s was sent on the subject of `{}`: only its author may send it",
+            e.author.chars().take(80).collect::<String>(),
+            sender.as_deref().unwrap_or(from).chars().take(80).collect::<String>(),
+        );
+        for who in [sender, Some(e.author.clone())].into_iter().flatten() {
+            if self.by_id.contains_key(&who) {
+                self.notices.push(Notice {
+                    author: who,
+                    n: e.n,
+                    kind: NoticeKind::Refused,
+                    message: why.clone(),
+                });
+            }
+        }
+        EntryError::Refused(why)
     }
 
     /// Applies one decoded entry (the stream's next). On error nothing but
@@ -591,129 +633,6 @@ pub enum EntryError {
     /// The entry itself was refused (see the module doc's list).
     #[error("{0}")]
     Refused(String),
-}
-
-/// The format name of a replica snapshot.
-pub const SNAPSHOT_FORMAT: &str = "shapewright-replica";
-
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Snapshot {
-    format: String,
-    version: u32,
-    last_seq: u64,
-    participants: Vec<Participant>,
-    seed: Vec<Op>,
-    ops: Vec<SnapshotOp>,
-    redo: Vec<Vec<u64>>,
-    document: Document,
-}
-
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct SnapshotOp {
-    author: usize,
-    n: u64,
-    op: Op,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    ids_from: Option<u32>,
-    undone: bool,
-    effect: Effect,
-}
-
-impl Replica {
-    /// The replica as a snapshot (JSON): a late joiner loads it and
-    /// replays only the entries after [`Self::last_seq`]. It holds every
-    /// op with whether it is undone or in effect (so everyone's undo goes
-    /// on working) and the document as its objects' parameters (meshes are
-    /// evaluated again on load).
-    pub fn snapshot(&self) -> Vec<u8> {
-        let s = Snapshot {
-            format: SNAPSHOT_FORMAT.into(),
-            version: super::ENTRY_VERSION,
-            last_seq: self.last_seq,
-            participants: self.participants.clone(),
-            seed: self.seed.clone(),
-            ops: self
-                .ops
-                .iter()
-                .map(|r| SnapshotOp {
-                    author: r.author,
-                    n: r.n,
-                    op: (*r.op).clone(),
-                    ids_from: r.ids_from,
-                    undone: r.undone,
-                    effect: r.effect.clone(),
-                })
-                .collect(),
-            redo: self.redo.clone(),
-            document: self.doc.clone(),
-        };
-        serde_json::to_vec(&s).unwrap_or_default()
-    }
-
-    /// A replica from [`Self::snapshot`]'s bytes, or why they are not
-    /// one (the joiner then replays the stream from the start).
-    pub fn from_snapshot(bytes: &[u8]) -> Result<Self, String> {
-        let s: Snapshot =
-            serde_json::from_slice(bytes).map_err(|e| format!("not a replica snapshot: {e}"))?;
-        if s.format != SNAPSHOT_FORMAT || s.version != super::ENTRY_VERSION {
-            return Err(format!(
-                "snapshot format {} version {} (this build reads {SNAPSHOT_FORMAT} {})",
-                s.format,
-                s.version,
-                super::ENTRY_VERSION
-            ));
-        }
-        let np = s.participants.len();
-        let slots_ok = s
-            .participants
-            .iter()
-            .enumerate()
-            .all(|(i, p)| p.slot == i as u32 + 1 && valid_author(&p.id));
-        if !slots_ok || s.redo.len() != np || np as u32 > MAX_PARTICIPANTS {
-            return Err("snapshot's participants are inconsistent".into());
-        }
-        let mut r = Self::new();
-        r.last_seq = s.last_seq;
-        for (i, p) in s.participants.iter().enumerate() {
-            r.by_id.insert(p.id.clone(), i);
-        }
-        r.participants = s.participants;
-        r.redo = s.redo;
-        let mut base = OpLog::new();
-        for op in &s.seed {
-            base.apply(op.clone())
-                .map_err(|e| format!("snapshot's seed does not replay: {e}"))?;
-        }
-        r.seed = s.seed;
-        for o in s.ops {
-            if o.author >= np || r.by_key.insert((o.author, o.n), r.ops.len()).is_some() {
-                return Err("snapshot's ops name an unknown participant or repeat".into());
-            }
-            r.ops.push(OpRec {
-                author: o.author,
-                n: o.n,
-                op: Arc::new(o.op),
-                ids_from: o.ids_from,
-                undone: o.undone,
-                effect: o.effect,
-            });
-        }
-        r.checkpoints = vec![
-            Checkpoint {
-                at: 0,
-                doc: base.document().clone(),
-            },
-            Checkpoint {
-                at: r.ops.len(),
-                doc: s.document.clone(),
-            },
-        ];
-        r.checkpoints.dedup_by_key(|c| c.at);
-        r.doc = s.document;
-        Ok(r)
-    }
 }
 
 /// What [`Replica::integrate`] did with one message.

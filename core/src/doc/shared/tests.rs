@@ -10,30 +10,45 @@ use proptest::prelude::*;
 use super::*;
 use crate::doc::{ObjectId, OpLog};
 
-/// The stream: messages in order, message ids seen.
+mod trust;
+
+/// The stream: messages in order with their subject's last token (the
+/// sender), message ids seen.
 #[derive(Default)]
 struct Server {
-    msgs: Vec<Vec<u8>>,
+    msgs: Vec<(String, Vec<u8>)>,
     ids: BTreeMap<String, u64>,
 }
 
 impl Server {
-    fn append(&mut self, p: &Publish) -> client::Published {
+    /// `p`, appended on `from`'s subject.
+    fn append(&mut self, from: &str, p: &Publish) -> client::Published {
         if let Some(&seq) = self.ids.get(&p.msg_id) {
             return client::Published::Stored(seq);
         }
         if p.expected_last_seq != self.msgs.len() as u64 {
             return client::Published::Conflict;
         }
-        self.msgs.push(p.bytes.clone());
+        self.msgs
+            .push((subject_token(from).unwrap(), p.bytes.clone()));
         let seq = self.msgs.len() as u64;
         self.ids.insert(p.msg_id.clone(), seq);
         client::Published::Stored(seq)
     }
 
-    /// A raw message nobody checked (a hostile or broken client).
+    /// A raw message nobody checked (a hostile or broken client), sent on
+    /// the subject of the author it names (`someone` when it names none).
     fn inject(&mut self, bytes: &[u8]) {
-        self.msgs.push(bytes.to_vec());
+        let author = serde_json::from_slice::<serde_json::Value>(bytes)
+            .ok()
+            .and_then(|v| v["author"].as_str().and_then(subject_token))
+            .unwrap_or_else(|| "someone".into());
+        self.inject_as(&author, bytes);
+    }
+
+    /// A raw message on the subject whose last token is `from`.
+    fn inject_as(&mut self, from: &str, bytes: &[u8]) {
+        self.msgs.push((from.to_string(), bytes.to_vec()));
     }
 }
 
@@ -63,7 +78,8 @@ impl Sim {
         let (c, seen) = &mut self.clients[i];
         while *seen < end {
             *seen += 1;
-            c.integrate(*seen, &self.server.msgs[*seen as usize - 1]);
+            let (from, bytes) = &self.server.msgs[*seen as usize - 1];
+            c.integrate(*seen, from, bytes);
         }
     }
 
@@ -71,7 +87,7 @@ impl Sim {
     fn publish(&mut self, i: usize) {
         let (c, _) = &mut self.clients[i];
         while let Some(p) = c.next_publish() {
-            let r = self.server.append(&p);
+            let r = self.server.append(c.me(), &p);
             c.published(p.n, r);
             if r == client::Published::Conflict {
                 break;
@@ -103,8 +119,8 @@ impl Sim {
     /// Every replica equals a single replay of the stream; returns its hash.
     fn check_converged(&self) -> u64 {
         let mut solo = Replica::new();
-        for (i, m) in self.server.msgs.iter().enumerate() {
-            solo.integrate(i as u64 + 1, m);
+        for (i, (from, m)) in self.server.msgs.iter().enumerate() {
+            solo.integrate(i as u64 + 1, from, m);
         }
         let want = solo.document().content_hash();
         for (c, _) in &self.clients {
@@ -477,17 +493,17 @@ fn duplicate_publishes_land_once() {
     let mut sim = joined(2);
     sim.log(0).apply(sphere(0.0)).unwrap();
     let p = sim.log(0).next_publish().unwrap();
-    let first = sim.server.append(&p);
+    let first = sim.server.append("p0", &p);
     // The ack was lost: the same message goes again, twice.
-    assert_eq!(sim.server.append(&p), first);
+    assert_eq!(sim.server.append("p0", &p), first);
     sim.log(0).published(p.n, client::Published::Failed);
     sim.log(0).connection_lost();
     sim.quiesce();
     assert_eq!(sim.server.msgs.len(), 3);
     // A message landing twice anyway (outside the server's window) is
     // skipped as a duplicate by every replica.
-    let again = sim.server.msgs[2].clone();
-    sim.server.inject(&again);
+    let (from, again) = sim.server.msgs[2].clone();
+    sim.server.inject_as(&from, &again);
     sim.quiesce();
     assert!(sim.clients[1].0.confirmed().skipped()[0]
         .reason
