@@ -31,6 +31,12 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 LICENSE_NAME = re.compile(r"^(licen[cs]e|copying|notice|copyright|authors)([-_.].*)?$", re.IGNORECASE)
 COMMON = Path("/usr/share/common-licenses")
+# Crates that compile C or C++ sources of another project into the binary:
+# that project's licence files, inside the crate.
+BUNDLED = {
+    "openxr-sys": ["OpenXR-SDK/LICENSE", "OpenXR-SDK/src/external/jsoncpp/LICENSE"],
+    "libmimalloc-sys": ["c_src/mimalloc/v3/LICENSE"],
+}
 
 
 def metadata(target: str) -> dict:
@@ -73,6 +79,7 @@ def licence_files(pkg: dict) -> list[Path]:
         lf = crate_dir / pkg["license_file"]
         if lf.is_file() and lf not in files:
             files.append(lf)
+    files += [crate_dir / f for f in BUNDLED.get(pkg["name"], []) if (crate_dir / f).is_file()]
     # A LICENSES/ folder (REUSE layout).
     sub = crate_dir / "LICENSES"
     if sub.is_dir():
