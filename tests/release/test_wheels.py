@@ -211,7 +211,8 @@ def _check_elf(elf: lief.ELF.Binary, machine: str) -> None:
     needed = set(elf.libraries)
     foreign = needed - LINUX_SYSTEM
     assert not foreign, f"NEEDED beyond glibc and libgcc: {sorted(foreign)}"
-    py = [s.name for s in elf.imported_symbols if s.name.startswith("Py")]
+    # Undefined dynamic symbols (LIEF's imported_symbols skips unversioned ones).
+    py = [s.name for s in elf.dynamic_symbols if s.shndx == 0 and s.name.startswith("Py")]
     assert py, "imports no Python symbols (resolved from Blender's process)"
     # manylinux_2_28: no glibc symbol version newer than 2.28.
     versions = set()
