@@ -1,24 +1,125 @@
 #!/usr/bin/env bash
-# Builds the Blender extension zip: the abi3-py311 wheel of the native
-# module (maturin + zig, tagged manylinux_2_28 as Blender's docs use), then
-# the extension package with Blender's own `blender_ext.py build`.
-#   bash scripts/build_addon.sh            -> out/shapewright-0.1.0.zip
-# SHAPEWRIGHT_ADDON_DEV=1 builds the wheel in the dev profile for the host
-# (no zig, no manylinux audit): minutes faster while iterating locally.
+# Builds the Blender extension: one abi3-py311 wheel of the native module
+# per platform (maturin; cross-built here: mingw for Windows, zig for macOS
+# and Linux), then one extension zip per platform with Blender's own tool
+# (`blender_ext.py build --split-platforms`), each checked by its
+# `validate`.
+#   bash scripts/build_addon.sh                  linux-x64 only (what tests/blender installs)
+#   bash scripts/build_addon.sh all              every platform in blender_manifest.toml
+#   bash scripts/build_addon.sh windows-x64 macos-arm64 ...
+# Output: out/wheels/*.whl, out/extension/shapewright-<version>-<platform>.zip,
+# and the linux-x64 zip also as out/shapewright-<version>-linux_x64.zip
+# (the one zip there: the test fixtures and blender_newest.sh take it).
+# The add-on is staged in out/addon-stage (the source tree is not written):
+# its manifest lists the platforms built, plus THIRD_PARTY_NOTICES.txt for
+# the crates in those wheels.
+# SHAPEWRIGHT_ADDON_DEV=1 builds the linux wheel in the dev profile for the
+# host (no zig, no manylinux audit): minutes faster while iterating locally.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 export PATH="$root/.venv/bin:$PATH"
 addon=blender_addon/shapewright_blender
-rm -rf "$addon/wheels"
-mkdir -p "$addon/wheels" out
-if [[ "${SHAPEWRIGHT_ADDON_DEV:-}" == 1 ]]; then
-  maturin build -q -m blender_addon/native/Cargo.toml --compatibility manylinux_2_28 --auditwheel skip \
-    -o "$addon/wheels"
+manifest="$addon/blender_manifest.toml"
+# Blender 4.2 (the oldest line the manifest admits) needs macOS 11.
+export MACOSX_DEPLOYMENT_TARGET="${MACOSX_DEPLOYMENT_TARGET:-11.0}"
+
+all_platforms=$(python -c 'import sys, tomllib; print(" ".join(tomllib.load(open(sys.argv[1], "rb"))["platforms"]))' "$manifest")
+if [ "$#" -eq 0 ]; then
+  platforms=(linux-x64)
+elif [ "$1" = all ]; then
+  read -r -a platforms <<<"$all_platforms"
 else
-  maturin build --release -q -m blender_addon/native/Cargo.toml --zig --compatibility manylinux_2_28 \
-    -o "$addon/wheels"
+  platforms=("$@")
 fi
+
+# platform -> Rust target and maturin's flags for it.
+rust_target() {
+  case "$1" in
+    linux-x64) echo x86_64-unknown-linux-gnu ;;
+    windows-x64) echo x86_64-pc-windows-gnu ;;
+    windows-arm64) echo aarch64-pc-windows-gnullvm ;;
+    macos-arm64) echo aarch64-apple-darwin ;;
+    macos-x64) echo x86_64-apple-darwin ;;
+    *) echo "build_addon: unknown platform '$1' (known: $all_platforms)" >&2; return 1 ;;
+  esac
+}
+maturin_flags() {
+  case "$1" in
+    linux-x64) echo --zig --compatibility manylinux_2_28 ;;
+    # mingw-w64's gcc (rustc's default linker for the target); pyo3 links
+    # python3.dll by raw-dylib, so no Windows Python is needed to build.
+    windows-x64) echo ;;
+    windows-arm64 | macos-*) echo --zig ;;
+  esac
+}
+
+rm -rf out/wheels out/extension out/addon-stage
+mkdir -p out/wheels out/extension
+targets=()
+for p in "${platforms[@]}"; do
+  t="$(rust_target "$p")"
+  targets+=("--target" "$t")
+  echo "build_addon: wheel for $p ($t)" >&2
+  if [[ "$p" == linux-x64 && "${SHAPEWRIGHT_ADDON_DEV:-}" == 1 ]]; then
+    maturin build -q -m blender_addon/native/Cargo.toml --compatibility manylinux_2_28 --auditwheel skip \
+      -o out/wheels
+  else
+    rustc_args=()
+    if [[ "$p" == macos-* ]]; then
+      # No macOS SDK here: link stubs for the two frameworks the TLS
+      # roots crate links (scripts/macos_stubs.py says why that is sound).
+      [ -d out/macos-sdk-stubs ] || python scripts/macos_stubs.py out/macos-sdk-stubs
+      rustc_args=(-- -C "link-arg=-F$root/out/macos-sdk-stubs")
+    fi
+    # shellcheck disable=SC2046
+    maturin build --release -q -m blender_addon/native/Cargo.toml --target "$t" $(maturin_flags "$p") \
+      -o out/wheels "${rustc_args[@]}"
+  fi
+done
+
+# The add-on as it ships: source files, the wheels built, a manifest
+# listing just those platforms and wheels, the crates' notices.
+stage=out/addon-stage/shapewright_blender
+mkdir -p "$stage"
+cp -r "$addon"/. "$stage"/
+rm -rf "$stage/wheels" "$stage/__pycache__"
+mkdir -p "$stage/wheels"
+cp out/wheels/*.whl "$stage/wheels/"
+python - "$stage/blender_manifest.toml" "${platforms[@]}" <<'EOF'
+"""Keep in the staged manifest only the platforms built and their wheels
+(Blender's build refuses a manifest naming a wheel that is not there)."""
+import re
+import sys
+from pathlib import Path
+
+path, built = Path(sys.argv[1]), sys.argv[2:]
+text = path.read_text()
+wheels_dir = path.parent / "wheels"
+wheels = sorted(f"./wheels/{w.name}" for w in wheels_dir.glob("*.whl"))
+listed = re.findall(r'"(\./wheels/[^"]+)"', text)
+text = re.sub(r"(?ms)^platforms = \[.*?\]", "platforms = [" + ", ".join(f'"{p}"' for p in built) + "]", text)
+text = re.sub(r"(?ms)^wheels = \[.*?\]\n", "wheels = [\n" + "".join(f'  "{w}",\n' for w in wheels) + "]\n", text)
+for w in wheels:
+    if w not in listed:
+        sys.exit(f"build_addon: built {w}, which blender_manifest.toml does not list (update its wheels)")
+path.write_text(text)
+EOF
+python scripts/notices.py --package shapewright-py "${targets[@]}" --title "the Shapewright Blender extension" \
+  --out "$stage/THIRD_PARTY_NOTICES.txt" >&2
+cp LICENSE-MIT LICENSE-APACHE "$stage/"
+
 ext_tool="$(python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/bpy/5.0/scripts/addons_core/bl_pkg/cli/blender_ext.py"
-python "$ext_tool" build --source-dir "$addon" --output-dir out
-ls -1 out/shapewright-*.zip
+python "$ext_tool" build --split-platforms --source-dir "$stage" --output-dir out/extension >&2
+for z in out/extension/*.zip; do
+  python "$ext_tool" validate "$z" >&2
+done
+# A self-hosted extension repository over these zips (index.json, and an
+# index.html to browse): serve the folder, add its index.json's URL in
+# Blender (Get Extensions > Repositories > + > Add Remote Repository).
+python "$ext_tool" server-generate --repo-dir out/extension --html >&2
+if [[ " ${platforms[*]} " == *" linux-x64 "* ]]; then
+  rm -f out/shapewright-*.zip
+  cp out/extension/shapewright-*-linux_x64.zip out/
+fi
+ls -1 out/extension/*.zip

@@ -47,3 +47,16 @@ if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ]; then
   .venv/bin/pip install -q -r requirements.txt
   echo "$want" > "$stamp"
 fi
+
+# release (issue 32): the extension's wheels are cross-built for Windows
+# (mingw-w64's gcc links them) and macOS (zig, from .venv); rustup adds
+# each target's standard library once.
+if ! dpkg -s gcc-mingw-w64-x86-64 >/dev/null 2>&1; then
+  sudo_cmd=""; [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq gcc-mingw-w64-x86-64
+fi
+installed_targets="$(rustup target list --installed)"
+for t in x86_64-pc-windows-gnu aarch64-apple-darwin x86_64-apple-darwin; do
+  grep -qx "$t" <<<"$installed_targets" || rustup target add "$t"
+done

@@ -39,6 +39,15 @@ echo "== abuse sweep (quick subset; the full sweep is run by hand) [at ${SECONDS
 .venv/bin/python scripts/abuse_sweep.py --quick --bin target/release/shapewright-xr
 echo "== blender newest [at ${SECONDS} s, $(free)]"
 bash scripts/blender_newest.sh
+# release (issue 32): the extension's wheels. The pytest run above built
+# linux-x64 (this only repackages it); windows-x64 is cross-built with
+# mingw, then every wheel's tags, exports and imports, every zip
+# (Blender's validate) and the repository index are checked. macOS
+# (zig, framework stubs) joins once its link has been seen to pass:
+# bash scripts/build_addon.sh all, or scripts/release.sh, by hand.
+echo "== extension wheels: linux-x64 windows-x64 [at ${SECONDS} s, $(free)]"
+bash scripts/build_addon.sh linux-x64 windows-x64 >/dev/null
+.venv/bin/python -m pytest -q -p no:cacheprovider tests/release
 # io: every reader fuzzed for a fixed budget over its seed corpus (issue 22);
 # long runs: bash scripts/fuzz.sh 1800 (see fuzz/README.md).
 echo "== fuzz [at ${SECONDS} s, $(free)]"
