@@ -87,11 +87,12 @@ pub struct RunArgs {
     /// Write the input frames as a trace (.trace.jsonl) for `replay`.
     #[arg(long)]
     pub trace: Option<PathBuf>,
-    /// Pace the run by a client on this Unix socket: one tool step per
-    /// request, at the request's time, through the runtime's input (for
-    /// deterministic runs against a real runtime; see `xr::pace`).
+    /// Pace the run by a client listening at this loopback address
+    /// (127.0.0.1:PORT): one tool step per request, at the request's time,
+    /// through the runtime's input (for deterministic runs against a real
+    /// runtime; see `xr::pace`).
     #[arg(long)]
-    pub pace: Option<PathBuf>,
+    pub pace: Option<std::net::SocketAddr>,
     /// Behave as an OpenXR 1.0 application: API 1.0 and only the mode's
     /// extensions plus hand tracking (for validation layers built for 1.0,
     /// such as Debian 12's openxr-layer-corevalidation).
@@ -227,7 +228,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         frame_period,
         recreate_lost_sessions: !args.no_recreate,
         stop: Some(stop),
-        pace: args.pace.clone(),
+        pace: args.pace,
         openxr_1_0: args.openxr_1_0,
         ..Default::default()
     };
@@ -411,6 +412,9 @@ fn print_runtime(r: &RunReport) {
         println!(
             "input: no input device (no controller, no tracked hand): no tool could be driven"
         );
+    }
+    for f in &r.fallbacks {
+        println!("fallback: {f}");
     }
     println!(
         "rates: input {:.1} Hz, display {:.1} Hz ({} frames submitted){}",
