@@ -310,8 +310,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
         run_headset(&cfg, model.as_ref(), &mut sink)
     };
     // Save on exit, also when the run failed: no acknowledged op is lost;
-    // the record and trace are written either way too.
-    sink.interaction.save_now();
+    // the record and trace are written either way too. A run that failed
+    // with nothing to save (no runtime, no headset) writes no file.
+    if result.is_ok() || sink.interaction.unsaved_changes() > 0 {
+        sink.interaction.save_now();
+    }
     if let Some(e) = sink.record.error.take() {
         bail!("writing the record: {e}");
     }
