@@ -17,7 +17,11 @@ apt_pkgs=()
 # libvulkan1 and mesa-vulkan-drivers give Vulkan on the CPU (lavapipe);
 # nats-server (JetStream) carries shared sessions (scripts/nats.sh, and the
 # shapewright-net tests start their own on 127.0.0.1).
-for p in ${SHAPEWRIGHT_APT_PACKAGES:-cmake g++ libvulkan1 mesa-vulkan-drivers nats-server}; do
+# winhost: the Windows host is cross-built with mingw-w64 (the -posix
+# compilers come with these) and tested under wine64, whose Vulkan reaches
+# lavapipe through its X11 driver on xvfb (scripts/test_windows.sh).
+for p in ${SHAPEWRIGHT_APT_PACKAGES:-cmake g++ libvulkan1 mesa-vulkan-drivers nats-server \
+    gcc-mingw-w64-x86-64 g++-mingw-w64-x86-64 wine wine64 xvfb}; do
   dpkg -s "$p" >/dev/null 2>&1 || apt_pkgs+=("$p")
 done
 if [ "${#apt_pkgs[@]}" -gt 0 ]; then

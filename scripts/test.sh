@@ -35,6 +35,11 @@ cargo build --release -q -p shapewright-xr
 USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q tests/python tests/usd tests/blender
 # blender (issue 20): the extension in the newest bpy too (5.2.3, Python
 # 3.13, own venv): a smoke scenario with the zip the pytest run built.
+# winhost (issue 32): shapewright-xr.exe cross-built and run under wine
+# against this build (same bytes for every fixture), and the core checked
+# for Android.
+echo "== windows + android [at ${SECONDS} s, $(free)]"
+bash scripts/test_windows.sh
 echo "== abuse sweep (quick subset; the full sweep is run by hand) [at ${SECONDS} s, $(free)]"
 .venv/bin/python scripts/abuse_sweep.py --quick --bin target/release/shapewright-xr
 echo "== blender newest [at ${SECONDS} s, $(free)]"
