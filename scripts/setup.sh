@@ -19,7 +19,11 @@ apt_pkgs=()
 # shapewright-net tests start their own on 127.0.0.1).
 # prusa-slicer (Debian's 2.5, slices from the command line without a display)
 # checks that exported STL and 3MF files print at true size (tests/python/test_slicer.py).
-for p in ${SHAPEWRIGHT_APT_PACKAGES:-cmake g++ libvulkan1 mesa-vulkan-drivers nats-server prusa-slicer}; do
+# The Windows host and wheels are cross-built with mingw-w64 (the -posix
+# compilers come with these) and the host is tested under wine64, whose
+# Vulkan reaches lavapipe through its X11 driver on xvfb (scripts/test_windows.sh).
+for p in ${SHAPEWRIGHT_APT_PACKAGES:-cmake g++ libvulkan1 mesa-vulkan-drivers nats-server prusa-slicer \
+    gcc-mingw-w64-x86-64 g++-mingw-w64-x86-64 wine wine64 xvfb}; do
   dpkg -s "$p" >/dev/null 2>&1 || apt_pkgs+=("$p")
 done
 if [ "${#apt_pkgs[@]}" -gt 0 ]; then
@@ -49,13 +53,8 @@ if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ]; then
 fi
 
 # release (issue 32): the extension's wheels are cross-built for Windows
-# (mingw-w64's gcc links them) and macOS (zig, from .venv); rustup adds
+# (mingw-w64, installed above) and macOS (zig, from .venv); rustup adds
 # each target's standard library once.
-if ! dpkg -s gcc-mingw-w64-x86-64 >/dev/null 2>&1; then
-  sudo_cmd=""; [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
-  $sudo_cmd apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq gcc-mingw-w64-x86-64
-fi
 installed_targets="$(rustup target list --installed)"
 for t in x86_64-pc-windows-gnu aarch64-apple-darwin x86_64-apple-darwin; do
   grep -qx "$t" <<<"$installed_targets" || rustup target add "$t"

@@ -33,10 +33,21 @@ echo "== pytest [at ${SECONDS} s, $(free)]"
 cargo build --release -q -p shapewright-xr
 # `cargo test` above built the usd_tool example the USD tests drive.
 USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q tests/python tests/usd tests/blender
-# blender (issue 20): the extension in the newest bpy too (5.2.3, Python
-# 3.13, own venv): a smoke scenario with the zip the pytest run built.
+# windows (issue 32): shapewright-xr.exe cross-built and run under wine
+# against this build. CI compares the mug script and trace, the schema,
+# import, paths, the no-runtime message and crash-safe saves; every
+# fixture and the Android check of the core: bash scripts/test_windows.sh.
+echo "== windows [at ${SECONDS} s, $(free)]"
+if [ "${CI:-}" = "true" ]; then
+  SHAPEWRIGHT_ANDROID_CHECK=0 bash scripts/test_windows.sh \
+    -k "not scripts_apply and not traces_replay or mug"
+else
+  bash scripts/test_windows.sh
+fi
 echo "== abuse sweep (quick subset; the full sweep is run by hand) [at ${SECONDS} s, $(free)]"
 .venv/bin/python scripts/abuse_sweep.py --quick --bin target/release/shapewright-xr
+# blender (issue 20): the extension in the newest bpy too (5.2.3, Python
+# 3.13, own venv): a smoke scenario with the zip the pytest run built.
 echo "== blender newest [at ${SECONDS} s, $(free)]"
 bash scripts/blender_newest.sh
 # release (issue 32): the extension's wheels. The pytest run above built

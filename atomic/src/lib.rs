@@ -8,15 +8,17 @@
 //! 1. the content goes to a temporary file in the target's own directory
 //!    (same file system, so the rename below is atomic), named
 //!    `.<name>.<pid>-<n>-<nanos>.swtmp`, created exclusively and locked
-//!    (`flock`, exclusive) for as long as the writer holds it;
-//! 2. the temporary file is flushed and `fsync`ed;
-//! 3. it is renamed over the target (atomic on POSIX file systems);
-//! 4. the directory is `fsync`ed so that the rename itself survives a power
-//!    loss.
+//!    (`flock`, exclusive; `LockFileEx` on Windows) for as long as the
+//!    writer holds it;
+//! 2. the temporary file is flushed and `fsync`ed (`FlushFileBuffers`);
+//! 3. it is renamed over the target (atomic on POSIX file systems and NTFS);
+//! 4. the rename is made durable: the directory is `fsync`ed on POSIX; on
+//!    Windows the rename itself waits for the disk
+//!    (`MOVEFILE_WRITE_THROUGH`; see `platform.rs`).
 //!
 //! A writer killed between 1 and 3 leaves its temporary file behind. The
 //! next write of the same target removes every such file that no live
-//! writer holds: a crashed writer's `flock` is released by the kernel when
+//! writer holds: a crashed writer's lock is released by the kernel when
 //! the process dies, so a temporary file that can be locked belongs to
 //! nobody. A file still locked belongs to a writer at work (another thread
 //! or process saving the same target) and is left alone. Before removing,
@@ -36,7 +38,15 @@
 //! missing; an existing target's permissions are carried over to the new
 //! file. A symbolic link at the target is replaced by the file, not
 //! followed (rename semantics).
-#![forbid(unsafe_code)]
+//!
+//! What differs by OS lives in `platform.rs`: the durable replace, the
+//! directory sync and the file identity check. Its one `unsafe` call
+//! (`MoveFileExW`, Windows only) is the only one in this crate.
+#![deny(unsafe_code)]
+
+mod platform;
+
+use platform::{replace, same_file, sync_dir};
 
 use std::fs::{File, OpenOptions};
 use std::io::{self, BufWriter, Write};
@@ -137,21 +147,6 @@ fn temp_files(path: &Path) -> Result<Vec<PathBuf>, AtomicError> {
         .collect();
     out.sort();
     Ok(out)
-}
-
-/// Same file (inode) at `path` as the open `file`.
-#[cfg(unix)]
-fn same_file(file: &File, path: &Path) -> bool {
-    use std::os::unix::fs::MetadataExt;
-    match (file.metadata(), std::fs::symlink_metadata(path)) {
-        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
-        _ => false,
-    }
-}
-
-#[cfg(not(unix))]
-fn same_file(_file: &File, path: &Path) -> bool {
-    path.exists()
 }
 
 /// Opens the temporary file at `p` and locks it when no live writer holds
@@ -265,14 +260,10 @@ where
         drop(file);
         // The lock (on `lock`, the same open file) is held through the
         // rename, so no cleaner takes the file while it is still ours.
-        std::fs::rename(&tmp, path).map_err(io_err("renaming to", path))?;
+        replace(&tmp, path).map_err(io_err("renaming to", path))?;
         drop(lock);
-        // Make the rename durable. Opening a directory read-only and
-        // fsyncing it is the POSIX way; other platforms skip it.
-        #[cfg(unix)]
-        File::open(&dir)
-            .and_then(|d| d.sync_all())
-            .map_err(io_err("syncing", &dir))?;
+        // Make the rename durable (POSIX: fsync the directory).
+        sync_dir(&dir).map_err(io_err("syncing", &dir))?;
         Ok(bytes)
     })();
     match result {

@@ -87,11 +87,12 @@ pub struct RunArgs {
     /// Write the input frames as a trace (.trace.jsonl) for `replay`.
     #[arg(long)]
     pub trace: Option<PathBuf>,
-    /// Pace the run by a client on this Unix socket: one tool step per
-    /// request, at the request's time, through the runtime's input (for
-    /// deterministic runs against a real runtime; see `xr::pace`).
+    /// Pace the run by a client listening at this loopback address
+    /// (127.0.0.1:PORT): one tool step per request, at the request's time,
+    /// through the runtime's input (for deterministic runs against a real
+    /// runtime; see `xr::pace`).
     #[arg(long)]
-    pub pace: Option<PathBuf>,
+    pub pace: Option<std::net::SocketAddr>,
     /// Behave as an OpenXR 1.0 application: API 1.0 and only the mode's
     /// extensions plus hand tracking (for validation layers built for 1.0,
     /// such as Debian 12's openxr-layer-corevalidation).
@@ -227,7 +228,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         frame_period,
         recreate_lost_sessions: !args.no_recreate,
         stop: Some(stop),
-        pace: args.pace.clone(),
+        pace: args.pace,
         openxr_1_0: args.openxr_1_0,
         ..Default::default()
     };
@@ -309,8 +310,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
         run_headset(&cfg, model.as_ref(), &mut sink)
     };
     // Save on exit, also when the run failed: no acknowledged op is lost;
-    // the record and trace are written either way too.
-    sink.interaction.save_now();
+    // the record and trace are written either way too. A run that failed
+    // with nothing to save (no runtime, no headset) writes no file.
+    if result.is_ok() || sink.interaction.unsaved_changes() > 0 {
+        sink.interaction.save_now();
+    }
     if let Some(e) = sink.record.error.take() {
         bail!("writing the record: {e}");
     }
@@ -411,6 +415,9 @@ fn print_runtime(r: &RunReport) {
         println!(
             "input: no input device (no controller, no tracked hand): no tool could be driven"
         );
+    }
+    for f in &r.fallbacks {
+        println!("fallback: {f}");
     }
     println!(
         "rates: input {:.1} Hz, display {:.1} Hz ({} frames submitted){}",

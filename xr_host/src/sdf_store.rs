@@ -24,14 +24,13 @@ impl DirStore {
     }
 
     /// The default directory: `$SHAPEWRIGHT_CACHE_DIR`, else
-    /// `$XDG_CACHE_HOME/shapewright/sdf`, else `~/.cache/shapewright/sdf`.
+    /// `shapewright/sdf` in the user's cache directory
+    /// ([`crate::xr::platform::cache_home`]).
     pub fn default_dir() -> Option<PathBuf> {
         if let Some(d) = std::env::var_os("SHAPEWRIGHT_CACHE_DIR") {
             return Some(PathBuf::from(d));
         }
-        let base = std::env::var_os("XDG_CACHE_HOME")
-            .map(PathBuf::from)
-            .or_else(|| std::env::var_os("HOME").map(|h| Path::new(&h).join(".cache")))?;
+        let base = crate::xr::platform::cache_home()?;
         Some(base.join("shapewright").join("sdf"))
     }
 

@@ -3,7 +3,9 @@
 //! by the project's own client, `shapewright_xr::xr::remote`) and its
 //! `simulated` system (an HMD alone, hand tracking offered but not
 //! supported), in both modes (headless and Vulkan on lavapipe with the null
-//! compositor), one run with the OpenXR core validation layer.
+//! compositor), and runs under the OpenXR core validation layer (as a 1.0
+//! application, and as the 1.1 application that falls back where the
+//! layer refuses what it predates).
 //!
 //! Monado is built by `scripts/monado.sh` (CI runs it before these tests
 //! and exports `SHAPEWRIGHT_MONADO_MANIFEST`); without it the tests say so
@@ -19,7 +21,6 @@
 
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpListener};
-use std::os::unix::net::UnixListener;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -65,13 +66,27 @@ enum System {
     Simulated,
 }
 
+/// How a run meets Debian's OpenXR core validation layer (1.0.20).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Layer {
+    /// No layer.
+    Off,
+    /// The layer, the host as an OpenXR 1.0 application (`--openxr-1-0`):
+    /// everything it is asked the layer knows, and it reports nothing.
+    As10,
+    /// The layer, the host as usual (OpenXR 1.1, every extension offered):
+    /// the layer refuses what it predates (LOCAL_FLOOR), and the host falls
+    /// back instead of ending the session (issue 32).
+    Predates,
+}
+
 /// One host run's working directory and Monado configuration.
 struct Rig {
     dir: PathBuf,
     manifest: PathBuf,
     system: System,
     port: u16,
-    validation: bool,
+    layer: Layer,
 }
 
 fn free_port() -> u16 {
@@ -101,7 +116,7 @@ impl Rig {
             manifest,
             system,
             port,
-            validation: false,
+            layer: Layer::Off,
         })
     }
 
@@ -127,12 +142,14 @@ impl Rig {
             System::Remote => c.env("P_OVERRIDE_ACTIVE_CONFIG", "remote"),
             System::Simulated => c.env_remove("P_OVERRIDE_ACTIVE_CONFIG"),
         };
-        if self.validation {
+        if self.layer != Layer::Off {
+            c.env("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation")
+                .env("XR_API_LAYER_PATH", LAYER_DIR);
+        }
+        if self.layer == Layer::As10 {
             // Debian's layer is built for OpenXR 1.0.20: the host behaves as
             // a 1.0 application under it (see `run --openxr-1-0`).
-            c.arg("--openxr-1-0")
-                .env("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation")
-                .env("XR_API_LAYER_PATH", LAYER_DIR);
+            c.arg("--openxr-1-0");
         }
         c
     }
@@ -237,11 +254,11 @@ fn through_runtime(t: &Trace) -> Trace {
     }
 }
 
-/// A paced run in progress: the pace socket and the remote client.
+/// A paced run in progress: the pace connection and the remote client.
 struct Paced {
     child: Child,
-    pace: std::os::unix::net::UnixStream,
-    acks: std::io::Lines<BufReader<std::os::unix::net::UnixStream>>,
+    pace: std::net::TcpStream,
+    acks: std::io::Lines<BufReader<std::net::TcpStream>>,
     remote: RemoteClient,
 }
 
@@ -249,10 +266,9 @@ impl Paced {
     /// Starts the host paced on `rig` in `mode` with `tool`, saving to
     /// `session.usda` (autosave after every op), recording, tracing.
     fn start(rig: &Rig, mode: &[&str], tool: &str, extra: &[&str]) -> Paced {
-        let sock = rig.path("pace.sock");
-        let listener = UnixListener::bind(&sock).unwrap();
+        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
         let mut args = mode.to_vec();
-        let s = sock.to_str().unwrap().to_string();
+        let s = listener.local_addr().unwrap().to_string();
         args.extend([
             "--tool",
             tool,
@@ -277,7 +293,7 @@ impl Paced {
                 Err(_) if start.elapsed() < Duration::from_secs(30) => {
                     std::thread::sleep(Duration::from_millis(10))
                 }
-                Err(e) => panic!("the host never connected to the pace socket: {e}"),
+                Err(e) => panic!("the host never connected to the pace client: {e}"),
             }
         };
         pace.set_nonblocking(false).unwrap();
@@ -307,7 +323,7 @@ impl Paced {
         let line = self
             .acks
             .next()
-            .expect("the host closed the pace socket")
+            .expect("the host closed the pace connection")
             .expect("no acknowledgement within 60 s");
         let ack: Ack = serde_json::from_str(&line).unwrap();
         assert_eq!(ack.seq, seq);
@@ -326,12 +342,12 @@ fn remote_trace_matches_replay(
     name: &str,
     mode: &[&str],
     trace: &Trace,
-    validation: bool,
+    layer: Layer,
 ) -> RunReport {
     let Some(mut rig) = Rig::new(name, System::Remote) else {
         return RunReport::default();
     };
-    rig.validation = validation;
+    rig.layer = layer;
     for (k, f) in trace.frames.iter().enumerate() {
         assert_eq!(unrepresentable(f), None, "frame {k}");
     }
@@ -391,10 +407,10 @@ fn remote_trace_matches_replay(
     assert!(report.reached_focused);
     // LOCAL_FLOOR on OpenXR 1.1; under the 1.0 validation layer, LOCAL
     // lowered by the head height measured in STAGE: the same place.
-    let base = if validation {
-        "local_measured"
-    } else {
+    let base = if layer == Layer::Off {
         "local_floor"
+    } else {
+        "local_measured"
     };
     assert_eq!(report.spaces.base, base);
     let index = "/interaction_profiles/valve/index_controller";
@@ -411,7 +427,11 @@ fn remote_trace_matches_replay(
     // Monado says the joints come from the controllers (the 1.0 run has
     // no data-source extension: unknown); the sanitizer set them aside
     // because the buttons were valid (issue 16, item 6).
-    let source = if validation { "unknown" } else { "controller" };
+    let source = if layer == Layer::Off {
+        "controller"
+    } else {
+        "unknown"
+    };
     assert_eq!(report.hands_tracked[1].as_deref(), Some(source));
     let input = report.input.unwrap();
     assert!(input.hands_overridden > 0);
@@ -423,9 +443,7 @@ fn remote_trace_matches_replay(
         "{out}"
     );
     assert!(out.contains("runtime: Monado"), "{out}");
-    if validation {
-        assert_no_validation_errors(&out, &err);
-    }
+    assert_layer_said(layer, &report, &out, &err);
     println!(
         "{name}: states {:?} | input {:.1} Hz, display {:.1} Hz, {} frames waited | ops {} = replay {} | uptime {}",
         rig.states(),
@@ -455,13 +473,54 @@ fn assert_no_validation_errors(out: &str, err: &str) {
     }
 }
 
+/// What the run's log and report say about the layer: nothing under
+/// `As10`; under `Predates`, the refused LOCAL_FLOOR as a fallback line
+/// in the log and the report, and no error but about what it predates.
+fn assert_layer_said(layer: Layer, report: &RunReport, out: &str, err: &str) {
+    match layer {
+        Layer::Off => assert!(report.fallbacks.is_empty(), "{:?}", report.fallbacks),
+        Layer::As10 => {
+            assert!(report.fallbacks.is_empty(), "{:?}", report.fallbacks);
+            assert_no_validation_errors(out, err);
+        }
+        Layer::Predates => {
+            // It refuses LOCAL_FLOOR and the data-source struct chained to
+            // the hand tracker's create info; each is one rung down.
+            let lines = [
+                "LOCAL_FLOOR refused (XR_ERROR_VALIDATION_FAILURE): measuring LOCAL against STAGE",
+                "hand trackers with a data source refused (XR_ERROR_VALIDATION_FAILURE): trying without",
+            ];
+            assert_eq!(report.fallbacks, lines);
+            for l in lines {
+                assert!(err.contains(&format!("fallback: {l}")), "{err}");
+                assert!(out.contains(&format!("fallback: {l}")), "{out}");
+            }
+            // What the layer reported is those two refusals (LOCAL_FLOOR's
+            // enum value is 1000426000 = 0x3ba14a10), and nothing else.
+            let all = format!("{out}\n{err}");
+            let reports: Vec<&str> = all.lines().filter(|l| l.contains("VALID_ERROR")).collect();
+            assert!(!reports.is_empty(), "the layer did not load:\n{all}");
+            for r in &reports {
+                let floor = r.contains("| xrCreateReferenceSpace]")
+                    && (r.contains("0x3ba14a10") || r.contains("param createInfo is invalid"));
+                let tracker = r.contains("| xrCreateHandTrackerEXT]")
+                    && (r.contains("\"next\" chain") || r.contains("param createInfo is invalid"));
+                assert!(
+                    floor || tracker,
+                    "the layer reported more than what it predates: {r}\nall: {reports:#?}"
+                );
+            }
+        }
+    }
+}
+
 /// Issue 16: "a controller trace played through Monado gives the same ops
 /// and the same content hash as replay" — the teapot by controller, GC
 /// tool, headless.
 #[test]
 fn remote_headless_teapot_by_controller_matches_replay() {
     let t = fixture("teapot_controller");
-    remote_trace_matches_replay("teapot_headless", &["--headless"], &t, false);
+    remote_trace_matches_replay("teapot_headless", &["--headless"], &t, Layer::Off);
 }
 
 /// The Vulkan mode, with the core validation layer on: the object tool's
@@ -469,7 +528,21 @@ fn remote_headless_teapot_by_controller_matches_replay() {
 #[test]
 fn remote_vulkan_primitives_session_matches_replay_under_validation() {
     let t = fixture("primitives_session");
-    let r = remote_trace_matches_replay("prims_vulkan", &[], &t, true);
+    let r = remote_trace_matches_replay("prims_vulkan", &[], &t, Layer::As10);
+    if r.frames > 0 {
+        assert!(r.display_frames >= r.frames);
+    }
+}
+
+/// Issue 32: the same layer with the host as the OpenXR 1.1 application
+/// it is. The layer predates LOCAL_FLOOR and refuses to create it, which
+/// ended the run ("creating spaces and hand trackers failed: the function
+/// usage was invalid", exit 1); now the host falls back to LOCAL measured
+/// against STAGE, says so, and the session gives replay's ops and hash.
+#[test]
+fn remote_vulkan_session_under_a_layer_that_predates_local_floor_falls_back() {
+    let t = fixture("primitives_session");
+    let r = remote_trace_matches_replay("prims_predates", &[], &t, Layer::Predates);
     if r.frames > 0 {
         assert!(r.display_frames >= r.frames);
     }
@@ -478,11 +551,11 @@ fn remote_vulkan_primitives_session_matches_replay_under_validation() {
 /// The `simulated` system: no controllers, hand tracking offered but not
 /// supported. The host starts, reaches FOCUSED, renders, says plainly
 /// there is no input device, and exits cleanly.
-fn simulated(name: &str, mode: &[&str], validation: bool) {
+fn simulated(name: &str, mode: &[&str], layer: Layer) {
     let Some(mut rig) = Rig::new(name, System::Simulated) else {
         return;
     };
-    rig.validation = validation;
+    rig.layer = layer;
     let mut args = mode.to_vec();
     args.extend([
         "--seconds",
@@ -523,17 +596,15 @@ fn simulated(name: &str, mode: &[&str], validation: bool) {
     assert!(out.contains("no input device"), "{out}");
     assert!(err.contains("no input device"), "{err}");
     assert!(r.notes.iter().any(|n| n.contains("no input device")));
-    let base = if validation {
-        "local_measured"
-    } else {
+    let base = if layer == Layer::Off {
         "local_floor"
+    } else {
+        "local_measured"
     };
     assert_eq!(r.spaces.base, base);
     assert!(r.frames > 10, "{}", r.frames);
     assert!(r.display_frames > 10, "{}", r.display_frames);
-    if validation {
-        assert_no_validation_errors(&out, &err);
-    }
+    assert_layer_said(layer, &r, &out, &err);
     println!(
         "{name}: states {states:?} | display {:.1} Hz, input {:.1} Hz, {} frames | uptime {}",
         r.display_hz,
@@ -545,12 +616,12 @@ fn simulated(name: &str, mode: &[&str], validation: bool) {
 
 #[test]
 fn simulated_headless_runs_and_says_there_is_no_input_device() {
-    simulated("sim_headless", &["--headless"], false);
+    simulated("sim_headless", &["--headless"], Layer::Off);
 }
 
 #[test]
 fn simulated_vulkan_renders_under_validation_and_says_there_is_no_input_device() {
-    simulated("sim_vulkan", &[], true);
+    simulated("sim_vulkan", &[], Layer::As10);
 }
 
 /// SIGINT or SIGTERM mid-session: the session ends through STOPPING and

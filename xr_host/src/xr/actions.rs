@@ -17,7 +17,7 @@ use shapewright::math::{DQuat, DVec3};
 
 use super::input::Haptic;
 use super::lifecycle::Running;
-use super::spaces::{self, BaseKind, BasePlan};
+use super::spaces::{self, BaseKind, BasePlan, Fallback};
 use crate::gfx::xr_raw::{self, DataSource};
 
 /// One created action, typed.
@@ -38,13 +38,17 @@ pub struct Actions {
     hands: [xr::Path; 2],
     /// Profiles the runtime accepted bindings for.
     pub accepted_profiles: Vec<String>,
+    /// Profiles whose bindings the runtime refused with something other
+    /// than XR_ERROR_PATH_UNSUPPORTED (skipped, as that one is).
+    pub fallbacks: Vec<Fallback>,
 }
 
 impl Actions {
     /// Creates the set and one action per item of the core's default map,
     /// and suggests the map's bindings for every profile this instance may
     /// use (`api` version, `enabled_exts`). A profile the runtime rejects
-    /// (XR_ERROR_PATH_UNSUPPORTED) is skipped; other errors fail.
+    /// is skipped (any refusal but a loss; one it does not know,
+    /// XR_ERROR_PATH_UNSUPPORTED, silently, others with a [`Fallback`]).
     pub fn new(
         instance: &xr::Instance,
         api: [u16; 2],
@@ -83,6 +87,7 @@ impl Actions {
             }
         }
         let mut accepted = Vec::new();
+        let mut fallbacks = Vec::new();
         for profile in profiles {
             // The map's own gate first (it travels with the JSON), then the
             // core's table for maps that predate it.
@@ -134,7 +139,12 @@ impl Actions {
             match instance.suggest_interaction_profile_bindings(path, &bindings) {
                 Ok(()) => accepted.push(profile.to_string()),
                 Err(xr::sys::Result::ERROR_PATH_UNSUPPORTED) => {}
-                Err(e) => return Err(e),
+                Err(e) if super::is_loss(e) => return Err(e),
+                Err(e) => fallbacks.push(Fallback::refused(
+                    &format!("bindings for {profile}"),
+                    e,
+                    "that profile is skipped",
+                )),
             }
         }
         Ok(Self {
@@ -142,6 +152,7 @@ impl Actions {
             actions,
             hands,
             accepted_profiles: accepted,
+            fallbacks,
         })
     }
 
@@ -211,6 +222,8 @@ pub struct SessionInput {
     aim: [Option<xr::Space>; 2],
     trackers: Option<[xr::HandTracker; 2]>,
     data_source: bool,
+    /// Rungs given up since the host last took them ([`SessionInput::take_fallbacks`]).
+    fallbacks: Vec<Fallback>,
 }
 
 /// What one read saw besides the frame.
@@ -243,7 +256,9 @@ impl SessionInput {
     /// Attaches the action set, plans the base space (see
     /// [`super::spaces`]), creates the VIEW space, the controllers' pose
     /// spaces and, if `hand_tracking` (the system can track hands), one
-    /// hand tracker per hand.
+    /// hand tracker per hand. Refused space and tracker creations fall
+    /// back (see [`super::spaces`], [`hand_trackers`]) and are listed by
+    /// [`SessionInput::take_fallbacks`].
     pub fn new<G: xr::Graphics>(
         session: &xr::Session<G>,
         actions: &Actions,
@@ -251,7 +266,7 @@ impl SessionInput {
     ) -> xr::Result<Self> {
         session.attach_action_sets(&[&actions.set])?;
         let id = xr::Posef::IDENTITY;
-        let (plan, offered) = spaces::plan(session, caps.local_floor)?;
+        let (plan, offered, mut fallbacks) = spaces::plan(session, caps.local_floor)?;
         let (base, measuring, base_kind) = match plan {
             BasePlan::Ready(s, kind, h) => (Some(s), None, Some((kind, h))),
             BasePlan::Measure { local, stage } => (None, Some((local, stage)), None),
@@ -263,13 +278,10 @@ impl SessionInput {
         };
         let grip = [space("grip_pose", 0)?, space("grip_pose", 1)?];
         let aim = [space("aim_pose", 0)?, space("aim_pose", 1)?];
-        let trackers = if caps.hand_tracking {
-            Some([
-                xr_raw::create_hand_tracker(session, xr::Hand::LEFT, caps.hand_data_source)?,
-                xr_raw::create_hand_tracker(session, xr::Hand::RIGHT, caps.hand_data_source)?,
-            ])
+        let (trackers, data_source) = if caps.hand_tracking {
+            hand_trackers(session, caps.hand_data_source, &mut fallbacks)?
         } else {
-            None
+            (None, false)
         };
         Ok(Self {
             base,
@@ -281,8 +293,15 @@ impl SessionInput {
             grip,
             aim,
             trackers,
-            data_source: caps.hand_data_source,
+            data_source,
+            fallbacks,
         })
+    }
+
+    /// The rungs given up since the last call (space and tracker
+    /// refusals, a STAGE that never located LOCAL), oldest first.
+    pub fn take_fallbacks(&mut self) -> Vec<Fallback> {
+        std::mem::take(&mut self.fallbacks)
     }
 
     /// The base space, once established (see [`SessionInput::establish`]).
@@ -315,7 +334,22 @@ impl SessionInput {
         let Some((local, stage)) = &self.measuring else {
             return Ok(false);
         };
-        if let Some((base, h)) = spaces::measure(session, local, stage, time)? {
+        let measured = match spaces::measure(session, local, stage, time) {
+            Ok(m) => m,
+            Err(r) if super::is_loss(r) => return Err(r),
+            Err(r) => {
+                self.fallbacks.push(Fallback::refused(
+                    "locating LOCAL in STAGE",
+                    r,
+                    &format!(
+                        "LOCAL at an assumed eye height of {} m",
+                        spaces::ASSUMED_EYE_HEIGHT
+                    ),
+                ));
+                return self.assume(session);
+            }
+        };
+        if let Some((base, h)) = measured {
             self.base = Some(base);
             self.base_kind = Some((BaseKind::LocalMeasured, h));
             self.measuring = None;
@@ -325,16 +359,22 @@ impl SessionInput {
         *tries += 1;
         let waited = (time.as_nanos() - since.as_nanos()) as f64 * 1e-9;
         if waited > spaces::MEASURE_PATIENCE_S || *tries > spaces::MEASURE_PATIENCE_FRAMES {
-            eprintln!(
-                "shapewright-xr: LOCAL could not be located in STAGE ({tries} frames, {waited:.1} s); \
-                 using LOCAL lowered by an assumed eye height of {} m",
+            self.fallbacks.push(Fallback(format!(
+                "LOCAL could not be located in STAGE ({tries} frames, {waited:.1} s): \
+                 LOCAL at an assumed eye height of {} m",
                 spaces::ASSUMED_EYE_HEIGHT
-            );
-            self.base = Some(spaces::local_assumed(session)?);
-            self.base_kind = Some((BaseKind::LocalAssumed, spaces::ASSUMED_EYE_HEIGHT));
-            self.measuring = None;
+            )));
+            return self.assume(session);
         }
-        Ok(self.base.is_some())
+        Ok(false)
+    }
+
+    /// The last rung: LOCAL at the assumed eye height.
+    fn assume<G: xr::Graphics>(&mut self, session: &xr::Session<G>) -> xr::Result<bool> {
+        self.base = Some(spaces::local_assumed(session)?);
+        self.base_kind = Some((BaseKind::LocalAssumed, spaces::ASSUMED_EYE_HEIGHT));
+        self.measuring = None;
+        Ok(true)
     }
 
     /// Syncs actions and reads one frame at `time` (seconds in the frame:
@@ -457,5 +497,45 @@ impl SessionInput {
             }
         }
         Ok((frame, info))
+    }
+}
+
+/// One hand tracker per hand, falling back (each step a [`Fallback`]):
+/// with the data-source struct chained (when `data_source`), then plain,
+/// then none (the session runs on controllers). Returns the trackers and
+/// whether they report their data source; only a loss is an error.
+pub fn hand_trackers<G: xr::Graphics>(
+    session: &xr::Session<G>,
+    data_source: bool,
+    fallbacks: &mut Vec<Fallback>,
+) -> xr::Result<(Option<[xr::HandTracker; 2]>, bool)> {
+    let pair = |source: bool| -> xr::Result<[xr::HandTracker; 2]> {
+        Ok([
+            xr_raw::create_hand_tracker(session, xr::Hand::LEFT, source)?,
+            xr_raw::create_hand_tracker(session, xr::Hand::RIGHT, source)?,
+        ])
+    };
+    if data_source {
+        match pair(true) {
+            Ok(t) => return Ok((Some(t), true)),
+            Err(r) if super::is_loss(r) => return Err(r),
+            Err(r) => fallbacks.push(Fallback::refused(
+                "hand trackers with a data source",
+                r,
+                "trying without",
+            )),
+        }
+    }
+    match pair(false) {
+        Ok(t) => Ok((Some(t), false)),
+        Err(r) if super::is_loss(r) => Err(r),
+        Err(r) => {
+            fallbacks.push(Fallback::refused(
+                "hand trackers",
+                r,
+                "no hand tracking, controllers only",
+            ));
+            Ok((None, false))
+        }
     }
 }

@@ -24,7 +24,7 @@ use super::input::{FrameSink, LifecycleEvent, Notice};
 use super::instance::{create_instance, InstanceCaps};
 use super::lifecycle::{reads_input, Phase};
 use super::pace::{angle_tag, Pacer};
-use super::spaces::SpaceReport;
+use super::spaces::{Fallback, SpaceReport};
 use super::{classify, Failure, RunConfig, RunReport, XrHostError};
 
 /// What a tick of the graphics side needs to know about the frame.
@@ -107,7 +107,7 @@ pub fn run<Gx: Graphics>(
     let start = Instant::now();
     let mut report = RunReport::default();
     let mut pacer = match &cfg.pace {
-        Some(p) => Some(Pacer::connect(p).map_err(|e| XrHostError::GaveUp(e.to_string()))?),
+        Some(a) => Some(Pacer::connect(*a).map_err(|e| XrHostError::GaveUp(e.to_string()))?),
         None => None,
     };
     let mut failures = 0u32;
@@ -183,6 +183,7 @@ fn run_instance<Gx: Graphics>(
         }
     };
     report.profiles = actions.accepted_profiles.clone();
+    note_fallbacks(report, actions.fallbacks.iter().cloned());
     let mut recreations = 0u32;
     loop {
         let session = match gfx.create_session(caps) {
@@ -260,6 +261,7 @@ fn run_session<Gx: Graphics>(
         Ok(i) => i,
         Err(e) => return end_or_error("creating spaces and hand trackers", e),
     };
+    note_fallbacks(report, input.take_fallbacks());
     report.spaces.offered = input.offered_spaces.clone();
     match gfx.session_created(caps, &session) {
         Ok(()) => {}
@@ -342,6 +344,7 @@ fn run_session<Gx: Graphics>(
         let ft = tick_try!('tick, gfx.wait_frame(caps, cfg));
         let session = running.session();
         let based = xr_try!('tick, "locating the base space", input.establish(session, ft.time));
+        note_fallbacks(report, input.take_fallbacks());
         if based && report.spaces.base.is_empty() {
             if let Some((kind, h)) = input.base_kind {
                 report.spaces = SpaceReport {
@@ -469,6 +472,14 @@ fn run_session<Gx: Graphics>(
     drop(input);
     drop(life);
     Ok(end)
+}
+
+/// Logs each rung given up and adds it to the report.
+fn note_fallbacks(report: &mut RunReport, fallbacks: impl IntoIterator<Item = Fallback>) {
+    for f in fallbacks {
+        eprintln!("shapewright-xr: fallback: {f}");
+        report.fallbacks.push(f.0);
+    }
 }
 
 /// Sleeps until `next`, then moves it one `period` on (or to now when the

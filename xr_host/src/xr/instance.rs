@@ -3,8 +3,8 @@
 //! The instance asks for OpenXR 1.1 and falls back to 1.0 when the runtime
 //! refuses the version (1.1 makes LOCAL_FLOOR and the Touch Plus, Pico 4
 //! and Focus 3 profiles core). Extensions are enabled when offered:
-//! the mode's own (`XR_MND_headless` + `XR_KHR_convert_timespec_time`, or
-//! `XR_KHR_vulkan_enable2`), then hand tracking and its data source, hand
+//! the mode's own (`XR_MND_headless` + the OS's clock extension,
+//! [`super::platform::CLOCK_EXTENSION`], or `XR_KHR_vulkan_enable2`), then hand tracking and its data source, hand
 //! interaction, eye gaze, local floor and the vendor controller profiles.
 //! With [`RunConfig::openxr_1_0`] the host behaves as an OpenXR 1.0
 //! application of the Debian 12 era (API 1.0, only the mode's extensions
@@ -21,7 +21,7 @@
 use openxr as xr;
 use serde::{Deserialize, Serialize};
 
-use super::{RunConfig, XrHostError};
+use super::{platform, RunConfig, XrHostError};
 use crate::gfx::xr_raw;
 
 /// What the runtime and its system are and can do (the `run` report).
@@ -113,6 +113,15 @@ fn optional(
     on
 }
 
+/// xrCreateInstance's failure: no runtime (the loader found none, or
+/// could not load the one named), or another refusal.
+fn instance_error(r: xr::sys::Result) -> XrHostError {
+    match r {
+        xr::sys::Result::ERROR_RUNTIME_UNAVAILABLE => XrHostError::NoRuntime(r),
+        _ => XrHostError::call("xrCreateInstance", r),
+    }
+}
+
 /// Loads the runtime through the static loader and creates an instance
 /// for `headless` or Vulkan mode with every useful extension offered,
 /// then asks the system what it supports.
@@ -127,18 +136,15 @@ pub fn create_instance(headless: bool, cfg: &RunConfig) -> Result<InstanceCaps, 
         if !available.mnd_headless {
             return Err(XrHostError::MissingExtension("XR_MND_headless"));
         }
-        if !available.khr_convert_timespec_time {
-            return Err(XrHostError::MissingExtension(
-                "XR_KHR_convert_timespec_time",
-            ));
+        if !platform::enable_clock(&available, &mut want) {
+            return Err(XrHostError::MissingExtension(platform::CLOCK_EXTENSION));
         }
         want.mnd_headless = true;
-        want.khr_convert_timespec_time = true;
         enabled.push("XR_MND_headless".into());
-        enabled.push("XR_KHR_convert_timespec_time".into());
+        enabled.push(platform::CLOCK_EXTENSION.into());
     } else {
         if !available.khr_vulkan_enable2 {
-            return Err(XrHostError::MissingExtension("XR_KHR_vulkan_enable2"));
+            return Err(XrHostError::NoVulkan);
         }
         want.khr_vulkan_enable2 = true;
         enabled.push("XR_KHR_vulkan_enable2".into());
@@ -165,10 +171,10 @@ pub fn create_instance(headless: bool, cfg: &RunConfig) -> Result<InstanceCaps, 
         Err(xr::sys::Result::ERROR_API_VERSION_UNSUPPORTED) => (
             entry
                 .create_instance(&app(xr::Version::new(1, 0, 0)), &want, &[], &())
-                .map_err(|r| XrHostError::call("xrCreateInstance", r))?,
+                .map_err(instance_error)?,
             [1, 0],
         ),
-        Err(r) => return Err(XrHostError::call("xrCreateInstance", r)),
+        Err(r) => return Err(instance_error(r)),
     };
     let props = instance
         .properties()

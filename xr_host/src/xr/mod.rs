@@ -3,7 +3,8 @@
 //! type ([`actions`]), the floor-level base space ([`spaces`]), the session
 //! lifecycle as types ([`lifecycle`], [`events`]), the one frame loop both
 //! modes run ([`frame_loop`]) with its two graphics halves ([`headless`],
-//! [`headset`]), and paced runs through a real runtime ([`pace`]). Unsafe
+//! [`headset`]), paced runs through a real runtime ([`pace`]) and what
+//! differs by OS ([`platform`]). Unsafe
 //! OpenXR and Vulkan calls live in `crate::gfx`.
 //!
 //! Imports run one way: `xr` uses `gfx` (the scene it draws); the
@@ -19,6 +20,7 @@ pub mod input;
 pub mod instance;
 pub mod lifecycle;
 pub mod pace;
+pub mod platform;
 pub mod remote;
 pub mod spaces;
 
@@ -28,7 +30,6 @@ pub use input::{CollectSink, FrameSink, Haptic, LifecycleEvent, Notice};
 pub use instance::{create_instance, InstanceCaps, RuntimeInfo};
 pub use spaces::SpaceReport;
 
-use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Duration;
@@ -39,15 +40,18 @@ use shapewright::interact::SanitizerStats;
 /// What went wrong talking to the OpenXR runtime.
 #[derive(Debug, thiserror::Error)]
 pub enum XrHostError {
-    /// No runtime could be loaded (none installed, or `XR_RUNTIME_JSON`
-    /// points nowhere).
-    #[error(
-        "no OpenXR runtime available ({0}); install one or set XR_RUNTIME_JSON to its manifest"
-    )]
+    /// No runtime could be loaded (none installed or active, or
+    /// `XR_RUNTIME_JSON` points nowhere); the message names what to
+    /// install on this OS ([`platform::install_hint`]).
+    #[error("no OpenXR runtime available ({0}). {hint}", hint = platform::install_hint())]
     NoRuntime(xr::sys::Result),
     /// The runtime lacks an extension this mode needs.
     #[error("the OpenXR runtime lacks {0}, which this mode needs")]
     MissingExtension(&'static str),
+    /// The runtime cannot share frames with Vulkan (no
+    /// `XR_KHR_vulkan_enable2`), which the headset mode renders with.
+    #[error("the OpenXR runtime lacks XR_KHR_vulkan_enable2: {hint}", hint = platform::no_vulkan_hint())]
+    NoVulkan,
     /// An OpenXR call failed.
     #[error("{call} failed: {result}")]
     Call {
@@ -100,6 +104,12 @@ pub(crate) fn classify(r: xr::sys::Result) -> Failure {
     }
 }
 
+/// Whether `r` says the session or instance is lost: never a refusal to
+/// fall back from, always passed up (the loop recreates what was lost).
+pub(crate) fn is_loss(r: xr::sys::Result) -> bool {
+    classify(r) != Failure::Other
+}
+
 /// Settings of a run.
 #[derive(Clone, Debug)]
 pub struct RunConfig {
@@ -124,8 +134,8 @@ pub struct RunConfig {
     /// Set (by a signal handler) to ask the session to end: the loop calls
     /// xrRequestExitSession and runs the normal STOPPING/EXITING path.
     pub stop: Option<Arc<AtomicBool>>,
-    /// Pace the run by a client on this Unix socket ([`pace`]).
-    pub pace: Option<PathBuf>,
+    /// Pace the run by a client listening at this loopback address ([`pace`]).
+    pub pace: Option<std::net::SocketAddr>,
     /// Behave as an OpenXR 1.0 application (see [`instance`]).
     pub openxr_1_0: bool,
 }
@@ -188,6 +198,10 @@ pub struct RunReport {
     pub haptics_sent: u64,
     /// Things the user should know (no input device, ...).
     pub notes: Vec<String>,
+    /// What the runtime refused and what the host used instead (a base
+    /// space lower on the chain, no hand trackers, a profile's bindings
+    /// skipped), in order; each was also logged.
+    pub fallbacks: Vec<String>,
     /// Instances created.
     pub instances_created: u32,
     /// Failed instance creations that were retried.

@@ -4,8 +4,8 @@
 //! the latest packet and runs its own clock, so a host that steps its tools
 //! on every display frame steps some packets twice and misses others, and
 //! the tools (3-second holds, velocities) see the runtime's clock. A paced
-//! run removes both: the client tells the host, over a Unix socket, "step
-//! `seq` at trace time `t`"; the host steps its tools exactly once for that
+//! run removes both: the client tells the host, over a loopback TCP
+//! connection, "step `seq` at trace time `t`"; the host steps its tools exactly once for that
 //! request, with the input it read from the runtime, at time `t`, waits for
 //! the commit to land, and answers with its op count. The client sends the
 //! next packet only after the answer.
@@ -25,10 +25,14 @@
 //! Protocol (JSON lines): client -> host `{"seq":N,"time":T}` or
 //! `{"end":true}`; host -> client `{"seq":N,"frame":F,"ops":O,"commands":C}`
 //! after stepping `seq`, where `frame` is the host's display-frame count.
+//!
+//! Transport: TCP on a loopback address the client listens on
+//! (`--pace 127.0.0.1:PORT`), the same on every OS (a Unix socket has no
+//! Windows twin in std). Other addresses are refused: pacing drives the
+//! tools, which no other machine should do.
 
 use std::io::{BufRead, BufReader, Write};
-use std::os::unix::net::UnixStream;
-use std::path::Path;
+use std::net::{SocketAddr, TcpStream};
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::time::{Duration, Instant};
 
@@ -88,14 +92,17 @@ pub struct Ack {
 /// Why pacing failed.
 #[derive(Debug, thiserror::Error)]
 pub enum PaceError {
-    /// The socket could not be reached.
-    #[error("cannot connect to the pace socket {path}: {source}")]
+    /// The client could not be reached.
+    #[error("cannot connect to the pace client at {addr}: {source}")]
     Connect {
-        /// The socket path.
-        path: String,
+        /// The client's address.
+        addr: SocketAddr,
         /// The OS error.
         source: std::io::Error,
     },
+    /// The address is not a loopback one.
+    #[error("the pace client must listen on a loopback address (127.0.0.1 or ::1), not {0}")]
+    NotLoopback(SocketAddr),
     /// Writing an acknowledgement failed.
     #[error("pace socket: {0}")]
     Io(#[from] std::io::Error),
@@ -111,7 +118,7 @@ pub enum PaceError {
 
 /// The host's side of a paced run.
 pub struct Pacer {
-    out: UnixStream,
+    out: TcpStream,
     requests: Receiver<Result<Request, PaceError>>,
     pending: Option<(u32, f64)>,
     ended: bool,
@@ -123,25 +130,24 @@ pub struct Pacer {
 }
 
 impl Pacer {
-    /// Connects to the client's socket at `path` (retrying for up to 10 s
-    /// while it appears).
-    pub fn connect(path: &Path) -> Result<Self, PaceError> {
+    /// Connects to the client listening at `addr` (a loopback address;
+    /// retrying for up to 10 s while it appears).
+    pub fn connect(addr: SocketAddr) -> Result<Self, PaceError> {
+        if !addr.ip().is_loopback() {
+            return Err(PaceError::NotLoopback(addr));
+        }
         let start = Instant::now();
         let stream = loop {
-            match UnixStream::connect(path) {
+            match TcpStream::connect(addr) {
                 Ok(s) => break s,
-                Err(e) if start.elapsed() < Duration::from_secs(10) => {
-                    let _ = e;
+                Err(_) if start.elapsed() < Duration::from_secs(10) => {
                     std::thread::sleep(Duration::from_millis(20));
                 }
-                Err(source) => {
-                    return Err(PaceError::Connect {
-                        path: path.display().to_string(),
-                        source,
-                    })
-                }
+                Err(source) => return Err(PaceError::Connect { addr, source }),
             }
         };
+        // Acknowledgements are small and awaited one by one.
+        stream.set_nodelay(true)?;
         let reader = stream.try_clone()?;
         let (tx, requests) = mpsc::channel();
         std::thread::Builder::new()
@@ -261,11 +267,8 @@ mod tests {
 
     #[test]
     fn a_step_waits_for_the_second_copy_of_its_packet() {
-        let dir = std::env::temp_dir().join(format!("sw_pace_{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("p.sock");
-        let _ = std::fs::remove_file(&path);
-        let listener = std::os::unix::net::UnixListener::bind(&path).unwrap();
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let addr = listener.local_addr().unwrap();
         let client = std::thread::spawn(move || {
             let (mut s, _) = listener.accept().unwrap();
             s.write_all(b"{\"seq\":0,\"time\":0.5}\n").unwrap();
@@ -274,7 +277,7 @@ mod tests {
             s.write_all(b"{\"end\":true}\n").unwrap();
             a
         });
-        let mut p = Pacer::connect(&path).unwrap();
+        let mut p = Pacer::connect(addr).unwrap();
         let deadline = Instant::now() + Duration::from_secs(5);
         while p.poll().unwrap().is_none() {
             assert!(Instant::now() < deadline);
@@ -293,6 +296,14 @@ mod tests {
             std::thread::sleep(Duration::from_millis(1));
         }
         assert_eq!((p.steps, p.waits), (1, 2));
-        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn only_loopback_clients_pace() {
+        let addr: SocketAddr = "192.0.2.1:4000".parse().unwrap();
+        assert!(matches!(
+            Pacer::connect(addr),
+            Err(PaceError::NotLoopback(a)) if a == addr
+        ));
     }
 }

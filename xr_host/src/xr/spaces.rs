@@ -21,6 +21,15 @@
 //!
 //! Either way the model sits at the same place relative to the user, and
 //! the report says which space was used and the offset.
+//!
+//! **Refusals fall back, never end the session.** Runtimes and layers
+//! differ in what they accept (Debian's OpenXR 1.0.20 validation layer
+//! rejects LOCAL_FLOOR, which it predates; a runtime may offer STAGE and
+//! refuse it while the play area is not set up). A refused creation, or a
+//! refused locate while measuring, steps down one rung of the chain above
+//! with a [`Fallback`] line saying what was refused and what is used
+//! instead; the host logs it and puts it in the report. Only LOCAL itself
+//! (which every runtime must offer) ending in a refusal ends the session.
 
 use openxr as xr;
 use serde::{Deserialize, Serialize};
@@ -59,6 +68,30 @@ pub struct SpaceReport {
     pub floor_offset_m: f32,
 }
 
+/// A rung the host gave up, for the log and the report.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Fallback(pub String);
+
+impl Fallback {
+    /// `WHAT refused (XR_CODE): INSTEAD`, with the result's name as the
+    /// spec spells it (the text an issue report or a search needs).
+    pub fn refused(what: &str, r: xr::sys::Result, instead: &str) -> Self {
+        let code = format!("{r:?}");
+        let code = if code.chars().all(|c| c.is_ascii_uppercase() || c == '_') {
+            format!("XR_{code}")
+        } else {
+            format!("XrResult {}", r.into_raw())
+        };
+        Fallback(format!("{what} refused ({code}): {instead}"))
+    }
+}
+
+impl std::fmt::Display for Fallback {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
 /// The plan for a session's base space.
 pub enum BasePlan {
     /// Ready now.
@@ -89,27 +122,76 @@ fn local_lowered<G>(session: &xr::Session<G>, h: f32) -> xr::Result<xr::Space> {
     session.create_reference_space(xr::ReferenceSpaceType::LOCAL, pose)
 }
 
-/// Chooses the base space for `session` (see the module doc).
+/// The rung below a refusal: measuring against STAGE when that is next
+/// (`stage_next`), else LOCAL at the assumed eye height.
+fn next_rung(stage_next: bool) -> String {
+    if stage_next {
+        "measuring LOCAL against STAGE".into()
+    } else {
+        format!("LOCAL at an assumed eye height of {ASSUMED_EYE_HEIGHT} m")
+    }
+}
+
+/// Chooses the base space for `session` (see the module doc): the plan,
+/// the reference spaces offered, and the rungs given up on the way.
 pub fn plan<G>(
     session: &xr::Session<G>,
     local_floor_enabled: bool,
-) -> xr::Result<(BasePlan, Vec<String>)> {
-    let offered = session.enumerate_reference_spaces()?;
+) -> xr::Result<(BasePlan, Vec<String>, Vec<Fallback>)> {
+    let mut fallbacks = Vec::new();
+    let offered = match session.enumerate_reference_spaces() {
+        Ok(o) => o,
+        Err(r) if super::is_loss(r) => return Err(r),
+        Err(r) => {
+            fallbacks.push(Fallback::refused(
+                "xrEnumerateReferenceSpaces",
+                r,
+                "assuming only the required VIEW and LOCAL",
+            ));
+            vec![xr::ReferenceSpaceType::VIEW, xr::ReferenceSpaceType::LOCAL]
+        }
+    };
     let names = offered.iter().map(|s| format!("{s:?}")).collect();
     let id = xr::Posef::IDENTITY;
-    let plan = if local_floor_enabled && offered.contains(&xr::ReferenceSpaceType::LOCAL_FLOOR) {
-        let s = session.create_reference_space(xr::ReferenceSpaceType::LOCAL_FLOOR, id)?;
-        BasePlan::Ready(s, BaseKind::LocalFloor, 0.0)
-    } else if offered.contains(&xr::ReferenceSpaceType::STAGE) {
-        BasePlan::Measure {
-            local: session.create_reference_space(xr::ReferenceSpaceType::LOCAL, id)?,
-            stage: session.create_reference_space(xr::ReferenceSpaceType::STAGE, id)?,
+    let has_stage = offered.contains(&xr::ReferenceSpaceType::STAGE);
+    if local_floor_enabled && offered.contains(&xr::ReferenceSpaceType::LOCAL_FLOOR) {
+        match session.create_reference_space(xr::ReferenceSpaceType::LOCAL_FLOOR, id) {
+            Ok(s) => {
+                return Ok((
+                    BasePlan::Ready(s, BaseKind::LocalFloor, 0.0),
+                    names,
+                    fallbacks,
+                ))
+            }
+            Err(r) if super::is_loss(r) => return Err(r),
+            Err(r) => fallbacks.push(Fallback::refused("LOCAL_FLOOR", r, &next_rung(has_stage))),
         }
-    } else {
-        let s = local_assumed(session)?;
-        BasePlan::Ready(s, BaseKind::LocalAssumed, ASSUMED_EYE_HEIGHT)
-    };
-    Ok((plan, names))
+    }
+    if has_stage {
+        let pair = session
+            .create_reference_space(xr::ReferenceSpaceType::LOCAL, id)
+            .and_then(|local| {
+                let stage = session.create_reference_space(xr::ReferenceSpaceType::STAGE, id)?;
+                Ok((local, stage))
+            });
+        match pair {
+            Ok((local, stage)) => {
+                return Ok((BasePlan::Measure { local, stage }, names, fallbacks))
+            }
+            Err(r) if super::is_loss(r) => return Err(r),
+            Err(r) => fallbacks.push(Fallback::refused(
+                "STAGE (with LOCAL)",
+                r,
+                &next_rung(false),
+            )),
+        }
+    }
+    let s = local_assumed(session)?;
+    Ok((
+        BasePlan::Ready(s, BaseKind::LocalAssumed, ASSUMED_EYE_HEIGHT),
+        names,
+        fallbacks,
+    ))
 }
 
 /// Measures LOCAL's origin height in STAGE at `time`; Some(base) once both
@@ -130,4 +212,31 @@ pub fn measure<G>(
     }
     let h = loc.pose.position.y;
     Ok(Some((local_lowered(session, h)?, h)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_refusal_names_the_result_as_the_spec_spells_it() {
+        let f = Fallback::refused(
+            "LOCAL_FLOOR",
+            xr::sys::Result::ERROR_VALIDATION_FAILURE,
+            &next_rung(true),
+        );
+        assert_eq!(
+            f.to_string(),
+            "LOCAL_FLOOR refused (XR_ERROR_VALIDATION_FAILURE): measuring LOCAL against STAGE"
+        );
+        let odd = Fallback::refused(
+            "STAGE",
+            xr::sys::Result::from_raw(-987_654),
+            &next_rung(false),
+        );
+        assert_eq!(
+            odd.to_string(),
+            "STAGE refused (XrResult -987654): LOCAL at an assumed eye height of 1.6 m"
+        );
+    }
 }

@@ -494,6 +494,7 @@ pub(crate) unsafe extern "system" fn suggest_interaction_profile_bindings(
         pairs.push((b.action.into_raw(), b.binding.into_raw()));
     }
     with_rt(|rt| {
+        let refused = rt.script.refuse.profiles.clone();
         done(inst(rt, instance).and_then(|i| {
             if info.ty != sys::InteractionProfileSuggestedBinding::TYPE || pairs.is_empty() {
                 return Err(sys::Result::ERROR_VALIDATION_FAILURE);
@@ -503,6 +504,9 @@ pub(crate) unsafe extern "system" fn suggest_interaction_profile_bindings(
                 .ok_or(sys::Result::ERROR_PATH_INVALID)?;
             if !KNOWN_PROFILES.contains(&profile) {
                 return Err(sys::Result::ERROR_PATH_UNSUPPORTED);
+            }
+            if refused.iter().any(|p| p == profile) {
+                return Err(sys::Result::ERROR_VALIDATION_FAILURE);
             }
             if any_attached(i) {
                 return Err(sys::Result::ERROR_ACTIONSETS_ALREADY_ATTACHED);

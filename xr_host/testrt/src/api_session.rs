@@ -672,6 +672,7 @@ pub(crate) unsafe extern "system" fn create_reference_space(
     with_rt(|rt| {
         let h = rt.handle();
         let stage = rt.script.stage;
+        let refuse = rt.script.refuse.clone();
         done(sess(rt, session).and_then(|i| {
             if info.ty != sys::ReferenceSpaceCreateInfo::TYPE {
                 return Err(sys::Result::ERROR_VALIDATION_FAILURE);
@@ -679,6 +680,13 @@ pub(crate) unsafe extern "system" fn create_reference_space(
             let t = info.reference_space_type;
             if !reference_spaces(i, stage).contains(&t) {
                 return Err(sys::Result::ERROR_REFERENCE_SPACE_UNSUPPORTED);
+            }
+            // Offered, then refused (see script::Refusals).
+            if t == sys::ReferenceSpaceType::LOCAL_FLOOR && refuse.local_floor {
+                return Err(sys::Result::ERROR_VALIDATION_FAILURE);
+            }
+            if t == sys::ReferenceSpaceType::STAGE && refuse.stage {
+                return Err(sys::Result::ERROR_RUNTIME_FAILURE);
             }
             if !pose_ok(&info.pose_in_reference_space) {
                 return Err(sys::Result::ERROR_POSE_INVALID);
@@ -867,6 +875,17 @@ pub(crate) fn all_valid() -> sys::SpaceLocationFlags {
         | sys::SpaceLocationFlags::ORIENTATION_TRACKED
 }
 
+/// Whether the two spaces are LOCAL and STAGE, in either order.
+fn is_local_and_stage(a: SpaceKind, b: SpaceKind) -> bool {
+    use sys::ReferenceSpaceType as R;
+    let kind = |k| match k {
+        SpaceKind::Reference(t) => Some(t),
+        SpaceKind::Action { .. } => None,
+    };
+    let pair = [kind(a), kind(b)];
+    pair == [Some(R::LOCAL), Some(R::STAGE)] || pair == [Some(R::STAGE), Some(R::LOCAL)]
+}
+
 pub(crate) unsafe extern "system" fn locate_space(
     space: sys::Space,
     base: sys::Space,
@@ -907,6 +926,11 @@ pub(crate) unsafe extern "system" fn locate_space(
             .unwrap_or_else(|| current.clone());
         if let Some(i) = rt.instance.as_mut() {
             settle_local_origin(i, &frame);
+        }
+        // Refused after LOCAL's origin is set, as a runtime sets it whatever
+        // the app asks.
+        if rt.script.refuse.locate_stage && is_local_and_stage(sp.kind, bp.kind) {
+            return sys::Result::ERROR_RUNTIME_FAILURE;
         }
         let i = rt.instance.as_ref().expect("checked above");
         let s = i.session.as_ref().expect("checked by sess()");
@@ -950,12 +974,19 @@ pub(crate) unsafe extern "system" fn create_hand_tracker(
     with_rt(|rt| {
         let h = rt.handle();
         let supported = rt.script.hands_supported;
+        let refuse = rt.script.refuse.clone();
         done(sess(rt, session).and_then(|i| {
             if info.ty != sys::HandTrackerCreateInfoEXT::TYPE {
                 return Err(sys::Result::ERROR_VALIDATION_FAILURE);
             }
             if !supported {
                 return Err(sys::Result::ERROR_FEATURE_UNSUPPORTED);
+            }
+            if refuse.hand_trackers {
+                return Err(sys::Result::ERROR_RUNTIME_FAILURE);
+            }
+            if !info.next.is_null() && refuse.hand_data_source {
+                return Err(sys::Result::ERROR_VALIDATION_FAILURE);
             }
             if !info.next.is_null() {
                 // SAFETY: a valid chain per the spec.

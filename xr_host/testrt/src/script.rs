@@ -158,6 +158,48 @@ pub struct Script {
     /// active hands: `"unobstructed"` or `"controller"`.
     #[serde(default)]
     pub hand_source: Option<String>,
+    /// What the runtime offers but then refuses (as validation layers and
+    /// real runtimes do): the host must fall back, not end the session.
+    #[serde(default)]
+    pub refuse: Refusals,
+}
+
+/// Creations the runtime refuses although it offers them.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Refusals {
+    /// xrCreateReferenceSpace(LOCAL_FLOOR) fails with
+    /// XR_ERROR_VALIDATION_FAILURE (Debian's OpenXR 1.0.20 core validation
+    /// layer, which predates LOCAL_FLOOR, answers so).
+    pub local_floor: bool,
+    /// xrCreateReferenceSpace(STAGE) fails with XR_ERROR_RUNTIME_FAILURE
+    /// (a runtime whose play area is not set up).
+    pub stage: bool,
+    /// xrLocateSpace between LOCAL and STAGE fails with
+    /// XR_ERROR_RUNTIME_FAILURE.
+    pub locate_stage: bool,
+    /// xrCreateHandTrackerEXT with XrHandTrackingDataSourceInfoEXT chained
+    /// fails with XR_ERROR_VALIDATION_FAILURE (a layer that does not know
+    /// the struct); plain creation works.
+    pub hand_data_source: bool,
+    /// xrCreateHandTrackerEXT fails with XR_ERROR_RUNTIME_FAILURE although
+    /// the system says it can track hands.
+    pub hand_trackers: bool,
+    /// xrSuggestInteractionProfileBindings fails with
+    /// XR_ERROR_VALIDATION_FAILURE for these profiles.
+    pub profiles: Vec<String>,
+}
+
+impl Refusals {
+    /// Nothing refused (`const` for the runtime's static state).
+    pub const NONE: Refusals = Refusals {
+        local_floor: false,
+        stage: false,
+        locate_stage: false,
+        hand_data_source: false,
+        hand_trackers: false,
+        profiles: Vec::new(),
+    };
 }
 
 fn touch() -> String {
@@ -180,6 +222,7 @@ impl Default for Script {
             stage: true,
             hands_supported: true,
             hand_source: None,
+            refuse: Refusals::NONE,
         }
     }
 }

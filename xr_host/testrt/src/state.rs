@@ -140,6 +140,7 @@ impl Runtime {
                 stage: true,
                 hands_supported: true,
                 hand_source: None,
+                refuse: crate::script::Refusals::NONE,
             },
             next_handle: 1,
             instance: None,
