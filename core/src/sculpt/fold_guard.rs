@@ -211,7 +211,9 @@ impl Sculptor {
 pub(super) fn folds_after(n: DVec3, m: DVec3, before: impl FnOnce() -> (DVec3, DVec3)) -> bool {
     let l = n.length() * m.length();
     let d = n.dot(m);
-    if !(l > 0.0) || d <= -0.5 * l {
+    // (NaN lengths count as degenerate: `l.is_nan() || l <= 0` is
+    // `!(l > 0)`.)
+    if l.is_nan() || l <= 0.0 || d <= -0.5 * l {
         return true;
     }
     if d > crease_cos() * l {
@@ -220,7 +222,7 @@ pub(super) fn folds_after(n: DVec3, m: DVec3, before: impl FnOnce() -> (DVec3, D
     let (nb, mb) = before();
     let lb = nb.length() * mb.length();
     // Cosines compared without dividing: d / l < db / lb.
-    !(lb > 0.0) || d * lb < (nb.dot(mb) - CREASE_TOLERANCE * lb) * l
+    lb.is_nan() || lb <= 0.0 || d * lb < (nb.dot(mb) - CREASE_TOLERANCE * lb) * l
 }
 
 /// Slack on the cosine of a crease that may not sharpen (rounding of a
