@@ -148,6 +148,7 @@ fn main() {
             };
             black_box(sc.apply_frame(&FrameInput {
                 shape: &s.brush,
+                bound: s.brush.bound_radius(),
                 prev: pose,
                 pose,
                 pressure: 1.0,

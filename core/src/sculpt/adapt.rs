@@ -11,10 +11,11 @@
 //! - **Safe collapses.** A collapse is refused unless the link condition
 //!   holds (the two endpoints share exactly the two opposite vertices),
 //!   both opposite vertices keep degree >= 3, no surrounding triangle flips
-//!   (normal turns by more than 60 degrees), becomes degenerate or badly
-//!   shaped (quality below [`MIN_QUALITY`] and worse than before), and no
-//!   new edge exceeds the max length (so collapses and splits never
-//!   ping-pong).
+//!   (normal turns by more than 60 degrees) or folds onto a triangle it
+//!   shares a vertex with (the fold guard's rule, `super::fold_guard`),
+//!   becomes degenerate or badly shaped (quality below [`MIN_QUALITY`] and
+//!   worse than before), and no new edge exceeds the max length (so
+//!   collapses and splits never ping-pong).
 //! - **Only movable vertices move.** A collapse removes a vertex the stroke
 //!   already moved or created; if both endpoints are movable they meet at
 //!   the midpoint, otherwise the movable one goes to the fixed one. So a
@@ -22,11 +23,18 @@
 
 use glam::DVec3;
 
+use super::fold_guard::folds_after;
 use super::halfedge::{FaceId, HalfEdgeId, HalfEdgeMesh, VertId};
 
 /// Collapses never create triangles with a quality (`4√3·area / Σ edge²`,
 /// 1 for equilateral) below this, unless the triangle was already worse.
 pub const MIN_QUALITY: f64 = 0.15;
+
+/// No edit leaves a triangle of a quality below this: a sliver whose
+/// height is about a millionth of its edges (the print's validator calls
+/// such triangles degenerate once the model is a few hundred edges wide,
+/// and float32 rounding flattens them).
+pub const MIN_FACE_QUALITY: f64 = 1e-6;
 
 /// Squared edge key: a strict total order on edges.
 #[inline]
@@ -250,14 +258,32 @@ impl HalfEdgeMesh {
                 let n_new = (new[1] - new[0]).cross(new[2] - new[0]);
                 let q_new = quality(new[0], new[1], new[2]);
                 let q_old = quality(old[0], old[1], old[2]);
-                let fold_with_neighbour = (0..3).any(|i| {
-                    let g = m.twin(f.half_edge(i)).face();
-                    g != f0 && g != f1 && folds(n_new, new_normal(m, g))
-                });
+                // Every triangle sharing a vertex with this one, as the
+                // fold guard checks a warp step.
+                let mut fold_with_neighbour = false;
+                for w in vs {
+                    // After the collapse `u` and `v` are one vertex.
+                    let merged = w == u || w == v;
+                    let fans = if merged { [u, v] } else { [w, w] };
+                    for &x in &fans[..if merged { 2 } else { 1 }] {
+                        m.for_each_out(x, |k| {
+                            let g = k.face();
+                            if fold_with_neighbour || g == f || g == f0 || g == f1 {
+                                return;
+                            }
+                            fold_with_neighbour = folds_after(n_new, new_normal(m, g), || {
+                                (n_old, m.face_area_vec(g))
+                            });
+                        });
+                    }
+                }
                 if n_new.dot(n_old) <= 0.5 * n_new.length() * n_old.length() || fold_with_neighbour
                 {
                     why = Some(CollapseRefusal::Flip);
-                } else if q_new < MIN_QUALITY.min(q_old) || q_new.is_nan() || q_new <= 0.0 {
+                } else if q_new < MIN_QUALITY.min(q_old)
+                    || q_new.is_nan()
+                    || q_new < MIN_FACE_QUALITY
+                {
                     why = Some(CollapseRefusal::Shape);
                 }
                 let far = m.to(g);

@@ -5,6 +5,7 @@
 //! Shared vertices are computed once from canonical (sorted) inputs, so
 //! neighbouring faces agree on every bit and no welding is needed.
 
+use super::budget::CreateCost;
 use std::collections::HashMap;
 
 use glam::DVec3;
@@ -132,6 +133,7 @@ pub fn sphere_frequency(radius: f64, edge_length: f64) -> Result<u32, SculptErro
             limit: MAX_BASE_VERTICES,
         });
     }
+    CreateCost { vertices: verts }.check("base.edge_length")?;
     Ok(n as u32)
 }
 
@@ -150,6 +152,7 @@ pub fn grid_box(size: [f64; 3], edge_length: f64) -> Result<TriMesh, SculptError
             limit: MAX_BASE_VERTICES,
         });
     }
+    CreateCost { vertices: verts }.check("base.edge_length")?;
     let n = nf.map(|x| x as u32);
     let coord = |axis: usize, i: u32| -size[axis] * 0.5 + size[axis] * (i as f64 / n[axis] as f64);
     let mut ids: HashMap<[u32; 3], u32> = HashMap::new();

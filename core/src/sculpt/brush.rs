@@ -77,6 +77,55 @@ impl DistanceGrid {
         Ok(())
     }
 
+    /// The radius, about the brush origin, of the grid's zero set (the
+    /// brush's own surface): the farthest point where the distance
+    /// crosses zero along a grid edge (linearly interpolated, as the
+    /// trilinear field does along its edges), or a sample at or below
+    /// zero on the grid's outer faces (an inside cut off by the box).
+    /// 0 when no sample is at or below zero. One pass over the samples:
+    /// strokes compute it once ([`BrushShape::size_radius`]).
+    ///
+    /// This, not the corner of the padded box, is the brush's size: the
+    /// mesh brush of a sphere of radius `r` then has size `r` like the
+    /// analytic sphere, and refines to the same edge length (issue 33:
+    /// the box corner made mesh brushes refine about four times coarser).
+    pub fn zero_set_radius(&self) -> f64 {
+        let [nx, ny, nz] = self.dims.map(|d| d as usize);
+        let o = DVec3::from_array(self.origin);
+        let at =
+            |i: usize, j: usize, k: usize| o + self.step * DVec3::new(i as f64, j as f64, k as f64);
+        let mut r2 = 0.0f64;
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let v = self.at(i, j, k);
+                    let inside = v <= 0.0;
+                    if inside
+                        && (i == 0 || j == 0 || k == 0 || i + 1 == nx || j + 1 == ny || k + 1 == nz)
+                    {
+                        r2 = r2.max(at(i, j, k).length_squared());
+                    }
+                    for (di, dj, dk) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                        let (a, b, c) = (i + di, j + dj, k + dk);
+                        if a >= nx || b >= ny || c >= nz {
+                            continue;
+                        }
+                        let w = self.at(a, b, c);
+                        if inside == (w <= 0.0) {
+                            continue;
+                        }
+                        // The crossing of the linear interpolant (v and w
+                        // differ in sign, so v - w is not zero).
+                        let t = (v / (v - w)).clamp(0.0, 1.0);
+                        let p = at(i, j, k).lerp(at(a, b, c), t);
+                        r2 = r2.max(p.length_squared());
+                    }
+                }
+            }
+        }
+        r2.sqrt()
+    }
+
     fn hi(&self) -> DVec3 {
         DVec3::from_array(self.origin)
             + self.step * DVec3::from_array(self.dims.map(|d| (d - 1) as f64))
@@ -128,6 +177,16 @@ impl DistanceGrid {
         }
         (d, grad.normalize_or(DVec3::Z))
     }
+}
+
+/// A brush shape's size and query bound in its own frame (unscaled), see
+/// [`BrushShape::extent`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BrushExtent {
+    /// [`BrushShape::size_radius`].
+    pub size: f64,
+    /// [`BrushShape::bound_radius`].
+    pub bound: f64,
 }
 
 /// A brush shape as a distance field in the brush's own frame.
@@ -220,8 +279,40 @@ impl BrushShape {
         }
     }
 
+    /// [`Self::size_radius`] and [`Self::bound_radius`] together, with one
+    /// pass over a grid's samples.
+    pub fn extent(&self) -> BrushExtent {
+        match self {
+            Self::Grid(g) => {
+                let size = g.zero_set_radius();
+                BrushExtent {
+                    size,
+                    bound: size + g.step * 3f64.sqrt(),
+                }
+            }
+            _ => {
+                let r = self.bound_radius();
+                BrushExtent { size: r, bound: r }
+            }
+        }
+    }
+
+    /// The brush's size: the radius, about the brush origin, of the ball
+    /// its surface (distance 0) fits in. Edge lengths are relative to it
+    /// (`max_edge_rel`), so two brushes of the same shape refine alike
+    /// whether analytic or sampled. For a grid this is a pass over its
+    /// samples ([`DistanceGrid::zero_set_radius`]): compute it once per
+    /// stroke.
+    pub fn size_radius(&self) -> f64 {
+        self.extent().size
+    }
+
     /// A radius around the brush origin outside which the distance is at
-    /// least the distance to that ball (a bound for spatial queries).
+    /// least the distance to that ball (a bound for spatial queries). For
+    /// analytic shapes this is their size; a grid's adds one cell
+    /// diagonal to [`Self::size_radius`] (the trilinear zero set lies
+    /// within a cell of its edge crossings). A pass over a grid's samples:
+    /// compute it once per stroke.
     pub fn bound_radius(&self) -> f64 {
         match self {
             Self::Sphere { radius } => *radius,
@@ -231,13 +322,7 @@ impl BrushShape {
                 half_length,
             } => radius + half_length,
             Self::Box { half_extents } => DVec3::from_array(*half_extents).length(),
-            Self::Grid(g) => {
-                // Points where the grid is <= 0 lie inside its box.
-                let lo = DVec3::from_array(g.origin);
-                let hi = g.hi();
-                let corner = lo.abs().max(hi.abs());
-                corner.length()
-            }
+            Self::Grid(_) => self.extent().bound,
             Self::Mesh(_) => 0.0,
         }
     }

@@ -1,10 +1,13 @@
-//! Limits on the memory and work one sculpt stroke may ask for (issue 22:
-//! nothing a user or a file sends may abort the host or run for minutes).
+//! Limits on the memory, work and time one sculpt op may ask for (issue
+//! 22: nothing a user or a file sends may abort the host; issues 33 and
+//! 37: no accepted sculpt op runs longer than [`MAX_SECONDS`] on this
+//! machine, and a refusal comes at once, before the work).
+//!
+//! ## Size
 //!
 //! A frame refines the surface its brush reaches, and the band a warp
 //! stretches, to edges of at most `max_len` (paper §5.3). Before any frame
-//! runs, [`check_stroke`] estimates each frame's triangles from the
-//! parameters alone:
+//! runs, each frame's triangles are estimated from the parameters alone:
 //!
 //! - the reach: a ball of radius `R` (brush bound radius × pose scale +
 //!   influence, model units). A surface that bounds a convex region inside
@@ -14,35 +17,65 @@
 //!   `h · |delta| · pressure`; whittle only contracts: 0) drags a band of
 //!   about `2πR · D` behind it, and the slivers of the band refine like an
 //!   area of `4πD²` (what an explode to radius `D` makes; measured on the
-//!   issue's drag stroke of a unit sphere, `R` = 1.4, `max_len` = 0.07: a
+//!   issue 22 drag stroke of a unit sphere, `R` = 1.4, `max_len` = 0.07: a
 //!   last sample 1, 3, 10 m away made 31 k, 100 k and 966 k triangles, and
 //!   this estimate gives 57 k, 166 k and 1.3 M);
 //! - bisected triangles with longest edge at most `max_len` average about
 //!   half an equilateral triangle of that edge, `√3/8 · max_len²`.
 //!
 //! One frame's estimate above [`MAX_FRAME_TRIANGLES`] (1 M, about 150 MB of
-//! half-edge mesh, grid and marks, a few seconds of splitting) is refused
-//! with [`SculptError::OverBudget`], naming `max_edge_rel` when the reach
+//! half-edge mesh, grid and marks) is refused with
+//! [`SculptError::OverBudget`], naming `max_edge_rel` when the reach
 //! dominates and the sample (`samples[i].position`, or `warp.delta`) when
-//! the stretch does. The sum over frames (each frame visits what it
-//! reaches) is held to [`MAX_STROKE_WORK`]. `max_edge_rel` 1e-4 asked for
-//! about 1e10 triangles in one frame (GBs and minutes before this check);
-//! the declared minimum of `max_edge_rel` in the op schema is
-//! [`MIN_MAX_EDGE_REL`] (a frame of a brush whose influence equals its size
-//! then estimates 1.2 M triangles).
+//! the stretch does. `max_edge_rel` 1e-4 asked for about 1e10 triangles in
+//! one frame; the declared minimum of `max_edge_rel` in the op schema is
+//! [`MIN_MAX_EDGE_REL`].
 //!
-//! The estimate assumes the reached surface is not crumpled; a hard limit
-//! backs it: the sculptor stops refining once the stroke has added
-//! [`MAX_STROKE_NEW_TRIANGLES`] faces or the mesh has [`MAX_TRIANGLES`]
-//! (the base-mesh limit's 8 M plus room for strokes), and the stroke fails
-//! with the same error, leaving the document as it was (the op works on a
-//! copy). The limit is a face count, so replays fail the same way on any
-//! machine and thread count. (Before this check, the 100 m sample reached
-//! 12 M triangles in 47 s; the estimate refuses it at once.)
+//! ## Time
+//!
+//! The size limits alone let a 600-sample stroke of 800 k-triangle frames
+//! through, which ran 368 s before the face limit stopped it (issue 37).
+//! So every sculpt op is also estimated in seconds before it runs
+//! ([`StrokeCost`], [`CreateCost`]) and refused with
+//! [`SculptError::TooSlow`] past [`MAX_SECONDS`]. A stroke costs
+//!
+//! ```text
+//! seconds = FACE·faces + GRID·samples + UNIT·Σ_frames units + FRAME·frames
+//! ```
+//!
+//! - `faces`: the mesh the op copies, indexes, checks and hands back (and
+//!   the document hashes);
+//! - `samples`: the distance grid a mesh brush is sampled on;
+//! - `units` of a frame: the vertices it looks at plus the triangles it
+//!   refines. The vertices are those of the cells its reach meets: counted
+//!   in the mesh as it is (the sculptor's vertex grid, [`VertexGrid::count_ball`]),
+//!   so a reach over a part already finer than this stroke's edges is
+//!   counted as it is, or the refined surface's (`1.5 ×` the reach's area
+//!   over two triangles, the cells' share outside the ball), whichever is
+//!   more; the triangles are the size estimate above.
+//!
+//! The constants are measured on this machine (AMD EPYC, 2 cores; the
+//! release build, CPU seconds of both threads: an upper bound of the wall
+//! time on an idle machine) by the calibration in `core/tests/sculpt_time.rs`,
+//! which also runs each op kind at the limit and compares.
+//!
+//! The estimate assumes the reached surface is not crumpled; a backstop
+//! holds it to its word: the stroke counts the units it does (the vertices
+//! its frames look at and the triangles they add), and once they reach
+//! what the time left after the fixed costs allows, it stops with
+//! [`SculptError::TooSlow`]. The face limit backs the size the same way:
+//! refinement stops once the stroke has added [`MAX_STROKE_NEW_TRIANGLES`]
+//! faces or the mesh has [`MAX_TRIANGLES`], and the stroke fails with
+//! [`SculptError::OverBudget`] naming the count where it stopped. Both
+//! count, so replays fail the same way on any machine and thread count;
+//! the op works on a copy, so the document is left as it was.
 
 use std::f64::consts::PI;
 
-use super::brush::BrushPose;
+use glam::DVec3;
+
+use super::brush::{BrushExtent, BrushPose};
+use super::grid::VertexGrid;
 use super::stroke::StrokeSettings;
 use super::warp::Warp;
 use super::SculptError;
@@ -51,12 +84,30 @@ use super::SculptError;
 pub const MIN_MAX_EDGE_REL: f64 = 1e-3;
 /// Most triangles one frame may be estimated to refine.
 pub const MAX_FRAME_TRIANGLES: f64 = 1e6;
-/// Most estimated triangles summed over a stroke's frames.
-pub const MAX_STROKE_WORK: f64 = 5e8;
 /// Most faces a sculpt mesh may reach during a stroke (the hard limit).
 pub const MAX_TRIANGLES: usize = 12_000_000;
 /// Most faces one stroke may add (the hard limit).
 pub const MAX_STROKE_NEW_TRIANGLES: usize = 4_000_000;
+
+/// The longest a sculpt op may be estimated to take on this machine.
+pub const MAX_SECONDS: f64 = 10.0;
+/// Seconds per face of the mesh a stroke works on (copy, vertex grid,
+/// triangle mesh out, the document's hash of it).
+pub const FACE_SECONDS: f64 = 0.6e-6;
+/// Seconds per sample of a mesh brush's distance grid.
+pub const GRID_SECONDS: f64 = 1.5e-6;
+/// Seconds per unit of frame work (a vertex looked at, a triangle
+/// refined).
+pub const UNIT_SECONDS: f64 = 0.35e-6;
+/// Seconds per frame, whatever it reaches.
+pub const FRAME_SECONDS: f64 = 20e-6;
+/// Seconds per vertex of a base mesh `sculpt_create` builds (mesh,
+/// half-edge structure and its checks, the document's mesh and hash).
+pub const CREATE_VERTEX_SECONDS: f64 = 2.0e-6;
+/// The cells a reach meets hold about this many times the vertices of the
+/// ball (the ball's share of the cube of cells around it is π/6, the
+/// cells that the sphere crosses bring part of it back).
+const CELL_FILL: f64 = 1.5;
 
 /// The face count past which a stroke starting with `faces` stops.
 pub fn face_limit(faces: usize) -> usize {
@@ -78,9 +129,111 @@ fn over(field: String, what: &'static str, estimate: f64, limit: f64) -> SculptE
     }
 }
 
+/// What a stroke is estimated to cost before it runs (see the module doc).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StrokeCost {
+    /// Faces of the mesh the stroke works on.
+    pub faces: f64,
+    /// Samples of the mesh brush's distance grid (0 for other brushes).
+    pub grid_samples: f64,
+    /// Units of frame work, summed over every path's frames.
+    pub units: f64,
+    /// Frames, summed over every path.
+    pub frames: f64,
+    /// The triangles the frames refine, summed (part of `units`).
+    pub triangles: f64,
+    /// The path and frame with the most units: the sample to name.
+    pub heaviest: (usize, usize),
+}
+
+impl StrokeCost {
+    /// The seconds the stroke is estimated to take on this machine.
+    pub fn seconds(&self) -> f64 {
+        self.fixed_seconds() + UNIT_SECONDS * self.units + FRAME_SECONDS * self.frames
+    }
+
+    /// The part that does not depend on the frames.
+    pub fn fixed_seconds(&self) -> f64 {
+        FACE_SECONDS * self.faces + GRID_SECONDS * self.grid_samples
+    }
+
+    /// The units of frame work the stroke may do before the backstop
+    /// stops it: what the time left after the fixed costs allows.
+    pub fn unit_limit(&self) -> f64 {
+        ((MAX_SECONDS - self.fixed_seconds() - FRAME_SECONDS * self.frames) / UNIT_SECONDS).max(0.0)
+    }
+
+    /// [`SculptError::TooSlow`] when the estimate is over [`MAX_SECONDS`],
+    /// naming what dominates: the samples (`samples`, the frames), the
+    /// mesh brush (`settings.brush.step`) or the mesh (`id`).
+    pub fn check(&self) -> Result<(), SculptError> {
+        let seconds = self.seconds();
+        if seconds.is_finite() && seconds <= MAX_SECONDS {
+            return Ok(());
+        }
+        let terms = [
+            (
+                UNIT_SECONDS * self.units + FRAME_SECONDS * self.frames,
+                "samples",
+            ),
+            (GRID_SECONDS * self.grid_samples, "settings.brush.step"),
+            (FACE_SECONDS * self.faces, "id"),
+        ];
+        let field = terms
+            .iter()
+            .fold(terms[0], |a, b| if b.0 > a.0 { *b } else { a })
+            .1;
+        let field = if field == "samples" && self.frames <= 2.0 {
+            "settings.max_edge_rel".to_string()
+        } else {
+            field.to_string()
+        };
+        Err(SculptError::TooSlow {
+            field,
+            what: "the stroke",
+            seconds,
+            limit: MAX_SECONDS,
+            detail: format!(
+                "{:.0} frames looking at or refining {:.3e} vertices and triangles, a mesh of {:.0} triangles, a brush grid of {:.0} samples",
+                self.frames, self.units, self.faces, self.grid_samples
+            ),
+        })
+    }
+}
+
+/// What `sculpt_create` is estimated to cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CreateCost {
+    /// Vertices of the base mesh.
+    pub vertices: f64,
+}
+
+impl CreateCost {
+    /// The seconds the op is estimated to take on this machine.
+    pub fn seconds(&self) -> f64 {
+        CREATE_VERTEX_SECONDS * self.vertices
+    }
+
+    /// [`SculptError::TooSlow`] past [`MAX_SECONDS`], naming `field`.
+    pub fn check(&self, field: &str) -> Result<(), SculptError> {
+        let seconds = self.seconds();
+        if seconds.is_finite() && seconds <= MAX_SECONDS {
+            return Ok(());
+        }
+        Err(SculptError::TooSlow {
+            field: field.to_string(),
+            what: "the base mesh",
+            seconds,
+            limit: MAX_SECONDS,
+            detail: format!("{:.0} vertices", self.vertices),
+        })
+    }
+}
+
 /// Checks a stroke's frames (model-space `poses` with pressures, model
 /// scale `scale`, `settings` with the brush already resolved) against the
-/// budget before anything is refined (see the module doc).
+/// frame size budget and the time budget before anything is refined (see
+/// the module doc). Without the mesh, the time counts the frames only.
 pub fn check_stroke(
     settings: &StrokeSettings,
     scale: f64,
@@ -90,42 +243,65 @@ pub fn check_stroke(
 }
 
 /// [`check_stroke`] for brushes moving together (a stroke and its mirror
-/// image): every frame of every path within the frame budget, their sum
-/// within the stroke's.
+/// image).
 pub fn check_strokes(
     settings: &StrokeSettings,
     scale: f64,
     paths: &[&[(BrushPose, f64)]],
 ) -> Result<(), SculptError> {
-    let mut total = 0.0;
-    for poses in paths {
-        total += path_work(settings, scale, poses)?;
-    }
-    if total.is_nan() || total > MAX_STROKE_WORK {
-        return Err(over(
-            "samples".into(),
-            "the triangles the stroke's frames refine, summed",
-            total,
-            MAX_STROKE_WORK,
-        ));
-    }
-    Ok(())
+    estimate_strokes(settings, settings.brush.extent(), scale, paths, None)?.check()
 }
 
-/// The triangles one path's frames refine, summed; an error when one
-/// frame is over the frame budget.
-fn path_work(
+/// The cost of brushes moving together along `paths` (a stroke and its
+/// mirror image), with the density of the mesh as it is from `grid`
+/// when given; an error when one frame is over the frame budget. The
+/// caller adds the mesh's faces and the brush grid's samples.
+pub fn estimate_strokes(
     settings: &StrokeSettings,
+    extent: BrushExtent,
+    scale: f64,
+    paths: &[&[(BrushPose, f64)]],
+    grid: Option<&VertexGrid>,
+) -> Result<StrokeCost, SculptError> {
+    let mut cost = StrokeCost::default();
+    let mut heaviest = 0.0;
+    for (k, poses) in paths.iter().enumerate() {
+        path_cost(
+            settings,
+            extent,
+            scale,
+            poses,
+            grid,
+            k,
+            &mut cost,
+            &mut heaviest,
+        )?;
+    }
+    Ok(cost)
+}
+
+/// Adds path `k`'s frames to `cost`; an error when one frame is over the
+/// frame budget.
+#[allow(clippy::too_many_arguments)]
+fn path_cost(
+    settings: &StrokeSettings,
+    extent: BrushExtent,
     scale: f64,
     poses: &[(BrushPose, f64)],
-) -> Result<f64, SculptError> {
-    let size = settings.brush_size() / scale;
+    grid: Option<&VertexGrid>,
+    k: usize,
+    cost: &mut StrokeCost,
+    heaviest: &mut f64,
+) -> Result<(), SculptError> {
+    let size = extent.size * settings.brush_scale / scale;
     let max_len = settings.max_edge_rel * size;
     let h = settings.influence / scale;
     let tri = triangle_area(max_len);
-    let bound = settings.brush.bound_radius();
-    let mut total = 0.0;
+    let bound = extent.bound;
     let mut prev: Option<&BrushPose> = None;
+    // The mesh's own count, re-read only when the reach moved by a
+    // quarter of itself (dense samples of a slow stroke share it).
+    let mut counted: Option<(DVec3, f64, f64)> = None;
     for (i, (pose, pressure)) in poses.iter().enumerate() {
         let from = prev.unwrap_or(pose);
         prev = Some(pose);
@@ -165,17 +341,54 @@ fn path_work(
                 MAX_FRAME_TRIANGLES,
             ));
         }
-        total += frame;
+        let existing = match grid {
+            Some(g) => {
+                let c = eval.position;
+                match counted {
+                    Some((at, r, n)) if at.distance(c) <= 0.25 * r && r == reach => n,
+                    _ => {
+                        let n = g.count_ball(c, reach) as f64;
+                        counted = Some((c, reach, n));
+                        n
+                    }
+                }
+            }
+            None => 0.0,
+        };
+        let units = existing.max(CELL_FILL * reached / 2.0) + frame;
+        if units > *heaviest {
+            *heaviest = units;
+            cost.heaviest = (k, i);
+        }
+        cost.units += units;
+        cost.triangles += frame;
+        cost.frames += 1.0;
     }
-    Ok(total)
+    Ok(())
 }
 
-/// The error of a stroke stopped by the hard face limit.
+/// The error of a stroke stopped by the hard face limit: the mesh had
+/// `faces` (more than `limit`) where it stopped.
 pub fn too_many_faces(faces: usize, limit: usize) -> SculptError {
     over(
-        "max_edge_rel".into(),
-        "the sculpt mesh's triangles during the stroke",
+        "settings.max_edge_rel".into(),
+        "the sculpt mesh's triangles where the stroke stopped refining",
         faces as f64,
         limit as f64,
     )
+}
+
+/// The error of a stroke stopped by the backstop: it had done `units` of
+/// frame work, the time `cost` allowed `limit`.
+pub fn too_much_work(cost: &StrokeCost, units: f64, frames: usize) -> SculptError {
+    SculptError::TooSlow {
+        field: "samples".into(),
+        what: "the stroke (stopped by the work it did, more than estimated)",
+        seconds: cost.fixed_seconds() + UNIT_SECONDS * units + FRAME_SECONDS * frames as f64,
+        limit: MAX_SECONDS,
+        detail: format!(
+            "after {frames} frames it had looked at or refined {units:.3e} vertices and triangles, of {:.3e} estimated for all {:.0}",
+            cost.units, cost.frames
+        ),
+    }
 }

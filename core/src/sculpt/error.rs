@@ -91,7 +91,7 @@ pub enum SculptError {
     },
     /// A stroke would take more memory or work than the budget allows
     /// ([`super::budget`]): reduce or fix the parameter named.
-    #[error("{field}: {what} would be {estimate:e}, over the limit of {limit:e}")]
+    #[error("{field}: {what} would be {}, over the limit of {}", number(.estimate), number(.limit))]
     OverBudget {
         /// The parameter that sized the request.
         field: String,
@@ -102,6 +102,25 @@ pub enum SculptError {
         /// The limit.
         limit: f64,
     },
+    /// A sculpt op would take longer than one may on this machine
+    /// ([`super::budget::MAX_SECONDS`]): estimated before it runs, or (for
+    /// a stroke whose surface made it do more than estimated) measured by
+    /// the work it did before it stopped. Reduce or fix the parameter
+    /// named: fewer or closer samples, a larger `max_edge_rel`, a coarser
+    /// brush grid or base mesh.
+    #[error("{field}: {what} would take about {seconds:.1} s on this machine, over the limit of {limit} s ({detail})")]
+    TooSlow {
+        /// The parameter that sized the request.
+        field: String,
+        /// What was estimated.
+        what: &'static str,
+        /// The estimate, in seconds (may be infinite).
+        seconds: f64,
+        /// The limit, in seconds.
+        limit: f64,
+        /// What the estimate counted.
+        detail: String,
+    },
     /// The half-edge structure failed its validity check (an internal
     /// invariant; reported rather than panicking).
     #[error("half-edge mesh invalid: {0}")]
@@ -109,4 +128,18 @@ pub enum SculptError {
     /// The stroke's mirror plane is not a plane.
     #[error(transparent)]
     Mirror(#[from] crate::math::MirrorError),
+}
+
+/// A count or estimate for a message: whole numbers as they are (the
+/// exponent form rounded 4,000,130 and 4,001,280 to digits that read the
+/// wrong way round), others to four significant digits.
+fn number(x: &f64) -> String {
+    let x = *x;
+    if x.is_finite() && x.fract() == 0.0 && x.abs() < 1e15 {
+        format!("{x:.0}")
+    } else if x.is_finite() {
+        format!("{x:.4e}")
+    } else {
+        format!("{x}")
+    }
 }

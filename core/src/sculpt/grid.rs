@@ -111,6 +111,24 @@ impl VertexGrid {
         scratch: &mut Vec<VertId>,
     ) {
         out.clear();
+        self.for_cells_in_ball(center, radius, |bucket| {
+            out.extend(bucket.iter().map(|&v| VertId(v)))
+        });
+        sort_by_u32(out, scratch, |v| v.0);
+    }
+
+    /// How many vertices [`Self::query_ball`] would return, without
+    /// listing them (a pass over the cells only: what a stroke's time
+    /// estimate reads, see [`super::budget`]).
+    pub fn count_ball(&self, center: DVec3, radius: f64) -> usize {
+        let mut n = 0;
+        self.for_cells_in_ball(center, radius, |bucket| n += bucket.len());
+        n
+    }
+
+    /// Calls `f` with the bucket of every non-empty cell that meets the
+    /// ball (see [`Self::query_ball`]).
+    fn for_cells_in_ball(&self, center: DVec3, radius: f64, mut f: impl FnMut(&Vec<u32>)) {
         let r = DVec3::splat(radius);
         let a = self.key(center - r);
         let b = self.key(center + r);
@@ -136,7 +154,7 @@ impl VertexGrid {
         if ncell as usize > self.cells.len() {
             for (k, bucket) in &self.cells {
                 if (0..3).all(|i| k[i] >= a[i] && k[i] <= b[i]) && !far(k) {
-                    out.extend(bucket.iter().map(|&v| VertId(v)));
+                    f(bucket);
                 }
             }
         } else {
@@ -148,13 +166,12 @@ impl VertexGrid {
                             continue;
                         }
                         if let Some(bucket) = self.cells.get(&k) {
-                            out.extend(bucket.iter().map(|&v| VertId(v)));
+                            f(bucket);
                         }
                     }
                 }
             }
         }
-        sort_by_u32(out, scratch, |v| v.0);
     }
 
     /// Fills `out` with every vertex whose cell meets the box `[lo, hi]`

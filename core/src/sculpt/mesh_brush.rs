@@ -26,7 +26,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::brush::{check_finite, positive, DistanceGrid};
+use super::brush::{check_finite, positive, BrushExtent, DistanceGrid};
 use super::SculptError;
 use crate::id::ObjectId;
 use crate::mesh::TriMesh;
@@ -100,7 +100,41 @@ impl MeshBrush {
     /// (the current mesh of [`Self::object`], resolved by the document).
     pub fn to_grid(&self, object_mesh: Option<&TriMesh>) -> Result<DistanceGrid, SculptError> {
         self.validate()?;
-        let mesh = match &self.source {
+        grid_from_mesh(self.mesh(object_mesh)?, self.step, self.padding)
+    }
+
+    /// What the brush will be, from its mesh alone, before its grid is
+    /// sampled (for the stroke's time estimate, [`super::budget`]): the
+    /// grid's sample count and the brush's extent (its size: the farthest
+    /// vertex from the box centre the grid is centred on; its bound one
+    /// grid cell diagonal more). Refuses what [`Self::to_grid`] would
+    /// refuse for its size.
+    pub fn plan(&self, object_mesh: Option<&TriMesh>) -> Result<(u64, BrushExtent), SculptError> {
+        self.validate()?;
+        let mesh = self.mesh(object_mesh)?;
+        let (lo, hi) = mesh.bbox().ok_or_else(|| SculptError::NotClosedManifold {
+            what: "brush",
+            problems: "empty".into(),
+        })?;
+        let samples = grid_samples(lo, hi, self.step, self.padding)?;
+        let c = (lo + hi) * 0.5;
+        let size = mesh
+            .positions
+            .iter()
+            .map(|p| DVec3::from_array(*p).distance(c))
+            .fold(0.0, f64::max);
+        Ok((
+            samples,
+            BrushExtent {
+                size,
+                bound: size + self.step * 3f64.sqrt(),
+            },
+        ))
+    }
+
+    /// The inline mesh, or `object_mesh`.
+    fn mesh(&self, object_mesh: Option<&TriMesh>) -> Result<TriMesh, SculptError> {
+        Ok(match &self.source {
             MeshSource::Mesh {
                 positions,
                 triangles,
@@ -108,9 +142,26 @@ impl MeshBrush {
             MeshSource::Object { id } => object_mesh
                 .ok_or_else(|| SculptError::Invalid(format!("the mesh of object {id} is missing")))?
                 .clone(),
-        };
-        grid_from_mesh(mesh, self.step, self.padding)
+        })
     }
+}
+
+/// The samples of the grid over the box `lo..hi` padded by `padding` at
+/// spacing `step`, or [`SculptError::BrushTooLarge`].
+fn grid_samples(lo: DVec3, hi: DVec3, step: f64, padding: f64) -> Result<u64, SculptError> {
+    let n = ((hi - lo + DVec3::splat(2.0 * padding)) / step).ceil() + DVec3::ONE;
+    let samples = n.x * n.y * n.z;
+    if samples.is_nan() || samples > MAX_BRUSH_SAMPLES as f64 {
+        return Err(SculptError::BrushTooLarge {
+            samples: if samples.is_finite() {
+                samples as u64
+            } else {
+                u64::MAX
+            },
+            limit: MAX_BRUSH_SAMPLES,
+        });
+    }
+    Ok(samples as u64)
 }
 
 /// The distance grid of `mesh` re-centred on its box centre.
@@ -124,18 +175,7 @@ pub fn grid_from_mesh(
         problems,
     };
     let (lo, hi) = mesh.bbox().ok_or_else(|| not_closed("empty".into()))?;
-    let n = ((hi - lo + DVec3::splat(2.0 * padding)) / step).ceil() + DVec3::ONE;
-    let samples = n.x * n.y * n.z;
-    if samples.is_nan() || samples > MAX_BRUSH_SAMPLES as f64 {
-        return Err(SculptError::BrushTooLarge {
-            samples: if samples.is_finite() {
-                samples as u64
-            } else {
-                u64::MAX
-            },
-            limit: MAX_BRUSH_SAMPLES,
-        });
-    }
+    grid_samples(lo, hi, step, padding)?;
     let c = (lo + hi) * 0.5;
     for p in &mut mesh.positions {
         *p = (DVec3::from_array(*p) - c).to_array();

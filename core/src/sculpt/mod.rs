@@ -13,8 +13,9 @@
 //!   its region's adaptation is in `region_adapt` (§5.3), its parallel
 //!   passes in `par`.
 //! - [`stroke`]: strokes as whole paths or sample by sample (§4.1).
-//! - [`budget`]: the memory and work a stroke may ask for (issue 22),
-//!   estimated before the first frame and backed by a face limit.
+//! - [`budget`]: the memory, work and time a sculpt op may ask for
+//!   (issues 22, 33, 37), estimated before the first frame and backed by
+//!   a face limit and a count of the work done.
 //! - [`render`]: the changed-region API: slot-indexed render buffers a
 //!   host updates each frame from what the frame changed (§5.2).
 //! - [`base`]: base meshes (geodesic sphere, box, slab).
@@ -23,10 +24,12 @@
 //!
 //! Guarantees after every frame (checked by the property test):
 //! - the surface is a closed, oriented 2-manifold with no degenerate
-//!   triangle and no triangle folded onto a neighbour (normals more than
-//!   120 degrees apart): splits only subdivide, collapses check the link
-//!   condition, degrees, folds and shape, and a fold guard halves (then
-//!   undoes) the warp step of the vertices of any triangle that would fold;
+//!   triangle (quality below `adapt::MIN_FACE_QUALITY`) and no triangle
+//!   folded onto one it shares a vertex with (normals more than 120
+//!   degrees apart, or more than 90 and sharper than before): splits only
+//!   subdivide, collapses check the link condition, degrees, folds and
+//!   shape, and a fold guard (`fold_guard`) halves (then undoes) the warp
+//!   step of the vertices of any triangle that would fold;
 //! - edges at vertices the stroke moved or created are at most the max
 //!   length, and below the min length only where the collapse of that edge
 //!   is refused by those safety checks;
@@ -53,6 +56,7 @@ pub mod base;
 pub mod brush;
 pub mod budget;
 mod error;
+mod fold_guard;
 pub mod grid;
 pub mod halfedge;
 pub mod mesh_brush;

@@ -13,8 +13,9 @@ use serde::{Deserialize, Serialize};
 
 use super::base::{geodesic_sphere, grid_box, sphere_frequency};
 use super::brush::{check_finite, positive, BrushPose, BrushShape};
+use super::budget::{estimate_strokes, CreateCost, StrokeCost};
 use super::halfedge::HalfEdgeMesh;
-use super::stroke::{run_strokes, Sculptor, StrokeSample, StrokeSettings};
+use super::stroke::{estimate_on, run_costed, Sculptor, StrokeSample, StrokeSettings};
 use super::SculptError;
 use crate::id::ObjectId;
 use crate::math::{MirrorPlane, Transform};
@@ -171,6 +172,10 @@ impl SculptCreate {
                 TriMesh::new(positions.clone(), triangles.clone())
             }
         };
+        CreateCost {
+            vertices: mesh.positions.len() as f64,
+        }
+        .check("base")?;
         let surface = HalfEdgeMesh::from_trimesh(&mesh, "base")?;
         Ok(SculptMesh {
             surface,
@@ -224,24 +229,40 @@ impl SculptStroke {
         }
     }
 
+    /// What the stroke will cost on `target` (see [`Self::apply_to`]): the
+    /// estimate the op checks against the time budget, or the refusal.
+    pub fn estimate(
+        &self,
+        target: &SculptMesh,
+        brush_mesh: Option<&TriMesh>,
+    ) -> Result<StrokeCost, SculptError> {
+        Ok(self.prepare(target, brush_mesh)?.cost)
+    }
+
     /// Runs the stroke on `target`; `brush_mesh` is the mesh of
     /// [`Self::brush_object`] (before this stroke) when the brush is made
     /// from an object.
+    ///
+    /// The time budget is checked before any work on the meshes (the
+    /// frames, the mesh's size and the brush grid's samples, with the
+    /// brush's size from its mesh), again with the mesh's density once it
+    /// is indexed (a copy and a hash grid: part of the first estimate),
+    /// and only then is a mesh brush's grid sampled and the stroke run
+    /// ([`super::budget`]).
     pub fn apply_to(
         &self,
         target: &mut SculptMesh,
         brush_mesh: Option<&TriMesh>,
     ) -> Result<(), SculptError> {
-        let (scale, poses) = stroke_poses(&target.transform, &self.settings, &self.samples)?;
-        let mirrored = match &self.mirror {
-            Some(m) => {
-                m.validate()?;
-                let samples: Vec<StrokeSample> =
-                    self.samples.iter().map(|s| s.mirrored(m)).collect();
-                Some(stroke_poses(&target.transform, &self.settings, &samples)?.1)
-            }
-            None => None,
-        };
+        let Prepared {
+            mut sculptor,
+            cost,
+            scale,
+            poses,
+            mirrored,
+        } = self.prepare(target, brush_mesh)?;
+        let mut paths = vec![poses.as_slice()];
+        paths.extend(mirrored.as_deref());
         // A mesh brush becomes a grid here, from the document as it is
         // before this stroke (so replay rebuilds the same brush).
         let resolved;
@@ -255,14 +276,69 @@ impl SculptStroke {
             }
             _ => &self.settings,
         };
-        // A quarter of the brush reach: the query box then holds about
-        // twice the vertices within reach instead of about three times.
-        let cell = 0.25 * (settings.brush_size() + settings.influence) / scale;
-        let mut sculptor = Sculptor::new(target.surface.clone(), cell);
-        let mut paths = vec![poses.as_slice()];
-        paths.extend(mirrored.as_deref());
-        run_strokes(&mut sculptor, &settings.brush, settings, scale, &paths)?;
+        let extent = settings.brush.extent();
+        run_costed(
+            &mut sculptor,
+            &settings.brush,
+            extent,
+            settings,
+            scale,
+            &paths,
+            &cost,
+        )?;
         target.surface = sculptor.into_mesh();
         Ok(())
     }
+
+    /// Validates, estimates and checks the stroke, and indexes the mesh.
+    fn prepare(
+        &self,
+        target: &SculptMesh,
+        brush_mesh: Option<&TriMesh>,
+    ) -> Result<Prepared, SculptError> {
+        let (scale, poses) = stroke_poses(&target.transform, &self.settings, &self.samples)?;
+        let mirrored = match &self.mirror {
+            Some(m) => {
+                m.validate()?;
+                let samples: Vec<StrokeSample> =
+                    self.samples.iter().map(|s| s.mirrored(m)).collect();
+                Some(stroke_poses(&target.transform, &self.settings, &samples)?.1)
+            }
+            None => None,
+        };
+        let mut paths = vec![poses.as_slice()];
+        paths.extend(mirrored.as_deref());
+        let (grid_samples, extent) = match &self.settings.brush {
+            BrushShape::Mesh(m) => m.plan(brush_mesh)?,
+            b => (0, b.extent()),
+        };
+        let mut cost = estimate_strokes(&self.settings, extent, scale, &paths, None)?;
+        cost.faces = target.surface.face_count() as f64;
+        cost.grid_samples = grid_samples as f64;
+        cost.check()?;
+        // A quarter of the brush reach: the query box then holds about
+        // twice the vertices within reach instead of about three times.
+        let cell =
+            0.25 * (extent.size * self.settings.brush_scale + self.settings.influence) / scale;
+        let sculptor = Sculptor::new(target.surface.clone(), cell);
+        let mut cost = estimate_on(&sculptor, &self.settings, extent, scale, &paths)?;
+        cost.grid_samples = grid_samples as f64;
+        cost.check()?;
+        Ok(Prepared {
+            sculptor,
+            cost,
+            scale,
+            poses,
+            mirrored,
+        })
+    }
+}
+
+/// A stroke checked and ready to run ([`SculptStroke::apply_to`]).
+struct Prepared {
+    sculptor: Sculptor,
+    cost: StrokeCost,
+    scale: f64,
+    poses: Vec<(BrushPose, f64)>,
+    mirrored: Option<Vec<(BrushPose, f64)>>,
 }

@@ -149,7 +149,8 @@ impl Sculptor {
                 want
             };
             if need {
-                if self.mesh.face_count() >= self.face_limit {
+                if self.mesh.face_count() > self.face_limit {
+                    self.stopped_at = self.mesh.face_count();
                     self.over_budget = true;
                     break;
                 }
@@ -165,7 +166,8 @@ impl Sculptor {
                 break;
             }
             if self.wants_split(face, max2, lo, hi) {
-                if self.mesh.face_count() >= self.face_limit {
+                if self.mesh.face_count() > self.face_limit {
+                    self.stopped_at = self.mesh.face_count();
                     self.over_budget = true;
                     break;
                 }

@@ -46,6 +46,10 @@ const PARALLEL_CHUNK: usize = 2048;
 pub struct FrameInput<'a> {
     /// Brush shape.
     pub shape: &'a BrushShape,
+    /// The shape's [`BrushShape::bound_radius`] (a pass over a grid
+    /// brush's samples: computed once per stroke, see
+    /// [`BrushShape::extent`]).
+    pub bound: f64,
     /// Brush pose at the previous sample (equal to `pose` on the first).
     pub prev: BrushPose,
     /// Brush pose at this sample.
@@ -67,6 +71,8 @@ pub struct FrameInput<'a> {
 /// What one frame did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct FrameStats {
+    /// Vertices the frame looked at (those in the cells its reach meets).
+    pub visited: usize,
     /// Vertices moved by the warp.
     pub moved: usize,
     /// Edges split.
@@ -77,6 +83,7 @@ pub struct FrameStats {
 
 impl std::ops::AddAssign for FrameStats {
     fn add_assign(&mut self, o: Self) {
+        self.visited += o.visited;
         self.moved += o.moved;
         self.splits += o.splits;
         self.collapses += o.collapses;
@@ -109,6 +116,11 @@ pub struct Sculptor {
     /// Per vertex: `frame_stamp` when it may have an edge below the min
     /// length (a superset of those that do; see `region_adapt`).
     pub(super) short_mark: Vec<u32>,
+    /// Per vertex: its position before this frame's warp, valid where
+    /// `old_mark` is `frame_stamp` (the fold guard compares creases with
+    /// how they were).
+    pub(super) old_pos: Vec<DVec3>,
+    pub(super) old_mark: Vec<u32>,
     pub(super) frame_stamp: u32,
     cand: Vec<VertId>,
     pub(super) cand_scratch: Vec<VertId>,
@@ -141,6 +153,8 @@ pub struct Sculptor {
     pub(super) face_limit: usize,
     /// Whether a frame stopped refining at `face_limit`.
     pub(super) over_budget: bool,
+    /// The face count when refinement stopped (above `face_limit`).
+    pub(super) stopped_at: usize,
 }
 
 impl Sculptor {
@@ -169,6 +183,12 @@ impl Sculptor {
             moved_mark: marks(),
             rigid_mark: marks(),
             short_mark: marks(),
+            old_pos: {
+                let mut v = Vec::with_capacity(n + extra);
+                v.resize(n, DVec3::ZERO);
+                v
+            },
+            old_mark: marks(),
             face_mark,
             face_stamp: 0,
             frame_stamp: 1,
@@ -189,6 +209,7 @@ impl Sculptor {
             id_scratch: Vec::new(),
             face_limit: super::budget::MAX_TRIANGLES,
             over_budget: false,
+            stopped_at: 0,
         }
     }
 
@@ -203,6 +224,12 @@ impl Sculptor {
     /// then valid but under-refined: a stroke fails).
     pub fn over_budget(&self) -> bool {
         self.over_budget
+    }
+
+    /// The face count where refinement stopped when [`Self::over_budget`]
+    /// (more than the face limit).
+    pub fn stopped_at(&self) -> usize {
+        self.stopped_at
     }
 
     /// The surface.
@@ -243,6 +270,8 @@ impl Sculptor {
             self.moved_mark.resize(i + 1, 0);
             self.rigid_mark.resize(i + 1, 0);
             self.short_mark.resize(i + 1, 0);
+            self.old_pos.resize(i + 1, DVec3::ZERO);
+            self.old_mark.resize(i + 1, 0);
             self.dirty_mark.resize(i + 1, 0);
         }
         self.stroke_mark[i] = self.stroke_stamp;
@@ -345,10 +374,11 @@ impl Sculptor {
             self.moved_mark.fill(0);
             self.rigid_mark.fill(0);
             self.short_mark.fill(0);
+            self.old_mark.fill(0);
         }
         self.region.clear();
         let eval_pose = if f.warp == Warp::Drag { f.prev } else { f.pose };
-        let reach = f.shape.bound_radius() * eval_pose.scale + f.influence;
+        let reach = f.bound * eval_pose.scale + f.influence;
         let mut cand = std::mem::take(&mut self.cand);
         // The cells the reach's ball meets: the warp below skips every
         // vertex outside the ball, so leaving out the other cells of its
@@ -404,11 +434,12 @@ impl Sculptor {
             lo = lo.min(x).min(x2);
             hi = hi.max(x).max(x2);
         }
-        self.cand = cand;
         let mut stats = FrameStats {
+            visited: cand.len(),
             moved: moves.len(),
             ..Default::default()
         };
+        self.cand = cand;
         // A rigidly moved vertex with a neighbour that did not move with it
         // (moved otherwise, or not at all) sits on the rim of the rigid
         // region: its triangles change shape, so it counts as reshaped.
@@ -430,11 +461,13 @@ impl Sculptor {
         for (m, interior) in moves.iter_mut().zip(interior) {
             m.3 = interior;
         }
-        for &(v, _, x2, rigid) in &moves {
+        for &(v, x, x2, rigid) in &moves {
             self.mark(v, !rigid);
             if !rigid {
                 self.moved_mark[v.0 as usize] = self.frame_stamp;
             }
+            self.old_pos[v.0 as usize] = x;
+            self.old_mark[v.0 as usize] = self.frame_stamp;
             self.mesh.set_position(v, x2);
         }
         let pad = DVec3::splat(f.max_len);
@@ -455,132 +488,6 @@ impl Sculptor {
             self.adapt(&lim, tests, &mut stats);
         }
         stats
-    }
-
-    /// Fold guard: a warp step that would fold a triangle onto a
-    /// neighbour (normals more than 120 degrees apart) or make it
-    /// degenerate is halved for that triangle's moved vertices, up to three
-    /// times, then undone for them. Converging warps (collapse onto a small
-    /// brush) would otherwise crumple the surface within a few frames.
-    ///
-    /// The first round's pass over the region also takes, for
-    /// [`Self::adapt`], each triangle's split test and marks the vertices
-    /// with a short edge (`short_mark`): the region's fans and triangle
-    /// owners are the same ones (every reshaped vertex moved, and only
-    /// those). Returns the split tests when they still hold (no vertex was
-    /// pulled back), `None` otherwise.
-    fn prevent_folds(&mut self, moves: &mut [Move], lim: &Limits) -> Option<Vec<(FaceId, bool)>> {
-        let mut round = 0;
-        loop {
-            if round == 0 {
-                let this = &*self;
-                let parts = par::map_chunks(moves, |_, chunk| {
-                    let mut bad: Vec<VertId> = Vec::new();
-                    let mut split: Vec<(FaceId, bool)> = Vec::new();
-                    let mut short: Vec<VertId> = Vec::new();
-                    for &(v, _, _, rigid) in chunk {
-                        if rigid {
-                            continue;
-                        }
-                        debug_assert!(this.in_frame(v) && this.moved(v));
-                        let mut any_short = false;
-                        this.mesh.for_each_out(v, |h| {
-                            any_short |= this.mesh.edge_len2(h) < lim.min2;
-                            let f = h.face();
-                            let vs = this.mesh.face_verts(f);
-                            let owner = vs.iter().filter(|&&w| this.moved(w)).min();
-                            if owner == Some(&v) {
-                                if this.face_folds(f) {
-                                    bad.extend(vs.iter().filter(|&&w| this.moved(w)));
-                                }
-                                split.push((f, this.wants_split(f, lim.max2, lim.lo, lim.hi)));
-                            }
-                        });
-                        if any_short {
-                            short.push(v);
-                        }
-                    }
-                    (bad, split, short)
-                });
-                let mut bad_verts = Vec::new();
-                let mut split = Vec::with_capacity(parts.iter().map(|p| p.1.len()).sum());
-                for (b, sp, sh) in parts {
-                    bad_verts.extend(b);
-                    split.extend(sp);
-                    for v in sh {
-                        self.short_mark[v.0 as usize] = self.frame_stamp;
-                    }
-                }
-                if bad_verts.is_empty() || !self.pull_back(moves, &mut bad_verts, round) {
-                    return Some(split);
-                }
-                round += 1;
-                continue;
-            }
-            // Only triangles at a non-rigidly moved vertex can fold (two
-            // rigidly moved neighbours keep their dihedral angle). Each is
-            // tested by its smallest such corner; the corners of folding
-            // ones that moved are the offenders.
-            let this = &*self;
-            let mut bad_verts: Vec<VertId> = par::flat_map_chunks(moves, |_, chunk, out| {
-                for &(v, _, _, rigid) in chunk {
-                    if rigid {
-                        continue;
-                    }
-                    this.mesh.for_each_out(v, |h| {
-                        let f = h.face();
-                        let vs = this.mesh.face_verts(f);
-                        let owner = vs.iter().filter(|&&w| this.moved(w)).min();
-                        if owner == Some(&v) && this.face_folds(f) {
-                            out.extend(vs.iter().filter(|&&w| this.moved(w)));
-                        }
-                    });
-                }
-            });
-            if bad_verts.is_empty() || !self.pull_back(moves, &mut bad_verts, round) {
-                return None;
-            }
-            round += 1;
-        }
-    }
-
-    /// Halves (from `round` 3 on: undoes) the step of the offending
-    /// vertices `bad_verts`; returns whether any position changed.
-    fn pull_back(&mut self, moves: &mut [Move], bad_verts: &mut Vec<VertId>, round: u32) -> bool {
-        bad_verts.sort_unstable();
-        bad_verts.dedup();
-        // Halve three times, then undo; undoing stops once every offending
-        // vertex is back where it was (each undo round restores at least
-        // one vertex, so this terminates).
-        let mut changed = false;
-        for (v, old, new, rigid) in moves.iter_mut() {
-            if !*rigid && bad_verts.binary_search(v).is_ok() && *new != *old {
-                *new = if round >= 3 {
-                    *old
-                } else {
-                    *old + (*new - *old) * 0.5
-                };
-                self.mesh.set_position(*v, *new);
-                changed = true;
-            }
-        }
-        changed
-    }
-
-    /// True when face `f` is degenerate or folds onto a neighbour.
-    fn face_folds(&self, f: FaceId) -> bool {
-        let n = self.mesh.face_area_vec(f);
-        let nl = n.length();
-        let [a, b, c] = self.mesh.face_verts(f).map(|v| self.mesh.position(v));
-        let scale = (b - a).length_squared() + (c - b).length_squared() + (a - c).length_squared();
-        if nl.is_nan() || nl <= 1e-12 * scale {
-            return true;
-        }
-        (0..3).any(|i| {
-            let g = self.mesh.twin(f.half_edge(i)).face();
-            let m = self.mesh.face_area_vec(g);
-            n.dot(m) <= -0.5 * nl * m.length()
-        })
     }
 
     /// Brings `out` (built by [`RenderBuffers::from_mesh`] from this

@@ -6,7 +6,7 @@
 use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
-use super::brush::{check_finite, positive, BrushPose, BrushShape};
+use super::brush::{check_finite, positive, BrushExtent, BrushPose, BrushShape};
 use super::warp::{Falloff, Warp};
 use super::SculptError;
 
@@ -70,8 +70,9 @@ pub struct StrokeSettings {
     pub falloff: Falloff,
     /// Warp operator.
     pub warp: Warp,
-    /// Max edge length as a fraction of the brush size (scaled bound
-    /// radius of the brush shape); at least 1e-3 (see `sculpt::budget`).
+    /// Max edge length as a fraction of the brush size (the scaled radius
+    /// of the brush's own surface, [`BrushShape::size_radius`]); at least
+    /// 1e-3 (see `sculpt::budget`).
     #[schemars(range(min = 0.001))]
     pub max_edge_rel: f64,
     /// Min edge length as a fraction of the brush size; must be below half
@@ -107,9 +108,10 @@ impl StrokeSettings {
         Ok(())
     }
 
-    /// Brush size in the brush's scaled units.
+    /// Brush size in the brush's scaled units: the scaled
+    /// [`BrushShape::size_radius`] (a pass over a grid brush's samples).
     pub fn brush_size(&self) -> f64 {
-        self.brush.bound_radius() * self.brush_scale
+        self.brush.size_radius() * self.brush_scale
     }
 }
 
@@ -122,6 +124,8 @@ pub struct StrokeFrames<'a> {
     shape: &'a BrushShape,
     settings: &'a StrokeSettings,
     model_scale: f64,
+    /// The brush's extent, computed once.
+    extent: BrushExtent,
     prev: Option<BrushPose>,
     total: FrameStats,
 }
@@ -136,11 +140,23 @@ impl<'a> StrokeFrames<'a> {
         settings: &'a StrokeSettings,
         model_scale: f64,
     ) -> Self {
+        Self::begin_with(sculptor, shape, shape.extent(), settings, model_scale)
+    }
+
+    /// [`Self::begin`] with the shape's extent already computed.
+    fn begin_with(
+        sculptor: &mut Sculptor,
+        shape: &'a BrushShape,
+        extent: BrushExtent,
+        settings: &'a StrokeSettings,
+        model_scale: f64,
+    ) -> Self {
         sculptor.begin_stroke();
         Self {
             shape,
             settings,
             model_scale,
+            extent,
             prev: None,
             total: FrameStats::default(),
         }
@@ -148,11 +164,12 @@ impl<'a> StrokeFrames<'a> {
 
     /// Applies the frame of the next sample (model-space pose, pressure).
     pub fn frame(&mut self, sculptor: &mut Sculptor, pose: BrushPose, pressure: f64) -> FrameStats {
-        let size = self.settings.brush_size() / self.model_scale;
+        let size = self.extent.size * self.settings.brush_scale / self.model_scale;
         let prev = self.prev.unwrap_or(pose);
         self.prev = Some(pose);
         let s = sculptor.apply_frame(&FrameInput {
             shape: self.shape,
+            bound: self.extent.bound,
             prev,
             pose,
             pressure,
@@ -173,11 +190,12 @@ impl<'a> StrokeFrames<'a> {
 }
 
 /// Applies a whole stroke of model-space poses and pressures, after
-/// checking its estimated cost ([`super::budget::check_stroke`], with
-/// `settings` holding the resolved brush `shape`); fails with
-/// [`SculptError::OverBudget`] before any frame when the estimate is over
-/// the budget, or after the frame that reached the sculptor's face limit
-/// (the sculptor's surface is then valid but the stroke unfinished).
+/// checking its estimated cost ([`super::budget`], with `settings` holding
+/// the resolved brush `shape`); fails with [`SculptError::OverBudget`] or
+/// [`SculptError::TooSlow`] before any frame when the estimate is over the
+/// budget, or after the frame that reached the sculptor's face limit or
+/// did the work the time limit allows (the sculptor's surface is then
+/// valid but the stroke unfinished).
 pub fn run_stroke(
     sculptor: &mut Sculptor,
     shape: &BrushShape,
@@ -192,7 +210,10 @@ pub fn run_stroke(
 /// mirror image): frame `i` of every path in path order, then frame
 /// `i + 1`, so where the brushes meet (near a mirror plane) each sees
 /// the other's work of the frame before, as both hands would live. One
-/// path is exactly [`run_stroke`]. The budget counts every path's frames.
+/// path is exactly [`run_stroke`]. The budget ([`super::budget`]) counts
+/// every path's frames and the sculptor's mesh, and is checked before the
+/// first frame; the backstop stops the stroke once it has done the work
+/// the time limit allows.
 pub fn run_strokes(
     sculptor: &mut Sculptor,
     shape: &BrushShape,
@@ -200,12 +221,52 @@ pub fn run_strokes(
     model_scale: f64,
     paths: &[&[(BrushPose, f64)]],
 ) -> Result<FrameStats, SculptError> {
-    super::budget::check_strokes(settings, model_scale, paths)?;
+    let extent = shape.extent();
+    let mut cost = estimate_on(sculptor, settings, extent, model_scale, paths)?;
+    cost.check()?;
+    cost.grid_samples = 0.0;
+    run_costed(sculptor, shape, extent, settings, model_scale, paths, &cost)
+}
+
+/// The cost of `paths` on `sculptor`'s mesh as it is (its faces and
+/// density), without a brush grid.
+pub(super) fn estimate_on(
+    sculptor: &Sculptor,
+    settings: &StrokeSettings,
+    extent: BrushExtent,
+    model_scale: f64,
+    paths: &[&[(BrushPose, f64)]],
+) -> Result<super::budget::StrokeCost, SculptError> {
+    let mut cost = super::budget::estimate_strokes(
+        settings,
+        extent,
+        model_scale,
+        paths,
+        Some(&sculptor.grid),
+    )?;
+    cost.faces = sculptor.mesh().face_count() as f64;
+    Ok(cost)
+}
+
+/// [`run_strokes`] after its estimate `cost` was checked: the frames, with
+/// the face limit and the backstop on the work.
+pub(super) fn run_costed(
+    sculptor: &mut Sculptor,
+    shape: &BrushShape,
+    extent: BrushExtent,
+    settings: &StrokeSettings,
+    model_scale: f64,
+    paths: &[&[(BrushPose, f64)]],
+    cost: &super::budget::StrokeCost,
+) -> Result<FrameStats, SculptError> {
     let limit = super::budget::face_limit(sculptor.mesh().face_count());
     sculptor.set_face_limit(limit);
+    let unit_limit = cost.unit_limit();
+    let mut units = 0.0;
+    let mut done = 0;
     let mut frames: Vec<StrokeFrames> = paths
         .iter()
-        .map(|_| StrokeFrames::begin(sculptor, shape, settings, model_scale))
+        .map(|_| StrokeFrames::begin_with(sculptor, shape, extent, settings, model_scale))
         .collect();
     let n = paths.iter().map(|p| p.len()).max().unwrap_or(0);
     for i in 0..n {
@@ -213,10 +274,14 @@ pub fn run_strokes(
             let Some(&(pose, pressure)) = path.get(i) else {
                 continue;
             };
-            f.frame(sculptor, pose, pressure);
+            let s = f.frame(sculptor, pose, pressure);
+            done += 1;
+            units += (s.visited + 2 * s.splits) as f64;
             if sculptor.over_budget() {
-                let faces = sculptor.mesh().face_count();
-                return Err(super::budget::too_many_faces(faces, limit));
+                return Err(super::budget::too_many_faces(sculptor.stopped_at(), limit));
+            }
+            if units > unit_limit {
+                return Err(super::budget::too_much_work(cost, units, done));
             }
         }
     }

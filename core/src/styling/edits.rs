@@ -13,10 +13,12 @@ use crate::id::ObjectId;
 use crate::math::{DAffine3, DQuat, DVec3};
 
 use super::attract::{AttractParams, Attractor};
+use super::budget::Budget;
 use super::curve::{fit_curve, FitMode};
 use super::frame::{stroke_in_held_frame, ModelingFrame};
 use super::network::{CurveNetwork, Piece};
 use super::surface::SurfaceWeights;
+use super::surface_hold::{hold_equilibrium, hold_pull, EquilibriumHold};
 use super::tools::{check_path, CurveSession, PullParams, SharpenLimits, SmoothParams, StopReason};
 use super::StylingError;
 
@@ -209,7 +211,9 @@ pub struct CurveFillLoop {
 pub struct CurveFillAuto {}
 
 /// Surface smoother (`0 < f < 1`) or sharpener (`f > 1`) on a patch, one
-/// frame per path sample.
+/// frame per path sample, acting where the path passes (within `radius`)
+/// and stopping before the patch would overhang its boundary (see
+/// [`super::surface_hold`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SurfaceEquilibrium {
@@ -217,16 +221,28 @@ pub struct SurfaceEquilibrium {
     pub patch: PatchId,
     /// Internal energy weights.
     pub weights: SurfaceWeights,
-    /// Factor applied to `w_q` each frame: in (0, 1) for the smoother,
-    /// (1, 2] for the sharpener.
+    /// Factor applied to `w_q` each frame where the pointer is: in (0, 1)
+    /// for the smoother, (1, 2] for the sharpener.
     #[schemars(extend("exclusiveMinimum" = 0.0), range(max = 2.0))]
     pub f: f64,
     /// Cap on `w_q` (sharpener bound).
     #[schemars(range(min = 1.0, max = 100.0))]
     pub wq_max: f64,
-    /// Pointer tip per frame.
+    /// Pointer tip per frame: the tool acts around it.
     #[schemars(extend("x-unit" = "m"))]
     pub path: Vec<[f64; 3]>,
+    /// How far from the pointer the tool acts: the gaussian radius of its
+    /// weight on the patch. Absent: the whole patch at once (the paper's
+    /// global tool; only the number of frames matters).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
+    pub radius: Option<f64>,
+    /// The most any point of the patch moves in one frame. Absent:
+    /// unbounded (the sharpener then grows by `f` per frame up to
+    /// `wq_max`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("x-unit" = "m", "exclusiveMinimum" = 0.0))]
+    pub max_step: Option<f64>,
 }
 
 /// Surface puller: the patch point at `(u0, v0)` follows the path.
@@ -382,8 +398,11 @@ impl CurveFillAuto {
 
 impl SurfaceEquilibrium {
     /// The smoother (`sharpen = false`) or sharpener along the path.
+    /// Stopping before an overhang is not an error: the frames before the
+    /// stop are kept.
     pub fn apply_to(&self, net: &mut CurveNetwork, sharpen: bool) -> Result<u64, StylingError> {
         let path = check_path(&self.path)?;
+        Budget::default().check_extent("path", &path)?;
         let f_ok = if sharpen {
             self.f > 1.0 && self.f <= 2.0
         } else {
@@ -397,37 +416,37 @@ impl SurfaceEquilibrium {
         if !(self.wq_max.is_finite() && (1.0..=100.0).contains(&self.wq_max)) {
             return Err(StylingError::BadParameter("wq_max must be in [1, 100]"));
         }
+        let positive = |v: Option<f64>| v.is_none_or(|v| v.is_finite() && v > 0.0);
+        if !positive(self.radius) {
+            return Err(StylingError::BadParameter("radius must be > 0"));
+        }
+        if !positive(self.max_step) {
+            return Err(StylingError::BadParameter("max_step must be > 0"));
+        }
         let k = self.patch.0;
-        let mut sys = net.surface_system(k, &self.weights)?;
-        let (d, _wq) =
-            sys.equilibrium_frames(&net.patches[k].disp, self.f, path.len(), self.wq_max)?;
-        let work = (d.len() * path.len()) as u64;
-        net.patches[k].disp = d;
-        Ok(work)
+        let hold = EquilibriumHold {
+            f: self.f,
+            wq_max: self.wq_max,
+            radius: self.radius,
+            max_step: self.max_step,
+        };
+        let (frames, _stop) = hold_equilibrium(net, k, &self.weights, &hold, &path)?;
+        Ok((net.patches[k].disp.len() * frames.max(1)) as u64)
     }
 }
 
 impl SurfacePull {
-    /// The puller along the path.
+    /// The puller along the path, stopping (not failing) before a frame
+    /// that would make the patch overhang its boundary.
     pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
         let path = check_path(&self.path)?;
         if !((0.0..=1.0).contains(&self.u0) && (0.0..=1.0).contains(&self.v0)) {
             return Err(StylingError::BadParameter("u0 and v0 must be in [0, 1]"));
         }
         let k = self.patch.0;
-        let mut sys = net.surface_system(k, &self.weights)?;
-        let base0 = net.patch_base_point(k, self.u0, self.v0)?;
-        let targets: Vec<DVec3> = path;
-        let d = sys.pull(
-            &net.patches[k].disp,
-            self.u0,
-            self.v0,
-            base0,
-            self.wpp,
-            &targets,
-        )?;
-        let work = (d.len() * targets.len()) as u64;
-        net.patches[k].disp = d;
-        Ok(work)
+        net.patch(k)?;
+        let (frames, _stop) =
+            hold_pull(net, k, &self.weights, (self.u0, self.v0), self.wpp, &path)?;
+        Ok((net.patches[k].disp.len() * frames.max(1)) as u64)
     }
 }

@@ -12,7 +12,9 @@
 //! - [`attract`]: point, line, plane and curve attractors as a tool (§2.2).
 //! - [`frame`]: the modeling frame held by the non-dominant hand (§5.4).
 //! - [`surface`]: surface smoother, sharpener, puller on uniform bicubic
-//!   B-splines with a fixed boundary (§4).
+//!   B-splines with a fixed boundary (§4); [`surface_hold`]: those tools
+//!   held along a pointer path on a patch (local, bounded per frame,
+//!   stopping before an overhang).
 //! - [`network`]: the curve network object (§5), split by idea into
 //!   [`junction`] (weaving curves in, keeping them connected, §5.1),
 //!   [`loops`] (pieces and loops, §5.2) and [`patch`] (patches, §5.3).
@@ -48,6 +50,7 @@ pub mod polygon;
 pub mod select;
 pub mod solver;
 pub mod surface;
+pub mod surface_hold;
 pub mod tools;
 
 pub use attract::{AttractParams, Attractor};
@@ -70,6 +73,8 @@ mod tests_attract;
 mod tests_budget;
 #[cfg(test)]
 mod tests_frame;
+#[cfg(test)]
+pub(crate) mod tests_hold;
 #[cfg(test)]
 mod tests_net;
 #[cfg(test)]

@@ -56,11 +56,10 @@
 //! are smooth inside too and convert exactly to one NURBS surface for USD.
 
 use crate::math::{DVec2, DVec3};
-use crate::mesh::TriMesh;
 
 use super::jet::VJet;
 use super::network::{CurveNetwork, Piece};
-use super::patch::grid_triangles;
+use super::patch::{grid_triangles, MeshSample};
 use super::polygon::NgonDomain;
 use super::surface::eval_grid;
 use super::StylingError;
@@ -141,59 +140,57 @@ impl CurveNetwork {
         self.ngon_base(k, &dom, p).v + self.ngon_displacement(k, &dom, p)
     }
 
-    fn ngon_point_in(&self, k: usize, dom: &NgonDomain, p: DVec2) -> DVec3 {
+    pub(crate) fn ngon_point_in(&self, k: usize, dom: &NgonDomain, p: DVec2) -> DVec3 {
         self.ngon_base(k, dom, p).v + self.ngon_displacement(k, dom, p)
     }
 
-    /// Triangle mesh of the n-sided patch `k`: `n` quads of `h × h` cells.
-    pub(crate) fn ngon_mesh(&self, k: usize) -> TriMesh {
+    /// The mesh samples of the n-sided patch `k` (see
+    /// [`CurveNetwork::patch_samples`]): `n` quads of `h × h` cells, each
+    /// its own grid (the network's mesh welds them).
+    pub(crate) fn ngon_samples(&self, k: usize) -> (Vec<MeshSample>, Vec<[u32; 3]>) {
         let pc = self.patches[k].pieces.clone();
         let n = pc.len();
         let m = self.resolution as usize;
         let h = m / 2;
         let dom = NgonDomain::regular(n);
-        let centre = self.ngon_point_in(k, &dom, dom.centre());
         // Spoke j sample i: from M_j (i = 0) to C (i = h).
-        let spokes: Vec<Vec<DVec3>> = (0..n)
-            .map(|j| {
-                (0..=h)
-                    .map(|i| {
-                        if i == 0 {
-                            self.piece_sample(&pc[j], m / 2, m)
-                        } else if i == h {
-                            centre
-                        } else {
-                            let p = dom.mid(j).lerp(dom.centre(), i as f64 / h as f64);
-                            self.ngon_point_in(k, &dom, p)
-                        }
-                    })
-                    .collect()
-            })
-            .collect();
-        let mut out = TriMesh::default();
+        let spoke = |j: usize, i: usize| {
+            if i == 0 {
+                MeshSample::Fixed(self.piece_sample(&pc[j], m / 2, m))
+            } else if i == h {
+                MeshSample::At(dom.centre())
+            } else {
+                MeshSample::At(dom.mid(j).lerp(dom.centre(), i as f64 / h as f64))
+            }
+        };
+        let mut out = Vec::with_capacity(n * (h + 1) * (h + 1));
+        let mut tris = Vec::with_capacity(n * 2 * h * h);
         for q in 0..n {
             let prev = (q + n - 1) % n;
-            let mut pos = Vec::with_capacity((h + 1) * (h + 1));
+            let base = out.len() as u32;
             for j in 0..=h {
                 for i in 0..=h {
-                    let p = if j == 0 {
-                        self.piece_sample(&pc[q], i, m)
+                    out.push(if j == 0 {
+                        MeshSample::Fixed(self.piece_sample(&pc[q], i, m))
                     } else if i == 0 {
-                        self.piece_sample(&pc[prev], m - j, m)
+                        MeshSample::Fixed(self.piece_sample(&pc[prev], m - j, m))
                     } else if i == h {
-                        spokes[q][j]
+                        spoke(q, j)
                     } else if j == h {
-                        spokes[prev][i]
+                        spoke(prev, i)
                     } else {
-                        let p = ngon_chart(&dom, q, i as f64 / h as f64, j as f64 / h as f64);
-                        self.ngon_point_in(k, &dom, p)
-                    };
-                    pos.push(p.to_array());
+                        MeshSample::At(ngon_chart(
+                            &dom,
+                            q,
+                            i as f64 / h as f64,
+                            j as f64 / h as f64,
+                        ))
+                    });
                 }
             }
-            out.append(&TriMesh::new(pos, grid_triangles(h)));
+            tris.extend(grid_triangles(h).iter().map(|t| t.map(|i| i + base)));
         }
-        out
+        (out, tris)
     }
 
     /// Checks that an n-sided loop can be meshed (even resolution).

@@ -31,6 +31,16 @@ pub struct Patch {
     pub disp: Vec<[f64; 3]>,
 }
 
+/// Where a vertex of a patch's mesh comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum MeshSample {
+    /// A boundary sample: on the patch's curves, whatever its displacement.
+    Fixed(DVec3),
+    /// The patch evaluated at this domain point (see
+    /// [`CurveNetwork::patch_point`]).
+    At(DVec2),
+}
+
 /// Triangles of an `m × m`-cell grid of `(m + 1)²` row-major vertices,
 /// counter-clockwise in `(i, j)`.
 pub(crate) fn grid_triangles(m: usize) -> Vec<[u32; 3]> {
@@ -169,35 +179,63 @@ impl CurveNetwork {
             .unwrap_or(DVec3::NAN)
     }
 
-    /// Triangle mesh of patch `k` (boundary vertices on the curves).
-    pub fn patch_mesh(&self, k: usize) -> TriMesh {
+    /// Where each vertex of patch `k`'s mesh comes from (a boundary
+    /// sample, or a domain point the patch is evaluated at) and the mesh's
+    /// triangles: the mesh without evaluating the interior, so a held
+    /// surface tool can evaluate it cheaply frame after frame
+    /// ([`super::surface_hold`]).
+    pub(crate) fn patch_samples(&self, k: usize) -> (Vec<MeshSample>, Vec<[u32; 3]>) {
         if self.patches[k].pieces.len() > 4 {
-            return self.ngon_mesh(k);
+            return self.ngon_samples(k);
         }
         let m = self.resolution as usize;
         let pc = &self.patches[k].pieces;
-        let mut pos = Vec::with_capacity((m + 1) * (m + 1));
+        let mut out = Vec::with_capacity((m + 1) * (m + 1));
         for j in 0..=m {
             for i in 0..=m {
-                let p = if j == 0 {
-                    self.piece_sample(&pc[0], i, m)
+                let fixed = if j == 0 {
+                    Some(self.piece_sample(&pc[0], i, m))
                 } else if i == m {
-                    self.piece_sample(&pc[1], j, m)
+                    Some(self.piece_sample(&pc[1], j, m))
                 } else if j == m {
-                    self.piece_sample(&pc[2], m - i, m)
+                    Some(self.piece_sample(&pc[2], m - i, m))
                 } else if i == 0 {
-                    if pc.len() == 4 {
+                    Some(if pc.len() == 4 {
                         self.piece_sample(&pc[3], m - j, m)
                     } else {
                         self.node_point(pc[0].from)
-                    }
+                    })
                 } else {
-                    self.patch_point(k, i as f64 / m as f64, j as f64 / m as f64)
+                    None
                 };
-                pos.push(p.to_array());
+                out.push(match fixed {
+                    Some(p) => MeshSample::Fixed(p),
+                    None => MeshSample::At(DVec2::new(i as f64 / m as f64, j as f64 / m as f64)),
+                });
             }
         }
-        TriMesh::new(pos, grid_triangles(m))
+        (out, grid_triangles(m))
+    }
+
+    /// Triangle mesh of patch `k` (boundary vertices on the curves).
+    pub fn patch_mesh(&self, k: usize) -> TriMesh {
+        let (samples, triangles) = self.patch_samples(k);
+        let sides = self.patches[k].pieces.len();
+        let dom = (sides > 4).then(|| NgonDomain::regular(sides));
+        let positions = samples
+            .iter()
+            .map(|s| {
+                match *s {
+                    MeshSample::Fixed(p) => p,
+                    MeshSample::At(uv) => match &dom {
+                        Some(d) => self.ngon_point_in(k, d, uv),
+                        None => self.patch_point(k, uv.x, uv.y),
+                    },
+                }
+                .to_array()
+            })
+            .collect();
+        TriMesh::new(positions, triangles)
     }
 
     /// The mesh of every patch, welded; degenerate triangles (collapsed

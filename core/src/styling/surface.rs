@@ -379,9 +379,12 @@ impl SurfaceSystem {
         Ok(self.points(&x))
     }
 
-    /// Smoother (`f < 1`) or sharpener (`f > 1`, `w_q <= wq_max`) over
-    /// `frames` frames from `d0` (§4.1-4.2). Returns the control points
-    /// after the last frame and the final `w_q`.
+    /// The global smoother (`f < 1`) or sharpener (`f > 1`, `w_q <=
+    /// wq_max`) over `frames` frames from `d0` (§4.1-4.2): `d_min + w_q (d0
+    /// - d_min)` with `w_q = min(f^frames, wq_max)`, the minimal-energy
+    /// `d_min` from one factorization. Returns the control points and the
+    /// final `w_q`. (The held tools of the ops, local and bounded, are in
+    /// [`super::surface_hold`].)
     pub fn equilibrium_frames(
         &mut self,
         d0: &[[f64; 3]],
@@ -390,21 +393,20 @@ impl SurfaceSystem {
         wq_max: f64,
     ) -> Result<(Vec<[f64; 3]>, f64), StylingError> {
         Budget::default().check_tool_work("path", frames, self.n_u * self.n_v)?;
-        let a = self.a.clone();
-        let fixed = self.fixed.clone();
-        self.solver.factor(&a, &fixed)?;
-        let x0 = self.columns(d0);
-        // b_q = A d0 + g: the equilibrium of the surface at activation.
-        let ad = self.solver.pattern().mul(&self.a, &x0, 3);
-        let bq: Vec<f64> = ad.iter().zip(&self.g).map(|(a, g)| a + g).collect();
+        let dmin = self.minimal(d0)?;
         let mut wq = 1.0;
-        let mut x = x0.clone();
         for _ in 0..frames {
             wq = (wq * f).min(wq_max);
-            let rhs: Vec<f64> = bq.iter().zip(&self.g).map(|(b, g)| wq * b - g).collect();
-            x = self.solver.solve(&rhs, &x0, 3)?;
         }
-        Ok((self.points(&x), wq))
+        let d = d0
+            .iter()
+            .zip(&dmin)
+            .map(|(a, m)| {
+                let (a, m) = (DVec3::from_array(*a), DVec3::from_array(*m));
+                (m + (a - m) * wq).to_array()
+            })
+            .collect();
+        Ok((d, wq))
     }
 
     /// Puller (§4.3): the surface point at `(u0, v0)` attracted to each
@@ -419,6 +421,25 @@ impl SurfaceSystem {
         wpp: f64,
         targets: &[DVec3],
     ) -> Result<Vec<[f64; 3]>, StylingError> {
+        let (d, _) = self.pull_guarded(d0, u0, v0, base0, wpp, targets, &mut |_| true)?;
+        Ok(d)
+    }
+
+    /// [`Self::pull`], stopping at the first frame whose control points
+    /// `accept` refuses (taken as far towards its target as is accepted:
+    /// half, a quarter or an eighth of the way); returns the control points
+    /// after the last frame taken and how many frames were taken.
+    #[allow(clippy::too_many_arguments)]
+    pub fn pull_guarded(
+        &mut self,
+        d0: &[[f64; 3]],
+        u0: f64,
+        v0: f64,
+        base0: DVec3,
+        wpp: f64,
+        targets: &[DVec3],
+        accept: &mut dyn FnMut(&[[f64; 3]]) -> bool,
+    ) -> Result<(Vec<[f64; 3]>, usize), StylingError> {
         if !(wpp.is_finite() && wpp > 0.0) {
             return Err(StylingError::BadParameter("wpp must be > 0"));
         }
@@ -441,18 +462,40 @@ impl SurfaceSystem {
         self.solver.factor(&a, &fixed)?;
         let x0 = self.columns(d0);
         let ad = self.solver.pattern().mul(&self.a, &x0, 3);
-        let mut x = x0.clone();
-        for p in targets {
-            let q = *p - base0;
-            let mut rhs = ad.clone();
-            for &(r, nr) in &idx {
-                rhs[r] += wpp * nr * q.x;
-                rhs[n + r] += wpp * nr * q.y;
-                rhs[2 * n + r] += wpp * nr * q.z;
+        let mut last = d0.to_vec();
+        // The displacement the pulled point has now: a refused frame is
+        // retried towards its target from here (half, quarter, eighth).
+        let mut from = idx.iter().fold(DVec3::ZERO, |acc, &(r, nr)| {
+            acc + DVec3::new(x0[r], x0[n + r], x0[2 * n + r]) * nr
+        });
+        for (frame, p) in targets.iter().enumerate() {
+            let target = *p - base0;
+            let mut part = 1.0;
+            loop {
+                let q = from + (target - from) * part;
+                let mut rhs = ad.clone();
+                for &(r, nr) in &idx {
+                    rhs[r] += wpp * nr * q.x;
+                    rhs[n + r] += wpp * nr * q.y;
+                    rhs[2 * n + r] += wpp * nr * q.z;
+                }
+                let x = self.solver.solve(&rhs, &x0, 3)?;
+                let d = self.points(&x);
+                if accept(&d) {
+                    last = d;
+                    from = q;
+                    break;
+                }
+                part *= 0.5;
+                if part < 0.1 {
+                    return Ok((last, frame));
+                }
             }
-            x = self.solver.solve(&rhs, &x0, 3)?;
+            if part < 1.0 {
+                return Ok((last, frame + 1));
+            }
         }
-        Ok(self.points(&x))
+        Ok((last, targets.len()))
     }
 }
 

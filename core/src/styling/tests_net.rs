@@ -390,9 +390,20 @@ fn surface_sharpen_op_on_quads_and_pentagons() {
     assert_eq!(sides, [4, 4, 4, 4, 4, 5, 5]);
     let w = SurfaceWeights { wb: 1.0, ws: 0.0 };
     for k in [0usize, 6] {
-        // Pull first, so that the patch is away from its minimal shape.
+        // Pull first, so that the patch is away from its minimal shape:
+        // 2 cm along its normal (pulled along itself, a side patch would
+        // fold over its boundary once sharpened, and the sharpener stops
+        // before that; see `tests_hold`).
         let c = net_of(&log).patch_point(k, 0.5, 0.5);
-        let target = (c + DVec3::new(0.01, 0.0, 0.03)).to_array();
+        let m = net_of(&log).patch_mesh(k);
+        let p = |i: u32| DVec3::from_array(m.positions[i as usize]);
+        let normal = m
+            .triangles
+            .iter()
+            .map(|t| (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])))
+            .sum::<DVec3>()
+            .normalize();
+        let target = (c + normal * 0.02).to_array();
         log.apply(op(&format!(
             r#"{{"op":"surface_pull","id":1,"patch":{k},"weights":{{"wb":1.0,"ws":0.0}},"wpp":1000.0,"u0":0.5,"v0":0.5,"path":[{}]}}"#,
             serde_json::to_string(&target).unwrap()

@@ -242,25 +242,43 @@ struct BrushSource {
     id: ObjectId,
     label: String,
     mesh: Arc<TriMesh>,
-    /// Its mesh's bounding box (model space), if it has vertices.
-    bbox: Option<(DVec3, DVec3)>,
+    /// Its mesh's bounding box (model space) and the farthest distance of
+    /// a vertex from the box's centre, if it has vertices.
+    bounds: Option<((DVec3, DVec3), f64)>,
 }
 
-/// The mesh brush made from an object with bounding box `lo..hi`, scaled
-/// so its bounding sphere has radius `radius` (model units), with
-/// `influence` (model units) for the grid's padding: `(brush, scale)`.
+/// A mesh's bounding box and the farthest distance of a vertex from the
+/// box's centre: the radius of the ball about the centre that holds it,
+/// which is the size a brush made from it has (the grid brush is
+/// centred on the box's centre, [`crate::sculpt::BrushShape::size_radius`]).
+pub(crate) fn mesh_bounds(mesh: &TriMesh) -> Option<((DVec3, DVec3), f64)> {
+    let (lo, hi) = mesh.bbox()?;
+    let c = (lo + hi) * 0.5;
+    let r = mesh
+        .positions
+        .iter()
+        .map(|p| DVec3::from_array(*p).distance(c))
+        .fold(0.0, f64::max);
+    Some(((lo, hi), r))
+}
+
+/// The mesh brush made from an object with bounding box `lo..hi` whose
+/// vertices lie within `extent` of the box's centre, scaled so that ball
+/// has radius `radius` (model units): the brush then has the size of the
+/// preset it replaces (for a sphere, that preset's sphere), so it refines
+/// alike. `influence` (model units) sets the grid's padding. Returns
+/// `(brush, scale)`.
 pub(crate) fn mesh_brush(
     id: ObjectId,
-    (lo, hi): (DVec3, DVec3),
+    ((lo, hi), extent): ((DVec3, DVec3), f64),
     radius: f64,
     influence: f64,
 ) -> Option<(MeshBrush, f64)> {
     let ext = hi - lo;
-    let half_diagonal = ext.length() / 2.0;
-    if !(half_diagonal.is_finite() && half_diagonal > 0.0 && radius > 0.0) {
+    if !(extent.is_finite() && extent > 0.0 && radius > 0.0) {
         return None;
     }
-    let scale = radius / half_diagonal;
+    let scale = radius / extent;
     let side = ext.max_element();
     // Padding: the influence band around the mesh, in the mesh's units,
     // at most half its largest side (beyond the grid the brush uses the
@@ -388,7 +406,7 @@ impl BrushTool {
                         id,
                         label,
                         mesh: obj.mesh.clone(),
-                        bbox: obj.mesh.bbox(),
+                        bounds: mesh_bounds(&obj.mesh),
                     },
                 }
             })
@@ -415,7 +433,7 @@ impl BrushTool {
         s.influence *= k;
         let radius = s.brush_size();
         if let Some(src) = self.source() {
-            let (brush, scale) = mesh_brush(src.id, src.bbox?, radius, s.influence)?;
+            let (brush, scale) = mesh_brush(src.id, src.bounds?, radius, s.influence)?;
             s.brush = BrushShape::Mesh(brush);
             s.brush_scale = scale;
         }

@@ -117,6 +117,14 @@ pub struct CurveToolSettings {
     pub surface_smooth_f: f64,
     /// Surface sharpener's factor on `w_q` per frame, in (1, 2], and its cap.
     pub surface_sharpen: (f64, f64),
+    /// How far from the pen tip the surface smoother and sharpener act
+    /// (the gaussian radius of their weight on the patch), metres in the
+    /// model.
+    pub surface_radius: f64,
+    /// The most the surface smoother and sharpener move any point of the
+    /// patch in one frame (metres in the model): 1 s held changes a
+    /// patch by at most this times the frame rate.
+    pub surface_max_step: f64,
     /// Surface puller's attractor weight.
     pub surface_wpp: f64,
 }
@@ -170,8 +178,17 @@ impl Default for CurveToolSettings {
             },
             // The values of the styled fixtures (tests/data/lampshade.jsonl).
             surface: SurfaceWeights { wb: 1.0, ws: 0.0 },
-            surface_smooth_f: 0.8,
-            surface_sharpen: (1.2, 4.0),
+            // Both act within about 5 cm of the pen and move the patch at
+            // most 0.25 mm a frame: 1.8 cm in a held second at 72 Hz, 3 cm
+            // at 120 Hz (issue 33: 1.2 per frame up to 4 times took a
+            // 4.7 cm bump to 18.4 cm in one second, and stronger settings
+            // made it overhang). Where the pen is, the smoother takes the
+            // patch 0.95 of the way to its minimal shape in a second at
+            // 72 Hz, the sharpener away from it by up to 3 times.
+            surface_smooth_f: 0.96,
+            surface_sharpen: (1.03, 3.0),
+            surface_radius: 0.05,
+            surface_max_step: 0.000_25,
             surface_wpp: 2000.0,
         }
     }
@@ -831,6 +848,8 @@ impl CurveNetworkTool {
                     f,
                     wq_max,
                     path: path.to_vec(),
+                    radius: Some(st.surface_radius),
+                    max_step: Some(st.surface_max_step),
                 };
                 Some(match tool {
                     SurfaceTool::Smooth => Op::SurfaceSmooth(Edit::new(

@@ -639,7 +639,9 @@ fn forced_tools_pull_smooth_and_sharpen_the_pointed_surface() {
     assert!(d.rejected.is_empty(), "{:?}", d.rejected);
     let sharpened = energy(&d.log);
     println!("sharpener: energy {smoothed:.4e} -> {sharpened:.4e}");
-    assert!(sharpened > smoothed * 2.0, "{smoothed} -> {sharpened}");
+    // At most 0.25 mm a frame (the defaults): a clear rise in 0.3 s, not
+    // a doubling.
+    assert!(sharpened > smoothed * 1.05, "{smoothed} -> {sharpened}");
     // Near an edge the same forced mode acts on the curve, not the surface.
     let edge = net_of(&d.log).curve(4).unwrap().point(0.5) + v(0.0, 0.0, 0.005);
     let cmds = press_down(&mut d, edge, edge, 0.2);
@@ -649,6 +651,44 @@ fn forced_tools_pull_smooth_and_sharpen_the_pointed_surface() {
     let from = lifted + v(-0.04, 0.0, 0.01);
     let cmds = press_down(&mut d, from, from + v(0.08, 0.0, 0.0), 0.4);
     assert_eq!(names(&cmds), ["curve_draw"]);
+}
+
+/// Issue 33: the surface sharpener with the headset's defaults took a
+/// hexagonal patch's 4.7 cm bump to 18.4 cm in one held second. Held a
+/// second over the bump now (at 72 and at 120 Hz), it still raises it,
+/// by a few centimetres at most, and no point of the patch moves more.
+#[test]
+fn one_held_second_of_the_default_sharpener_changes_a_patch_by_centimetres() {
+    for fps in [72.0, 120.0] {
+        let mut d = crate::interact::testkit::Driver::new(fps, "curve");
+        for op in crate::styling::tests_hold::ngon_ops(6, 0.15, 0.047) {
+            d.log.apply(op).unwrap();
+        }
+        let before = net_of(&d.log).patch_mesh(0);
+        let z0 = net_of(&d.log).patch_point(0, 0.5, 0.5).z;
+        d.pick_choice(0, 3).unwrap();
+        let at = v(0.0, 0.0, z0 + 0.005);
+        let cmds = press_down(&mut d, at, at, 1.0);
+        let [ScriptCommand::Op(Op::SurfaceSharpen(s))] = cmds.as_slice() else {
+            panic!("{:?}", names(&cmds));
+        };
+        assert!(d.rejected.is_empty(), "{:?}", d.rejected);
+        let frames = s.edit.0.path.len();
+        let after = net_of(&d.log).patch_mesh(0);
+        let z1 = net_of(&d.log).patch_point(0, 0.5, 0.5).z;
+        let moved = before
+            .positions
+            .iter()
+            .zip(&after.positions)
+            .map(|(a, b)| DVec3::from_array(*a).distance(DVec3::from_array(*b)))
+            .fold(0.0, f64::max);
+        println!(
+            "{fps} Hz, {frames} frames held: bump {z0:.4} -> {z1:.4} m, largest move {moved:.4} m"
+        );
+        assert!(frames as f64 >= 0.9 * fps, "{frames} frames in a second");
+        assert!(z1 > z0 + 0.002, "the sharpener raised the bump");
+        assert!(moved < 0.03, "one second moved the patch {moved} m");
+    }
 }
 
 #[test]
