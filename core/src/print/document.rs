@@ -1,6 +1,6 @@
 //! The document's objects as [`PrintPart`]s: the one call every exit makes.
 
-use super::{printable, PrintError, PrintPart, PrintSettings, Printable};
+use super::{printable_with, PrintControl, PrintError, PrintPart, PrintSettings, Printable};
 use crate::doc::{Document, ObjectKind};
 
 /// Every object of `doc`, in id order, as a part to print. Curve networks
@@ -23,5 +23,18 @@ pub fn document_parts(doc: &Document) -> Vec<PrintPart<'_>> {
 /// format whose precision they passed in `settings`, or show the error as
 /// it is.
 pub fn print_document(doc: &Document, settings: &PrintSettings) -> Result<Printable, PrintError> {
-    printable(&document_parts(doc), &doc.print_setup().apply_to(settings))
+    print_document_with(doc, settings, &PrintControl::default())
+}
+
+/// [`print_document`] with progress and cancelling ([`PrintControl`]).
+pub fn print_document_with(
+    doc: &Document,
+    settings: &PrintSettings,
+    control: &PrintControl,
+) -> Result<Printable, PrintError> {
+    printable_with(
+        &document_parts(doc),
+        &doc.print_setup().apply_to(settings),
+        control,
+    )
 }

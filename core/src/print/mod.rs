@@ -51,16 +51,20 @@
 //!   (the offset grows as `1 / cos` of the angle to the incident faces,
 //!   capped at 2), so creases keep the wall thickness up to 120 degrees.
 
+mod control;
 mod document;
 mod error;
 mod pipeline;
 mod report;
 mod settings;
+#[cfg(test)]
+mod tests;
 mod thicken;
 
-pub use document::{document_parts, print_document};
+pub use control::{PrintControl, PrintProgress, PrintStage};
+pub use document::{document_parts, print_document, print_document_with};
 pub use error::PrintError;
-pub use pipeline::{check_edit, check_part, printable, PrintPart, Printable};
+pub use pipeline::{check_edit, check_part, printable, printable_with, PrintPart, Printable};
 pub use report::{PartReport, PrintReport, Treatment};
 pub use settings::{
     ClosedSurfaces, PrintSettings, PrintSetup, SelfIntersectionPolicy, SetSelfIntersectionPolicy,
