@@ -25,6 +25,13 @@ def scenario_shared_session(work: Path) -> None:
     wm = bpy.context.window_manager.shapewright_join
     wm.url, wm.name = url, "Bea"
     assert bpy.ops.shapewright.join() == {"FINISHED"}
+    # Join connects on a thread (issue 34); the add-on's timer, which
+    # Blender's event loop runs, takes the session once it is connected.
+    t0 = time.monotonic()
+    while shared.joining:
+        assert time.monotonic() - t0 < 60, "Join did not finish"
+        time.sleep(0.05)
+        shared.finish_joins()
     s = shared.joined(scene)
     assert s is not None and s.shared_url == url, s
     headset = subprocess.Popen(
