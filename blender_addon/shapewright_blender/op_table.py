@@ -1,42 +1,61 @@
 """Blender's own choices for the core's ops: the ops that get a typed
 operator with a Blender-shaped form (`SHAPEWRIGHT_OT_gc_bend`,
-`shapewright.gc_bend`) and a button in `panels.py`, their labels and panel
-category, and how their flat fields build the op (templates, sketches,
-placements). Each spec lists its fields (name, kind, default); a field's
-tooltip, unit and range come from the core's op schema (`schema.py`): the
-op's field of the same name, or the one named by `like`. Every other op
-of the schema gets a generic operator built from the schema alone
-(`operators.generic_operator`; `GENERIC_LABELS` only names some), so a new
-core op needs no edit here. Nothing here computes geometry; the core
-validates every value and refuses bad ones.
+`shapewright.gc_bend`) and a button in the sidebar, their labels and
+panel category, and which build function of `op_build.py` turns their
+flat fields into the op (templates, sketches, placements). Each spec
+lists its fields (name, kind, default); a field's tooltip, unit and range
+come from the core's op schema (`schema.py`): the op's field of the same
+name, or the one named by `like`. Every other op of the schema gets a
+generic operator built from the schema alone (`forms.generic_operator`;
+`GENERIC_LABELS` only names some), so a new core op needs no edit here.
 
 Field kinds:
 - ``target``: an object id; -1 means the active Shapewright object.
-- ``int``, ``float``, ``bool``, ``vec3``, ``enum``: plain properties.
-- ``json``: a nested value given as JSON text (defaults are the values the
-  example scripts use).
+- ``int``, ``float``, ``bool``, ``vec3``, ``enum``, ``rotation`` (an Euler
+  rotation shown in the scene's angle unit, a quaternion in the op):
+  plain properties; lengths in the scene's units.
+- ``struct``: a nested value (a solver's weights, a stroke's settings)
+  shown as one typed property per member, from the schema (defaults are
+  the values the example scripts use; `units` names the members that are
+  lengths where the schema does not say).
 - ``points``: a polyline as JSON ``[[x, y, z], ...]`` (a sketch: the
-  Sketch operator passes it, scripts may). Never remembered: an operator
-  without points does what its other fields say (e.g. a straight
-  cylinder at ``location``), or asks for a sketch when it needs one.
+  Sketch operator passes it, scripts may), in the scene's units. Never
+  remembered: an operator without points does what its other fields say
+  (e.g. a straight cylinder at ``location``), or asks for a sketch when it
+  needs one.
+- ``pieces``: a picked loop as "curve from to" triples.
 
-Sketched GC ops go through the core's sketch pipeline (`shapewright`'s
-`sketch_spine`, `child_from_stroke`, `replace_spine_from_stroke`,
-`match_section`: the same RDP and template matching as the headset), so a
-sketched spine gets as many key sections as its curve needs.
+Labels never repeat Blender's own ("Delete", "Duplicate", "Draw Curve",
+...): every operator is "Shapewright: <label>" in menus and F3 search.
 """
 
 from __future__ import annotations
 
-import json
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import shapewright as sw
 
-IDENTITY_ROT = [0.0, 0.0, 0.0, 1.0]
+from .op_build import (
+    SURFACE_PIECES_DOC,
+    _curve_draw,
+    _gc_add_child,
+    _gc_create,
+    _gc_replace_section,
+    _gc_replace_spine,
+    _import_component,
+    _part_move,
+    _pieces,
+    _sculpt_create,
+    _sculpt_stroke,
+    _sdf_add,
+    _sdf_two_hand,
+    _section_op,
+    _vec_op,
+    shape_type,
+    transform,
+)
 
 
 @dataclass(frozen=True)
@@ -56,6 +75,9 @@ class Field:
     unit: str | None = None  # for Blender's own fields: "m" or "rad"
     # A value meaning "none" (not range-checked), e.g. resample 0.
     none_at: Any = None
+    # For `struct` fields: members that are lengths ("m") where the
+    # schema gives no unit, by their name under the field.
+    units: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -80,69 +102,16 @@ class OpSpec:
 
 
 PROFILE_TEMPLATES = ("circle", "ellipse", "polygon", "rectangle")
-SOLID_SHAPES = ("box", "sphere", "ellipsoid", "cylinder", "cone", "torus", "capsule")
-
-
-def profile(v: dict) -> dict:
-    """A GC section profile from the template fields."""
-    t = v["template"]
-    if t == "circle":
-        return {"template": t, "radius": v["size_a"]}
-    if t == "ellipse":
-        return {"template": t, "rx": v["size_a"], "ry": v["size_b"]}
-    if t == "polygon":
-        return {"template": t, "sides": v["sides"], "radius": v["size_a"]}
-    return {"template": t, "width": v["size_a"], "height": v["size_b"]}
-
-
-def shape_type(v: dict) -> dict:
-    t = v["shape_type"]
-    if t == "solid":
-        return {"type": t}
-    if t == "shell":
-        return {"type": t, "thickness": v["thickness"]}
-    return {"type": t, "thickness": v["thickness"], "closed_end": v["closed_end"]}
-
-
-def solid_shape(v: dict) -> dict:
-    """A parametric solid (`SolidShape`) from the shape fields."""
-    k, a, b = v["shape"], v["size_a"], v["size_b"]
-    if k == "box":
-        return {"kind": k, "size": [a, a, b]}
-    if k == "sphere":
-        return {"kind": k, "radius": a}
-    if k == "ellipsoid":
-        return {"kind": k, "radii": [a, a, b]}
-    if k in ("cylinder", "cone"):
-        return {"kind": k, "radius": a, "height": b}
-    if k == "torus":
-        return {"kind": k, "major_radius": a, "minor_radius": b}
-    return {"kind": k, "radius": a, "length": b}
-
-
-def transform(v: dict, loc: str = "location") -> dict:
-    rz = v.get("angle_z", 0.0) / 2
-    return {
-        "translate": list(v[loc]),
-        "rotate": [0.0, 0.0, math.sin(rz), math.cos(rz)],
-        "scale": list(v.get("scale", (1.0, 1.0, 1.0))),
-    }
-
-
-def sections(v: dict) -> list[dict]:
-    p = profile(v)
-    return [
-        {"profile": p, "v": 0.0, "scale": 1.0, "twist": 0.0},
-        {"profile": p, "v": 1.0, "scale": 1.0, "twist": 0.0},
-    ]
 
 
 HAND_DOC = "The %s hand's position when the gesture %s"
 TEMPLATE_DOC = "Section template: circle, ellipse, regular polygon or rectangle"
 SIZE_A_DOC = "Circle or polygon radius, ellipse semi-axis rx, rectangle width (positive)"
 SIZE_B_DOC = "Ellipse semi-axis ry, rectangle height (positive); unused by circles and polygons"
-SOLID_A_DOC = "Sphere, cylinder, cone or capsule radius; torus major radius; box and ellipsoid x and y size"
-SOLID_B_DOC = "Cylinder or cone height, capsule length, torus minor radius; box and ellipsoid z size"
+DIMENSIONS_DOC = (
+    "The solid's size along its x, y and z (its bounding box): a round shape's diameter is x; a "
+    "cylinder's, cone's or capsule's height z; a torus's tube diameter z"
+)
 TEMPLATE_FIELDS = (
     Field("template", "enum", "circle", PROFILE_TEMPLATES, doc=TEMPLATE_DOC),
     Field("size_a", "float", 0.05, label="Radius / width", doc=SIZE_A_DOC, like=("@Profile", "radius")),
@@ -162,13 +131,12 @@ SHAPE_TYPE_FIELDS = (
     Field("closed_end", "enum", "start", ("start", "end"), like=("@ShapeType", "closed_end")),
 )
 SOLID_FIELDS = (
-    Field("shape", "enum", "sphere", SOLID_SHAPES, like=("@SolidShape", "kind")),
-    Field("size_a", "float", 0.1, label="Radius / size", doc=SOLID_A_DOC, like=("@SolidShape", "radius")),
-    Field("size_b", "float", 0.2, label="Height / minor", doc=SOLID_B_DOC, like=("@SolidShape", "height")),
+    Field("shape", "enum", "sphere", tuple(sw.solid_kinds()), like=("@SolidShape", "kind")),
+    Field("dimensions", "vec3", (0.1, 0.1, 0.1), doc=DIMENSIONS_DOC, unit="m"),
 )
 PLACE_FIELDS = (
     Field("location", "vec3", (0.0, 0.0, 0.0), like=("@Transform", "translate")),
-    Field("angle_z", "float", 0.0, doc="Rotation about Z", unit="rad"),
+    Field("rotation", "rotation", (0.0, 0.0, 0.0, 1.0), doc="Rotation"),
     Field("scale", "vec3", (1.0, 1.0, 1.0), like=("@Transform", "scale")),
 )
 GC_PART = (Field("id", "target", -1), Field("part", "int", 0))
@@ -188,191 +156,8 @@ STROKE_SETTINGS = {
 }
 
 
-def sections_at(p: dict, params: list[float]) -> list[dict]:
-    return [{"profile": p, "v": t, "scale": 1.0, "twist": 0.0} for t in params]
-
-
-def x_hint(normal) -> list[float]:
-    """Any direction not parallel to `normal` (a sketch plane's x axis)."""
-    n = [float(x) for x in normal]
-    return [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 * math.sqrt(sum(x * x for x in n) or 1.0) else [0.0, 1.0, 0.0]
-
-
-def _gc_create(v: dict, _s=None) -> dict:
-    p = profile(v)
-    normal = list(v["plane_normal"])
-    if v["points"]:
-        radius = sw.profile_radius(json.dumps(p))
-        sk = sw.sketch_spine(v["points"], v["points"][0], normal, x_hint(normal), radius)
-        spine, normal, params = sk["points"], sk["plane_normal"], sk["params"]
-    else:
-        loc = list(v["location"])
-        spine = [loc, [loc[0], loc[1], loc[2] + v["length"]]]
-        params = [0.0, 1.0]
-    return {
-        "op": "gc_create",
-        "spine": spine,
-        "plane_normal": normal,
-        "sections": sections_at(p, params),
-        "shape": shape_type(v),
-        "resolution": {"u": v["res_u"], "v": v["res_v"]},
-    }
-
-
-def _gc_add_child(v: dict, s) -> dict:
-    p = profile(v)
-    common = {
-        "op": "gc_add_child",
-        "id": v["id"],
-        "tolerance": 1e-4,
-        "shape": shape_type(v),
-        "resolution": {"u": 96, "v": 64},
-    }
-    if v["points"]:
-        radius = sw.profile_radius(json.dumps(p))
-        c = sw.child_from_stroke(s, v["id"], v["points"], radius, v["end"])
-        return {
-            **common,
-            "parent": c["parent"],
-            "at": c["at"],
-            "spine": c["spine"],
-            "end": c["end"],
-            "end_tolerance": c["end_tolerance"],
-            "sections": sections_at(p, c["params"]),
-        }
-    return {
-        **common,
-        "parent": v["parent"],
-        "at": list(v["at"]),
-        "spine": [[-0.004, 0.0], [v["length"], 0.0]],
-        "end": "parent" if v["end"] == "parent" else "free",
-        "end_tolerance": 1e-4,
-        "sections": sections(v),
-    }
-
-
-def _gc_replace_spine(v: dict, s) -> list[dict]:
-    """Key sections first where the new spine needs them (they keep the
-    current shape), then the spine, moved to start where it started."""
-    r = sw.replace_spine_from_stroke(s, v["id"], v["part"], v["points"])
-    part = {"id": v["id"], "part": v["part"]}
-    ops = [{"op": "gc_insert_section", **part, "v": t} for t in r["insert_at"]]
-    ops.append({"op": "gc_replace_spine", **part, "points": r["points"], "plane_normal": r["plane_normal"]})
-    return ops
-
-
-MIN_TEMPLATE_SCORE = 0.7  # as the headset's GC tool (GcToolSettings)
-
-
-def _gc_replace_section(v: dict, _s=None) -> dict:
-    out = {"op": "gc_replace_section", "id": v["id"], "part": v["part"], "section": v["section"]}
-    if v["points"]:
-        normal = list(v["plane_normal"])
-        m = sw.match_section(v["points"], v["points"][0], normal, x_hint(normal))
-        out["profile"] = json.loads(m["profile"] if m["score"] >= MIN_TEMPLATE_SCORE else m["sketch"])
-    else:
-        out["profile"] = profile(v)
-    return out
-
-
-def _part_move(op: str) -> Callable[[dict], dict]:
-    def build(v: dict) -> dict:
-        out = {"op": op, "id": v["id"], "part": v["part"], "translate": list(v["location"])}
-        t = transform(v)
-        out["rotate"] = t["rotate"]
-        out["tolerance"] = 1e-4
-        if op == "gc_copy":
-            out["mirror"] = v["mirror"]
-        return out
-
-    return build
-
-
-def _sdf_add(v: dict) -> dict:
-    comp = (
-        {"kind": "library", "name": v["library"]}
-        if v["component"] == "library"
-        else {"kind": "solid", "shape": solid_shape(v)}
-    )
-    return {
-        "op": "sdf_add_operand",
-        "volume": v["volume"],
-        "component": comp,
-        "csg": v["csg"],
-        "transform": transform(v),
-    }
-
-
-def _sdf_two_hand(v: dict) -> dict:
-    return {
-        "op": "sdf_scale_two_hand",
-        "volume": v["volume"],
-        "operand": v["operand"],
-        "axis": v["axis"],
-        "hands_start": [list(v["left_start"]), list(v["right_start"])],
-        "hands_end": [list(v["left_end"]), list(v["right_end"])],
-    }
-
-
-def _import_component(v: dict) -> dict:
-    from . import sync  # Blender's side: reads the mesh object
-
-    name, positions, triangles = sync.world_triangles(v["mesh"])
-    return {
-        "op": "sdf_import_component",
-        "volume": v["volume"],
-        "name": v["name"] or name,
-        "positions": positions,
-        "triangles": triangles,
-    }
-
-
-def _curve_draw(v: dict) -> dict:
-    fit = {"mode": "interpolate"} if v["fit"] == "interpolate" else {"mode": "approximate", "tol": v["tol"]}
-    return {
-        "op": "curve_draw",
-        "id": v["id"],
-        "samples": v["points"],
-        "fit": fit,
-        "resample": v["resample"] if v["resample"] > 0 else None,
-        "snap_tol": v["snap_tol"],
-    }
-
-
-def _sculpt_create(v: dict) -> dict:
-    if v["base"] == "sphere":
-        base = {"kind": "sphere", "radius": v["size_a"], "edge_length": v["edge_length"]}
-    else:
-        base = {"kind": "box", "size": [v["size_a"] * 2] * 3, "edge_length": v["edge_length"]}
-    return {"op": "sculpt_create", "base": base, "transform": transform(v)}
-
-
-def _sculpt_stroke(v: dict) -> dict:
-    samples = [{"position": p, "rotation": IDENTITY_ROT, "pressure": 1.0} for p in v["points"]]
-    return {"op": "sculpt_stroke", "id": v["id"], "settings": v["settings"], "samples": samples}
-
-
-def _vec_op(op: str, key: str) -> Callable[[dict], dict]:
-    """Ops whose only nested part is a sketch `path`/`points` (styling tools)."""
-
-    def build(v: dict) -> dict:
-        out = {k: val for k, val in v.items() if k != "points"}
-        out["op"] = op
-        out[key] = v["points"]
-        return out
-
-    return build
-
-
-def _section_op(op: str) -> Callable[[dict], dict]:
-    def build(v: dict) -> dict:
-        return {"op": op, "id": v["id"], "part": v["part"], "section": v["section"]}
-
-    return build
-
-
 SURFACE_EQ = (
-    Field("weights", "json", SURFACE_WEIGHTS),
+    Field("weights", "struct", SURFACE_WEIGHTS),
     Field("f", "float", 0.8),
     Field("wq_max", "float", 1.0),
 )
@@ -652,7 +437,7 @@ SPECS: tuple[OpSpec, ...] = (
     ),
     OpSpec(
         "curve_draw",
-        "Draw Curve",
+        "Curve from Sketch",
         "curve",
         "Draw a curve from sketch samples",
         (
@@ -681,21 +466,21 @@ SPECS: tuple[OpSpec, ...] = (
         target_kind="curve_network",
         needs_points=True,
     ),
-    path_tool("curve_smooth", "Smooth Curve", "curve", (Field("params", "json", SMOOTH_PARAMS),)),
+    path_tool("curve_smooth", "Smooth Curve", "curve", (Field("params", "struct", SMOOTH_PARAMS),)),
     path_tool(
         "curve_sharpen",
         "Sharpen Curve",
         "curve",
         (
-            Field("params", "json", SHARPEN_PARAMS),
-            Field("limits", "json", {"max_step": 0.004, "max_growth": 4.0}),
+            Field("params", "struct", SHARPEN_PARAMS),
+            Field("limits", "struct", {"max_step": 0.004, "max_growth": 4.0}, units={"max_step": "m"}),
         ),
     ),
     path_tool(
         "curve_pull",
         "Pull Curve",
         "curve",
-        (Field("params", "json", {"wpp": 200.0, "wp0": 1.0, "wp1": 0.001}),),
+        (Field("params", "struct", {"wpp": 200.0, "wp0": 1.0, "wp1": 0.001}),),
     ),
     OpSpec(
         "curve_delete",
@@ -709,7 +494,8 @@ SPECS: tuple[OpSpec, ...] = (
         "Fill Loop",
         "curve",
         "Fill a picked loop of curve pieces with a patch",
-        (Field("id", "target", -1), Field("pieces", "json", [])),
+        (Field("id", "target", -1), Field("pieces", "pieces", "", doc=SURFACE_PIECES_DOC)),
+        _pieces,
     ),
     OpSpec(
         "curve_fill_auto",
@@ -725,7 +511,7 @@ SPECS: tuple[OpSpec, ...] = (
         "Pull Surface",
         "patch",
         (
-            Field("weights", "json", SURFACE_WEIGHTS),
+            Field("weights", "struct", SURFACE_WEIGHTS),
             Field("wpp", "float", 2000.0),
             Field("u0", "float", 0.5),
             Field("v0", "float", 0.5),
@@ -759,7 +545,12 @@ SPECS: tuple[OpSpec, ...] = (
         "Apply a warp-brush stroke along the sketch",
         (
             Field("id", "target", -1),
-            Field("settings", "json", STROKE_SETTINGS),
+            Field(
+                "settings",
+                "struct",
+                STROKE_SETTINGS,
+                units={"brush_radius": "m", "brush_radii": "m", "brush_half_length": "m", "influence": "m"},
+            ),
             Field("points", "points", ""),
         ),
         _sculpt_stroke,
@@ -804,15 +595,6 @@ def build_op(spec: OpSpec, values: dict, s=None) -> dict | list[dict]:
         v = values[f.name]
         out[f.name] = list(v) if f.kind == "vec3" else v
     return out
-
-
-def decode(f: Field, raw: Any) -> Any:
-    """A property value as the op wants it (JSON text decoded)."""
-    if f.kind in ("json", "points"):
-        return json.loads(raw) if raw.strip() else []
-    if f.kind == "vec3":
-        return tuple(float(x) for x in raw)
-    return raw
 
 
 # Labels of the ops that have a generic operator (built from the schema by

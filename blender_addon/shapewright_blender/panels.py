@@ -2,13 +2,18 @@
 edits, one sub-panel per geometry system listing the typed operators of
 `op_table`, the desktop sketch tool, and history/output. Buttons are
 shown where they apply: a system's edits only when the active object is
-of its kind (its "new" operator always)."""
+of its kind (its "new" operator always). Buttons show the operators'
+short labels (F3 and the menus show "Shapewright: ..."). The History
+panel's verdict is the export's own check (`checks.py`) with the print
+size in millimetres and cubic centimetres."""
 
 from __future__ import annotations
 
 import bpy
+import shapewright as sw
 
-from . import history, op_table, operators, schema, shared, sync
+from . import checks, history, op_table, operators, schema, shared, sync
+from .menus import item
 
 
 class _Sidebar:
@@ -38,35 +43,27 @@ class VIEW3D_PT_shapewright(_Sidebar, bpy.types.Panel):
         col = layout.column(align=True)
         col.label(text="Add solid")
         grid = col.grid_flow(columns=2, align=True)
-        for key, label, _ in (
-            ("box", "Box", ""),
-            ("sphere", "Sphere", ""),
-            ("cylinder", "Cylinder", ""),
-            ("cone", "Cone", ""),
-            ("torus", "Torus", ""),
-            ("capsule", "Capsule", ""),
-            ("ellipsoid", "Ellipsoid", ""),
-        ):
-            grid.operator("shapewright.add_solid", text=label).shape = key
+        for key in sw.solid_kinds():
+            grid.operator("shapewright.add_solid", text=key.capitalize()).shape = key
         obj = context.active_object
         kind = sync.kind_of(obj)
         box = layout.box()
         if kind is not None:
             box.label(text=f"{KIND_LABELS.get(kind, kind)} #{obj[sync.ID_PROP]}")
             if kind == "solid":
-                box.operator("shapewright.edit_solid")
-            box.operator("shapewright.move")
+                item(box, "shapewright.edit_solid")
+            item(box, "shapewright.move")
             row = box.row(align=True)
-            row.operator("shapewright.duplicate")
-            row.operator("shapewright.delete")
+            item(row, "shapewright.duplicate")
+            item(row, "shapewright.delete")
             for op in operators.generic_ops():
                 if schema.OPS[op]["kind"] == "document":
-                    box.operator(f"shapewright.{op}")
+                    item(box, f"shapewright.{op}")
         else:
             box.label(text="Select a Shapewright object to edit it")
         row = layout.row(align=True)
-        row.operator("shapewright.run_script", icon="FILE_SCRIPT")
-        row.operator("shapewright.apply_op", icon="CONSOLE")
+        item(row, "shapewright.run_script", "FILE_SCRIPT")
+        item(row, "shapewright.apply_op", "CONSOLE")
 
 
 def sketch_targets(context) -> list[op_table.OpSpec]:
@@ -97,11 +94,11 @@ def _category_panel(key: str, title: str) -> type:
             if spec.category != key:
                 continue
             if op_table.kind_of(spec) is None or active:
-                col.operator(f"shapewright.{spec.op}")
+                item(col, f"shapewright.{spec.op}")
         # The ops with a generic operator (built from the core's schema).
         for op in operators.generic_ops():
             if schema.OPS[op]["kind"] == kind and active:
-                col.operator(f"shapewright.{op}")
+                item(col, f"shapewright.{op}")
         if not active:
             col.label(text=f"Select a {KIND_LABELS[kind].lower()} to edit it")
 
@@ -117,36 +114,56 @@ class VIEW3D_PT_shapewright_history(_SubPanel, bpy.types.Panel):
 
     def draw(self, context):
         layout = self.layout
-        props = context.scene.shapewright
-        total = props.ops.count("\n")
-        layout.label(text=f"Op {props.cursor} of {total}")
+        scene = context.scene
+        props = scene.shapewright
+        layout.label(text=f"Op {props.cursor} of {props.op_count}")
         row = layout.row(align=True)
-        row.operator("shapewright.undo", icon="LOOP_BACK")
-        row.operator("shapewright.redo", icon="LOOP_FORWARDS")
-        layout.operator("shapewright.export_mesh", icon="EXPORT")
-        layout.operator("shapewright.render_png", icon="RENDER_STILL")
+        item(row, "shapewright.undo", "LOOP_BACK")
+        item(row, "shapewright.redo", "LOOP_FORWARDS")
+        item(layout, "shapewright.export_mesh", "EXPORT")
+        item(layout, "shapewright.render_png", "RENDER_STILL")
         layout.prop(props, "show_parametric")
         layout.prop(props, "xr_tool")
         box = layout.box()
-        s = shared.joined(context.scene)
+        s = shared.joined(scene)
         if s is None:
             box.prop(context.window_manager.shapewright_join, "url")
             box.prop(context.window_manager.shapewright_join, "name")
-            box.operator("shapewright.join", icon="COMMUNITY")
+            if scene.name in shared.joining:
+                box.label(text="Joining…", icon="TIME")
+            else:
+                item(box, "shapewright.join", "COMMUNITY")
         else:
             box.label(text=s.shared_url or "", icon="COMMUNITY")
-            state = shared.status.get(context.scene.name, "")
+            state = shared.status.get(scene.name, "")
             people = ", ".join(name for _, name, _ in s.participants())
             box.label(text=f"{state}: {people}", icon="ERROR" if state != "online" else "NONE")
-            box.operator("shapewright.leave")
-        if props.ops:
-            report = history.validation(context.scene)
-            if report is None:
+            item(box, "shapewright.leave")
+        if history.has_document(scene):
+            v = checks.verdict(scene)
+            if v is None:
                 layout.label(text="Checking printability…", icon="TIME")
-            elif report["closed_manifold"]:
+            elif v["printable"]:
                 layout.label(text="Printable", icon="CHECKMARK")
+                x, y, z = v["size_mm"]
+                layout.label(text=f"Size {x:.1f} × {y:.1f} × {z:.1f} mm")
+                layout.label(text=f"Volume {v['volume_cm3']:.2f} cm³")
             else:
-                layout.label(text=f"Not printable: {report['problems']}", icon="ERROR")
+                col = layout.column(align=True)
+                col.label(text="Not printable:", icon="ERROR")
+                for line in _wrap(v["message"], 48):
+                    col.label(text=line)
+
+
+def _wrap(text: str, width: int) -> list[str]:
+    lines, line = [], ""
+    for word in text.split():
+        if line and len(line) + 1 + len(word) > width:
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line} {word}".strip()
+    return [*lines, line] if line else lines
 
 
 classes = (

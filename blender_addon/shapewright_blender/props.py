@@ -1,5 +1,8 @@
-"""Scene properties: the op log (JSON lines), its cursor and a generation
-counter. All are part of Blender's undo state and of the saved .blend."""
+"""Scene properties: the key of the scene's history (op count, a hash of
+those ops, the cursor and a generation counter; Blender's undo steps
+restore it, `history.py`), the log's text as the .blend saves it
+(written only when the file is saved, `persist.py`), and the add-on's
+display settings."""
 
 from __future__ import annotations
 
@@ -28,18 +31,26 @@ _TOOL_ITEMS = [(t, _TOOL_LABELS.get(t, t.title()), _TOOL_HELP.get(t, "")) for t 
 
 
 def _parametric_toggled(props, context) -> None:
-    from . import history
+    from . import history, sync
 
     scene = props.id_data
-    if props.ops:
-        history.sync.sync_scene(scene, history.session(scene))
+    if history.has_document(scene):
+        sync.sync_scene(scene, history.session(scene))
 
 
 class ShapewrightSceneProps(bpy.types.PropertyGroup):
     ops: StringProperty(
         name="Op log",
-        description="Every recorded op, one JSON object per line",
+        description="Every recorded op, one JSON object per line, as the file was saved",
         default="",
+        options={"HIDDEN"},
+    )
+    op_count: IntProperty(name="Ops", description="How many ops the history holds", default=0, min=0)
+    log_hash: StringProperty(
+        name="Log hash",
+        description="A hash of those ops (the session is rebuilt when it does not hold them)",
+        default="",
+        options={"HIDDEN"},
     )
     cursor: IntProperty(name="Cursor", description="How many ops are applied", default=0, min=0)
     gen: IntProperty(
@@ -65,8 +76,9 @@ class ShapewrightSceneProps(bpy.types.PropertyGroup):
     )
     sketch: StringProperty(
         name="Sketch",
-        description="The last desktop or VR sketch, JSON [[x, y, z], ...] (world space)",
+        description="The last desktop or VR sketch, JSON [[x, y, z], ...] (world space, scene units)",
         default="",
+        options={"HIDDEN"},
     )
     xr_tool: EnumProperty(
         name="VR tool",

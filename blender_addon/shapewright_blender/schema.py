@@ -7,12 +7,15 @@ Two uses:
   (tooltip, Blender unit and subtype, soft range). The typed operators of
   `op_table` name the field each property stands for; the schema is the
   only place a doc, unit or range is written.
-- `fields(op)`: the fields of any op as flat operator properties, so every
-  op of the core gets an operator (`operators.generic_operator`) with no
-  add-on edit: numbers, booleans, names and choices become properties,
-  fixed-size number arrays become vectors, small structs (a transform, a
-  resolution) are flattened to one property per member, and anything else
-  (tagged unions, lists) is JSON text.
+- `fields(op)`: the fields of any op as flat, typed operator properties,
+  so every op of the core gets an operator (`forms.generic_operator`) with
+  no add-on edit: numbers, booleans, names and choices become properties,
+  fixed-size number arrays vectors, quaternions Euler rotations (in the
+  scene's angle unit), structs one property per member (at any depth),
+  tagged unions a choice of kind plus the members of every kind (only the
+  chosen kind's go into the op), optional values a choice with "None" or a
+  "Use" switch, and lists of integers a comma-separated list. Only
+  recorded strokes (lists of samples) stay JSON text.
 
 Ranges are shown as soft ranges and checked before an op is built
 (`check`): Blender's hard limits would clamp a bad value silently, and a
@@ -22,7 +25,7 @@ geometry.
 
 from __future__ import annotations
 
-import json
+import dataclasses
 import math
 import re
 from dataclasses import dataclass
@@ -30,7 +33,7 @@ from typing import Any
 
 import shapewright as sw
 
-SCHEMA: dict = json.loads(sw.op_schema_json())
+SCHEMA: dict = sw.op_schema()
 DEFS: dict = SCHEMA["defs"]
 OPS: dict[str, dict] = {o["name"]: o for o in SCHEMA["ops"]}
 # Blender (unit, float subtype, 3-vector subtype) of each core unit.
@@ -191,9 +194,11 @@ def info(path: tuple[str, ...]) -> Info:
 
 @dataclass(frozen=True)
 class GenField:
-    """One property of a generic operator: where its value goes in the op
+    """One property of an op's form: where its value goes in the op
     (`path`), how it is shown (`kind`: target, int, float, bool, vec,
-    enum, string, json) and what the schema says of it."""
+    rotation, enum, string, ints, json) and what the schema says of it.
+    `when` (a tag's path and values) limits it to some kinds of a tagged
+    union; `optional` fields may be left out (`None`)."""
 
     prop: str
     path: tuple[str, ...]
@@ -203,12 +208,26 @@ class GenField:
     required: bool
     size: int = 0
     items: tuple[str, ...] = ()
+    when: tuple[tuple[str, ...], tuple[str, ...]] | None = None
+    optional: bool = False
+    # Data a person does not type (a mesh a brush was made from): scripts
+    # pass it, the form does not show it.
+    hidden: bool = False
+
+
+NONE_ITEM = "none"
 
 
 def _default(kind: str, s: dict, info: Info, size: int, items: tuple[str, ...] = ()) -> Any:
-    if "default" in s:
+    if "default" in s and s["default"] is not None:
         d = s["default"]
-        return tuple(d) if kind == "vec" else d
+        if kind == "vec":
+            return tuple(d)
+        if kind == "rotation":
+            return tuple(d)
+        if kind == "ints":
+            return ", ".join(str(x) for x in d)
+        return d
     if kind == "enum":
         # Blender's EnumProperty needs a default among its items.
         return items[0] if items else ""
@@ -225,20 +244,25 @@ def _default(kind: str, s: dict, info: Info, size: int, items: tuple[str, ...] =
         return 0.0
     if kind == "vec":
         return (0.0,) * size
+    if kind == "rotation":
+        return (0.0, 0.0, 0.0, 1.0)
     if kind == "bool":
         return False
     return ""
 
 
-def _classify(s: dict) -> tuple[str, int, tuple[str, ...]]:
-    """(kind, vector size, enum items) of a field schema."""
+ROTATION_NAMES = ("rotate", "rotation", "q", "orientation")
+
+
+def _leaf(name: str, s: dict) -> tuple[str, int, tuple[str, ...]]:
+    """(kind, vector size, enum items) of a field that is not a struct."""
     s = resolve(s)
     if s.get("x-ref") == "object":
         return "target", 0, ()
     consts = choices(s)
     if consts is not None:
         return "enum", 0, consts
-    t = types(s)
+    t = [x for x in types(s) if x != "null"]
     if t == ["integer"]:
         return "int", 0, ()
     if t == ["number"]:
@@ -248,53 +272,169 @@ def _classify(s: dict) -> tuple[str, int, tuple[str, ...]]:
     if t == ["string"]:
         return "string", 0, ()
     items = s.get("items")
-    if t == ["array"] and isinstance(items, dict) and types(resolve(items)) == ["number"]:
-        n = s.get("minItems")
-        if n is not None and n == s.get("maxItems") and 2 <= n <= 4:
-            return "vec", n, ()
+    if t == ["array"] and isinstance(items, dict):
+        it = resolve(items)
+        if types(it) == ["number"]:
+            n = s.get("minItems")
+            if n == 4 and s.get("maxItems") == 4 and name in ROTATION_NAMES:
+                return "rotation", 4, ()
+            if n is not None and n == s.get("maxItems") and 2 <= n <= 4:
+                return "vec", n, ()
+        if types(it) == ["integer"] or "integer" in types(resolve(items)):
+            return "ints", 0, ()
     return "json", 0, ()
 
 
-def _flat(s: dict) -> bool:
-    """A small struct whose members are all plain properties."""
-    s = resolve(s)
+def _optional(s: dict) -> dict | None:
+    """The schema an `X or null` field holds (None: not optional)."""
+    if "null" in types(s) and len(types(s)) == 2:
+        return {**s, "type": [t for t in types(s) if t != "null"][0]}
+    for key in ("anyOf", "oneOf"):
+        alts = s.get(key)
+        if alts and len(alts) == 2 and any(resolve(a).get("type") == "null" for a in alts):
+            other = next(a for a in alts if resolve(a).get("type") != "null")
+            return {**resolve(other), "description": s.get("description", "")}
+    return None
+
+
+def _tag(s: dict) -> str | None:
+    """The tag property of a tagged union (every branch has it as a const)."""
+    branches = [resolve(b) for b in s.get("oneOf", [])]
+    if not branches or not all(b.get("type") == "object" for b in branches):
+        return None
+    for key, v in branches[0].get("properties", {}).items():
+        if "const" in v and all("const" in b.get("properties", {}).get(key, {}) for b in branches):
+            return key
+    return None
+
+
+MAX_DEPTH = 5
+
+
+def flatten(
+    name: str,
+    path: tuple[str, ...],
+    schema: dict,
+    required: bool,
+    default: Any = None,
+    when=None,
+    depth: int = 0,
+) -> list[GenField]:
+    """The properties of the value at `path` (`schema`), named from `name`.
+    `default` (a value of the op, e.g. an op table's defaults) wins over
+    the schema's."""
+    s = resolve(schema)
+    if default is None and "default" in s:
+        default = s["default"]
+    inner = _optional(s)
+    if inner is not None:
+        out = flatten(name, path, inner, required, default, when, depth)
+        if len(out) == 1 and out[0].kind == "enum":
+            f = out[0]
+            items = (NONE_ITEM, *f.items)
+            d = NONE_ITEM if default is None else f.default
+            return [GenField(f.prop, f.path, "enum", f.info, d, False, 0, items, when, True)]
+        return [
+            GenField(f.prop, f.path, f.kind, f.info, f.default, False, f.size, f.items, f.when, True)
+            if f.path == path
+            else f
+            for f in out
+        ]
+    tag = _tag(s) if depth < MAX_DEPTH else None
+    if tag is not None:
+        branches = [resolve(b) for b in s["oneOf"]]
+        consts = tuple(b["properties"][tag]["const"] for b in branches)
+        chosen = default.get(tag) if isinstance(default, dict) else None
+        info = Info(doc=clean_doc(s.get("description")))
+        out = [
+            GenField(
+                f"{name}_{tag}" if name else tag,
+                (*path, tag),
+                "enum",
+                info,
+                chosen if chosen in consts else consts[0],
+                required,
+                0,
+                consts,
+                when,
+            )
+        ]
+        members: dict[str, list] = {}
+        for b, c in zip(branches, consts, strict=True):
+            for k, sub in b.get("properties", {}).items():
+                if k != tag:
+                    members.setdefault(k, [sub, []])[1].append(c)
+        per_kind: dict[str, list] = {c: [] for c in consts}
+        for k, (sub, kinds) in members.items():
+            d = default.get(k) if isinstance(default, dict) and chosen in kinds else None
+            made = flatten(
+                f"{name}_{k}" if name else k,
+                (*path, k),
+                sub,
+                True,
+                d,
+                ((*path, tag), tuple(kinds)),
+                depth + 1,
+            )
+            for c in kinds:
+                per_kind[c] += made
+            out += made
+        # A kind that carries data (JSON: a mesh, samples) is made by the
+        # core from other objects, not typed: its members are hidden.
+        data = {id(f) for fs in per_kind.values() if any(f.kind == "json" for f in fs) for f in fs}
+        return [dataclasses.replace(f, hidden=True) if id(f) in data else f for f in out]
     props = s.get("properties")
-    return (
-        types(s) == ["object"]
-        and "oneOf" not in s
-        and bool(props)
-        and all(_classify(p)[0] not in ("json", "target") for p in props.values())
-    )
+    if types(s) == ["object"] and props and "oneOf" not in s and depth < MAX_DEPTH:
+        req = set(s.get("required", ()))
+        out = []
+        for k, sub in props.items():
+            d = default.get(k) if isinstance(default, dict) else None
+            out += flatten(
+                f"{name}_{k}" if name else k, (*path, k), sub, required and k in req, d, when, depth + 1
+            )
+        return out
+    kind, size, items = _leaf(path[-1] if path else name, s)
+    inf = info_of(s)
+    s2 = {**s, "default": default} if default is not None else s
+    return [
+        GenField(name, path, kind, inf, _default(kind, s2, inf, size, items), required, size, items, when)
+    ]
 
 
 def fields(op: str) -> tuple[GenField, ...]:
-    """The fields of `op` as flat operator properties."""
-    out = []
+    """The fields of `op` as flat, typed operator properties."""
+    out: list[GenField] = []
     for f in OPS[op]["fields"]:
-        s = resolve(f["schema"])
-        if _flat(s):
-            req = set(s.get("required", ()))
-            for k, sub in s["properties"].items():
-                sub = resolve(sub)
-                kind, size, items = _classify(sub)
-                inf = info_of(sub)
-                default = s.get("default", {}).get(k) if isinstance(s.get("default"), dict) else None
-                sub = {**sub, "default": default} if default is not None else sub
-                out.append(
-                    GenField(
-                        f"{f['name']}_{k}",
-                        (f["name"], k),
-                        kind,
-                        inf,
-                        _default(kind, sub, inf, size, items),
-                        f["required"] and k in req,
-                        size,
-                        items,
-                    )
-                )
-            continue
-        kind, size, items = _classify(s)
-        inf = info_of(s)
-        default = _default(kind, s, inf, size, items)
-        out.append(GenField(f["name"], (f["name"],), kind, inf, default, f["required"], size, items))
+        out += flatten(f["name"], (f["name"],), f["schema"], f["required"])
     return tuple(out)
+
+
+def struct_fields(path: tuple[str, ...], prefix: str, default: Any = None) -> tuple[GenField, ...]:
+    """The flat properties of one field of an op (`path` = (op, field)),
+    named with `prefix`, for a typed form that shows a struct field typed
+    (the op table's `struct` fields)."""
+    s = field_schema(path)
+    if s is None:
+        return ()
+    return tuple(flatten(prefix, (), s, True, default))
+
+
+def assemble(fields_: tuple[GenField, ...], values: dict[str, Any]) -> dict:
+    """The nested value of flat property values (`values` by prop name,
+    already in the op's units): members of a tagged union's other kinds
+    left out, optional fields set to None when not used."""
+    out: dict = {}
+    chosen = {f.path: values[f.prop] for f in fields_ if f.kind == "enum"}
+    for f in fields_:
+        if f.when is not None and chosen.get(f.when[0]) not in f.when[1]:
+            continue
+        v = values[f.prop]
+        if f.optional and (v is None or (f.kind == "enum" and v == NONE_ITEM)):
+            v = None
+        if not f.path:
+            return v
+        d = out
+        for k in f.path[:-1]:
+            d = d.setdefault(k, {})
+        d[f.path[-1]] = v
+    return out

@@ -21,18 +21,25 @@ joined:
 - Blender sends its own presence: in Blender's VR session the viewer's
   head, and always the selected Shapewright object.
 Leaving keeps the document as it is, as a single-user history.
+
+Joining never blocks the UI: the connection is made on a thread of its
+own (`start_join`; the core releases the GIL while it connects), and a
+timer takes the joined session over when it is ready, or reports why it
+could not be (an unreachable host, a refusal) in the status bar.
+Presence crosses as typed values (`shapewright.Presence`, model space,
+metres; Blender's side in the scene's units).
 """
 
 from __future__ import annotations
 
-import json
 import os
+import threading
 import time
 
 import bpy
 import shapewright as sw
 
-from . import history, sync
+from . import history, notify, sync, units
 
 TICK = 0.05
 # The environment variable naming a person's credentials file (the core
@@ -53,25 +60,87 @@ def joined(scene: bpy.types.Scene) -> sw.Session | None:
 
 
 def join(scene: bpy.types.Scene, url: str, name: str, credentials: str | None = None) -> list[str]:
-    """Joins `url` as `name`; the scene's document (if any) starts an
-    empty session. `credentials` names the person's credentials file
-    (default: the one SHAPEWRIGHT_SESSION_CREDENTIALS names); with a user
-    in it, that user is who they are in the session. Raises
-    sw.ShapewrightError (SessionError) with the reason when the server
-    cannot be reached or refuses, or the address holds a password."""
-    if credentials:
-        os.environ[CREDENTIALS_ENV] = os.path.abspath(bpy.path.abspath(credentials))
+    """Joins `url` as `name` on this thread (scripts, tests); the scene's
+    document (if any) starts an empty session. `credentials` names the
+    person's credentials file (default: the one
+    SHAPEWRIGHT_SESSION_CREDENTIALS names); with a user in it, that user is
+    who they are in the session. Raises sw.ShapewrightError (SessionError)
+    with the reason when the server cannot be reached or refuses, or the
+    address holds a password. The UI uses `start_join`."""
+    _use_credentials(credentials)
     if joined(scene) is not None:
         raise sw.SessionError(f"already in {joined(scene).shared_url}; leave it first")
     history.finish_pending(scene)
-    opened = history.session(scene) if scene.shapewright.ops else None
+    opened = history.session(scene) if history.has_document(scene) else None
     s, messages = sw.Session.join(url.strip(), name.strip() or "Blender", opened=opened)
+    _take(scene, s)
+    return messages
+
+
+def _take(scene: bpy.types.Scene, s: sw.Session) -> None:
     history.shared_sessions[scene.name] = s
     history.record(scene, s)
     status[scene.name] = "online"
     if not bpy.app.timers.is_registered(tick):
         bpy.app.timers.register(tick, first_interval=TICK, persistent=True)
-    return messages
+
+
+# Joins under way: scene name -> (thread, result list).
+joining: dict[str, tuple[threading.Thread, list]] = {}
+
+
+def _use_credentials(credentials: str | None) -> None:
+    if credentials:
+        os.environ[CREDENTIALS_ENV] = os.path.abspath(bpy.path.abspath(credentials))
+
+
+def start_join(
+    scene: bpy.types.Scene, url: str, name: str, credentials: str | None = None
+) -> None:
+    """Starts joining on a thread of its own; `finish_joins` (a timer)
+    takes the session over when it is ready. Returns at once.
+    `credentials`: as for `join`."""
+    if joined(scene) is not None:
+        raise sw.SessionError(f"already in {joined(scene).shared_url}; leave it first")
+    if scene.name in joining:
+        raise sw.SessionError("already joining; wait for it or press Leave")
+    history.finish_pending(scene)
+    _use_credentials(credentials)
+    opened = history.session(scene).snapshot() if history.has_document(scene) else None
+    result: list = []
+
+    def work() -> None:
+        try:
+            result.append(sw.Session.join(url.strip(), name.strip() or "Blender", opened=opened))
+        except sw.ShapewrightError as e:
+            result.append(e)
+
+    thread = threading.Thread(target=work, name="shapewright-join", daemon=True)
+    joining[scene.name] = (thread, result)
+    status[scene.name] = "joining"
+    thread.start()
+    if not bpy.app.timers.is_registered(finish_joins):
+        bpy.app.timers.register(finish_joins, first_interval=0.1)
+
+
+def finish_joins() -> float | None:
+    """The timer of `start_join`: takes over each join that finished."""
+    for name, (thread, result) in list(joining.items()):
+        if thread.is_alive():
+            continue
+        del joining[name]
+        scene = bpy.data.scenes.get(name)
+        out = result[0] if result else sw.SessionError("the join thread stopped")
+        if isinstance(out, Exception):
+            status.pop(name, None)
+            notify.warn(f"could not join: {out}")
+        elif scene is not None:
+            s, messages = out
+            _take(scene, s)
+            for m in messages:
+                notify.warn(m, "INFO")
+        history.tag_redraw()
+    return 0.1 if joining else None
 
 
 def leave(scene: bpy.types.Scene) -> None:
@@ -82,6 +151,7 @@ def leave(scene: bpy.types.Scene) -> None:
         return
     local = sw.Session.from_ops(s.ops_jsonl(), s.cursor)
     history.forget_session(scene)
+    history.adopt_session(scene, local)
     history.record(scene, local)
     _clear_people(scene)
 
@@ -117,13 +187,14 @@ def tick() -> float | None:
         if scene is not None:
             changed |= pump(scene)
     if changed:
-        history._tag_redraw()
+        history.tag_redraw()
     return TICK
 
 
-def _pose(location, rotation) -> dict:
+def _pose(scene, location, rotation) -> sw.Pose:
     q = rotation  # Blender's (w, x, y, z)
-    return {"p": [float(c) for c in location], "q": [float(q[1]), float(q[2]), float(q[3]), float(q[0])]}
+    p = units.to_metres(scene, [float(c) for c in location])
+    return sw.Pose(p, (float(q[1]), float(q[2]), float(q[3]), float(q[0])))
 
 
 def _send_presence(scene: bpy.types.Scene, s: sw.Session) -> None:
@@ -132,14 +203,16 @@ def _send_presence(scene: bpy.types.Scene, s: sw.Session) -> None:
     if now - _last_presence < PRESENCE_EVERY:
         return
     _last_presence = now
-    msg: dict = {"v": 1}
+    head = None
     xr = getattr(bpy.context.window_manager, "xr_session_state", None)
     if xr is not None:
-        msg["head"] = _pose(xr.viewer_pose_location, xr.viewer_pose_rotation)
+        head = _pose(scene, xr.viewer_pose_location, xr.viewer_pose_rotation)
     obj = bpy.context.view_layer.objects.active if bpy.context.view_layer else None
-    if obj is not None and sync.ID_PROP in obj:
-        msg["selected"] = int(obj[sync.ID_PROP])
-    s.send_presence(json.dumps(msg))
+    selected = int(obj[sync.ID_PROP]) if obj is not None and sync.ID_PROP in obj else None
+    try:
+        s.send_presence(sw.Presence(head=head, selected=selected))
+    except sw.ShapewrightError as e:
+        print(f"Shapewright: presence not sent: {e}")
 
 
 def _empty(coll, name: str, display: str, size: float, colour) -> bpy.types.Object:
@@ -163,19 +236,18 @@ def _show_people(scene: bpy.types.Scene, s: sw.Session) -> None:
         return
     coll = sync.collection(scene, PEOPLE)
     keep = set()
-    for pid, text in others:
-        p = json.loads(text)
+    k = units.units_per_metre(scene)
+    for pid, p in others:
         name, colour = people.get(pid, (pid, (0.8, 0.8, 0.8)))
-        poses = [("head", p.get("head"), "SPHERE", 0.12)]
-        hands = (list(p.get("hands") or []) + [None, None])[:2]
+        poses = [("head", p.head, "SPHERE", 0.12 * k)]
         sides = ("left hand", "right hand")
-        poses += [(side, h, "PLAIN_AXES", 0.05) for side, h in zip(sides, hands, strict=True)]
+        poses += [(side, h, "PLAIN_AXES", 0.05 * k) for side, h in zip(sides, p.hands, strict=True)]
         for part, pose, display, size in poses:
             if pose is None:
                 continue
             obj = _empty(coll, f"{name} ({part})", display, size, colour)
-            x, y, z, w = pose["q"]
-            obj.location = pose["p"]
+            x, y, z, w = pose.q
+            obj.location = units.to_units(scene, list(pose.p))
             obj.rotation_mode = "QUATERNION"
             obj.rotation_quaternion = (w, x, y, z)
             obj["shapewright_person"] = pid
@@ -195,6 +267,9 @@ def _clear_people(scene: bpy.types.Scene) -> None:
 
 
 def unregister() -> None:
+    joining.clear()
+    if bpy.app.timers.is_registered(finish_joins):
+        bpy.app.timers.unregister(finish_joins)
     for name in list(history.shared_sessions):
         scene = bpy.data.scenes.get(name)
         if scene is not None:

@@ -22,7 +22,7 @@ import bpy
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, StringProperty
 from mathutils import Vector, geometry
 
-from . import draw, op_table
+from . import draw, op_table, units
 
 PLANES = (
     ("XY", "XY", "Horizontal plane through the 3D cursor"),
@@ -70,7 +70,8 @@ class SHAPEWRIGHT_OT_sketch(bpy.types.Operator):
     """Sketch with the mouse on a plane (left drag), then apply the target op to the sketch"""
 
     bl_idname = "shapewright.sketch"
-    bl_label = "Sketch on Plane"
+    bl_label = "Shapewright: Sketch on Plane"
+    short_label = "Sketch"
     bl_options = {"REGISTER", "UNDO"}
 
     target: EnumProperty(
@@ -79,22 +80,23 @@ class SHAPEWRIGHT_OT_sketch(bpy.types.Operator):
     plane: EnumProperty(name="Plane", description="The plane the mouse draws on", items=PLANES, default="XY")
     spacing: FloatProperty(
         name="Spacing",
-        description="Distance between kept samples (m)",
+        description="Distance between kept samples (5 mm unless set)",
         default=0.005,
-        min=1e-5,
+        min=1e-9,
         subtype="DISTANCE",
+        unit="LENGTH",
     )
     points: StringProperty(
         name="Points",
         default="",
-        description="The sketch, JSON [[x, y, z], ...]",
+        description="The sketch, JSON [[x, y, z], ...] (a recorded stroke, scene units)",
         options={"SKIP_SAVE"},
     )
     options: StringProperty(
         name="Op options",
-        description='Other fields of the target op, JSON {"name": value, ...} (e.g. {"size_a": 0.006})',
+        description='For scripts: other fields of the target op, JSON {"name": value, ...} (scene units)',
         default="",
-        options={"SKIP_SAVE"},
+        options={"SKIP_SAVE", "HIDDEN"},
     )
     normal: FloatVectorProperty(
         name="Plane normal",
@@ -136,6 +138,7 @@ class SHAPEWRIGHT_OT_sketch(bpy.types.Operator):
         if context.area is None or context.area.type != "VIEW_3D":
             self.report({"ERROR"}, "sketch in a 3D Viewport")
             return {"CANCELLED"}
+        units.fill_defaults(self, context.scene, {"spacing": 0.005})
         self._stroke = Stroke(self.spacing)
         self._drawing = False
         if self.plane != "VIEW":

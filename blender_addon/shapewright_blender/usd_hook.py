@@ -10,7 +10,10 @@ has (`shapewright.usd_text`, copied spec by spec with `Sdf.CopySpec`):
 - on each Shapewright object's prim, `shapewright:objectId` and
   `shapewright:kind`, and next to Blender's mesh the object's parametric
   prims (GC spines, key sections and skins as `NurbsCurves` /
-  `NurbsPatch` with their own knots; curve-network curves and patches).
+  `NurbsPatch` with their own knots; curve-network curves and patches),
+  each with the transform that puts it where the mesh is (Blender's prim
+  carries the object's origin in the stage's units; ours are in the
+  object's own frame in metres).
 Blender's prims for the add-on's parametric helper objects are removed:
 the exact prims are ours.
 
@@ -44,7 +47,7 @@ from pathlib import Path
 import bpy
 import shapewright as sw
 
-from . import history, sync
+from . import adopt, history, notify, sync, units
 
 LOG_PRIM = "ShapewrightLog"
 SRC_WORLD = "/World"
@@ -107,7 +110,7 @@ def _object_prims(stage, Sdf, Tf, scene) -> dict[int, object]:
         return found
     root = stage.GetDefaultPrim()
     base = root.GetPath() if root else Sdf.Path.absoluteRootPath
-    for obj in sync.collection(scene).objects:
+    for obj in scene.objects:
         oid = obj.get(sync.ID_PROP)
         if oid is None:
             continue
@@ -123,7 +126,7 @@ def export_document(stage, depsgraph) -> bool:
     """Adds the scene's Shapewright document to a stage Blender exports."""
     Sdf, Usd, Tf = blender_pxr()
     scene = depsgraph.scene
-    if scene is None or not scene.shapewright.ops:
+    if scene is None or not history.has_document(scene):
         return True
     s = history.session(scene)
     src = Sdf.Layer.CreateAnonymous("shapewright.usda")
@@ -144,12 +147,13 @@ def export_document(stage, depsgraph) -> bool:
         path = prim.GetPath()
         for prop in ("shapewright:objectId", "shapewright:kind"):
             Sdf.CopySpec(src, src_obj.AppendProperty(prop), dst, path.AppendProperty(prop))
+        obj = sync.object_for(scene, oid)
+        frame = _part_frame(scene, s, oid, obj)
         for child in spec.nameChildren:
             if child.name != "Mesh":
                 Sdf.CopySpec(src, child.path, dst, path.AppendChild(child.name))
-        obj = sync.object_for(scene, oid)
-        if obj is not None and not _is_identity(obj.matrix_world):
-            moved.append(obj.name)
+                _set_transform(dst, path.AppendChild(child.name), frame, Sdf)
+    moved = [obj.name for _, obj in adopt.moved(scene, s)]
     _drop_helper_prims(stage, Tf)
     if moved:
         print(
@@ -175,8 +179,37 @@ def _drop_helper_prims(stage, Tf) -> None:
         stage.RemovePrim(path)
 
 
-def _is_identity(m) -> bool:
-    return all(abs(m[i][j] - (1.0 if i == j else 0.0)) < 1e-9 for i in range(4) for j in range(4))
+def _part_frame(scene, s, oid: int, obj) -> list[list[float]]:
+    """The transform (rows) that puts a parametric prim (the object's own
+    frame, metres) under Blender's prim of the object (its origin, scene
+    units): Blender's matrix undone, metres to units, the object's
+    placement."""
+    import numpy as np
+
+    k = units.units_per_metre(scene)
+    placed = np.array(s.object_transform(oid).matrix(), dtype=np.float64)
+    to_units = np.diag([k, k, k, 1.0])
+    world = np.array(obj.matrix_world, dtype=np.float64) if obj is not None else np.eye(4)
+    return (np.linalg.inv(world) @ to_units @ placed).tolist()
+
+
+def _set_transform(layer, path, rows, Sdf) -> None:
+    """Authors `xformOp:transform` (USD's row-vector convention: the
+    transpose of `rows`) on the prim spec at `path`."""
+    from pxr import Gf
+
+    spec = layer.GetPrimAtPath(path)
+    if spec is None:
+        return
+    m = Gf.Matrix4d(*[rows[j][i] for i in range(4) for j in range(4)])
+    attr = spec.attributes.get("xformOp:transform") or Sdf.AttributeSpec(
+        spec, "xformOp:transform", Sdf.ValueTypeNames.Matrix4d
+    )
+    attr.default = m
+    order = spec.attributes.get("xformOpOrder") or Sdf.AttributeSpec(
+        spec, "xformOpOrder", Sdf.ValueTypeNames.TokenArray, Sdf.VariabilityUniform
+    )
+    order.default = ["xformOp:transform"]
 
 
 def _find_log(stage):
@@ -209,10 +242,10 @@ def import_document(stage, prim_map: dict) -> bool:
         s, report = sw.import_usd_text(layer.ExportToString())
     last_import.clear()
     last_import.update(scene=scene.name, log=str(log_prim.GetPath()), report=report, adopted=False)
-    if scene.shapewright.ops:
-        print(
-            f"Shapewright: {scene.name} already has a document; the imported file's "
-            "objects stay plain Blender objects (import it into an empty scene to edit its history)"
+    if history.has_document(scene):
+        notify.warn(
+            f"{scene.name} already has a document; the imported file's objects stay plain Blender "
+            "objects (import it into an empty scene to edit its history)"
         )
         return True
 
@@ -245,9 +278,8 @@ def import_document(stage, prim_map: dict) -> bool:
     if world and not world.HasAttribute("shapewright:objectId"):
         drop += [n for n in names(SRC_WORLD) if bpy.data.objects[n].type == "EMPTY"]
     props = scene.shapewright
-    history._sessions[scene.name] = s
-    props.ops = s.ops_jsonl()
-    props.cursor = s.cursor
+    history.adopt_session(scene, s)
+    history.write_key(scene, history.session_key(s))
     props.gen = history._next_gen(scene)
     props.import_fixup = json.dumps(
         {"adopt": {str(k): v for k, v in adopt.items()}, "drop": drop, "parametric": has_parametric}
@@ -256,9 +288,9 @@ def import_document(stage, prim_map: dict) -> bool:
     if not bpy.app.timers.is_registered(finish_imports):
         bpy.app.timers.register(finish_imports, first_interval=0.0)
     if report:
-        print("Shapewright: the file's stored geometry differs from its log (rebuilt from the log):")
-        for line in report:
-            print(f"  - {line}")
+        notify.warn(
+            f"the file's stored geometry differs from its log (rebuilt from the log): {'; '.join(report)}"
+        )
     return True
 
 
@@ -285,18 +317,22 @@ def finish_import(scene: bpy.types.Scene) -> None:
         # Blender's importer brings our custom properties back; the name
         # props go too, so the log's name names the object (a prim name is
         # a valid identifier: "My mug" came in as "My_mug").
-        for prop in (sync.HASH_PROP, sync.KIND_PROP, sync.NAME_PROP, sync.SHOWN_PROP):
+        for prop in (sync.KIND_PROP, sync.NAME_PROP, sync.SHOWN_PROP, sync.ORIGIN_PROP):
             if prop in obj:
                 del obj[prop]
+        for prop in (sync.SHAPE_PROP, sync.CHECK_PROP):
+            if obj.data is not None and prop in obj.data:
+                del obj.data[prop]
         for c in list(obj.users_collection):
             c.objects.unlink(obj)
         coll.objects.link(obj)
         adopted.append(obj)
-    doomed = [bpy.data.objects.get(n) for n in fix["drop"]]
+    doomed = list(fix["drop"])
     # Stale ids from another document would collide with this one's.
-    doomed += [o for o in coll.objects if sync.ID_PROP in o and o not in adopted]
-    for obj in doomed:
-        if obj is None or obj.name not in bpy.data.objects:
+    doomed += [o.name for o in scene.objects if sync.ID_PROP in o and o not in adopted]
+    for name in dict.fromkeys(doomed):
+        obj = bpy.data.objects.get(name)
+        if obj is None or obj in adopted:
             continue
         for child in obj.children:
             mw = child.matrix_world.copy()

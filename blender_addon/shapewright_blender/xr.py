@@ -1,7 +1,7 @@
 """VR: our XR action map, and the modal operator its actions drive.
 
 When a VR Scene Inspection session starts (`xr_session_start_pre`), the
-action map is built from the core's bindings data (`sw.action_map_json()`,
+action map is built from the core's bindings data (`sw.action_map()`,
 every profile: Oculus Touch, Index, Vive, WMR, simple, hand interaction),
 the way the bundled `viewport_vr_preview` add-on builds its own: one action
 set, pose actions for grip and aim, float actions that run
@@ -9,17 +9,17 @@ set, pose actions for grip and aim, float actions that run
 
 Input path: every XR action event and every timer tick goes to one
 `XrDriver`, which keeps the controllers' latest poses and button values,
-turns them into a core `InputFrame` (stage space: Blender's Z-up world
-turned to OpenXR's Y-up, so the model space is Blender's world space) and
-steps the core `InputSession` (sanitizer, gestures, active tool); the
-command it returns is already applied to the scene's log, which is then
-recorded and synced like any other op. Headless tests drive the same
-`XrDriver` with a recorded trace converted into this event stream.
+turns them into a core `InputFrame` (a typed value: stage space, metres;
+Blender's Z-up world in the scene's units turned to OpenXR's Y-up, so the
+model space is Blender's world space) and steps the core `InputSession`
+(sanitizer, gestures, active tool); the command it returns (an op dict)
+is already applied to the scene's log, which is then recorded and synced
+like any other op. Headless tests drive the same `XrDriver` with a
+recorded trace converted into this event stream.
 """
 
 from __future__ import annotations
 
-import json
 import math
 import time
 
@@ -28,7 +28,7 @@ import shapewright as sw
 from bpy.app.handlers import persistent
 from bpy.props import StringProperty
 
-from . import draw, history
+from . import draw, history, units
 
 ACTION_SET = "shapewright"
 HANDS = ("/user/hand/left", "/user/hand/right")
@@ -39,7 +39,7 @@ BUTTON_ACTIONS = ("primary", "secondary", "menu")
 # about X, as `ModelPlacement::desk` uses; the model sits at the origin.
 _H = math.sqrt(0.5)
 STAGE_FROM_BLENDER = (-_H, 0.0, 0.0, _H)  # x, y, z, w
-PLACEMENT = {"translate": [0.0, 0.0, 0.0], "rotate": list(STAGE_FROM_BLENDER), "scale": 1.0}
+PLACEMENT = sw.Placement(rotate=STAGE_FROM_BLENDER)
 
 
 def _qmul(a, b):
@@ -53,18 +53,24 @@ def _qmul(a, b):
     )
 
 
-def to_stage(location, rotation_wxyz) -> dict:
-    """A Blender world pose as a stage-space trace pose {"p", "q"}."""
-    x, y, z = (float(c) for c in location)
+def _mpu() -> float:
+    return units.metres_per_unit(bpy.context.scene)
+
+
+def to_stage(location, rotation_wxyz) -> sw.Pose:
+    """A Blender world pose (scene units) as a stage-space pose (metres)."""
+    k = _mpu()
+    x, y, z = (float(c) * k for c in location)
     w, qx, qy, qz = (float(c) for c in rotation_wxyz)
-    return {"p": [x, z, -y], "q": list(_qmul(STAGE_FROM_BLENDER, (qx, qy, qz, w)))}
+    return sw.Pose((x, z, -y), _qmul(STAGE_FROM_BLENDER, (qx, qy, qz, w)))
 
 
-def from_stage(pose: dict) -> tuple[tuple, tuple]:
+def from_stage(pose: sw.Pose) -> tuple[tuple, tuple]:
     """The inverse of `to_stage`: (location, rotation wxyz) in Blender."""
-    x, y, z = pose["p"]
+    k = 1.0 / _mpu()
+    x, y, z = (c * k for c in pose.p)
     inv = (-STAGE_FROM_BLENDER[0], 0.0, 0.0, STAGE_FROM_BLENDER[3])
-    qx, qy, qz, w = _qmul(inv, tuple(pose["q"]))
+    qx, qy, qz, w = _qmul(inv, tuple(pose.q))
     return (x, -z, y), (w, qx, qy, qz)
 
 
@@ -79,16 +85,15 @@ class XrDriver:
         # A modeler session (every tool, the left hand's palette), as the
         # headset host runs; `modeler=False` runs one tool alone (traces
         # recorded before the palette).
-        placement = json.dumps(PLACEMENT)
         if modeler:
-            self.input = sw.InputSession.modeler(tool, placement)
+            self.input = sw.InputSession.modeler(tool, PLACEMENT)
         else:
-            self.input = sw.InputSession(tool, placement)
+            self.input = sw.InputSession(tool, PLACEMENT)
         self.saves = 0
         self.poses: list[dict] = [{}, {}]
         self.buttons: list[dict] = [{}, {}]
-        self.head: dict | None = None
-        self.commands: list[tuple[str, str | None]] = []
+        self.head: sw.Pose | None = None
+        self.commands: list[tuple[dict, str | None]] = []
 
     def set_pose(self, hand: int, kind: str, location, rotation_wxyz) -> None:
         """`kind` is "grip" or "aim"; Blender world space."""
@@ -111,7 +116,7 @@ class XrDriver:
         elif action in BUTTON_ACTIONS:
             b[action] = not released
 
-    def frame(self, t: float) -> dict:
+    def frame(self, t: float) -> sw.InputFrame:
         controllers = []
         for hand in range(2):
             p = self.poses[hand]
@@ -119,24 +124,26 @@ class XrDriver:
                 controllers.append(None)
                 continue
             grip = p.get("grip", p.get("aim"))
-            aim = p.get("aim", grip)
+            b = self.buttons[hand]
             controllers.append(
-                {
-                    "grip": grip,
-                    "grip_valid": True,
-                    "aim": aim,
-                    "aim_valid": True,
-                    "buttons": dict(self.buttons[hand]),
-                    "buttons_valid": True,
-                }
+                sw.Controller(
+                    grip,
+                    p.get("aim", grip),
+                    select=b.get("select", 0.0),
+                    grab=b.get("grab", 0.0),
+                    primary=b.get("primary", False),
+                    secondary=b.get("secondary", False),
+                    menu=b.get("menu", False),
+                    stick=tuple(b.get("stick", (0.0, 0.0))),
+                )
             )
-        return {"time": t, "head": self.head, "hands": [None, None], "controllers": controllers}
+        return sw.InputFrame(t, self.head, (controllers[0], controllers[1]))
 
     def step(self, scene: bpy.types.Scene, t: float) -> str | None:
         """Feeds the current state as one frame; applies and records the
         command it produces. Returns the command's JSON, if any."""
         s = history.session(scene)
-        out = self.input.step(s, json.dumps(self.frame(t)))
+        out = self.input.step(s, self.frame(t))
         self.show(s)
         for _ in range(self.input.take_save_requests()):
             # The palette's Save: the .blend (and the log's USD beside it,
@@ -149,36 +156,35 @@ class XrDriver:
         self.commands.append(out)
         if out[1] is None:
             history.record(scene, s)
-        return out[0]
+        return out[0]["op"]
 
     def show(self, s: sw.Session) -> None:
         """Hands the preview to the draw handlers (Blender world space)."""
         p = self.input.preview()
         rays = []
+        k = 1.0 / _mpu()
         for r in p["rays"]:
             if r is not None:
-                (o, _), (d, _) = (
-                    from_stage({"p": r[0], "q": [0, 0, 0, 1]}),
-                    from_stage({"p": r[1], "q": [0, 0, 0, 1]}),
-                )
-                rays.append((o, d, r[2], r[3]))
+                o = _stage_point(r[0])
+                d = tuple(c / k for c in _stage_point(r[1]))  # a direction: no unit
+                rays.append((o, d, r[2] * k, r[3]))
         draw.set_rays(rays)
-        draw.set_sketch(p["sketch"])
+        draw.set_sketch(units.to_units(bpy.context.scene, p["sketch"]))
         draw.set_palette(palette_geometry(self.input.palette()))
 
 
 def _stage_point(p) -> tuple:
-    return from_stage({"p": list(p), "q": [0, 0, 0, 1]})[0]
+    return from_stage(sw.Pose(tuple(p)))[0]
 
 
-def palette_geometry(view: dict | None) -> dict | None:
+def palette_geometry(view: sw.PaletteView | None) -> dict | None:
     """The core's palette (stage space, plane coordinates) as Blender-world
     geometry for the draw handler: the panel and button quads with their
     colours, and each label's baseline origin, right and up vectors."""
     if view is None:
         return None
-    pose = json.loads(view["pose"])
-    c, (qw, qx, qy, qz) = pose["p"], (pose["q"][3], *pose["q"][:3])
+    pose = view.pose
+    c, (qw, qx, qy, qz) = pose.p, (pose.q[3], *pose.q[:3])
 
     def rot(v):
         # Rotates v by the stage quaternion (x, y, z, w).
@@ -194,14 +200,14 @@ def palette_geometry(view: dict | None) -> dict | None:
         r = rot((x, y, dz))
         return _stage_point((c[0] + r[0], c[1] + r[1], c[2] + r[2]))
 
-    w, h = view["size"]
+    w, h = view.size
     back = -0.001
     corners = [(-w / 2, -h / 2), (w / 2, -h / 2), (w / 2, h / 2), (-w / 2, h / 2)]
     quads = [([at(x, y, back) for x, y in corners], "panel")]
     labels = []
-    for k, (label, (x0, y0, x1, y1), active, pickable) in enumerate(view["items"]):
+    for k, (label, (x0, y0, x1, y1), active, pickable) in enumerate(view.items):
         if pickable:
-            kind = "hover" if view["hovered"] == k else ("active" if active else "button")
+            kind = "hover" if view.hovered == k else ("active" if active else "button")
             quads.append(([at(x0, y0), at(x1, y0), at(x1, y1), at(x0, y1)], kind))
         base, lift = (y0 + y1) / 2 - 0.004, 0.0008
         labels.append((label, at(x0 + 0.003, base, lift), at(x1, base, lift), at(x0 + 0.003, y1, lift)))
@@ -250,7 +256,8 @@ class SHAPEWRIGHT_OT_xr_tool(bpy.types.Operator):
     """Run the active Shapewright tool from VR controller actions"""
 
     bl_idname = "shapewright.xr_tool"
-    bl_label = "Shapewright VR Tool"
+    bl_label = "Shapewright: VR Tool"
+    short_label = "VR Tool"
 
     tool: StringProperty(
         name="Tool", description="The tool to run (empty: the scene's VR tool setting)", default=""
@@ -294,7 +301,7 @@ class SHAPEWRIGHT_OT_xr_tool(bpy.types.Operator):
 
 def action_map() -> dict:
     """The core's bindings data."""
-    return json.loads(sw.action_map_json())
+    return sw.action_map()
 
 
 def build_actionmap(session_state) -> object:

@@ -193,6 +193,7 @@ fn reason(e: &PrintError) -> &'static str {
         PrintError::SelfIntersecting { .. } => "self-intersecting",
         PrintError::Union { .. } => "union failed",
         PrintError::Invalid { .. } => "invalid at float32",
+        PrintError::Cancelled => "cancelled",
     }
 }
 

@@ -25,7 +25,10 @@ Rows (what each measures is in the module that makes it):
   whole stream; the single-user apply of the same op in the note;
 - informative peers without a goal: ray picking vs NumPy
   (scripts/bench/interact.py), printable validation vs manifold3d's import
-  (scripts/bench/print.py).
+  (scripts/bench/print.py);
+- the Blender add-on (issue 34, scripts/bench/blender.py, inside bpy):
+  recording an op at 10 and at 10,000 ops, the autosave's UI-thread time
+  on a 6.3 M-triangle document, and an export's Esc latency.
 
 Each row: workload, our median and 25-75% spread, the peer's, the ratio
 ours/peer (< 1: we are faster), threads on each side, the goal from issue
@@ -497,12 +500,67 @@ def markdown(rows: list[dict], head: list[str]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def blender_rows(ex: Path, quick: bool) -> list[dict]:
+    import blender
+
+    lb = load()
+    rs = {r["row"]: r for r in blender.rows(quick)}
+    la = load()
+
+    def spread(v: list[float]) -> list[float]:
+        v = sorted(v)
+        return [v[len(v) // 2], v[len(v) // 4], v[(3 * len(v)) // 4]]
+
+    rec = rs["record"]
+    small, big = [m[0] for m in rec["ms"]], [m[1] for m in rec["ms"]]
+    out = [
+        row(
+            f"Blender: record one op with {rec['big']:,} ops in the log",
+            "ms",
+            spread(big),
+            1,
+            peer=f"the same with {rec['small']} ops",
+            peer_value=spread(small),
+            peer_threads=1,
+            goal="<= 1.5x",
+            note="median of 25 renames through the add-on (op, the scene's history key, the sync) per run; "
+            "spread over runs (one bpy process each)",
+            lb=lb,
+            la=la,
+        ),
+        row(
+            f"Blender: autosave UI-thread time after an edit, {rs['autosave']['triangles']:,} triangles",
+            "ms",
+            spread(rs["autosave"]["ms"]),
+            1,
+            goal="< 50 ms",
+            note="the usda is written on the autosave's own thread (shapewright.Autosaver); spread over runs",
+            lb=lb,
+            la=la,
+        ),
+        row(
+            "Blender: export Esc to the thread's end, 6 overlapping spheres",
+            "ms",
+            spread(rs["cancel"]["ms"]),
+            2,
+            goal="< 1000 ms",
+            note=f"Esc once the progress passed 30% (in the union; at {min(rs['cancel']['at']):.0%} to "
+            f"{max(rs['cancel']['at']):.0%}); spread over runs",
+            lb=lb,
+            la=la,
+        ),
+    ]
+    return out
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="tiny reps, smaller sizes: a smoke run (< 2 min)")
     ap.add_argument("--markdown", help="write the table as markdown here")
     ap.add_argument("--json", help="write every row as JSON here")
-    ap.add_argument("--only", help="comma list of sources: sdf,union,styling,goals,session,other (default all)")
+    ap.add_argument(
+        "--only", help="comma list of sources: sdf,union,styling,goals,session,other,blender (default all)"
+    )
     args = ap.parse_args()
     start = time.time()
     m = machine()
@@ -514,6 +572,7 @@ def main() -> int:
         "goals": goal_rows,
         "session": session_rows,
         "other": other_rows,
+        "blender": blender_rows,
     }
     chosen = args.only.split(",") if args.only else list(sources)
     rows: list[dict] = []

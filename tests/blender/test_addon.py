@@ -1,7 +1,8 @@
 """The Blender extension, built with Blender's own tool, installed through
 Blender's extension API into a temporary user directory and driven by its
-operators in headless Blender (`bpy` 5.0.1). The fixtures are in
-`tests/conftest.py`."""
+operators and by Blender's own keys in headless Blender (`bpy` 5.0.1).
+The scenarios are in `tests/blender/sc_*.py` (one module per idea); the
+fixtures in `tests/conftest.py`."""
 
 from __future__ import annotations
 
@@ -46,6 +47,31 @@ ROOT = Path(__file__).resolve().parents[2]
         "smoke",
         # issue 15: the op table agrees with the core's op schema
         "op_schema",
+        # issue 34: Blender's own keys keep the document whole
+        "keys_duplicate",
+        "keys_delete",
+        "select_move_undo",
+        "edit_mode",
+        "modifiers",
+        "keys_random",
+        # issue 34: units, origins, menus, typed fields, safe defaults
+        "units_mm",
+        "origins",
+        "menus",
+        "typed_fields",
+        "safe_defaults",
+        # issue 34: true messages
+        "verdict",
+        "status_messages",
+        "new_objects_active",
+        "export_folders",
+        # issue 34: nothing freezes
+        "record_flat",
+        "autosave_off_thread",
+        "export_cancel",
+        "join_async",
+        # issue 36: the typed pyo3 border and its stub
+        "native_stub",
     ],
 )
 def test_scenario(scenario: str, run_scenario: Callable[..., str]) -> None:

@@ -10,7 +10,11 @@
 //!
 //! [`Autosaver`] saves every [`AutosaveSettings::every_ops`] ops or once
 //! [`AutosaveSettings::every`] has passed since the last save with unsaved
-//! ops, whichever comes first.
+//! ops, whichever comes first. The policy is the same for a host that
+//! saves on another thread (Blender: a big document's save must not hold
+//! the UI): [`Autosaver::note_change`] and [`Autosaver::due`] decide,
+//! [`Autosaver::begin_save`] and [`Autosaver::finish_save`] bracket the
+//! save it runs elsewhere.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -116,12 +120,63 @@ impl Autosaver {
     /// Call periodically (e.g. once per frame); saves when the time
     /// trigger fired and there are unsaved changes. Returns whether it saved.
     pub fn tick(&mut self, log: &OpLog) -> Result<bool, SaveError> {
-        let due = self.changes >= self.settings.every_ops.max(1)
-            || (self.changes > 0 && self.last_save.elapsed() >= self.settings.every);
+        let due = self.due();
         if due {
             self.save_now(log)?;
         }
         Ok(due)
+    }
+
+    /// Counts one change without saving (for a host that saves elsewhere;
+    /// see [`Self::due`]).
+    pub fn note_change(&mut self) {
+        self.changes += 1;
+    }
+
+    /// Whether the settings say to save now: enough changes, or unsaved
+    /// changes older than [`AutosaveSettings::every`].
+    pub fn due(&self) -> bool {
+        self.changes >= self.settings.every_ops.max(1)
+            || (self.changes > 0 && self.last_save.elapsed() >= self.settings.every)
+    }
+
+    /// Starts a save that the host runs elsewhere (on another thread, with
+    /// [`save_file`], [`Self::path`] and [`Self::options`]): the changes so
+    /// far count as saved until [`Self::finish_save`] says otherwise.
+    /// Returns how many changes the save covers.
+    pub fn begin_save(&mut self) -> usize {
+        let covered = self.changes;
+        self.changes = 0;
+        self.last_save = Instant::now();
+        covered
+    }
+
+    /// Ends a save started by [`Self::begin_save`] covering `covered`
+    /// changes: on success it counts as a save; on failure those changes
+    /// are unsaved again (so the next [`Self::due`] retries).
+    pub fn finish_save(&mut self, covered: usize, result: Result<SaveReport, SaveError>) {
+        match result {
+            Ok(report) => {
+                self.last_report = report;
+                self.saves += 1;
+            }
+            Err(_) => self.changes += covered,
+        }
+    }
+
+    /// Where it saves.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// How it saves.
+    pub fn options(&self) -> &SaveOptions {
+        &self.options
+    }
+
+    /// When it saves.
+    pub fn settings(&self) -> AutosaveSettings {
+        self.settings
     }
 
     /// Saves now, whatever the settings say.
@@ -146,5 +201,36 @@ impl Autosaver {
     /// Number of saves done.
     pub fn saves(&self) -> usize {
         self.saves
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_save_run_elsewhere_follows_the_same_policy() {
+        let dir = std::env::temp_dir().join(format!("sw-autosave-{}", std::process::id()));
+        let settings = AutosaveSettings {
+            every_ops: 3,
+            every: Duration::from_secs(3600),
+        };
+        let mut saver = Autosaver::new(dir.join("a.usda"), settings, SaveOptions::default());
+        saver.note_change();
+        saver.note_change();
+        assert!(!saver.due());
+        saver.note_change();
+        assert!(saver.due());
+        let covered = saver.begin_save();
+        assert_eq!((covered, saver.unsaved_changes()), (3, 0));
+        assert!(!saver.due(), "a running save is not due again");
+        saver.note_change();
+        // The save failed: its changes are unsaved again, with the new one.
+        saver.finish_save(covered, Err(SaveError::Author("disk full".into())));
+        assert_eq!(saver.unsaved_changes(), 4);
+        assert!(saver.due());
+        let covered = saver.begin_save();
+        saver.finish_save(covered, Ok(SaveReport::default()));
+        assert_eq!((saver.saves(), saver.unsaved_changes()), (1, 0));
     }
 }

@@ -219,7 +219,6 @@ fn check_version(
 
 /// Loads from a parsed layer.
 pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<Loaded, LoadError> {
-    let root = sdf::Path::abs_root();
     let log_path = crate::layout::find_log(data).ok_or(LoadError::NotShapewright)?;
     let format_version = log_int(data, &log_path, "shapewright:formatVersion")?;
     check_version(
@@ -305,7 +304,7 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
     // Object prims wherever the stage keeps them (ours, or under
     // Blender's root prim with Blender's names).
     let prims = crate::layout::object_prims(data);
-    let stored = stored_meshes(data, &prims.objects);
+    let stored = stored_meshes(data, &prims.objects, stage_meters_per_unit(data));
     let check = |doc: &Document| {
         let mut r = compare(doc, &stored, prims.extra.clone());
         r.mismatches
@@ -360,13 +359,7 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
     if options.strict && !report.is_consistent() {
         return Err(LoadError::Inconsistent(report));
     }
-    let meters_per_unit = field(data, &root, "metersPerUnit")
-        .and_then(|v| match v.as_ref() {
-            Value::Double(d) => Some(*d),
-            Value::Float(f) => Some(f64::from(*f)),
-            other => as_int(other).map(|i| i as f64),
-        })
-        .unwrap_or(1.0);
+    let meters_per_unit = stage_meters_per_unit(data);
     Ok(Loaded {
         log,
         report,
@@ -377,16 +370,50 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
     })
 }
 
+/// The stage's `metersPerUnit` (1 when not set).
+fn stage_meters_per_unit(data: &dyn AbstractData) -> f64 {
+    field(data, &sdf::Path::abs_root(), "metersPerUnit")
+        .and_then(|v| match v.as_ref() {
+            Value::Double(d) => Some(*d),
+            Value::Float(f) => Some(f64::from(*f)),
+            other => as_int(other).map(|i| i as f64),
+        })
+        .filter(|m| m.is_finite() && *m > 0.0)
+        .unwrap_or(1.0)
+}
+
 pub(crate) fn children(data: &dyn AbstractData, path: &sdf::Path) -> Vec<String> {
     field(data, path, "primChildren")
         .and_then(|v| strings(&v))
         .unwrap_or_default()
 }
 
+/// The transform placing `prim` in the stage (its stack times its
+/// ancestors'), or None when one cannot be read (the points are then
+/// compared as stored).
+fn placement_of(data: &dyn AbstractData, prim: &sdf::Path) -> Option<shapewright::math::DMat4> {
+    let layer = crate::xform::FlatLayer(data);
+    let mut m = shapewright::math::DMat4::IDENTITY;
+    let mut p = Some(prim.clone());
+    while let Some(cur) = p {
+        if cur.is_abs_root() {
+            break;
+        }
+        let (local, reset) = crate::xform::local_transform(&layer, &cur).ok()?;
+        m = local * m;
+        if reset {
+            break;
+        }
+        p = cur.parent();
+    }
+    Some(m)
+}
+
 /// The stored mesh of each object prim that has one.
 fn stored_meshes(
     data: &dyn AbstractData,
     objects: &BTreeMap<ObjectId, sdf::Path>,
+    meters_per_unit: f64,
 ) -> BTreeMap<ObjectId, StoredMesh> {
     let mut out = BTreeMap::new();
     for (id, obj) in objects {
@@ -397,16 +424,37 @@ fn stored_meshes(
             Some(Value::IntVec(v)) => v.clone(),
             _ => Vec::new(),
         };
-        let points = match attr_value(data, &mesh, "points").as_deref() {
+        let mut points = match attr_value(data, &mesh, "points").as_deref() {
             Some(Value::Vec3fVec(v)) => v.clone(),
             _ => Vec::new(),
         };
+        // A host may write each object at its origin (Blender does): the
+        // points are then placed by the prims' transforms and the stage's
+        // metres per unit before they are compared with the document.
+        let placed = placement_of(data, &mesh)
+            .map(|m| {
+                shapewright::math::DMat4::from_scale(shapewright::math::DVec3::splat(
+                    meters_per_unit,
+                )) * m
+            })
+            .filter(|m| *m != shapewright::math::DMat4::IDENTITY);
+        if let Some(m) = placed {
+            for p in &mut points {
+                let q = m.transform_point3(shapewright::math::DVec3::new(
+                    f64::from(p.x),
+                    f64::from(p.y),
+                    f64::from(p.z),
+                ));
+                *p = openusd::gf::vec3f(q.x as f32, q.y as f32, q.z as f32);
+            }
+        }
         out.insert(
             *id,
             StoredMesh {
                 points,
                 counts: ints("faceVertexCounts"),
                 indices: ints("faceVertexIndices"),
+                placed: placed.is_some(),
             },
         );
     }

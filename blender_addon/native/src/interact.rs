@@ -8,12 +8,16 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use shapewright::doc::ScriptCommand;
 use shapewright::interact::{
-    apply_command, tool_named, ActionMap, Hand, InputFrame, ModelPlacement, PaletteAction, Preview,
-    Session as Driver, TRACE_FORMAT, TRACE_VERSION,
+    apply_command, tool_named, ActionMap, Hand, PaletteAction, PaletteView as CorePalette, Preview,
+    Session as Driver, Similarity, TRACE_FORMAT, TRACE_VERSION,
 };
+use shapewright::math::DQuat;
 
+use crate::convert::into_py;
 use crate::doc::Session;
 use crate::error::{log_err, ParseError};
+use crate::input::InputFrame;
+use crate::placement::{Placement, Pose};
 
 /// The per-frame input driver of one tool.
 #[pyclass(module = "shapewright._native", unsendable)]
@@ -24,60 +28,66 @@ fn parse_err(what: &str, e: impl std::fmt::Display) -> PyErr {
     ParseError::new_err(format!("{what}: {e}"))
 }
 
-/// The model placement a host passes as JSON
-/// (`{"translate":[..],"rotate":[x,y,z,w],"scale":s}`).
-fn model_of(placement_json: &str) -> PyResult<shapewright::interact::Similarity> {
-    let placement: ModelPlacement =
-        serde_json::from_str(placement_json).map_err(|e| parse_err("placement", e))?;
-    placement
-        .similarity()
-        .ok_or_else(|| ParseError::new_err("placement must be finite with a positive scale"))
+/// The model's placement in stage space: a similarity (one scale for
+/// every axis, positive).
+fn model_of(p: &Placement) -> PyResult<Similarity> {
+    let t = p.0;
+    let s = t.scale[0];
+    if !(s > 0.0 && t.scale.iter().all(|x| *x == s)) {
+        return Err(ParseError::new_err(format!(
+            "the model's placement must scale every axis alike and positively, got {:?}",
+            t.scale
+        )));
+    }
+    Ok(Similarity {
+        translate: t.translate.into(),
+        rotate: DQuat::from_array(t.rotate).normalize(),
+        scale: s,
+    })
 }
 
 #[pymethods]
 impl InputSession {
     /// A driver running the tool named `tool` (see `core::interact::tool_named`),
-    /// with the model placed in stage space by `placement_json`
-    /// (`{"translate":[..],"rotate":[x,y,z,w],"scale":s}`).
+    /// with the model placed in stage space by `placement` (uniform scale).
     #[new]
-    fn new(tool: &str, placement_json: &str) -> PyResult<Self> {
-        let model = model_of(placement_json)?;
+    fn new(tool: &str, placement: &Placement) -> PyResult<Self> {
+        let model = model_of(placement)?;
         let tool = tool_named(tool).map_err(|e| parse_err("tool", e))?;
         Ok(Self(Driver::new(tool, model)))
     }
 
-    /// Feeds one raw frame (a trace line: `InputFrame` as JSON). When the
-    /// tool completes a gesture, its command is applied to `doc`; returns
-    /// `(command_json, error)`: the command as a script line and, if the
-    /// log refused it (nothing changed then), why. `None` when no command
-    /// was produced (most frames).
-    /// The tool is not `Send`, so the GIL stays held; a frame costs
-    /// microseconds unless it completes a gesture.
-    fn step(
+    /// Feeds one frame. When the tool completes a gesture, its command is
+    /// applied to `doc`; returns `(command, error)`: the command as a dict
+    /// (an op, or `{"op": "undo"}` / `{"op": "redo"}`) and, if the log
+    /// refused it (nothing changed then), why. `None` when no command was
+    /// produced (most frames). The tool is not `Send`, so the GIL stays
+    /// held; a frame costs microseconds unless it completes a gesture.
+    fn step<'py>(
         &mut self,
+        py: Python<'py>,
         doc: &mut Session,
-        frame_json: &str,
-    ) -> PyResult<Option<(String, Option<String>)>> {
-        let frame: InputFrame =
-            serde_json::from_str(frame_json).map_err(|e| parse_err("input frame", e))?;
-        let log = doc.log_mut();
-        let Some(cmd) = self.0.step(&frame, log.document()) else {
+        frame: &InputFrame,
+    ) -> PyResult<Option<(Bound<'py, PyAny>, Option<String>)>> {
+        let Some(cmd) = self.0.step(&frame.0, doc.log.document()) else {
             return Ok(None);
         };
-        let refused = apply_command(log, &cmd).err();
-        let line = match &cmd {
-            ScriptCommand::Op(op) => serde_json::to_string(op).map_err(|e| parse_err("op", e))?,
-            ScriptCommand::Undo => "{\"op\":\"undo\"}".to_string(),
-            ScriptCommand::Redo => "{\"op\":\"redo\"}".to_string(),
+        let at = doc.log.cursor();
+        let refused = apply_command(&mut doc.log, &cmd).err();
+        doc.changed(at);
+        let out = match &cmd {
+            ScriptCommand::Op(op) => into_py(py, op)?,
+            ScriptCommand::Undo => into_py(py, &serde_json::json!({"op": "undo"}))?,
+            ScriptCommand::Redo => into_py(py, &serde_json::json!({"op": "redo"}))?,
         };
-        Ok(Some((line, refused.map(|e| log_err(e).to_string()))))
+        Ok(Some((out, refused.map(|e| log_err(e).to_string()))))
     }
 
     /// A modeler driver: every tool, `start` active, the palette on the
     /// left hand (the headset host's session; see `core::interact::palette`).
     #[staticmethod]
-    fn modeler(start: &str, placement_json: &str) -> PyResult<Self> {
-        let model = model_of(placement_json)?;
+    fn modeler(start: &str, placement: &Placement) -> PyResult<Self> {
+        let model = model_of(placement)?;
         Driver::modeler(start, Hand::Right, model)
             .map(Self)
             .map_err(|e| parse_err("tool", e))
@@ -95,34 +105,9 @@ impl InputSession {
         self.0.tool().name()
     }
 
-    /// The palette to draw, when open: `pose` (stage `{"p","q"}`: centre,
-    /// +X right, +Y up, +Z toward the head), `size` `[w, h]` (metres),
-    /// `items` (`(label, [x0, y0, x1, y1], active, pickable)` in the plane),
-    /// `hovered` (item index or None), `pointer` (stage point or None).
-    fn palette<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let Some(v) = self.0.palette() else {
-            return Ok(None);
-        };
-        let d = PyDict::new(py);
-        let pose = serde_json::to_string(&v.pose).map_err(|e| parse_err("pose", e))?;
-        d.set_item("pose", pose)?; // JSON text: {"p": [x, y, z], "q": [x, y, z, w]}
-        d.set_item("size", v.size)?;
-        let items: Vec<(String, [f64; 4], bool, bool)> = v
-            .items
-            .iter()
-            .map(|i| {
-                (
-                    i.label.clone(),
-                    i.rect,
-                    i.active,
-                    i.action != PaletteAction::None,
-                )
-            })
-            .collect();
-        d.set_item("items", items)?;
-        d.set_item("hovered", v.hovered)?;
-        d.set_item("pointer", v.pointer.map(|p| p.to_array()))?;
-        Ok(Some(d))
+    /// The palette to draw, when open.
+    fn palette(&self) -> Option<PaletteView> {
+        self.0.palette().cloned().map(PaletteView)
     }
 
     /// Saves asked for through the palette since the last call.
@@ -135,6 +120,61 @@ impl InputSession {
     /// `moving` (`(id, motion 4x4 row-major)`).
     fn preview<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         preview_dict(py, self.0.preview())
+    }
+}
+
+/// The open palette: a plane in stage space with its items.
+#[pyclass(module = "shapewright._native", frozen)]
+#[derive(Clone, Debug)]
+#[repr(transparent)]
+pub struct PaletteView(CorePalette);
+
+#[pymethods]
+impl PaletteView {
+    /// The plane (stage space): centre, +X right, +Y up, +Z toward the head.
+    #[getter]
+    fn pose(&self) -> Pose {
+        Pose(self.0.pose)
+    }
+
+    /// `(width, height)` of the panel (metres).
+    #[getter]
+    fn size(&self) -> [f64; 2] {
+        self.0.size
+    }
+
+    /// The items: `(label, (x0, y0, x1, y1) in the plane, active, pickable)`.
+    #[getter]
+    fn items(&self) -> Vec<(String, [f64; 4], bool, bool)> {
+        self.0
+            .items
+            .iter()
+            .map(|i| {
+                (
+                    i.label.clone(),
+                    i.rect,
+                    i.active,
+                    i.action != PaletteAction::None,
+                )
+            })
+            .collect()
+    }
+
+    /// The item under the pointer, if any.
+    #[getter]
+    fn hovered(&self) -> Option<usize> {
+        self.0.hovered
+    }
+
+    /// Where the pointer meets the plane (stage space), if it does.
+    #[getter]
+    fn pointer(&self) -> Option<[f64; 3]> {
+        self.0.pointer.map(|p| p.to_array())
+    }
+
+    /// The stage-space point of plane point `(x, y)`.
+    fn to_world(&self, x: f64, y: f64) -> [f64; 3] {
+        self.0.to_world(x, y).to_array()
     }
 }
 
@@ -166,11 +206,13 @@ fn preview_dict<'py>(py: Python<'py>, p: &Preview) -> PyResult<Bound<'py, PyDict
     Ok(d)
 }
 
-/// Shapewright's controller bindings (every profile) as JSON, from the
-/// core's data.
+/// Shapewright's controller bindings (every profile), from the core's
+/// data, as Python values.
 #[pyfunction]
-pub(crate) fn action_map_json() -> String {
-    ActionMap::default_map().to_json()
+pub(crate) fn action_map(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
+    let v: serde_json::Value = serde_json::from_str(&ActionMap::default_map().to_json())
+        .map_err(|e| parse_err("action map", e))?;
+    crate::convert::to_py(py, &v)
 }
 
 /// The names of the core's tools (what `InputSession` takes).

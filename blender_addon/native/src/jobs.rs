@@ -1,44 +1,46 @@
-//! Long work off Blender's UI thread (issue 20 "long work off the UI
-//! thread"). An [`ExportJob`] unions a copy of the document (meshes are
-//! shared, so the copy is cheap) on a thread of its own, checks it and
-//! writes it, while Blender keeps drawing; the add-on's modal operator
-//! polls [`ExportJob::progress`] for Blender's progress bar and calls
-//! [`ExportJob::cancel`] on Esc.
+//! Long work off Blender's UI thread. An [`ExportJob`] runs the core's one
+//! print path (`shapewright::print::print_document_with`) on a copy of the
+//! document (meshes are shared, so the copy is cheap) on a thread of its
+//! own and writes the result, while Blender keeps drawing; the same job
+//! without a path is the History panel's printability check, so the panel
+//! and the export can never disagree.
 //!
-//! The export is refused, and nothing is written, when the printable
-//! model is empty or is not a closed 2-manifold at the precision the
-//! format stores (STL and PLY store f32: triangles that collapse when
-//! rounded are caught here). Files are written to a temporary name and
-//! renamed, so a cancelled or failed export never leaves half a file.
-//! Cancelling is checked between the phases (union, check, write): the
-//! union itself is one Manifold batch boolean with no cancellation point,
-//! so a cancel during it returns at once to the user but the thread
-//! finishes that boolean before it stops (its result is dropped).
+//! Progress and cancelling are the core's [`PrintControl`]: the job's
+//! progress moves through the union object by object, and
+//! [`ExportJob::cancel`] stops it within one stage of one boolean (Manifold
+//! checks the flag inside its booleans); a cancelled job writes nothing.
+//! [`ExportJob::cancel`] returns at once, so Esc never waits for the
+//! thread.
 //!
-//! The union is `Document::printable_mesh`; the printability work of
-//! issue 19 (`core::print`, thickening and repair at the written
-//! precision) will replace [`printable`]'s body when it lands.
+//! Refusals write nothing: a model the print path refuses, a format the
+//! path's extension does not name, a folder that does not exist (an
+//! export never creates folders the person did not ask for). Files are
+//! written to a temporary name and renamed, so a cancelled or failed
+//! export never leaves half a file.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::Mutex;
 use std::thread::JoinHandle;
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use shapewright::doc::Document;
 use shapewright::mesh::{MeshFormat, PartNames, TriMesh, MESH_EXTENSIONS};
-use shapewright::print::{document_names, print_document, BedFit, PrintSettings, PrintedSize};
+use shapewright::print::{
+    document_names, print_document_with, BedFit, PrintControl, PrintError, PrintReport,
+    PrintSettings, PrintStage, PrintedSize,
+};
 
 use crate::doc::Session;
 use crate::error::{OpRejected, ParseError};
 
-/// Why an export stopped.
+/// Why a job stopped.
 #[derive(Debug)]
 pub(crate) enum ExportError {
     /// The user cancelled; nothing was written.
     Cancelled,
-    /// The result is not printable; nothing was written.
+    /// The result is not printable, or the path cannot be written to;
+    /// nothing was written.
     Refused(String),
     /// Writing failed.
     Io(String),
@@ -54,14 +56,6 @@ impl ExportError {
     }
 }
 
-/// The phases of an export, in order.
-pub(crate) const PHASES: [(&str, f64); 4] = [
-    ("uniting objects", 0.0),
-    ("checking the result", 0.85),
-    ("writing", 0.93),
-    ("done", 1.0),
-];
-
 /// The mesh format of `path`, or a clear error.
 pub(crate) fn format_of(path: &Path) -> PyResult<MeshFormat> {
     MeshFormat::from_path(path).ok_or_else(|| {
@@ -72,40 +66,77 @@ pub(crate) fn format_of(path: &Path) -> PyResult<MeshFormat> {
     })
 }
 
-/// The printable model of `doc` as `format` writes it: the core's one
-/// printable path (union of every object, open surfaces thickened,
-/// validated at the file's precision and unit), refused with the core's
-/// typed reason (empty, out of range, not a closed 2-manifold when
-/// written), with its printed size.
-pub(crate) fn printable(
-    doc: &Document,
-    format: MeshFormat,
-    phase: &AtomicU8,
-    cancel: &AtomicBool,
-) -> Result<(TriMesh, Option<PrintedSize>), ExportError> {
-    let settings = PrintSettings::for_format(format);
-    let printed = print_document(doc, &settings)
-        .map_err(|e| ExportError::Refused(format!("{e}: nothing was written")))?;
-    phase.store(1, Ordering::Relaxed);
-    if cancel.load(Ordering::Relaxed) {
-        return Err(ExportError::Cancelled);
+/// Refuses a path whose folder does not exist (writing would create it).
+fn check_folder(path: &Path) -> PyResult<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => return Ok(()),
+    };
+    if dir.is_dir() {
+        Ok(())
+    } else {
+        Err(OpRejected::new_err(format!(
+            "the folder {} does not exist; choose an existing folder (nothing was written)",
+            dir.display()
+        )))
     }
-    let size = printed.report.size();
-    Ok((printed.mesh, size))
+}
+
+/// What a job found and, when it had a path, wrote.
+pub(crate) struct Summary {
+    triangles: usize,
+    volume: f64,
+    bbox: Option<[[f64; 3]; 2]>,
+    report: String,
+    size: Option<PrintedSize>,
+    fit: Option<BedFit>,
+}
+
+fn run(
+    doc: &Document,
+    target: Option<(MeshFormat, &Path)>,
+    control: &PrintControl,
+) -> Result<Summary, ExportError> {
+    // Without a file, the check is the STL export's (float32 millimetres,
+    // as STL and 3MF store it): the panel says what the usual export will do.
+    let settings = PrintSettings::for_format(target.map_or(MeshFormat::Stl, |(f, _)| f));
+    let printed = print_document_with(doc, &settings, control).map_err(|e| match e {
+        PrintError::Cancelled => ExportError::Cancelled,
+        e if target.is_some() => ExportError::Refused(format!("{e}: nothing was written")),
+        e => ExportError::Refused(e.to_string()),
+    })?;
+    if let Some((format, path)) = target {
+        control.set(PrintStage::Writing, 0, 1);
+        write_atomic(&printed.mesh, &document_names(doc), format, path, control)?;
+    }
+    control.set(PrintStage::Done, 1, 1);
+    Ok(summary_of(doc, &printed.mesh, &printed.report))
+}
+
+fn summary_of(doc: &Document, mesh: &TriMesh, report: &PrintReport) -> Summary {
+    let size = report.size();
+    Summary {
+        triangles: mesh.triangles.len(),
+        volume: report.checks.signed_volume,
+        bbox: report.checks.bbox,
+        report: report.to_string(),
+        size,
+        fit: size.map(|s| s.fit(&doc.print_setup().printer)),
+    }
 }
 
 /// Writes `mesh` to `path` crash-safely (the workspace's one writer:
 /// temp file, fsync, rename); a cancel before the rename keeps the old file.
-pub(crate) fn write_atomic(
+fn write_atomic(
     mesh: &TriMesh,
     names: &PartNames,
     format: MeshFormat,
     path: &Path,
-    cancel: &AtomicBool,
+    control: &PrintControl,
 ) -> Result<(), ExportError> {
     shapewright_atomic::write_with(path, |w| {
         format.write_named(mesh, names, w)?;
-        if cancel.load(Ordering::Relaxed) {
+        if control.is_cancelled() {
             return Err(std::io::Error::new(
                 std::io::ErrorKind::Interrupted,
                 "export cancelled",
@@ -115,7 +146,7 @@ pub(crate) fn write_atomic(
     })
     .map(|_| ())
     .map_err(|e| {
-        if cancel.load(Ordering::Relaxed) {
+        if control.is_cancelled() {
             ExportError::Cancelled
         } else {
             ExportError::Io(format!("writing {}: {e}", path.display()))
@@ -123,49 +154,39 @@ pub(crate) fn write_atomic(
     })
 }
 
-/// What a finished export wrote.
-pub(crate) struct Written {
-    triangles: usize,
-    size: Option<PrintedSize>,
-    fit: Option<BedFit>,
-}
-
-fn run(
-    doc: &Document,
-    format: MeshFormat,
-    path: &Path,
-    phase: &AtomicU8,
-    cancel: &AtomicBool,
-) -> Result<Written, ExportError> {
-    let (mesh, size) = printable(doc, format, phase, cancel)?;
-    phase.store(2, Ordering::Relaxed);
-    write_atomic(&mesh, &document_names(doc), format, path, cancel)?;
-    phase.store(3, Ordering::Relaxed);
-    Ok(Written {
-        triangles: mesh.triangles.len(),
-        size,
-        fit: size.map(|s| s.fit(&doc.print_setup().printer)),
-    })
-}
-
-/// `{"path", "triangles", "volume" (m³), "size_mm" [x, y, z],
-/// "volume_cm3", "fits", "fit" (the sentence to show: fits the printer,
-/// or by how much it outgrows it per axis), "over_mm" [x, y, z]}`.
-fn summary<'py>(py: Python<'py>, w: &Written, path: &Path) -> PyResult<Bound<'py, PyDict>> {
+fn summary<'py>(py: Python<'py>, s: &Summary, path: Option<&Path>) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    d.set_item("path", path.display().to_string())?;
-    d.set_item("triangles", w.triangles)?;
-    d.set_item("volume", w.size.and_then(|s| s.volume).unwrap_or(0.0))?;
-    if let Some(s) = &w.size {
-        d.set_item("size_mm", s.extent_mm().to_vec())?;
-        d.set_item("volume_cm3", s.volume_cm3().unwrap_or(0.0))?;
+    d.set_item("path", path.map(|p| p.display().to_string()))?;
+    d.set_item("triangles", s.triangles)?;
+    d.set_item("volume", s.volume)?;
+    d.set_item("bbox", s.bbox)?;
+    d.set_item("report", &s.report)?;
+    if let Some(size) = &s.size {
+        d.set_item("size_mm", size.extent_mm().to_vec())?;
+        d.set_item("volume_cm3", size.volume_cm3().unwrap_or(0.0))?;
     }
-    if let Some(f) = &w.fit {
+    if let Some(f) = &s.fit {
         d.set_item("fits", f.fits)?;
         d.set_item("fit", f.to_string())?;
         d.set_item("over_mm", f.over_mm.to_vec())?;
     }
     Ok(d)
+}
+
+/// Exports `doc`'s printable union to `path` on the calling thread (GIL
+/// released), with the same checks as [`ExportJob`].
+pub(crate) fn export_now<'py>(
+    py: Python<'py>,
+    doc: &Document,
+    path: &Path,
+) -> PyResult<Bound<'py, PyDict>> {
+    let format = format_of(path)?;
+    check_folder(path)?;
+    let control = PrintControl::new();
+    let s = py
+        .detach(|| run(doc, Some((format, path)), &control))
+        .map_err(ExportError::into_py)?;
+    summary(py, &s, Some(path))
 }
 
 /// `{"line", "warn", "size_mm" [x, y, z], "fits", "over_mm" [x, y, z],
@@ -196,68 +217,54 @@ pub(crate) fn print_status_dict<'py>(
     Ok(Some(d))
 }
 
-/// Exports `doc`'s printable union to `path` on the calling thread (GIL
-/// released), with the same checks as [`ExportJob`].
-pub(crate) fn export_now<'py>(
-    py: Python<'py>,
-    doc: &Document,
-    path: &Path,
-) -> PyResult<Bound<'py, PyDict>> {
-    let format = format_of(path)?;
-    let (phase, cancel) = (AtomicU8::new(0), AtomicBool::new(false));
-    let w = py
-        .detach(|| run(doc, format, path, &phase, &cancel))
-        .map_err(ExportError::into_py)?;
-    summary(py, &w, path)
-}
-
-struct Shared {
-    phase: AtomicU8,
-    cancel: AtomicBool,
-}
-
-/// An export running on its own thread.
+/// A print job running on its own thread: an export (with a path) or the
+/// printability check (without).
 #[pyclass(module = "shapewright._native")]
 pub struct ExportJob {
-    shared: Arc<Shared>,
-    path: PathBuf,
-    handle: Mutex<Option<JoinHandle<Result<Written, ExportError>>>>,
+    control: PrintControl,
+    path: Option<PathBuf>,
+    handle: Mutex<Option<JoinHandle<Result<Summary, ExportError>>>>,
 }
 
 #[pymethods]
 impl ExportJob {
-    /// Starts exporting `doc`'s printable union (as it is now; later edits
-    /// do not change this export) to `path` (.stl or .3mf in millimetres,
-    /// .obj or .ply in metres).
+    /// Starts printing `doc` as it is now (later edits do not change this
+    /// job): to `path` (format by extension) or, without a path, only the
+    /// check the export would make.
     #[new]
-    fn new(doc: &Session, path: PathBuf) -> PyResult<Self> {
-        let format = format_of(&path)?;
+    #[pyo3(signature = (doc, path=None))]
+    fn new(doc: &Session, path: Option<PathBuf>) -> PyResult<Self> {
+        let format = path.as_deref().map(format_of).transpose()?;
+        if let Some(p) = &path {
+            check_folder(p)?;
+        }
         let document = doc.log().document().clone();
-        let shared = Arc::new(Shared {
-            phase: AtomicU8::new(0),
-            cancel: AtomicBool::new(false),
-        });
-        let (s, p) = (Arc::clone(&shared), path.clone());
+        let control = PrintControl::new();
+        let (c, p) = (control.clone(), path.clone());
         let handle = std::thread::Builder::new()
-            .name("shapewright-export".into())
-            .spawn(move || run(&document, format, &p, &s.phase, &s.cancel))
-            .map_err(|e| OpRejected::new_err(format!("cannot start the export thread: {e}")))?;
+            .name("shapewright-print".into())
+            .spawn(move || {
+                let target = format.zip(p.as_deref());
+                run(&document, target, &c)
+            })
+            .map_err(|e| OpRejected::new_err(format!("cannot start the print thread: {e}")))?;
         Ok(Self {
-            shared,
+            control,
             path,
             handle: Mutex::new(Some(handle)),
         })
     }
 
-    /// `(phase, fraction)`: what the job does now and how far it is.
+    /// `(stage, fraction)`: what the job does now and how far it is.
     fn progress(&self) -> (&'static str, f64) {
-        let i = usize::from(self.shared.phase.load(Ordering::Relaxed)).min(PHASES.len() - 1);
-        PHASES[i]
+        let p = self.control.progress();
+        (p.stage.name(), p.fraction())
     }
 
-    /// Asks the job to stop; nothing is written once it stops.
+    /// Asks the job to stop; returns at once. Nothing is written once it
+    /// stops (within one stage of one boolean).
     fn cancel(&self) {
-        self.shared.cancel.store(true, Ordering::Relaxed);
+        self.control.cancel();
     }
 
     /// True when the thread has finished (successfully or not).
@@ -268,19 +275,22 @@ impl ExportJob {
             .unwrap_or(true)
     }
 
-    /// Waits for the job and returns `{"path", "triangles", "volume"}`, or
-    /// raises why nothing was written. Call once.
+    /// Waits for the job and returns `{"path", "triangles", "volume",
+    /// "bbox", "report"}` (metres; `path` None for a check) and the printed
+    /// size: `"size_mm"`, `"volume_cm3"`, `"fits"`, `"fit"` (the sentence
+    /// to show), `"over_mm"`; or raises
+    /// why nothing was written. Call once.
     fn result<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let handle = self
             .handle
             .lock()
             .ok()
             .and_then(|mut h| h.take())
-            .ok_or_else(|| OpRejected::new_err("the export's result was already taken"))?;
+            .ok_or_else(|| OpRejected::new_err("the job's result was already taken"))?;
         let out = py
             .detach(|| handle.join())
-            .map_err(|_| OpRejected::new_err("the export thread panicked; nothing was written"))?;
-        let w = out.map_err(ExportError::into_py)?;
-        summary(py, &w, &self.path)
+            .map_err(|_| OpRejected::new_err("the print thread panicked; nothing was written"))?;
+        let s = out.map_err(ExportError::into_py)?;
+        summary(py, &s, self.path.as_deref())
     }
 }

@@ -1,17 +1,32 @@
 //! Python bindings of the Shapewright core (`shapewright._native`), used by
-//! the Blender add-on. Thin by design: each file mirrors one core module,
-//! core types are wrapped in newtypes, errors convert
-//! in `error.rs`, heavy work runs with the GIL released, and no geometry is
-//! computed here.
+//! the Blender add-on. Thin by design (tokenizers' bindings are the
+//! model): each file mirrors one core module or one idea of the border,
+//! core types cross as `#[pyclass]` newtypes (`Placement`, `Pose`,
+//! `InputFrame`, `Presence`, `PaletteView`) or as Python dicts and lists
+//! depythonized in Rust (`convert.rs`: ops, shapes, trace lines; numbers
+//! checked on the way in), never as JSON text; errors convert in
+//! `error.rs`; heavy work runs with the GIL released, long work on
+//! threads of its own (`jobs.rs`, `autosave.rs`); no geometry is computed
+//! here. `python/shapewright/_native.pyi` states the whole surface (a
+//! test keeps it true).
 
+mod adopt;
+mod autosave;
+mod convert;
 mod doc;
 mod error;
+mod input;
 mod interact;
 mod jobs;
+mod lines;
 mod mesh;
+mod objects;
 mod parametric;
+mod placement;
 mod sdf;
+mod shared;
 mod sketch;
+mod solid;
 mod usd;
 
 use pyo3::prelude::*;
@@ -27,17 +42,27 @@ static ALLOC: mimalloc::MiMalloc = mimalloc::MiMalloc;
 #[pyo3(name = "_native")]
 fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<doc::Session>()?;
+    m.add_class::<placement::Placement>()?;
+    m.add_class::<placement::Pose>()?;
+    m.add_class::<input::Controller>()?;
+    m.add_class::<input::InputFrame>()?;
     m.add_class::<interact::InputSession>()?;
-    m.add_function(wrap_pyfunction!(interact::action_map_json, m)?)?;
+    m.add_class::<interact::PaletteView>()?;
+    m.add_class::<shared::Presence>()?;
+    m.add_class::<jobs::ExportJob>()?;
+    m.add_class::<autosave::Autosaver>()?;
+    m.add_function(wrap_pyfunction!(interact::action_map, m)?)?;
     m.add_function(wrap_pyfunction!(interact::trace_format, m)?)?;
     m.add_function(wrap_pyfunction!(interact::tool_names, m)?)?;
     m.add_function(wrap_pyfunction!(usd::save_usd, m)?)?;
-    m.add_function(wrap_pyfunction!(sdf::library_names, m)?)?;
     m.add_function(wrap_pyfunction!(usd::load_usd, m)?)?;
     m.add_function(wrap_pyfunction!(usd::import_usd, m)?)?;
     m.add_function(wrap_pyfunction!(usd::import_usd_text, m)?)?;
     m.add_function(wrap_pyfunction!(usd::usd_text, m)?)?;
-    m.add_class::<jobs::ExportJob>()?;
+    m.add_function(wrap_pyfunction!(sdf::library_names, m)?)?;
+    m.add_function(wrap_pyfunction!(solid::solid_kinds, m)?)?;
+    m.add_function(wrap_pyfunction!(solid::solid_shape, m)?)?;
+    m.add_function(wrap_pyfunction!(solid::solid_dimensions, m)?)?;
     m.add_function(wrap_pyfunction!(parametric::parametric_parts, m)?)?;
     m.add_function(wrap_pyfunction!(sketch::sketch_spine, m)?)?;
     m.add_function(wrap_pyfunction!(sketch::child_from_stroke, m)?)?;
@@ -46,7 +71,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sketch::profile_radius, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::validate_buffers, m)?)?;
     m.add_function(wrap_pyfunction!(doc::op_names, m)?)?;
-    m.add_function(wrap_pyfunction!(doc::op_schema_json, m)?)?;
+    m.add_function(wrap_pyfunction!(doc::op_schema, m)?)?;
     m.add("OP_FORMAT_VERSION", shapewright::doc::OP_FORMAT_VERSION)?;
     error::register(m)?;
     Ok(())

@@ -6,10 +6,12 @@ use pyo3::types::{PyBytes, PyDict};
 use shapewright::mesh::{validate, TriMesh, ValidationReport};
 
 /// A mesh as `(positions: f64 x 3n, triangles: u32 x 3m, sources: u32 x m)`
-/// byte buffers; one memcpy each.
+/// byte buffers, positions multiplied by `units_per_metre` (a host's
+/// scene units; 1 keeps metres) in the same pass.
 pub(crate) fn buffers<'py>(
     py: Python<'py>,
     m: &TriMesh,
+    units_per_metre: f64,
 ) -> (
     Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
@@ -19,7 +21,7 @@ pub(crate) fn buffers<'py>(
         .positions
         .iter()
         .flatten()
-        .flat_map(|x| x.to_le_bytes())
+        .flat_map(|x| (x * units_per_metre).to_le_bytes())
         .collect();
     let tri: Vec<u8> = m
         .triangles

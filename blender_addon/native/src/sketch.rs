@@ -1,8 +1,8 @@
 //! The core's sketch pipeline for mouse strokes (`core::sketch`): the same
 //! RDP, template matching and spine fitting the headset's GC tool runs,
 //! and the section placement that makes a sketched tube follow its stroke.
-//! Plain values in and out (lists and dicts); the add-on builds op dicts
-//! from them.
+//! Plain values in and out (lists and dicts, profiles as ops hold them);
+//! the add-on builds op dicts from them.
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -15,6 +15,7 @@ use shapewright::sketch::{
     EndChoice, SectionPlan, SectionSettings, SketchError, SketchPlane,
 };
 
+use crate::convert::{from_py, into_py};
 use crate::doc::Session;
 use crate::error::{OpRejected, ParseError};
 
@@ -160,9 +161,9 @@ pub(crate) fn replace_spine_from_stroke<'py>(
 }
 
 /// Matches a closed stroke in a plane against the section templates (the
-/// headset's matcher): `{"profile" (JSON), "score", "center" (3D),
-/// "rotation", "candidates", "sketch" (the loop itself as a profile,
-/// JSON)}`.
+/// headset's matcher): `{"profile" (a dict, as an op holds it), "score",
+/// "center" (3D), "rotation", "candidates", "sketch" (the loop itself as
+/// a profile dict)}`.
 #[pyfunction]
 pub(crate) fn match_section<'py>(
     py: Python<'py>,
@@ -178,11 +179,9 @@ pub(crate) fn match_section<'py>(
     )
     .map_err(sketch_err)?;
     let m = match_section_stroke(&vecs(&points), &plane).map_err(sketch_err)?;
-    let json =
-        |p: &Profile| serde_json::to_string(p).map_err(|e| ParseError::new_err(e.to_string()));
     let d = PyDict::new(py);
-    d.set_item("profile", json(&m.profile)?)?;
-    d.set_item("sketch", json(&m.sketch)?)?;
+    d.set_item("profile", into_py(py, &m.profile)?)?;
+    d.set_item("sketch", into_py(py, &m.sketch)?)?;
     d.set_item("score", m.score)?;
     d.set_item("center", plane.lift(m.center).to_array())?;
     d.set_item("rotation", m.rotation)?;
@@ -190,11 +189,11 @@ pub(crate) fn match_section<'py>(
     Ok(d)
 }
 
-/// Largest distance of a section profile (JSON) from its centre.
+/// Largest distance of a section profile (a dict, as an op holds it)
+/// from its centre.
 #[pyfunction]
-pub(crate) fn profile_radius(profile_json: &str) -> PyResult<f64> {
-    let p: Profile = serde_json::from_str(profile_json)
-        .map_err(|e| ParseError::new_err(format!("profile {profile_json}: {e}")))?;
+pub(crate) fn profile_radius(profile: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let p: Profile = from_py(profile, "profile")?;
     p.curve().map_err(|e| OpRejected::new_err(e.to_string()))?;
     Ok(core_radius(&p))
 }

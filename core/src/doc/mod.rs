@@ -32,6 +32,7 @@ mod error;
 mod log;
 mod object;
 pub mod ops;
+mod origin;
 pub mod schema;
 mod script;
 pub mod shared;

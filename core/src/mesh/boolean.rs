@@ -17,8 +17,9 @@
 //! result a closed 2-manifold. The printable path uses it to remove the
 //! features that rounding to float32 would collapse or fold.
 
+use manifold_rust::cancel::CancelToken;
 use manifold_rust::manifold::Manifold;
-use manifold_rust::types::{Error as ManifoldStatus, MeshGLP, OpType};
+use manifold_rust::types::{BooleanConfig, Error as ManifoldStatus, MeshGLP, OpType};
 
 use super::TriMesh;
 
@@ -46,6 +47,33 @@ pub enum BooleanError {
     /// The boolean itself failed.
     #[error("the boolean failed with Manifold status {0}")]
     Failed(String),
+    /// [`BooleanCancel::cancel`] was called; nothing was computed.
+    #[error("the boolean was cancelled")]
+    Cancelled,
+}
+
+/// Stops a running [`union_snapped_with`] from another thread (a host's
+/// Esc): Manifold checks it between and inside its pipeline stages, so a
+/// union stops within one stage of one step, and a cancelled union never
+/// returns a result. Clones share the flag.
+#[derive(Clone, Debug, Default)]
+pub struct BooleanCancel(CancelToken);
+
+impl BooleanCancel {
+    /// A fresh, uncancelled flag.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Asks every union holding a clone of this flag to stop.
+    pub fn cancel(&self) {
+        self.0.cancel();
+    }
+
+    /// Whether [`Self::cancel`] was called.
+    pub fn is_cancelled(&self) -> bool {
+        self.0.is_cancelled()
+    }
 }
 
 /// The union of closed meshes, as one closed mesh. Each output triangle's
@@ -60,28 +88,58 @@ pub fn union(meshes: &[&TriMesh]) -> Result<TriMesh, BooleanError> {
 /// doc); `0.0` is Manifold's own precision (1e-12 of the box). Sources as
 /// for [`union`].
 pub fn union_snapped(meshes: &[&TriMesh], tolerance: f64) -> Result<TriMesh, BooleanError> {
+    union_snapped_with(meshes, tolerance, None, &mut |_, _| {})
+}
+
+/// [`union_snapped`], stoppable by `cancel` and reporting its steps:
+/// `step(done, total)` after each operand is imported (`total` = 2 x the
+/// operands: imports, then union steps) and after each union step. The
+/// union is Manifold's `batch_boolean` written out (the same left fold,
+/// step by step), so the result is the same bits as [`union_snapped`]'s.
+pub fn union_snapped_with(
+    meshes: &[&TriMesh],
+    tolerance: f64,
+    cancel: Option<&BooleanCancel>,
+    step: &mut dyn FnMut(usize, usize),
+) -> Result<TriMesh, BooleanError> {
+    let token = cancel.map(|c| &c.0);
+    let stopped = || token.is_some_and(CancelToken::is_cancelled);
+    let total = 2 * meshes.len();
     let mut manifolds = Vec::with_capacity(meshes.len());
     for (index, m) in meshes.iter().enumerate() {
-        if m.triangles.is_empty() {
-            continue;
+        if stopped() {
+            return Err(BooleanError::Cancelled);
         }
-        let source = m.tri_source.first().copied().unwrap_or(index as u32);
-        manifolds.push(import_tol(index, m, source, tolerance)?);
+        if !m.triangles.is_empty() {
+            let source = m.tri_source.first().copied().unwrap_or(index as u32);
+            manifolds.push(import_tol(index, m, source, tolerance)?);
+        }
+        step(index + 1, total);
     }
     if manifolds.is_empty() {
         return Ok(TriMesh::default());
     }
-    let mut result = if manifolds.len() == 1 {
-        manifolds.pop().unwrap_or_default()
-    } else {
-        Manifold::batch_boolean(&manifolds, OpType::Add)
-    };
+    let engine = BooleanConfig::default_engine();
+    let mut parts = manifolds.into_iter();
+    let mut result = parts.next().unwrap_or_default();
+    step(meshes.len() + 1, total);
+    for (k, m) in parts.enumerate() {
+        if stopped() {
+            return Err(BooleanError::Cancelled);
+        }
+        result = result.boolean_with_engine_and_token(&m, OpType::Add, engine, token);
+        step(meshes.len() + k + 2, total);
+    }
+    if stopped() || result.status() == ManifoldStatus::Cancelled {
+        return Err(BooleanError::Cancelled);
+    }
     if tolerance > 0.0 {
         result = result.simplify(0.0);
     }
     if result.status() != ManifoldStatus::NoError {
         return Err(BooleanError::Failed(format!("{:?}", result.status())));
     }
+    step(total, total);
     Ok(export(&result))
 }
 

@@ -18,7 +18,8 @@ mod trimesh;
 pub(crate) mod validate;
 
 pub use boolean::{
-    difference, manifold_accepts, snap, union, union_snapped, BooleanError, UnionOperand,
+    difference, manifold_accepts, snap, union, union_snapped, union_snapped_with, BooleanCancel,
+    BooleanError, UnionOperand,
 };
 pub use error::MeshIoError;
 pub use format::{FileUnit, MeshFormat, PartNames, MESH_EXTENSIONS};

@@ -1,6 +1,9 @@
 //! The document's objects as [`PrintPart`]s: the one call every exit makes.
 
-use super::{printable, PrintError, PrintPart, PrintSettings, PrintStatus, Printable, PrintedSize};
+use super::{
+    printable_with, PrintControl, PrintError, PrintPart, PrintSettings, PrintStatus, Printable,
+    PrintedSize,
+};
 use crate::doc::{Document, ObjectKind};
 use crate::mesh::PartNames;
 
@@ -24,7 +27,20 @@ pub fn document_parts(doc: &Document) -> Vec<PrintPart<'_>> {
 /// format whose precision they passed in `settings`, or show the error as
 /// it is.
 pub fn print_document(doc: &Document, settings: &PrintSettings) -> Result<Printable, PrintError> {
-    printable(&document_parts(doc), &doc.print_setup().apply_to(settings))
+    print_document_with(doc, settings, &PrintControl::default())
+}
+
+/// [`print_document`] with progress and cancelling ([`PrintControl`]).
+pub fn print_document_with(
+    doc: &Document,
+    settings: &PrintSettings,
+    control: &PrintControl,
+) -> Result<Printable, PrintError> {
+    printable_with(
+        &document_parts(doc),
+        &doc.print_setup().apply_to(settings),
+        control,
+    )
 }
 
 /// Every object's name for files that name parts (3MF): its user name, or

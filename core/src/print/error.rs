@@ -76,6 +76,10 @@ pub enum PrintError {
         /// Manifold's status.
         status: String,
     },
+    /// The host stopped the job ([`super::PrintControl::cancel`]); nothing
+    /// was made, and a host writes nothing.
+    #[error("printing was cancelled; nothing was written")]
+    Cancelled,
     /// The union is not printable at the precision of the file, even after
     /// snapping at the largest tolerance.
     #[error("{objects}: the union is not printable at {precision} ({problems}) where they touch, nearly coincide or fold; move them apart or overlap them by more than {tolerance:e} model units")]

@@ -56,21 +56,28 @@
 //!   (the offset grows as `1 / cos` of the angle to the incident faces,
 //!   capped at 2), so creases keep the wall thickness up to 120 degrees.
 
+mod control;
 mod document;
 mod error;
 mod fit;
 mod pipeline;
 mod report;
 mod settings;
+#[cfg(test)]
+mod tests;
 mod thicken;
 
-pub use document::{document_names, document_parts, document_size, print_document, print_status};
+pub use control::{PrintControl, PrintProgress, PrintStage};
+pub use document::{
+    document_names, document_parts, document_size, print_document, print_document_with,
+    print_status,
+};
 pub use error::PrintError;
 pub use fit::{
     mm3, BedFit, PrintStatus, PrintedSize, Printer, PrinterPreset, SetPrinter, MAX_BED_SIDE,
     MIN_BED_SIDE,
 };
-pub use pipeline::{check_edit, check_part, printable, PrintPart, Printable};
+pub use pipeline::{check_edit, check_part, printable, printable_with, PrintPart, Printable};
 pub use report::{PartReport, PrintReport, Treatment};
 pub use settings::{
     ClosedSurfaces, PrintSettings, PrintSetup, SelfIntersectionPolicy, SetSelfIntersectionPolicy,

@@ -1,14 +1,20 @@
 //! [`printable`]: gather, thicken, unite, validate at the written
 //! precision, snap again if rounding broke it (see the module doc of
-//! [`super`]).
+//! [`super`]). [`printable_with`] is the same path reporting its progress
+//! and stoppable through a [`PrintControl`] (a host's progress bar and
+//! Esc): it checks the flag between objects, between and inside the
+//! union's steps and between the checks, and gives the same bits as
+//! [`printable`] when not stopped.
 
 use std::collections::BTreeSet;
 
+use super::control::{PrintControl, PrintStage};
 use super::report::{PartReport, PrintReport, Treatment};
 use super::thicken::{hollow, thicken};
 use super::{ClosedSurfaces, PrintError, PrintSettings};
 use crate::mesh::{
-    at_precision_in, self_intersections, snap, union_snapped, validate, BooleanError, Precision,
+    at_precision_in, self_intersections, snap, union_snapped_with, validate, BooleanError,
+    Precision,
     TriMesh, ValidationReport, ValidationSettings,
 };
 
@@ -55,6 +61,16 @@ struct Ready {
 
 /// The printable model of `parts`: see the module doc of [`super`].
 pub fn printable(parts: &[PrintPart], settings: &PrintSettings) -> Result<Printable, PrintError> {
+    printable_with(parts, settings, &PrintControl::default())
+}
+
+/// [`printable`], reporting its progress to `control` and stopping with
+/// [`PrintError::Cancelled`] once `control` is cancelled.
+pub fn printable_with(
+    parts: &[PrintPart],
+    settings: &PrintSettings,
+    control: &PrintControl,
+) -> Result<Printable, PrintError> {
     settings.validate()?;
     if parts.is_empty() {
         return Err(PrintError::Empty {
@@ -63,7 +79,9 @@ pub fn printable(parts: &[PrintPart], settings: &PrintSettings) -> Result<Printa
     }
     let mut reports = Vec::with_capacity(parts.len());
     let mut ready = Vec::with_capacity(parts.len());
-    for part in parts {
+    for (k, part) in parts.iter().enumerate() {
+        control.check()?;
+        control.set(PrintStage::Preparing, k, parts.len());
         let (mut treatment, mesh) = prepare(part, settings)?;
         if let Some(mut mesh) = mesh {
             // A part duplicated in place adds nothing to the union, and
@@ -106,10 +124,19 @@ pub fn printable(parts: &[PrintPart], settings: &PrintSettings) -> Result<Printa
     };
     let base = base_tolerance(&ready, settings.precision);
     let meshes: Vec<&TriMesh> = ready.iter().map(|r| &r.mesh).collect();
-    let united = union_snapped(&meshes, base).map_err(|e| union_error(e, &ready, &label_of))?;
+    control.set(PrintStage::Uniting, 0, 2 * meshes.len());
+    let united = union_snapped_with(
+        &meshes,
+        base,
+        Some(control.boolean_cancel()),
+        &mut |done, total| control.set(PrintStage::Uniting, done, total),
+    )
+    .map_err(|e| union_error(e, &ready, &label_of))?;
     let mut current = united;
     let mut last = None;
     for (round, factor) in SNAP_FACTORS.iter().enumerate() {
+        control.check()?;
+        control.set(PrintStage::Checking, round, SNAP_FACTORS.len());
         let tol = base * factor;
         if round > 0 {
             current = match snap(&current, tol) {
@@ -134,6 +161,7 @@ pub fn printable(parts: &[PrintPart], settings: &PrintSettings) -> Result<Printa
         }
         last = Some((written, checks, tol));
     }
+    control.check()?;
     let Some((written, checks, tol)) = last else {
         return Err(PrintError::Union {
             objects: ready
@@ -308,6 +336,7 @@ fn union_error(e: BooleanError, ready: &[Ready], label_of: &dyn Fn(u32) -> Strin
             object: label_of(ready[index].id),
             problems: format!("Manifold refused it ({status})"),
         },
+        BooleanError::Cancelled => PrintError::Cancelled,
         BooleanError::Failed(status) => PrintError::Union {
             objects: ready
                 .iter()

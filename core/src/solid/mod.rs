@@ -4,7 +4,9 @@
 //! the shapes.
 
 mod shape;
+mod sizes;
 mod tessellate;
 
 pub use shape::{SolidError, SolidShape, DEFAULT_SEGMENTS, MAX_SEGMENTS, MIN_SEGMENTS};
+pub use sizes::SOLID_KINDS;
 pub use tessellate::tessellate;

@@ -106,6 +106,26 @@ pub enum SolidError {
     /// Resolution outside the supported range.
     #[error("segments must be within {MIN_SEGMENTS}..={MAX_SEGMENTS}, got {0}")]
     Segments(u32),
+    /// [`SolidShape::from_sizes`] was given a kind that is not a solid.
+    #[error("`{0}` is not a solid kind; use one of box, sphere, ellipsoid, cylinder, cone, torus, capsule")]
+    UnknownKind(String),
+    /// A torus's outer diameter must be more than twice its tube's
+    /// diameter, or the tube fills the hole and meets itself.
+    #[error("torus: the outer diameter {outer} must be more than twice the tube diameter {tube} (z); make x larger or z smaller")]
+    TorusTooThin {
+        /// Outer diameter (x).
+        outer: f64,
+        /// Tube diameter (z).
+        tube: f64,
+    },
+    /// A capsule is at least as long as it is wide (its two caps).
+    #[error("capsule: the length {length} (z) must be at least the diameter {diameter} (x); make z larger")]
+    CapsuleTooShort {
+        /// Diameter (x).
+        diameter: f64,
+        /// Length, caps included (z).
+        length: f64,
+    },
 }
 
 fn positive(shape: &'static str, field: &'static str, value: f64) -> Result<(), SolidError> {

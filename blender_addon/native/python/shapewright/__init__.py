@@ -1,29 +1,37 @@
 """Shapewright modeling core for Python.
 
-`Session` is a document with its undoable op log; ops are JSON objects
-(`{"op": "add_solid", ...}`). Meshes come back as numpy arrays that view
-the buffers the core filled (one memcpy from Rust, none in Python).
+`Session` is a document with its undoable op log; ops are dicts
+(`{"op": "add_solid", ...}`) checked and converted in Rust, never JSON
+text. Placements, poses, input frames and presence are typed values
+(`Placement`, `Pose`, `Controller`, `InputFrame`, `Presence`). Meshes come
+back as numpy arrays that view the buffers the core filled (one memcpy
+from Rust, none in Python). `_native.pyi` states the whole surface.
 """
 
 from __future__ import annotations
 
-import json
-import math
 from typing import Any
 
 import numpy as np
 
 from ._native import (
     OP_FORMAT_VERSION,
+    Autosaver,
+    Controller,
     ExportJob,
     HistoryError,
+    InputFrame,
     InputSession,
     OpRejected,
+    PaletteView,
     ParseError,
+    Placement,
+    Pose,
+    Presence,
     Session,
     SessionError,
     ShapewrightError,
-    action_map_json,
+    action_map,
     child_from_stroke,
     import_usd,
     import_usd_text,
@@ -31,12 +39,15 @@ from ._native import (
     load_usd,
     match_section,
     op_names,
-    op_schema_json,
+    op_schema,
     parametric_parts,
     profile_radius,
     replace_spine_from_stroke,
     save_usd,
     sketch_spine,
+    solid_dimensions,
+    solid_kinds,
+    solid_shape,
     tool_names,
     trace_format,
     usd_text,
@@ -45,17 +56,22 @@ from ._native import (
 
 __all__ = [
     "OP_FORMAT_VERSION",
+    "Autosaver",
+    "Controller",
     "ExportJob",
     "HistoryError",
+    "InputFrame",
     "InputSession",
     "OpRejected",
+    "PaletteView",
     "ParseError",
+    "Placement",
+    "Pose",
+    "Presence",
     "Session",
     "SessionError",
     "ShapewrightError",
-    "action_map_json",
-    "apply",
-    "check_finite",
+    "action_map",
     "child_from_stroke",
     "import_usd",
     "import_usd_text",
@@ -64,56 +80,33 @@ __all__ = [
     "match_section",
     "mesh_arrays",
     "op_names",
-    "op_schema_json",
+    "op_schema",
     "parametric_parts",
     "profile_radius",
     "replace_spine_from_stroke",
     "save_usd",
     "sketch_spine",
-    "usd_text",
+    "solid_dimensions",
+    "solid_kinds",
+    "solid_shape",
     "tool_names",
     "trace_format",
+    "usd_text",
     "validate_arrays",
     "validate_buffers",
 ]
 
 
-# Blender stores float properties as float32: `inf` typed into a field
-# arrives as the largest float32 (3.4e38). Anything this large is an
-# overflowed value, not a size.
-FLOAT32_OVERFLOW = 3.0e38
-
-
-def check_finite(value: Any, path: str = "") -> None:
-    """Raises ParseError naming the field (e.g. `shape.radius`) when a
-    number in an op is NaN, infinite, or a float32 overflow (what Blender
-    makes of `inf`). JSON cannot carry NaN or infinity, so without this the
-    core could only answer with a JSON syntax error."""
-    if isinstance(value, dict):
-        for k, v in value.items():
-            check_finite(v, f"{path}.{k}" if path else str(k))
-    elif isinstance(value, list | tuple):
-        for i, v in enumerate(value):
-            check_finite(v, f"{path}[{i}]")
-    elif isinstance(value, float) and not isinstance(value, bool):
-        if math.isnan(value):
-            raise ParseError(f"{path or 'value'}: NaN is not a number; give a finite value")
-        if math.isinf(value) or abs(value) >= FLOAT32_OVERFLOW:
-            raise ParseError(f"{path or 'value'}: {value} is not finite; give a finite value")
-
-
-def apply(session: Session, op: dict[str, Any]) -> int | None:
-    """Applies an op given as a dict (or `{"op": "undo"}` / `{"op":
-    "redo"}`, as in `.jsonl` scripts); returns the id it created, if any.
-    Non-finite numbers are refused with the field's name."""
-    check_finite(op)
-    return session.apply_line(json.dumps(op))
-
-
-def mesh_arrays(session: Session, object_id: int | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def mesh_arrays(
+    session: Session,
+    object_id: int | None = None,
+    frame: str = "world",
+    units_per_metre: float = 1.0,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """An object's mesh (or all objects') as (positions (n, 3) float64,
-    triangles (m, 3) uint32, sources (m,) uint32), read-only views."""
-    pos, tri, src = session.mesh_buffers(object_id)
+    triangles (m, 3) uint32, sources (m,) uint32), read-only views.
+    `frame` is `world` or `origin` (see `Session.mesh_buffers`)."""
+    pos, tri, src = session.mesh_buffers(object_id, frame, units_per_metre)
     return (
         np.frombuffer(pos, dtype="<f8").reshape(-1, 3),
         np.frombuffer(tri, dtype="<u4").reshape(-1, 3),

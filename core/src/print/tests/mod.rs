@@ -1,0 +1,3 @@
+//! Tests of the print path's parts that need its private items.
+
+mod progress;
