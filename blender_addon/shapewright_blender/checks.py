@@ -5,7 +5,8 @@ path: the same union, thickening and validation at the precision STL and
 3MF store), so it says "Printable" exactly when Export writes a file,
 and otherwise the export's own refusal. With the verdict come the print
 size (bounding box in millimetres, volume in cubic centimetres, whatever
-the scene's units: slicers think in millimetres).
+the scene's units: slicers think in millimetres) and whether it fits the
+document's printer (`set_printer`), all from the core.
 
 It runs on a thread of its own on a snapshot of the document, once per
 state of the log (the scene's key); a new state cancels a check still
@@ -39,13 +40,14 @@ def _verdict(job: sw.ExportJob) -> dict:
         checks_run += 1
         return {"printable": False, "message": str(e)}
     checks_run += 1
-    lo, hi = r["bbox"] if r["bbox"] else ((0.0,) * 3, (0.0,) * 3)
-    size = tuple((b - a) * 1000.0 for a, b in zip(lo, hi, strict=True))
+    # Size, volume and bed fit are the core's (the export's summary).
     return {
         "printable": True,
         "message": "Printable",
-        "size_mm": size,
-        "volume_cm3": r["volume"] * 1e6,
+        "size_mm": tuple(r.get("size_mm", (0.0, 0.0, 0.0))),
+        "volume_cm3": r.get("volume_cm3", 0.0),
+        "fits": r.get("fits", True),
+        "fit": r.get("fit", ""),
         "triangles": r["triangles"],
     }
 
@@ -65,7 +67,7 @@ def _poll() -> float | None:
 
 
 def verdict(scene: bpy.types.Scene, wait: bool = False) -> dict | None:
-    """`{"printable", "message", "size_mm", "volume_cm3"}` for the scene's
+    """`{"printable", "message", "size_mm", "volume_cm3", "fits", "fit"}` for the scene's
     model, or None while it is being checked (a redraw follows). `wait`
     blocks until it is known (scripts, tests)."""
     key = (history.key_of(scene), scene.shapewright.gen)

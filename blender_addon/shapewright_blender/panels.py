@@ -148,6 +148,9 @@ class VIEW3D_PT_shapewright_history(_SubPanel, bpy.types.Panel):
                 x, y, z = v["size_mm"]
                 layout.label(text=f"Size {x:.1f} × {y:.1f} × {z:.1f} mm")
                 layout.label(text=f"Volume {v['volume_cm3']:.2f} cm³")
+                for i, line in enumerate(_wrap(v.get("fit", ""), 48)):
+                    icon = "ERROR" if i == 0 and not v["fits"] else "NONE"
+                    layout.label(text=line[:1].upper() + line[1:] if i == 0 else line, icon=icon)
             else:
                 col = layout.column(align=True)
                 col.label(text="Not printable:", icon="ERROR")
