@@ -361,8 +361,8 @@ fn sample(gc: &Gc) -> Result<Sampled, GcError> {
 
 /// The rings of a hollow GC's inner wall: the side offset inwards by τ,
 /// over the whole spine for a shell, up to the floor (τ of arc length
-/// from the closed end) for a container; `None` for a solid. With `grow`
-/// > 0 the space inside is grown by `grow` on every side: the wall and
+/// from the closed end) for a container; `None` for a solid. With a
+/// positive `grow` the space inside is grown by it on every side: the wall and
 /// the floor are `τ - grow` thick, and the open ends' rings are moved out
 /// along the spine by `grow` (see [`cavity_gc`]).
 fn inner_wall(gc: &Gc, s: &Sampled, grow: f64) -> Result<Option<Vec<Vec<DVec3>>>, GcError> {

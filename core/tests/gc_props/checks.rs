@@ -110,6 +110,15 @@ pub fn check_relations(
         let (Some(p), Some(att)) = (asm.parts[c].parent, asm.parts[c].attach) else {
             continue;
         };
+        // A child with a recorded coplanar partner may be placed by frames
+        // kept in the partner's plane (a bisected crossing, a frame built
+        // from the plane's normal): the same place to about 1e-8 of the
+        // size, not to rounding.
+        let coplanar = asm
+            .relations
+            .as_ref()
+            .is_some_and(|r| r.coplanar.iter().any(|&(a, b)| a == c || b == c));
+        let tol = if coplanar { 100.0 * tol } else { tol };
         let gc = &asm.parts[c].gc;
         let surf = asm.parts[p].gc.surface().map_err(|e| e.to_string())?;
         let (s, _) = ends(gc);
