@@ -10,11 +10,11 @@ use super::junction::{open_ends_before, Junction};
 use super::relations::same_plane;
 use super::structure::{RelationKind, RELATION_TOLERANCE};
 use super::{
-    anchor_frame, anchor_frame_in_plane, children_of, transform_gc, Anchor, AssemblyError,
-    Attachment,
+    anchor_frame, anchor_frame_in_plane, children_of, mirror_plane, transform_gc, Anchor,
+    AssemblyError, Attachment,
 };
 use crate::gc::{Gc, GcAssembly, GcError};
-use crate::nurbs::{euclidean, NurbsSurface};
+use crate::nurbs::NurbsSurface;
 
 /// The descendants of `roots`, breadth-first, each once, without the
 /// roots themselves.
@@ -60,18 +60,6 @@ pub(super) fn similarity_about(pivot: DVec3, from: DVec3, to: DVec3) -> DAffine3
     DAffine3::from_translation(pivot)
         * DAffine3::from_scale_rotation_translation(DVec3::splat(lt / lf), q, DVec3::ZERO)
         * DAffine3::from_translation(-pivot)
-}
-
-/// The plane of a part's spine: its first control point and unit normal.
-fn spine_plane(gc: &Gc) -> (DVec3, DVec3) {
-    let o = gc
-        .spine
-        .curve
-        .control
-        .first()
-        .map(|h| euclidean(*h))
-        .unwrap_or(DVec3::ZERO);
-    (o, gc.spine.plane_normal.normalize())
 }
 
 /// The part whose spine plane child `c` must stay in, when it has a
@@ -220,7 +208,10 @@ pub fn reattach_descendants(
         let new_parent = &new.parts[p].gc;
         let partner = coplanar_partner(new, c, p, &pending);
         let in_plane = |j: usize| -> Result<(Gc, Attachment), AssemblyError> {
-            let planes = (spine_plane(&old.parts[j].gc), spine_plane(&new.parts[j].gc));
+            let planes = (
+                mirror_plane(&old.parts[j].gc),
+                mirror_plane(&new.parts[j].gc),
+            );
             let kept = placement((old_parent, so), (new_parent, sn), att, Some(planes))?.ok_or(
                 AssemblyError::RelationBroken {
                     relation: RelationKind::Coplanar,
