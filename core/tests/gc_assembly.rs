@@ -206,10 +206,22 @@ fn local_ends(asm: &GcAssembly, c: usize) -> (DVec3, Option<DVec3>) {
     (start, end)
 }
 
+/// Children follow their parent's edits in their anchor frames. The
+/// shell spout's root is sunk further in along the body's normal where
+/// the body's surface now curves away from its rim (issue 33: without it
+/// the rim stood out of the body by 8 mm after this bend and the union's
+/// genus went from 1 to 2); the solid handle keeps its coordinates.
 #[test]
 fn editing_the_body_keeps_children_attached() {
-    let mut log = run("teapot");
+    // Without its lid: the lid is a separate root resting in the opening,
+    // which a bend of the body's top moves under it (what was asked).
+    let path = format!("{}/../tests/data/teapot.jsonl", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).expect("example script");
+    let head: String = text.lines().take(3).map(|l| format!("{l}\n")).collect();
+    let mut log = OpLog::new();
+    run_script(&mut log, &parse_script(&head).expect("parses")).expect("runs");
     let before = assembly(&log);
+    let genus = union_report(&log).genus;
     let ends: Vec<_> = (1..3).map(|c| local_ends(&before, c)).collect();
     for edit in [
         PartEdit::Resize {
@@ -235,11 +247,16 @@ fn editing_the_body_keeps_children_attached() {
     for c in 1..3 {
         let (s0, e0) = ends[c - 1];
         let (s1, e1) = local_ends(&after, c);
-        assert!(
-            (s1 - s0).length() <= 1e-9,
-            "part {c} start drifted {}",
-            (s1 - s0).length()
-        );
+        let d = s1 - s0;
+        if c == 1 {
+            // sunk straight in (local -x: against the body's normal)
+            assert!(
+                d.x < -0.005 && d.y.hypot(d.z) <= 1e-9,
+                "the spout's root moved by {d}"
+            );
+        } else {
+            assert!(d.length() <= 1e-9, "part {c} start drifted {}", d.length());
+        }
         if let (Some(e0), Some(e1)) = (e0, e1) {
             assert!(
                 (e1 - e0).length() <= 1e-9,
@@ -248,11 +265,10 @@ fn editing_the_body_keeps_children_attached() {
             );
         }
     }
-    let r = validate(
-        &log.document().printable_mesh().expect("union"),
-        &Default::default(),
-    );
+    let r = union_report(&log);
     assert!(r.is_closed(), "{}", r.problems());
+    assert_eq!(r.genus, genus, "the spout's root stays closed");
+    assert_eq!(r.components, 1);
 }
 
 fn child_at(at: DVec3) -> Op {

@@ -100,6 +100,7 @@ fn edits(id: ObjectId) -> Vec<Op> {
                     width: 0.4,
                     height: 0.3,
                 },
+                twist: 0.0,
             },
         )),
         Op::GcDeleteSection(Edit::new(

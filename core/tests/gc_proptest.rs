@@ -181,6 +181,7 @@ fn to_op(id: ObjectId, e: &Edit, log: &OpLog) -> Op {
                 part: PartId(part),
                 section: SectionIndex(section),
                 profile,
+                twist: 0.0,
             },
         )),
         Edit::Delete(section) => Op::GcDeleteSection(DocEdit::new(
@@ -380,6 +381,7 @@ fn sensible_op(id: ObjectId, gc: &Gc, r: (u8, f64, f64, f64)) -> Op {
                     part,
                     section: SectionIndex(i),
                     profile,
+                    twist: 0.0,
                 },
             ))
         }

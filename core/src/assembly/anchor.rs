@@ -62,7 +62,23 @@ pub fn project_to_surface(surf: &NurbsSurface, p: DVec3) -> Projection {
             best = (k, d);
         }
     }
-    let (mut u, mut v) = (us[best.0 % SEED_U], vs[best.0 / SEED_U]);
+    project_near(
+        surf,
+        p,
+        Anchor {
+            u: us[best.0 % SEED_U],
+            v: vs[best.0 / SEED_U],
+        },
+    )
+}
+
+/// The closest point of `surf` to `p` near `seed`: Newton's method on
+/// `|S(u, v) - p|^2` from `seed` (`u` wraps, `v` is clamped to the
+/// domain). A local minimum: [`project_to_surface`] seeds it from a grid,
+/// callers that walk along a curve seed it from the previous point.
+pub fn project_near(surf: &NurbsSurface, p: DVec3, seed: Anchor) -> Projection {
+    let ((u0, u1), (v0, v1)) = surf.domain();
+    let (mut u, mut v) = (seed.u, seed.v);
     let period = u1 - u0;
     for _ in 0..32 {
         let d = surf.derivatives(u, v, 2);
@@ -125,4 +141,97 @@ pub fn anchor_frame(
     let t_spine = parent.spine.curve.derivatives(v, 1)[1];
     let t = (t_spine - n * n.dot(t_spine)).try_normalize().ok_or(bad)?;
     Ok(DAffine3::from_cols(n, t, n.cross(t), d[0][0]))
+}
+
+/// Samples of an iso-curve searched for where it crosses a plane.
+const PLANE_SAMPLES: usize = 256;
+
+/// The anchor frame at spine parameter `anchor.v` of `parent` kept in a
+/// plane (a coplanar relation): the point of the iso-curve `S(., v)`
+/// nearest to `anchor.u` (around the loop) whose signed distance from the
+/// plane through `o` with unit normal `pn` is `offset`, and there the
+/// frame `(n', t', ±pn)` with `n'` the surface normal turned into the
+/// plane. A child placed by such frames stays in the plane whatever the
+/// parent's parameterization does (a section replaced by another profile
+/// kind moves the point at a fixed `u`). `None` when the iso-curve does
+/// not reach that distance.
+pub fn anchor_frame_in_plane(
+    parent: &Gc,
+    surf: &NurbsSurface,
+    anchor: Anchor,
+    (o, pn): (DVec3, DVec3),
+    offset: f64,
+) -> Option<(Anchor, DAffine3)> {
+    let ((u0, u1), _) = surf.domain();
+    let period = u1 - u0;
+    let v = anchor.v;
+    let f = |u: f64| (surf.point(u, v) - o).dot(pn) - offset;
+    // Already there (to rounding): the anchor stays as it is.
+    let p = surf.point(anchor.u, v);
+    let scale = (p - o).length().max(p.length()).max(1e-9);
+    let found = if f(anchor.u).abs() <= 1e-13 * scale {
+        Some(anchor.u)
+    } else {
+        crossing_nearest(&f, anchor.u, (u0, u1))
+    };
+    let u = found?;
+    let u = if u >= u1 { u - period } else { u };
+    let at = Anchor { u, v };
+    let f = anchor_frame(parent, surf, at).ok()?;
+    let pn = pn.normalize();
+    let z = if f.matrix3.z_axis.dot(pn) >= 0.0 {
+        pn
+    } else {
+        -pn
+    };
+    let n = f.matrix3.x_axis;
+    let x = (n - pn * n.dot(pn)).try_normalize()?;
+    let y = z.cross(x);
+    Some((at, DAffine3::from_cols(x, y, z, f.translation)))
+}
+
+/// The zero of `f` (sampled at [`PLANE_SAMPLES`] steps over the periodic
+/// domain `(u0, u1)`, refined by bisection) nearest to `near` around the
+/// loop.
+fn crossing_nearest(f: &dyn Fn(f64) -> f64, near: f64, (u0, u1): (f64, f64)) -> Option<f64> {
+    let period = u1 - u0;
+    let us: Vec<f64> = (0..=PLANE_SAMPLES)
+        .map(|i| u0 + period * i as f64 / PLANE_SAMPLES as f64)
+        .collect();
+    let fs: Vec<f64> = us.iter().map(|&u| f(u)).collect();
+    let cyclic = |u: f64| {
+        let d = (u - near).rem_euclid(period);
+        d.min(period - d)
+    };
+    let mut best: Option<(f64, f64)> = None;
+    for i in 0..PLANE_SAMPLES {
+        let (mut a, mut b, mut fa) = (us[i], us[i + 1], fs[i]);
+        if fa == 0.0 {
+            b = a;
+        } else if fa * fs[i + 1] > 0.0 || fs[i + 1] == 0.0 {
+            continue;
+        } else {
+            for _ in 0..200 {
+                let m = 0.5 * (a + b);
+                if !(m > a && m < b) {
+                    break;
+                }
+                let fm = f(m);
+                if fm == 0.0 {
+                    (a, b) = (m, m);
+                    break;
+                }
+                if fm * fa < 0.0 {
+                    b = m;
+                } else {
+                    (a, fa) = (m, fm);
+                }
+            }
+        }
+        let root = if (f(a)).abs() <= (f(b)).abs() { a } else { b };
+        if best.is_none_or(|(_, d)| cyclic(root) < d) {
+            best = Some((root, cyclic(root)));
+        }
+    }
+    best.map(|(u, _)| u)
 }

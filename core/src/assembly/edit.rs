@@ -8,6 +8,7 @@ use glam::{DAffine3, DQuat, DVec3};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use super::junction::bury_part;
 use super::structure::{end_radius, RelationKind};
 use super::{
     anchor_frame, check_relations, descendants_bfs, ensure_recorded, mirror_gc, mirror_plane,
@@ -258,8 +259,29 @@ impl GcCopy {
     /// a child slides over its parent to where it was dropped and turns
     /// with the surface normal there. The copy is recorded as its
     /// source's twin only when it was mirrored (and does not lie on it).
+    /// A refusal naming a relation of the copy names the part it copies
+    /// (the copy does not exist).
     pub fn apply_to(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
         check_part(asm, self.part)?;
+        let base = asm.parts.len();
+        let mut subtree = vec![self.part.0];
+        subtree.extend(descendants_bfs(asm, &[self.part.0]));
+        self.copy_into(asm).map_err(|e| match e {
+            AssemblyError::RelationBroken { relation, parts } => {
+                let source = |i: usize| i.checked_sub(base).map_or(i, |k| subtree[k]);
+                let (a, b) = (source(parts.0), source(parts.1));
+                let parts = if relation == RelationKind::Connected {
+                    (a, b)
+                } else {
+                    (a.min(b), a.max(b))
+                };
+                AssemblyError::RelationBroken { relation, parts }
+            }
+            other => other,
+        })
+    }
+
+    fn copy_into(&self, asm: &mut GcAssembly) -> Result<(), AssemblyError> {
         let part = self.part.0;
         positive("tolerance", self.tolerance)?;
         let r = rigid(self.translate, self.rotate)?;
@@ -306,6 +328,7 @@ impl GcCopy {
         let (gc, attach) = slide(&placed, base, &r, self.tolerance)?;
         asm.parts[base].gc = gc;
         asm.parts[base].attach = attach;
+        bury_part(&placed, asm, base, false)?;
         reattach_descendants(&placed, asm, &[base])?;
         for (k, &i) in subtree.iter().enumerate() {
             let source = (k == 0).then_some((i, mirror));
@@ -317,11 +340,18 @@ impl GcCopy {
 
 /// Part `i` of `asm` moved by `m`. A root moves rigidly. A child slides:
 /// its anchor point moves by `m` and is projected back on the parent
-/// (within `tolerance`), the part turns about its anchor point by `m`'s
-/// rotation and then follows the anchor frame `(n, t, n x t)` from the
-/// old anchor to the new one, so it re-orients with the surface normal; a
-/// handle's end then lands on its own slid anchor (rotated and scaled
-/// about its start, as in [`reattach_descendants`]).
+/// (within `tolerance`), the part spins about the surface normal at its
+/// anchor by the turn of `m`'s rotation about that normal
+/// ([`own_turn`]) and then follows the anchor frame
+/// `(n, t, n x t)` from the old anchor to the new one, so it re-orients
+/// with the surface normal; a handle's end then lands on its own slid
+/// anchor (rotated and scaled about its start, as in
+/// [`reattach_descendants`]).
+///
+/// The rest of `m`'s rotation is not applied to the part a second time:
+/// it already moved the anchor, and the frame carries the part with it
+/// (a handle turned half a turn about a mug's axis is the turned handle,
+/// not turned twice into the body).
 fn slide(
     asm: &GcAssembly,
     i: usize,
@@ -338,10 +368,7 @@ fn slide(
     let start = project_moved(&surf, p0, m, tolerance)?;
     let f_old = anchor_frame(pg, &surf, att.start)?;
     let f_new = anchor_frame(pg, &surf, start)?;
-    let turn = DAffine3::from_translation(p0)
-        * DAffine3::from_mat3(m.matrix3)
-        * DAffine3::from_translation(-p0);
-    let motion = f_new * f_old.inverse() * turn;
+    let motion = f_new * own_turn(&f_old, &f_new, m) * f_old.inverse();
     let mut gc = transform_gc(&src.gc, &motion);
     let end = match att.end {
         None => None,
@@ -369,6 +396,32 @@ fn slide(
     };
     gc.validate()?;
     Ok((gc, Some(Attachment { start, end })))
+}
+
+/// The part of `m`'s rotation a child anchored at frame `f_old` (moved
+/// to `f_new` by its slid anchor) turns by itself: the rotation that
+/// takes the frame where `m` carried it (`m f_old`) to the frame of the
+/// new anchor, read in the anchor's own axes, keeps only its turn about
+/// the surface normal (the frame's x axis; the twist of its swing-twist
+/// decomposition). A rotation about the parent's axis of revolution
+/// carries the frame exactly onto the new one and leaves no turn; a
+/// rotation about the normal at the anchor is all turn; a rotation that
+/// tilts the part off the normal keeps only its turn (a half turn about a
+/// tangent axis has no defined turn and counts as none). Returned as the
+/// local rotation, in `f_old`'s axes.
+fn own_turn(f_old: &DAffine3, f_new: &DAffine3, m: &DAffine3) -> DAffine3 {
+    // No rotation (a twin's mirrored slide is the identity to rounding).
+    if m.matrix3.abs_diff_eq(glam::DMat3::IDENTITY, 1e-14) {
+        return DAffine3::IDENTITY;
+    }
+    let local = f_new.matrix3.transpose() * m.matrix3 * f_old.matrix3;
+    let q = DQuat::from_mat3(&local);
+    let twist = DQuat::from_xyzw(q.x, 0.0, 0.0, q.w);
+    let len = twist.length();
+    if !(len > 1e-12) {
+        return DAffine3::IDENTITY;
+    }
+    DAffine3::from_quat(twist / len)
 }
 
 fn project_moved(
@@ -435,6 +488,7 @@ impl GcTransformPart {
             let (gc, attach) = slide(&old, i, &m, self.tolerance)?;
             asm.parts[i].gc = gc;
             asm.parts[i].attach = attach;
+            bury_part(&old, asm, i, false)?;
         }
         let roots: Vec<usize> = moved.iter().map(|(i, _)| *i).collect();
         reattach_descendants(&old, asm, &roots)?;

@@ -48,6 +48,7 @@
 mod anchor;
 mod cache;
 mod error;
+mod junction;
 mod propagate;
 mod relations;
 mod rigid;
@@ -56,10 +57,14 @@ mod union;
 
 pub mod edit;
 
-pub use anchor::{anchor_frame, project_to_surface, Anchor, Attachment, Projection};
+pub use anchor::{
+    anchor_frame, anchor_frame_in_plane, project_near, project_to_surface, Anchor, Attachment,
+    Projection,
+};
 pub use cache::{CacheStats, UnionCache};
 pub use edit::{ChildEnd, GcAddChild, GcCopy, GcEditPart, GcTransformPart, PartEdit};
 pub use error::AssemblyError;
+pub use junction::{BURY_MARGIN, MAX_SINK, RIM_SAMPLES};
 pub use propagate::{descendants_bfs, reattach_descendants};
 pub use relations::{
     children_of, detect_relations, spine_controls, spine_size, symmetry_twins, Relations,

@@ -23,7 +23,8 @@
 //!
 //! Connectivity is the parent link itself plus the [`Attachment`]: a
 //! child's spine starts within its start section's radius of its anchor
-//! point on the parent (and a handle's end within its end radius).
+//! point on the parent (and a handle's end within its end radius), plus
+//! how deep a junction may have sunk an open end ([`super::junction`]).
 //!
 //! Propagation ([`propagate_edit`]): the edit is applied to the part, the
 //! mirrored edit to its recorded twins, the edited parts whose spine start
@@ -37,6 +38,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use super::junction::bury_part;
 use super::relations::{coincident, is_mirror, on_one_line, same_plane};
 use super::{
     flip_profile, mirror_plane, project_to_surface, reattach_descendants, reflect, AssemblyError,
@@ -209,6 +211,13 @@ pub(super) fn end_radius(gc: &Gc, first: bool) -> f64 {
     .unwrap_or(0.0)
 }
 
+/// How far `gc`'s first (`first`) or last spine end may be from its
+/// anchor on the parent: its section's radius, plus the deepest a
+/// junction sinks an open end in one edit ([`super::MAX_SINK`] radii).
+pub(super) fn attach_reach(gc: &Gc, first: bool) -> f64 {
+    end_radius(gc, first) * (1.0 + super::MAX_SINK)
+}
+
 fn spine_ends(gc: &Gc) -> (DVec3, DVec3) {
     let (a, b) = gc.spine.curve.domain();
     (gc.spine.curve.point(a), gc.spine.curve.point(b))
@@ -248,11 +257,11 @@ pub fn check_relations(asm: &GcAssembly) -> Result<(), AssemblyError> {
                 && at.v <= v1
                 && surf.point(at.u, at.v).distance(q) <= r * (1.0 + 1e-9) + 1e-12
         };
-        if !near(att.start, s, end_radius(&part.gc, true)) {
+        if !near(att.start, s, attach_reach(&part.gc, true)) {
             return Err(broken(RelationKind::Connected, c, p));
         }
         if let Some(end) = att.end {
-            if !near(end, e, end_radius(&part.gc, false)) {
+            if !near(end, e, attach_reach(&part.gc, false)) {
                 return Err(broken(RelationKind::Connected, c, p));
             }
         }
@@ -358,6 +367,7 @@ impl MirrorEdit for gc::GcReplaceSection {
     fn mirrored(&self, _: DVec3, _: DVec3) -> Self {
         Self {
             profile: flip_profile(&self.profile),
+            twist: -self.twist,
             ..self.clone()
         }
     }
@@ -422,9 +432,9 @@ fn reanchor_own(old: &GcAssembly, asm: &mut GcAssembly, i: usize) -> Result<(), 
             Err(broken(RelationKind::Connected, i, p))
         }
     };
-    let start = place(att.start, s0, s1, end_radius(gc, true))?;
+    let start = place(att.start, s0, s1, attach_reach(gc, true))?;
     let end = match att.end {
-        Some(e) => Some(place(e, e0, e1, end_radius(gc, false))?),
+        Some(e) => Some(place(e, e0, e1, attach_reach(gc, false))?),
         None => None,
     };
     asm.parts[i].attach = Some(Attachment { start, end });
@@ -462,6 +472,7 @@ pub fn propagate_edit<E: MirrorEdit>(asm: &mut GcAssembly, edit: &E) -> Result<(
     roots.extend(twins);
     for &r in &roots {
         reanchor_own(&old, asm, r)?;
+        bury_part(&old, asm, r, true)?;
     }
     reattach_descendants(&old, asm, &roots)?;
     check_relations(asm)

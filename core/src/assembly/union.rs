@@ -280,8 +280,34 @@ fn collapse_slivers(mesh: TriMesh) -> (TriMesh, bool) {
     if cleaned {
         (out, true)
     } else {
-        (mesh, ok)
+        snap_slivers(mesh, ok)
     }
+}
+
+/// Slivers the shortest-edge collapse could not remove (coplanar faces of
+/// overlapping parts, a copied table slid along its original, leave
+/// chains of them that share edges): Manifold's own clean-up
+/// ([`crate::mesh::snap`], which keeps the mesh a closed 2-manifold by
+/// construction) at 1e-9, then 1e-7 and 1e-6 of the box's diagonal. The
+/// first result that is closed, without degenerate triangles and of
+/// positive volume is kept; otherwise the union as it was.
+fn snap_slivers(mesh: TriMesh, ok: bool) -> (TriMesh, bool) {
+    let Some((lo, hi)) = mesh.bbox() else {
+        return (mesh, ok);
+    };
+    let diagonal = (hi - lo).length();
+    for rel in [1e-9, 1e-7, 1e-6] {
+        let Ok(snapped) = crate::mesh::snap(&mesh, rel * diagonal) else {
+            continue;
+        };
+        let clean = quick_check(&snapped).is_some_and(|q| {
+            !snapped.triangles.is_empty() && q.degenerate == 0 && q.closed && q.volume > 0.0
+        });
+        if clean {
+            return (snapped, true);
+        }
+    }
+    (mesh, ok)
 }
 
 /// What [`quick_check`] found.

@@ -148,13 +148,25 @@ impl Gc {
     }
 
     /// Replacing a section: `profile` (in the section's local frame) takes
-    /// the place of section `index`, with unit scale and no twist.
-    pub fn replace_section(&mut self, index: usize, profile: Profile) -> Result<(), GcError> {
+    /// the place of section `index`, with unit scale, turned by `twist`
+    /// (radians; 0 for a profile given as it should lie).
+    pub fn replace_section(
+        &mut self,
+        index: usize,
+        profile: Profile,
+        twist: f64,
+    ) -> Result<(), GcError> {
         self.check_index(index)?;
         profile.curve()?;
+        if !twist.is_finite() {
+            return Err(GcError::NonFinite("section twist"));
+        }
         let mut next = self.clone();
         let v = next.sections[index].v;
-        next.sections[index] = KeySection::new(profile, v);
+        next.sections[index] = KeySection {
+            twist,
+            ..KeySection::new(profile, v)
+        };
         self.commit(next)
     }
 

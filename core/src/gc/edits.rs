@@ -234,15 +234,24 @@ gc_edit!(
     |gc, op| gc.twist(op.section.0, op.angle)
 );
 
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 gc_edit!(
-    /// Replace section `section` by `profile`.
+    /// Replace section `section` by `profile`, turned by `twist` in the
+    /// section's plane (the angle a template was drawn at).
     GcReplaceSection {
         /// Section index.
         section: SectionIndex,
         /// New profile in the section's local frame.
         profile: Profile,
+        /// Rotation of the new profile about the spine, radians.
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(extend("x-unit" = "rad"))]
+        twist: f64,
     },
-    |gc, op| gc.replace_section(op.section.0, op.profile.clone())
+    |gc, op| gc.replace_section(op.section.0, op.profile.clone(), op.twist)
 );
 
 gc_edit!(

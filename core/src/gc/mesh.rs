@@ -361,18 +361,66 @@ fn sample(gc: &Gc) -> Result<Sampled, GcError> {
 
 /// The rings of a hollow GC's inner wall: the side offset inwards by τ,
 /// over the whole spine for a shell, up to the floor (τ of arc length
-/// from the closed end) for a container; `None` for a solid.
-fn inner_wall(gc: &Gc, s: &Sampled) -> Result<Option<Vec<Vec<DVec3>>>, GcError> {
-    let (thickness, closed_end) = match gc.shape {
+/// from the closed end) for a container; `None` for a solid. With a
+/// positive `grow` the space inside is grown by it on every side: the wall and
+/// the floor are `τ - grow` thick, and the open ends' rings are moved out
+/// along the spine by `grow` (see [`cavity_gc`]).
+fn inner_wall(gc: &Gc, s: &Sampled, grow: f64) -> Result<Option<Vec<Vec<DVec3>>>, GcError> {
+    let rows = match gc.shape {
         ShapeType::Solid => return Ok(None),
         ShapeType::Shell { thickness } => {
-            return offset_rows(&s.rows, &s.vs, thickness, &s.creases).map(Some);
+            offset_rows(&s.rows, &s.vs, thickness - grow, &s.creases)?
         }
         ShapeType::Container {
             thickness,
             closed_end,
-        } => (thickness, closed_end),
+        } => container_wall(gc, s, thickness, closed_end, grow)?,
     };
+    Ok(Some(if grow > 0.0 {
+        open_ends_moved_out(gc, rows, grow)
+    } else {
+        rows
+    }))
+}
+
+/// `rows` with the rings at the GC's open ends moved out along the spine
+/// by `grow` (a container's floor stays).
+fn open_ends_moved_out(gc: &Gc, mut rows: Vec<Vec<DVec3>>, grow: f64) -> Vec<Vec<DVec3>> {
+    let (first_open, last_open) = match gc.shape {
+        ShapeType::Container {
+            closed_end: ClosedEnd::Start,
+            ..
+        } => (false, true),
+        ShapeType::Container {
+            closed_end: ClosedEnd::End,
+            ..
+        } => (true, false),
+        _ => (true, true),
+    };
+    let (v0, v1) = (gc.sections[0].v, gc.sections[gc.sections.len() - 1].v);
+    let n = rows.len();
+    for (open, j, v, sign) in [(first_open, 0, v0, -1.0), (last_open, n - 1, v1, 1.0)] {
+        if !open {
+            continue;
+        }
+        if let Some(t) = gc.spine.curve.tangent(v).try_normalize() {
+            for p in &mut rows[j] {
+                *p += t * (sign * grow);
+            }
+        }
+    }
+    rows
+}
+
+/// A container's inner wall rings (see [`inner_wall`]), the wall and the
+/// floor `thickness - grow` thick.
+fn container_wall(
+    gc: &Gc,
+    s: &Sampled,
+    thickness: f64,
+    closed_end: ClosedEnd,
+    grow: f64,
+) -> Result<Vec<Vec<DVec3>>, GcError> {
     let vs = &s.vs;
     let nr = vs.len();
     let (v0, v1) = (vs[0], vs[nr - 1]);
@@ -386,15 +434,16 @@ fn inner_wall(gc: &Gc, s: &Sampled) -> Result<Option<Vec<Vec<DVec3>>>, GcError> 
             v1
         },
     };
+    let floor = thickness - grow;
     let vs_in: Vec<f64> = match closed_end {
         ClosedEnd::Start => {
-            let vf = param_at_arc_length(gc, v0, v1, thickness).ok_or_else(too_short)?;
+            let vf = param_at_arc_length(gc, v0, v1, floor).ok_or_else(too_short)?;
             let mut v = vec![vf];
             v.extend(vs.iter().copied().filter(|x| *x > vf + eps));
             v
         }
         ClosedEnd::End => {
-            let vf = param_at_arc_length(gc, v1, v0, thickness).ok_or_else(too_short)?;
+            let vf = param_at_arc_length(gc, v1, v0, floor).ok_or_else(too_short)?;
             let mut v: Vec<f64> = vs.iter().copied().filter(|x| *x < vf - eps).collect();
             v.push(vf);
             v
@@ -407,13 +456,13 @@ fn inner_wall(gc: &Gc, s: &Sampled) -> Result<Option<Vec<Vec<DVec3>>>, GcError> 
     // Offset normals need v-neighbours: check the thickness on the full
     // outer rows too (inscribed radius of every ring).
     offset_rows(&s.rows, vs, thickness, &s.creases)?;
-    offset_rows(&in_src, &vs_in, thickness, &s.creases).map(Some)
+    offset_rows(&in_src, &vs_in, floor, &s.creases)
 }
 
 /// Meshes `gc` to a closed, oriented 2-manifold (see the module doc).
 pub fn mesh_gc(gc: &Gc) -> Result<TriMesh, GcError> {
     let s = sample(gc)?;
-    let inner = inner_wall(gc, &s)?;
+    let inner = inner_wall(gc, &s, 0.0)?;
     let rows = &s.rows;
     let mut b = Builder {
         m: s.m,
@@ -459,13 +508,38 @@ pub fn mesh_gc(gc: &Gc) -> Result<TriMesh, GcError> {
     Ok(mesh)
 }
 
+/// How much [`cavity_gc`] grows the hollow inside, relative to the GC's
+/// size (the diagonal of its sampled side's box); at most a hundredth of
+/// the wall.
+pub const CAVITY_GROWTH: f64 = 1e-5;
+
 /// The hollow inside of a shell or container as a closed solid (its inner
 /// wall capped at both ends: the open ends' rims and a container's floor),
 /// or `None` for a solid GC. An assembly keeps this space empty (see
 /// [`crate::assembly::union_mesh`]).
+///
+/// The solid is the inside grown by [`CAVITY_GROWTH`] of the GC's size on
+/// every side (3 µm on the teapot's body): a part cut by it keeps no face
+/// on this GC's inner wall, and this GC cut by a hollow child's grown
+/// inside keeps none on the child's, so the union never meets coincident
+/// faces (where a handle's end was cut exactly at the body's inner wall,
+/// the union left slivers and stray four-triangle pieces, depending on
+/// rounding). The grown part lies inside the other part's wall.
 pub fn cavity_gc(gc: &Gc) -> Result<Option<TriMesh>, GcError> {
     let s = sample(gc)?;
-    let Some(inner) = inner_wall(gc, &s)? else {
+    let (lo, hi) = s
+        .rows
+        .iter()
+        .flatten()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+    let thickness = match gc.shape {
+        ShapeType::Solid => return Ok(None),
+        ShapeType::Shell { thickness } | ShapeType::Container { thickness, .. } => thickness,
+    };
+    let grow = (CAVITY_GROWTH * (hi - lo).length()).min(0.01 * thickness);
+    let Some(inner) = inner_wall(gc, &s, grow)? else {
         return Ok(None);
     };
     let mut b = Builder {

@@ -280,7 +280,7 @@ fn shift_delete_replace_and_replace_spine() {
     assert_eq!(gc.sections[3], orig.sections[4]);
     // replace: section 1 is now the ellipse 0.35 x 0.3 (unit scale, no
     // twist), and the surface passes through it
-    gc.replace_section(1, Profile::Ellipse { rx: 0.35, ry: 0.3 })
+    gc.replace_section(1, Profile::Ellipse { rx: 0.35, ry: 0.3 }, 0.0)
         .unwrap();
     assert_eq!(
         gc.sections[1].profile,

@@ -2,8 +2,9 @@
 //! a 3D stroke is projected onto its sketch plane, resampled by arc length
 //! and simplified by Ramer-Douglas-Peucker; closed section strokes are
 //! matched against the section templates with a similarity score
-//! ([`match_section`]); open spine strokes are fitted by a least-squares
-//! cubic NURBS to a tolerance ([`fit_spine_stroke`]). Degenerate strokes
+//! ([`match_section`]); open spine strokes are simplified
+//! ([`fit_spine_stroke`]) and interpolated by a cubic that stays within a
+//! tolerance of the stroke ([`spine_points`]). Degenerate strokes
 //! (too few points, zero length, self-intersecting section loops, NaN)
 //! get a typed [`SketchError`]. [`section_params`] decides how many key
 //! sections a sketched spine needs (from the skin's error, which curvature
@@ -32,7 +33,9 @@ pub use spine::{fit_spine_stroke, SpineFit, SPINE_SAMPLES};
 pub use stroke::{
     closed_loop_self_intersects, length, project_stroke, rdp, rdp_closed, resample, SketchPlane,
 };
-pub use template::{match_section, match_section_stroke, SectionMatch, MATCH_SAMPLES};
+pub use template::{
+    match_section, match_section_stroke, DrawnSection, SectionMatch, MATCH_SAMPLES,
+};
 
 #[cfg(test)]
 mod tests;

@@ -1,28 +1,33 @@
-//! Spine strokes: projected onto the spine plane, resampled, simplified by
-//! RDP (the key points) and fitted by a least-squares cubic NURBS to a
-//! tolerance (The NURBS Book §9.4).
+//! Spine strokes: projected onto the spine plane, resampled and simplified
+//! by RDP (the key points of the spine).
+//!
+//! The paper "approximates [the simplified stroke] using a NURBS curve"
+//! (§4), and its spine *interpolates* the section centres (§3.1 eq. 3); a
+//! GC op carries spine points, which `gc::fit_spine` interpolates. So the
+//! spine is the cubic through the RDP points, and [`super::spine_points`]
+//! adds stroke samples where that cubic strays farther than the tolerance
+//! from the stroke: that is the approximation, checked. (A least-squares
+//! fit of the stroke used to be computed here as well and was never
+//! used: no op can carry it.)
 
 use glam::DVec3;
 
 use super::stroke::{length, rdp, resample};
 use super::{project_stroke, SketchError, SketchPlane};
-use crate::nurbs::{approximate_to_tolerance, NurbsCurve, ParamMethod};
 
 /// Samples a spine stroke is resampled to.
 pub const SPINE_SAMPLES: usize = 64;
 
-/// A fitted spine stroke.
+/// A simplified spine stroke.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpineFit {
     /// The RDP-simplified stroke (in the plane, 3D), e.g. for `gc_create`.
     pub simplified: Vec<DVec3>,
-    /// The least-squares NURBS through the resampled stroke.
-    pub curve: NurbsCurve,
 }
 
-/// Fits an open spine stroke in `plane` with tolerance `tol` (model units):
-/// RDP keeps points farther than `tol` from the simplified polyline, and
-/// the NURBS passes within `tol` of every resampled point.
+/// Simplifies an open spine stroke in `plane` with tolerance `tol` (model
+/// units): RDP keeps points farther than `tol` from the simplified
+/// polyline.
 pub fn fit_spine_stroke(
     points: &[DVec3],
     plane: &SketchPlane,
@@ -46,10 +51,7 @@ pub fn fit_spine_stroke(
     }
     let samples = resample(&p2, SPINE_SAMPLES, false)?;
     let simplified = rdp(&samples, tol);
-    let lifted: Vec<DVec3> = samples.iter().map(|q| plane.lift(*q)).collect();
-    let curve = approximate_to_tolerance(&lifted, 3, tol, ParamMethod::ChordLength)?;
     Ok(SpineFit {
         simplified: simplified.iter().map(|q| plane.lift(*q)).collect(),
-        curve,
     })
 }

@@ -201,6 +201,74 @@ pub fn match_section(points: &[DVec2]) -> Result<SectionMatch, SketchError> {
     })
 }
 
+/// A section as it was drawn: a profile in its sketch plane's `(x, y)`
+/// coordinates, turned by `rotation` (radians) in that plane.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DrawnSection {
+    /// The profile, unturned (a template centered at the origin, or the
+    /// drawn loop in the plane's coordinates).
+    pub profile: Profile,
+    /// The template's turn in the sketch plane (0 for a drawn loop).
+    pub rotation: f64,
+}
+
+impl SectionMatch {
+    /// The section a user drew: the best template, turned as it was
+    /// drawn, when its score reaches `min_score`; else the drawn loop.
+    pub fn drawn(&self, min_score: f64) -> DrawnSection {
+        if self.score >= min_score {
+            DrawnSection {
+                profile: self.profile.clone(),
+                rotation: self.rotation,
+            }
+        } else {
+            DrawnSection {
+                profile: self.sketch.clone(),
+                rotation: 0.0,
+            }
+        }
+    }
+}
+
+impl DrawnSection {
+    /// The section as a key section of a frame whose local `x` and `y`
+    /// axes are the world directions `r` and `s` (a GC's section frame),
+    /// the section drawn in `plane`: a template and the twist that turns
+    /// it as it was drawn (the direction of its local `x` axis, projected
+    /// into the frame; templates are symmetric about that axis, so a
+    /// plane facing the other way changes nothing), or the drawn loop
+    /// mapped into the frame point by point (twist 0). A circle has no
+    /// turn to keep: twist 0.
+    pub fn in_frame(&self, plane: &super::SketchPlane, r: DVec3, s: DVec3) -> (Profile, f64) {
+        let to_frame = |w: DVec3| DVec2::new(w.dot(r), w.dot(s));
+        match &self.profile {
+            Profile::Circle { .. } => (self.profile.clone(), 0.0),
+            Profile::Points { points } => (
+                Profile::Points {
+                    points: points
+                        .iter()
+                        .map(|p| {
+                            let q = to_frame(plane.x * p[0] + plane.y * p[1]);
+                            [q.x, q.y]
+                        })
+                        .collect(),
+                },
+                0.0,
+            ),
+            other => {
+                let axis = plane.x * self.rotation.cos() + plane.y * self.rotation.sin();
+                let a = to_frame(axis);
+                let twist = if a.length() > 1e-12 {
+                    a.y.atan2(a.x)
+                } else {
+                    0.0
+                };
+                (other.clone(), twist)
+            }
+        }
+    }
+}
+
 /// [`match_section`] for a 3D stroke projected onto `plane`.
 pub fn match_section_stroke(
     points: &[DVec3],

@@ -139,20 +139,21 @@ fn spine_fit_is_within_tolerance_and_in_plane() {
         })
         .collect();
     let fit = fit_spine_stroke(&stroke, &plane, 1e-3).unwrap();
-    assert!(fit.curve.control.len() < 40);
+    assert!(fit.simplified.len() >= 2 && fit.simplified.len() < 64);
+    // The spine through the simplified points (and what `spine_points`
+    // adds) is in the plane and near every stroke point.
+    let (points, spine) = super::spine_points(&stroke, &plane, 1e-3).unwrap();
+    assert!(points.len() >= fit.simplified.len());
+    let (a, b) = spine.curve.domain();
     for i in 0..=100 {
-        let p = fit.curve.point(i as f64 / 100.0);
+        let p = spine.curve.point(a + (b - a) * i as f64 / 100.0);
         assert!(p.y.abs() < 1e-12, "off plane {p}");
     }
-    // Every stroke point (projected) is near the curve.
     for s in stroke.iter().step_by(10) {
         let q = DVec3::new(s.x, 0.0, s.z);
         let d = (0..=2000)
-            .map(|i| (fit.curve.point(i as f64 / 2000.0) - q).length())
+            .map(|i| (spine.curve.point(a + (b - a) * i as f64 / 2000.0) - q).length())
             .fold(f64::INFINITY, f64::min);
         assert!(d < 3e-3, "{d}");
     }
-    assert!(fit.simplified.len() >= 2 && fit.simplified.len() < 64);
-    // The simplified points make a valid GC spine.
-    assert!(crate::gc::fit_spine(&fit.simplified, DVec3::Y).is_ok());
 }

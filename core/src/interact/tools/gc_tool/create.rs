@@ -16,16 +16,22 @@
 //!   (a handle), else its end is free (a spout).
 //! - Key sections: the matched section template, at evenly spaced
 //!   parameters, one per [`super::GcToolSettings::section_spacing`] of
-//!   spine length (3 to [`super::GcToolSettings::sections`]).
+//!   spine length (3 to [`super::GcToolSettings::sections`]), turned
+//!   (twisted) so the first lies as it was drawn: an ellipse drawn
+//!   diagonally stays diagonal (a drawn loop is mapped into the section's
+//!   frame point by point). A replacing section keeps its drawn turn too.
+//! - The spine is the cubic through the stroke's RDP points, with stroke
+//!   samples added where it strays farther than the spine tolerance from
+//!   the stroke ([`spine_points`], as the Blender sketch does).
 
 use crate::assembly::{anchor_frame, project_to_surface, ChildEnd, GcAddChild};
 use crate::doc::{Create, Edit, ObjectId, Op};
 use crate::gc::{
-    GcAssembly, GcCreate, GcReplaceSection, GcReplaceSpine, PartId, Profile, SectionIndex,
-    SectionSpec, ShapeType,
+    fit_spine, GcAssembly, GcCreate, GcReplaceSection, GcReplaceSpine, PartId, Profile,
+    SectionIndex, SectionSpec, ShapeType, SpineFrames,
 };
 use crate::math::DVec3;
-use crate::sketch::{fit_spine_stroke, match_section_stroke, SketchPlane};
+use crate::sketch::{match_section_stroke, spine_points, DrawnSection, SketchPlane};
 
 use super::target::{GcTarget, GeoCache};
 use super::GcToolSettings;
@@ -105,20 +111,16 @@ fn close_loop(stroke: &[DVec3]) -> &[DVec3] {
     &stroke[best.1..best.2]
 }
 
-/// The profile a closed stroke becomes: the best template, or the loop
-/// itself when no template fits well.
+/// The section a closed stroke becomes: the best template, turned as it
+/// was drawn, or the loop itself when no template fits well.
 pub(super) fn section_profile(
     stroke: &[DVec3],
     plane: &SketchPlane,
     s: &GcToolSettings,
-) -> Option<Profile> {
+) -> Option<DrawnSection> {
     let m = match_section_stroke(close_loop(stroke), plane).ok()?;
-    let p = if m.score >= s.min_template_score {
-        m.profile
-    } else {
-        m.sketch
-    };
-    p.curve().ok().map(|_| p)
+    let d = m.drawn(s.min_template_score);
+    d.profile.curve().ok().map(|_| d)
 }
 
 /// Largest distance of the profile from its centre.
@@ -130,60 +132,87 @@ fn profile_radius(p: &Profile) -> f64 {
     })
 }
 
-fn specs(profile: &Profile, n: usize) -> Vec<SectionSpec> {
+fn specs(profile: &Profile, twist: f64, n: usize) -> Vec<SectionSpec> {
     let n = n.max(2);
     (0..n)
         .map(|i| SectionSpec {
             profile: profile.clone(),
             v: i as f64 / (n - 1) as f64,
             scale: 1.0,
-            twist: 0.0,
+            twist,
         })
         .collect()
+}
+
+/// `drawn` (sketched in `plane`) as the key sections of a part whose spine
+/// interpolates `spine` (world, in the plane with normal `normal`): the
+/// section turned in the first section's frame as it was drawn.
+fn drawn_sections(
+    drawn: &DrawnSection,
+    plane: &SketchPlane,
+    spine: &[DVec3],
+    normal: DVec3,
+    n: usize,
+) -> Option<Vec<SectionSpec>> {
+    let sp = fit_spine(spine, normal).ok()?;
+    let frame = SpineFrames::new(&sp)
+        .ok()?
+        .at(&sp, sp.curve.domain().0)
+        .ok()?;
+    let (profile, twist) = drawn.in_frame(plane, frame.r, frame.s);
+    Some(specs(&profile, twist, n))
 }
 
 /// The op that creates the part from its start, section and spine stroke.
 pub(super) fn create_op(
     start: &Start,
-    profile: &Profile,
+    drawn: &DrawnSection,
     stroke: &[DVec3],
     geo: &GeoCache,
     s: &GcToolSettings,
 ) -> Option<Op> {
-    let fit = fit_spine_stroke(stroke, &start.spine_plane, s.spine_tolerance).ok()?;
-    let first = *fit.simplified.first()?;
-    let length: f64 = fit
-        .simplified
-        .windows(2)
-        .map(|w| (w[1] - w[0]).length())
-        .sum();
+    let (simplified, _) = spine_points(stroke, &start.spine_plane, s.spine_tolerance).ok()?;
+    let first = *simplified.first()?;
+    let length: f64 = simplified.windows(2).map(|w| (w[1] - w[0]).length()).sum();
     let count = (1.0 + (length / s.section_spacing).ceil()).clamp(3.0, s.sections.max(3) as f64);
-    let sections = specs(profile, count as usize);
     let Some((id, part)) = start.parent else {
-        let spine = fit
-            .simplified
+        let spine: Vec<DVec3> = simplified
             .iter()
             .map(|p| *p - first + start.point)
             .collect();
+        let normal = start.spine_plane.normal;
+        let sections = drawn_sections(drawn, &start.section_plane, &spine, normal, count as usize)?;
         return Some(Op::GcCreate(Create(GcCreate {
             spine,
-            plane_normal: start.spine_plane.normal,
+            plane_normal: normal,
             sections,
             shape: ShapeType::Solid,
             resolution: s.resolution,
         })));
     };
     let plane = &start.spine_plane;
-    let depth = 0.6 * profile_radius(profile);
+    let depth = 0.6 * profile_radius(&drawn.profile);
     let o = plane.project(first);
-    let spine: Vec<[f64; 2]> = fit
-        .simplified
+    let spine: Vec<[f64; 2]> = simplified
         .iter()
         .map(|p| {
             let q = plane.project(*p) - o;
             [q.x - depth, q.y]
         })
         .collect();
+    // `gc_add_child` puts spine point `[a, b]` at `O_s + a n + b t`: the
+    // spine plane's lift.
+    let world: Vec<DVec3> = spine
+        .iter()
+        .map(|q| plane.lift(glam::DVec2::new(q[0], q[1])))
+        .collect();
+    let sections = drawn_sections(
+        drawn,
+        &start.section_plane,
+        &world,
+        plane.normal,
+        count as usize,
+    )?;
     let pg = geo.part(id, part)?;
     let last = spine.last()?;
     let end_raw = plane.lift(glam::DVec2::new(last[0] + depth, last[1]));
@@ -244,30 +273,36 @@ pub(super) fn replace_op(
     match *target {
         GcTarget::KeyPoint { id, part, .. } => {
             let gc = &asm.parts.get(part)?.gc;
-            let fit = fit_spine_stroke(stroke, plane, s.spine_tolerance).ok()?;
+            let (simplified, _) = spine_points(stroke, plane, s.spine_tolerance).ok()?;
             let start = gc.spine.curve.point(gc.spine.curve.domain().0);
-            let first = *fit.simplified.first()?;
+            let first = *simplified.first()?;
             let n = gc.spine.plane_normal;
             let shift = (start - first) - n * (start - first).dot(n);
             Some(Op::GcReplaceSpine(Edit::new(
                 id,
                 GcReplaceSpine {
                     part: PartId(part),
-                    points: fit.simplified.iter().map(|p| *p + shift).collect(),
+                    points: simplified.iter().map(|p| *p + shift).collect(),
                     plane_normal: n,
                 },
             )))
         }
         GcTarget::Section {
             id, part, section, ..
-        } => Some(Op::GcReplaceSection(Edit::new(
-            id,
-            GcReplaceSection {
-                part: PartId(part),
-                section: SectionIndex(section),
-                profile: section_profile(stroke, plane, s)?,
-            },
-        ))),
+        } => {
+            // The plane's axes are the section frame's `r` and `s`.
+            let (profile, twist) =
+                section_profile(stroke, plane, s)?.in_frame(plane, plane.x, plane.y);
+            Some(Op::GcReplaceSection(Edit::new(
+                id,
+                GcReplaceSection {
+                    part: PartId(part),
+                    section: SectionIndex(section),
+                    profile,
+                    twist,
+                },
+            )))
+        }
         _ => None,
     }
 }

@@ -19,6 +19,8 @@ mod settings;
 mod target;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_drawn;
 mod tool;
 
 pub use settings::GcToolSettings;

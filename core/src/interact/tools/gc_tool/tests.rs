@@ -18,7 +18,7 @@ use crate::interact::tools::{apply_command, Tool};
 use crate::interact::trace::{replay, ModelPlacement, Trace};
 
 /// A cylinder r = 5 cm, 12 cm tall, 4 sections at z = 0, 4, 8, 12 cm.
-fn body() -> Op {
+pub(super) fn body() -> Op {
     Op::GcCreate(Create(GcCreate {
         spine: vec![DVec3::ZERO, DVec3::new(0.0, 0.0, 0.12)],
         plane_normal: DVec3::Y,
@@ -35,10 +35,10 @@ fn body() -> Op {
     }))
 }
 
-struct Run {
+pub(super) struct Run {
     commands: Vec<ScriptCommand>,
-    log: OpLog,
-    rejected: usize,
+    pub(super) log: OpLog,
+    pub(super) rejected: usize,
 }
 
 fn run_frames(start: &[Op], frames: &[InputFrame]) -> Run {
@@ -69,11 +69,11 @@ fn run_tool(tool: GcTool, start: &[Op], frames: &[InputFrame]) -> Run {
     }
 }
 
-fn run(start: &[Op], r: &Rig) -> Run {
+pub(super) fn run(start: &[Op], r: &Rig) -> Run {
     run_frames(start, &r.trace("").frames)
 }
 
-fn ops(run: &Run) -> Vec<&Op> {
+pub(super) fn ops(run: &Run) -> Vec<&Op> {
     run.commands
         .iter()
         .filter_map(|c| match c {
@@ -566,7 +566,7 @@ fn check_trace(file: &str, expected: &[&str], genus: i64, fresh: &Trace) -> crat
     a.log
 }
 
-fn assembly(log: &OpLog, id: u32) -> crate::gc::GcAssembly {
+pub(super) fn assembly(log: &OpLog, id: u32) -> crate::gc::GcAssembly {
     match &log
         .document()
         .get(crate::doc::ObjectId(id))

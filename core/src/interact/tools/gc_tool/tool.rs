@@ -55,7 +55,7 @@ use crate::doc::{Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
 use crate::gc::{mesh_gc, GcAssembly, GcSetResolution, PartId, Profile, Resolution, ShapeType};
 use crate::math::DVec3;
 use crate::mesh::TriMesh;
-use crate::sketch::SketchPlane;
+use crate::sketch::{DrawnSection, SketchPlane};
 
 use super::create::{create_op, replace_op, replace_plane, section_profile, Start};
 use super::edit::{drag_op, end_of, hold_op, pinch_shape, shape_op};
@@ -97,8 +97,8 @@ enum State {
     Idle,
     Placed(Start),
     SketchSection(Start, Vec<DVec3>),
-    Sectioned(Start, Profile),
-    SketchSpine(Start, Profile, Vec<DVec3>),
+    Sectioned(Start, DrawnSection),
+    SketchSpine(Start, DrawnSection, Vec<DVec3>),
     /// A key point or section picked by POINT, waiting for its stroke.
     ReplaceArmed(GcTarget, SketchPlane),
     Replace(GcTarget, SketchPlane, Vec<DVec3>),
@@ -855,7 +855,7 @@ impl GcTool {
         };
         p.sketch = sketch.cloned().unwrap_or_default();
         p.gc_mut().plane = plane.map(|pl| (pl.origin, pl.normal));
-        p.gc_mut().profile = profile.cloned();
+        p.gc_mut().profile = profile.map(|d| d.profile.clone());
         if !matches!(self.state, State::Drag(_)) {
             p.gc_mut().mesh = None;
         }
