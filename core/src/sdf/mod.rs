@@ -15,6 +15,7 @@
 //! - [`mesh_sdf`], [`library`], [`cache`]: mesh → SDF (parry3d distance,
 //!   pseudo-normal sign), the starter library, the on-disk cache.
 //! - [`edits`]: the `sdf_*` ops' payloads and how each changes a volume.
+//! - [`scenes`]: the paper's Table 1 scenes (bench and tests).
 //!
 //! ## Measured (scripts/bench/sdf.py, 2 cores, noisy shared machine)
 //!
@@ -46,6 +47,7 @@ pub mod mesh_sdf;
 pub mod placement;
 pub mod reuse;
 pub mod sample;
+pub mod scenes;
 pub mod volume;
 
 pub use cache::SdfCache;
