@@ -16,6 +16,7 @@
 //!   pseudo-normal sign), the starter library, the on-disk cache.
 //! - [`edits`]: the `sdf_*` ops' payloads and how each changes a volume.
 //! - [`scenes`]: the paper's Table 1 scenes (bench and tests).
+//! - [`budget`]: memory and time of every op, estimated before the work.
 //!
 //! ## Measured (scripts/bench/sdf.py, 2 cores, noisy shared machine)
 //!
@@ -33,6 +34,7 @@
 //! is not manifold-safe).
 
 pub mod analytic;
+pub mod budget;
 pub mod cache;
 pub mod csg;
 pub mod dense;
