@@ -92,14 +92,14 @@ impl Work {
     /// count (an operand of infinite size) is over every limit.
     pub fn check(&self, what: &str) -> Result<(), SdfError> {
         let bytes = self.held_bytes();
-        if !(bytes <= MEMORY_BUDGET_BYTES as f64) {
+        if bytes.is_nan() || bytes > MEMORY_BUDGET_BYTES as f64 {
             return Err(SdfError::OverBudget {
                 needed_mib: mib_ceil(bytes),
                 budget_mib: (MEMORY_BUDGET_BYTES >> 20) as u64,
             });
         }
         let seconds = self.seconds();
-        if !(seconds <= TIME_LIMIT_SECONDS) {
+        if seconds.is_nan() || seconds > TIME_LIMIT_SECONDS {
             return Err(SdfError::TooSlow {
                 what: what.to_owned(),
                 seconds,
