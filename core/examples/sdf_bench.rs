@@ -29,93 +29,20 @@ static ALLOC: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 use fast_surface_nets::ndshape::RuntimeShape;
 use fast_surface_nets::{surface_nets, SurfaceNetsBuffer};
-use shapewright::math::Transform;
 use shapewright::sdf::csg::fuse_sampled;
 use shapewright::sdf::features::ExactField;
 use shapewright::sdf::grid::{Brick, SparseGrid, BRICK};
 use shapewright::sdf::placement::LocalField;
 use shapewright::sdf::sample::sample_operand;
 use shapewright::sdf::volume::stitch;
-use shapewright::sdf::{Component, CsgOp, Operand, SdfCache, SdfVolume};
-
-fn lib(name: &str) -> Component {
-    Component::Library { name: name.into() }
-}
-
-fn t(tr: [f64; 3], q: [f64; 4], s: [f64; 3]) -> Transform {
-    Transform {
-        translate: tr,
-        rotate: q,
-        scale: s,
-    }
-}
-
-const ID: [f64; 4] = [0.0, 0.0, 0.0, 1.0];
+use shapewright::sdf::{Operand, SdfCache, SdfVolume};
 
 /// The three Table 1 scenes, and the operand a drag moves in each.
 fn workloads() -> Vec<(&'static str, Vec<Operand>, usize)> {
-    let o = Operand::new;
-    let s2 = 0.5f64.sqrt();
-    let leg = |x: f64, y: f64| {
-        o(
-            lib("chair_leg"),
-            CsgOp::Union,
-            t([x, y, 0.22], ID, [1.0, 1.0, 1.1]),
-        )
-    };
-    vec![
-        (
-            "cube_sphere",
-            vec![
-                o(lib("box"), CsgOp::Union, t([0.0; 3], ID, [1.0; 3])),
-                o(
-                    lib("sphere"),
-                    CsgOp::Union,
-                    t([0.15, 0.1, 0.1], ID, [1.2; 3]),
-                ),
-            ],
-            1,
-        ),
-        (
-            "chair",
-            vec![
-                o(
-                    lib("chair_seat"),
-                    CsgOp::Union,
-                    t([0.0, 0.0, 0.455], ID, [1.0; 3]),
-                ),
-                leg(0.17, 0.17),
-                leg(-0.17, 0.17),
-                leg(0.17, -0.17),
-                leg(-0.17, -0.17),
-                o(
-                    lib("chair_back"),
-                    CsgOp::Union,
-                    t([0.0, 0.178, 0.69], ID, [1.1; 3]),
-                ),
-            ],
-            5,
-        ),
-        (
-            // The library cylinder is 0.4 across and tall: 0.6 makes the
-            // paper's cup body (radius 0.12, height 0.24).
-            "cup",
-            vec![
-                o(lib("cylinder"), CsgOp::Union, t([0.0; 3], ID, [0.6; 3])),
-                o(
-                    lib("cup_handle"),
-                    CsgOp::Union,
-                    t([0.17, 0.0, 0.0], [s2, 0.0, 0.0, s2], [0.38; 3]),
-                ),
-                o(
-                    lib("cylinder"),
-                    CsgOp::Subtract,
-                    t([0.0, 0.0, 0.03], ID, [0.525, 0.525, 0.6]),
-                ),
-            ],
-            1,
-        ),
-    ]
+    shapewright::sdf::scenes::table1()
+        .into_iter()
+        .map(|s| (s.name, s.operands, s.dragged))
+        .collect()
 }
 
 /// Median and the 25th / 75th percentiles.

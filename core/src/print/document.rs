@@ -5,11 +5,13 @@ use super::{
     PrintedSize,
 };
 use crate::doc::{Document, ObjectKind};
-use crate::mesh::PartNames;
+use crate::math::Transform;
+use crate::mesh::{PartNames, TriMesh};
 
 /// Every object of `doc`, in id order, as a part to print. Curve networks
 /// are surfaces; every other kind is a solid (an open mesh of any kind is
-/// still thickened).
+/// still thickened). An SDF volume's mesh is its fused result only: see
+/// [`print_document`] for its queued operands.
 pub fn document_parts(doc: &Document) -> Vec<PrintPart<'_>> {
     doc.objects()
         .map(|(id, obj)| PrintPart {
@@ -21,11 +23,48 @@ pub fn document_parts(doc: &Document) -> Vec<PrintPart<'_>> {
         .collect()
 }
 
-/// The printable model of `doc`: [`printable`] over [`document_parts`],
-/// with the document's wall thickness ([`Document::print_setup`]) in place
-/// of `settings.wall_thickness`. Hosts write `Printable::mesh` in the
-/// format whose precision they passed in `settings`, or show the error as
-/// it is.
+/// The meshes of the SDF volumes that still have operands queued, with
+/// those fused as the next `sdf_update` would fuse them (the document is
+/// not changed), placed as their objects are: what the user placed and
+/// sees as previews is what prints. A queue that cannot be fused is
+/// refused naming the volume.
+fn fused_pending(doc: &Document) -> Result<Vec<(u32, TriMesh)>, PrintError> {
+    let mut out = Vec::new();
+    for (id, obj) in doc.objects() {
+        let ObjectKind::SdfVolume(v) = &obj.kind else {
+            continue;
+        };
+        if v.pending.is_empty() {
+            continue;
+        }
+        let refused = |why: String| PrintError::NotSolid {
+            object: format!("#{} {}", id.0, obj.kind.name()),
+            problems: format!(
+                "its {} queued operand(s) cannot be fused: {why}",
+                v.pending.len()
+            ),
+        };
+        let mut mesh = v
+            .updated()
+            .and_then(|u| u.evaluate())
+            .map_err(|e| refused(e.to_string()))?;
+        if obj.placement != Transform::IDENTITY {
+            let a = obj
+                .placement
+                .to_affine()
+                .map_err(|e| refused(e.to_string()))?;
+            mesh.transform(&a);
+        }
+        out.push((id.0, mesh));
+    }
+    Ok(out)
+}
+
+/// The printable model of `doc`: [`printable`] over [`document_parts`]
+/// (SDF volumes with their queued operands fused), with the document's
+/// wall thickness ([`Document::print_setup`]) in place of
+/// `settings.wall_thickness`. Hosts write `Printable::mesh` in the format
+/// whose precision they passed in `settings`, or show the error as it is.
 pub fn print_document(doc: &Document, settings: &PrintSettings) -> Result<Printable, PrintError> {
     print_document_with(doc, settings, &PrintControl::default())
 }
@@ -36,11 +75,14 @@ pub fn print_document_with(
     settings: &PrintSettings,
     control: &PrintControl,
 ) -> Result<Printable, PrintError> {
-    printable_with(
-        &document_parts(doc),
-        &doc.print_setup().apply_to(settings),
-        control,
-    )
+    let fused = fused_pending(doc)?;
+    let mut parts = document_parts(doc);
+    for part in &mut parts {
+        if let Some((_, m)) = fused.iter().find(|(id, _)| *id == part.id) {
+            part.mesh = m;
+        }
+    }
+    printable_with(&parts, &doc.print_setup().apply_to(settings), control)
 }
 
 /// Every object's name for files that name parts (3MF): its user name, or

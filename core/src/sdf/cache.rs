@@ -23,7 +23,7 @@ use std::sync::{Arc, Mutex};
 
 use super::dense::{DenseSdf, GridField};
 use super::library;
-use super::mesh_sdf::component_sdf;
+use super::mesh_sdf::{component_sdf, component_sdf_at};
 use super::SdfError;
 use crate::hash::ContentHasher;
 use crate::mesh::TriMesh;
@@ -106,7 +106,22 @@ impl SdfCache {
     /// [`Self::component_sdf`] ready for resampling (with its block
     /// ranges).
     pub fn component_field(&self, mesh: &TriMesh) -> Result<Arc<GridField>, SdfError> {
-        let key = mesh_key(mesh);
+        self.component_field_at(mesh, None)
+    }
+
+    /// The SDF of closed `mesh` as a component: at the library's step
+    /// (`None`, [`Self::component_field`]) or with one cell `step` in the
+    /// mesh's own units ([`component_sdf_at`], for objects and results
+    /// reused at their own resolution).
+    pub fn component_field_at(
+        &self,
+        mesh: &TriMesh,
+        step: Option<f64>,
+    ) -> Result<Arc<GridField>, SdfError> {
+        let key = match step {
+            None => mesh_key(mesh),
+            Some(s) => mesh_step_key(mesh, s),
+        };
         if let Some(s) = self
             .inner
             .by_key
@@ -119,12 +134,18 @@ impl SdfCache {
         let sdf = match self.load(key) {
             Some(s) => s,
             None => {
-                let s = component_sdf(mesh)?;
+                let s = match step {
+                    None => component_sdf(mesh)?,
+                    Some(s) => component_sdf_at(mesh, s)?,
+                };
                 self.store(key, &s);
                 s
             }
         };
-        let field = Arc::new(GridField::new(Arc::new(sdf)));
+        let field = Arc::new(GridField::new(
+            Arc::new(sdf),
+            super::mesh_sdf::normalized_area(mesh),
+        ));
         if let Ok(mut m) = self.inner.by_key.lock() {
             m.insert(key, field.clone());
         }
@@ -170,6 +191,17 @@ impl SdfCache {
 pub fn mesh_key(mesh: &TriMesh) -> u64 {
     let mut h = ContentHasher::new();
     h.u64(FORMAT_VERSION as u64);
+    h.mesh(mesh);
+    h.finish()
+}
+
+/// The cache key of a mesh's component SDF sampled at `step` (see
+/// [`SdfCache::component_field_at`]).
+pub fn mesh_step_key(mesh: &TriMesh, step: f64) -> u64 {
+    let mut h = ContentHasher::new();
+    h.u64(FORMAT_VERSION as u64);
+    h.bytes(b"step");
+    h.f64(step);
     h.mesh(mesh);
     h.finish()
 }

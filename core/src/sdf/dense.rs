@@ -198,11 +198,15 @@ pub struct GridField {
     blocks: [usize; 3],
     /// Per block: least and greatest sample of its cells' corners.
     ranges: Vec<[f32; 2]>,
+    /// The area of the surface the grid samples, in its own units² (for
+    /// the budgets, [`super::budget`]).
+    pub surface_area: f64,
 }
 
 impl GridField {
-    /// Precomputes the block ranges of `sdf`.
-    pub fn new(sdf: std::sync::Arc<DenseSdf>) -> Self {
+    /// Precomputes the block ranges of `sdf`, whose surface has
+    /// `surface_area` (its own units²).
+    pub fn new(sdf: std::sync::Arc<DenseSdf>, surface_area: f64) -> Self {
         let cells = sdf.dims.map(|d| d - 1);
         let blocks = cells.map(|c| c.div_ceil(BOUND_BLOCK));
         let mut ranges =
@@ -242,6 +246,7 @@ impl GridField {
             sdf,
             blocks,
             ranges,
+            surface_area,
         }
     }
 

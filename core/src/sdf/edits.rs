@@ -294,6 +294,7 @@ impl SdfImportComponent {
             UserMesh {
                 positions: self.positions.clone(),
                 triangles: self.triangles.clone(),
+                step: None,
             },
         );
         Ok(())
@@ -334,13 +335,17 @@ impl SdfCopyFused {
 impl SdfComponentFromObject {
     /// Adds `mesh` (the object's model-space mesh) as a component of `v`,
     /// whose placement is `placement` (its own frame to model space).
+    /// `source_step`: the object's own grid step when it is an SDF volume
+    /// (the component keeps the finer of it and `v`'s, see
+    /// [`super::reuse`]).
     pub fn apply_to(
         &self,
         v: &mut SdfVolume,
         mesh: &TriMesh,
         placement: &DAffine3,
+        source_step: Option<f64>,
     ) -> Result<(), SdfError> {
-        self.apply_with(v, mesh, placement, default_cache())
+        self.apply_with(v, mesh, placement, source_step, default_cache())
     }
 
     /// [`Self::apply_to`] with an explicit cache.
@@ -349,6 +354,7 @@ impl SdfComponentFromObject {
         v: &mut SdfVolume,
         mesh: &TriMesh,
         placement: &DAffine3,
+        source_step: Option<f64>,
         cache: &SdfCache,
     ) -> Result<(), SdfError> {
         if self.name.is_empty() {
@@ -360,8 +366,8 @@ impl SdfComponentFromObject {
         if mesh.triangles.is_empty() {
             return Err(SdfError::EmptyResult);
         }
-        let local = if *placement == DAffine3::IDENTITY {
-            mesh.clone()
+        let (local, scale) = if *placement == DAffine3::IDENTITY {
+            (mesh.clone(), 1.0)
         } else {
             let inv = placement.inverse();
             if !inv.to_cols_array().iter().all(|x| x.is_finite()) {
@@ -381,20 +387,32 @@ impl SdfComponentFromObject {
                     t.swap(1, 2);
                 }
             }
-            m
+            // Model units per unit of the volume's frame (the smallest
+            // axis scale: the frame's finest direction).
+            let s = [inv.matrix3.x_axis, inv.matrix3.y_axis, inv.matrix3.z_axis]
+                .iter()
+                .map(|c| 1.0 / c.length())
+                .fold(f64::INFINITY, f64::min);
+            (m, s)
         };
-        let (user, back) = super::reuse::component_from_mesh(&local, cache)?;
+        // Steps are in model units; the mesh is in the volume's frame.
+        let step = super::reuse::reuse_step(source_step, v.step, 1.0) / scale;
+        let (user, back) = super::reuse::component_from_mesh(&local, Some(step), cache)?;
+        let want = super::reuse::topology(&local);
         let mut n = v.clone();
         n.user_components.insert(self.name.clone(), user);
-        if let Some(csg) = self.csg {
-            let o = Operand::new(
-                Component::User {
-                    name: self.name.clone(),
-                },
-                csg,
-                back,
-            );
-            n.placed_with(&o, cache)?;
+        let o = Operand::new(
+            Component::User {
+                name: self.name.clone(),
+            },
+            self.csg.unwrap_or(CsgOp::Union),
+            back,
+        );
+        n.placed_with(&o, cache)?;
+        if let Some(want) = want {
+            n.check_reuse(&o, want, &format!("object #{}", self.object.0), cache)?;
+        }
+        if self.csg.is_some() {
             n = n.with_pending(|p| p.push(o));
         }
         *v = n;

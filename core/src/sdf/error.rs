@@ -44,13 +44,23 @@ pub enum SdfError {
     /// The mesh given to the library is not a closed, oriented 2-manifold.
     #[error("component mesh is not a closed oriented 2-manifold: {0}")]
     BadMesh(String),
-    /// The grid would exceed the memory budget.
+    /// The grid would exceed the memory budget ([`super::budget`]).
     #[error("the grid would need about {needed_mib} MiB, over the {budget_mib} MiB budget; scale the operand down or use a larger step")]
     OverBudget {
         /// Estimated need.
         needed_mib: u64,
         /// The budget.
         budget_mib: u64,
+    },
+    /// The op would take longer than the time limit ([`super::budget`]).
+    #[error("{what} would take about {seconds:.1} s on this machine, over the {limit} s limit; use a larger step, or fewer or smaller operands")]
+    TooSlow {
+        /// What would take so long.
+        what: String,
+        /// The estimate, in seconds.
+        seconds: f64,
+        /// The limit, in seconds.
+        limit: f64,
     },
     /// Moving the fused result by a transform that is not a similarity
     /// (its scale differs per axis) cannot be done exactly by moving the
@@ -63,6 +73,22 @@ pub enum SdfError {
     /// A user component needs a name to be picked by.
     #[error("the component name is empty; give the imported component a name")]
     EmptyComponentName,
+    /// A reused object, a copy or a moved result would not keep its shape
+    /// at the volume's grid step: resampled there it loses pieces or
+    /// tunnels (its thinnest parts are below about two grid cells).
+    #[error("{what} would come out as {got} instead of {want_pieces} piece(s) of genus {want_genus} at the grid step {step} m: its thinnest parts are below about two grid cells there; use a finer step (sdf_set_step, down to 0.004) or make it larger")]
+    TooThin {
+        /// What was reused (`object #3`, `the copy of the result`, ...).
+        what: String,
+        /// The grid step it was checked at.
+        step: f64,
+        /// The source's genus.
+        want_genus: i64,
+        /// The source's number of pieces.
+        want_pieces: usize,
+        /// What the grid gave.
+        got: String,
+    },
     /// `sdf_update` with no pending operand.
     #[error("nothing to update: the volume has no pending operands")]
     NothingPending,

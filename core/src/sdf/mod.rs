@@ -15,6 +15,8 @@
 //! - [`mesh_sdf`], [`library`], [`cache`]: mesh → SDF (parry3d distance,
 //!   pseudo-normal sign), the starter library, the on-disk cache.
 //! - [`edits`]: the `sdf_*` ops' payloads and how each changes a volume.
+//! - [`scenes`]: the paper's Table 1 scenes (bench and tests).
+//! - [`budget`]: memory and time of every op, estimated before the work.
 //!
 //! ## Measured (scripts/bench/sdf.py, 2 cores, noisy shared machine)
 //!
@@ -32,6 +34,7 @@
 //! is not manifold-safe).
 
 pub mod analytic;
+pub mod budget;
 pub mod cache;
 pub mod csg;
 pub mod dense;
@@ -46,6 +49,7 @@ pub mod mesh_sdf;
 pub mod placement;
 pub mod reuse;
 pub mod sample;
+pub mod scenes;
 pub mod volume;
 
 pub use cache::SdfCache;

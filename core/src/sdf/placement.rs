@@ -138,6 +138,26 @@ impl PlacedField {
         })
     }
 
+    /// An estimate of the placed surface's area (model units²), for the
+    /// budgets ([`super::budget`]): a mesh component's own area times the
+    /// largest axis scale squared; an analytic solid's box (a bound for
+    /// the convex ones).
+    pub fn surface_area(&self) -> f64 {
+        let m = self.forward.matrix3;
+        let s = [m.x_axis.length(), m.y_axis.length(), m.z_axis.length()];
+        match &self.field {
+            LocalField::Grid(g) => {
+                let smax = s.iter().copied().fold(0.0, f64::max);
+                g.surface_area * smax * smax
+            }
+            LocalField::Solid(shape) => {
+                let h = shape.half_extents();
+                let e = [0, 1, 2].map(|a| 2.0 * h[a] * s[a]);
+                2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0])
+            }
+        }
+    }
+
     /// The corrected world value at world point `p`, or `None` outside the
     /// component's box (+infinity).
     #[inline]

@@ -35,6 +35,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::budget::{surface_bricks, Work, BRICK_BYTES};
 use super::cache::SdfCache;
 use super::csg::{brick_count_in_box, fuse_sampled, CsgOp};
 use super::extract::{assemble, Piece};
@@ -54,8 +55,7 @@ pub const DEFAULT_STEP: f64 = 0.01;
 pub const STEP_RANGE: [f64; 2] = [0.004, 0.012];
 /// The band (clamp) in steps.
 pub const BAND_STEPS: f64 = 3.0;
-/// Memory budget of a volume's dense bricks.
-pub const MEMORY_BUDGET_BYTES: usize = 1 << 30;
+pub use super::budget::MEMORY_BUDGET_BYTES;
 /// Resampled operands kept per volume lineage.
 const SAMPLE_CACHE_ENTRIES: usize = 32;
 
@@ -87,6 +87,12 @@ pub struct UserMesh {
     pub positions: Vec<[f64; 3]>,
     /// Triangles, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
+    /// The step of the component's SDF in the units of `positions`, for
+    /// objects and results reused at their own resolution
+    /// ([`super::reuse`]); `None`: the library's normalized grid (40 cells
+    /// across, §5.2), as for imported files.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub step: Option<f64>,
 }
 
 impl UserMesh {
@@ -296,7 +302,7 @@ impl SdfVolume {
                     .user_components
                     .get(name)
                     .ok_or_else(|| SdfError::UnknownComponent(name.clone()))?;
-                LocalField::Grid(cache.component_field(&m.mesh())?)
+                LocalField::Grid(cache.component_field_at(&m.mesh(), m.step)?)
             }
         })
     }
@@ -315,11 +321,53 @@ impl SdfVolume {
         let budget = (MEMORY_BUDGET_BYTES / (BRICK_LEN * 4)) as f64;
         if bricks.is_nan() || bricks > budget {
             return Err(SdfError::OverBudget {
-                needed_mib: (bricks * (BRICK_LEN * 4) as f64 / (1 << 20) as f64) as u64,
+                needed_mib: super::budget::mib_ceil(bricks * BRICK_BYTES),
                 budget_mib: (MEMORY_BUDGET_BYTES >> 20) as u64,
             });
         }
+        self.operand_work(&f).check("fusing this operand")?;
         Ok(f)
+    }
+
+    /// The work of resampling, fusing and extracting a placed operand
+    /// (counted, not done: [`super::budget`]).
+    pub fn operand_work(&self, f: &PlacedField) -> Work {
+        let (lo, hi) = f.world_box;
+        let near = surface_bricks(f.surface_area(), self.step);
+        Work {
+            region_bricks: brick_count_in_box(self.step, lo, hi),
+            surface_bricks: near,
+            held_bricks: near,
+            ..Work::default()
+        }
+    }
+
+    /// Dense bricks the volume's grid holds now (0 when it was not built).
+    pub(crate) fn held_bricks(&self) -> f64 {
+        self.state
+            .get()
+            .map_or(0.0, |s| s.grid.dense_bytes() as f64 / BRICK_BYTES)
+    }
+
+    /// The work of fusing `operands` into this volume's grid (as now, or
+    /// from scratch with `fresh`), checked against the budgets before any
+    /// of it is done. `what` names it in the refusal.
+    pub fn check_fusion(
+        &self,
+        operands: &[Operand],
+        fresh: bool,
+        what: &str,
+        cache: &SdfCache,
+    ) -> Result<(), SdfError> {
+        let mut w = Work {
+            held_bricks: if fresh { 0.0 } else { self.held_bricks() },
+            ..Work::default()
+        };
+        for o in operands {
+            let f = self.placed_with(o, cache)?;
+            w = w.plus(&self.operand_work(&f));
+        }
+        w.check(what)
     }
 
     /// [`Self::placed_with`] the [`default_cache`].
@@ -399,6 +447,7 @@ impl SdfVolume {
 
     /// Fuses every fused operand from scratch and extracts every brick.
     pub fn rebuild_with(&self, cache: &SdfCache) -> Result<VolumeState, SdfError> {
+        self.check_fusion(&self.fused, true, "rebuilding the volume", cache)?;
         let mut grid = SparseGrid::new(self.step, self.band());
         let mut fields = Vec::with_capacity(self.fused.len());
         for o in &self.fused {
@@ -430,6 +479,7 @@ impl SdfVolume {
             return Err(SdfError::NothingPending);
         }
         let old = self.state_with(cache)?;
+        self.check_fusion(&self.pending, false, "this update", cache)?;
         let entries = self
             .pending
             .iter()
@@ -564,7 +614,7 @@ fn check_budget(grid: &SparseGrid) -> Result<(), SdfError> {
     let b = grid.dense_bytes();
     if b > MEMORY_BUDGET_BYTES {
         return Err(SdfError::OverBudget {
-            needed_mib: (b >> 20) as u64,
+            needed_mib: super::budget::mib_ceil(b as f64),
             budget_mib: (MEMORY_BUDGET_BYTES >> 20) as u64,
         });
     }

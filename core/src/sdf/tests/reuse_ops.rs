@@ -89,10 +89,11 @@ fn moving_the_fused_result_moves_the_solid() {
     assert_eq!(r1.genus, r0.genus);
     let ratio = r1.signed_volume / (0.512 * r0.signed_volume);
     assert!((ratio - 1.0).abs() < 0.03, "volume ratio {ratio}");
-    // The same as building the moved recipe from scratch.
+    // The same as building the moved recipe from scratch at the step the
+    // shrink resamples at (0.01 * 0.8: as many cells across as before).
     let mut fresh = log.clone();
     for l in [
-        r#"{"op":"sdf_create","step":0.01}"#.to_string(),
+        r#"{"op":"sdf_create","step":0.008}"#.to_string(),
         format!(
             r#"{{"op":"sdf_add_operand","volume":2,"component":{{"kind":"solid","shape":{{"kind":"sphere","radius":0.1}}}},"csg":"union","transform":{}}}"#,
             serde_json::to_string(&t).unwrap()

@@ -770,14 +770,14 @@ fn the_fused_result_moves_copies_and_becomes_a_component() {
         Err(SdfError::DuplicateComponent(_))
     ));
     // Any closed mesh becomes a component placed where it was.
-    let (user, back) = crate::sdf::reuse::component_from_mesh(&m0, &cache).unwrap();
+    let (user, back) = crate::sdf::reuse::component_from_mesh(&m0, None, &cache).unwrap();
     assert_eq!(user.positions.len(), m0.positions.len());
     let open = TriMesh::new(
         vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
         vec![[0, 1, 2]],
     );
     assert!(matches!(
-        crate::sdf::reuse::component_from_mesh(&open, &cache),
+        crate::sdf::reuse::component_from_mesh(&open, None, &cache),
         Err(SdfError::BadMesh(_))
     ));
     let mut w = SdfVolume::new(0.01).unwrap();

@@ -1,0 +1,162 @@
+//! Reuse at full resolution (issue 33): a document object made an SDF
+//! component, a copy of a fused result and a scaled move of it keep the
+//! source's shape (within 1% of its volume, with its genus and pieces),
+//! or the op is refused with a typed error naming the step; thin and
+//! multi-part sources (the GC chair, the mug) as well as the paper's cup.
+
+mod common;
+
+use common::{data, run};
+use shapewright::doc::{LogError, ObjectId, Op, OpError, OpLog};
+use shapewright::mesh::{validate, TriMesh, ValidationReport};
+use shapewright::sdf::SdfError;
+
+fn op(json: &str) -> Op {
+    serde_json::from_str(json).unwrap_or_else(|e| panic!("{json}: {e}"))
+}
+
+fn mesh(log: &OpLog, id: u32) -> TriMesh {
+    (*log.document().get(ObjectId(id)).unwrap().mesh).clone()
+}
+
+fn report(m: &TriMesh) -> ValidationReport {
+    let r = validate(m, &Default::default());
+    assert!(r.is_closed_manifold(), "{}", r.problems());
+    r
+}
+
+/// Asserts `got` has `want`'s genus and pieces and its volume within `tol`
+/// (relative) of `scale³` times `want`'s.
+fn same_shape(what: &str, got: &TriMesh, want: &TriMesh, scale: f64, tol: f64) {
+    let (g, w) = (report(got), report(want));
+    let ratio = g.signed_volume / (w.signed_volume * scale.powi(3));
+    eprintln!(
+        "{what}: volume ratio {ratio:.4}, genus {:?} vs {:?}, pieces {} vs {}",
+        g.genus, w.genus, g.components, w.components
+    );
+    assert_eq!(
+        (g.genus, g.components),
+        (w.genus, w.components),
+        "{what}: genus and pieces"
+    );
+    assert!((ratio - 1.0).abs() < tol, "{what}: volume ratio {ratio}");
+}
+
+fn sdf_err(e: LogError) -> SdfError {
+    match e {
+        LogError::Op(OpError::Sdf(s)) => s,
+        other => panic!("not an SDF error: {other:?}"),
+    }
+}
+
+/// A GC model (object 1) made a component of a new volume (object 2) at
+/// `step`, queued where it is and fused.
+fn object_as_component(script: &str, step: f64) -> Result<OpLog, LogError> {
+    let mut log = run(&data(script));
+    log.apply(op(&format!(r#"{{"op":"sdf_create","step":{step}}}"#)))?;
+    let v = log.document().objects().count();
+    log.apply(op(&format!(
+        r#"{{"op":"sdf_component_from_object","volume":{v},"object":1,"name":"it","csg":"union"}}"#
+    )))?;
+    log.apply(op(&format!(r#"{{"op":"sdf_update","volume":{v}}}"#)))?;
+    Ok(log)
+}
+
+#[test]
+#[ignore = "issue 33, not met yet: the chair made a component at 1 cm keeps its genus and legs but 96.3% of its volume (0.68 before the component kept its step)"]
+fn the_chair_made_a_component_keeps_its_volume_legs_and_genus() {
+    let log = object_as_component("chair.jsonl", 0.01).unwrap();
+    let (src, got) = (mesh(&log, 1), mesh(&log, 2));
+    same_shape("chair at 1 cm", &got, &src, 1.0, 0.01);
+    // The legs reach the floor: the box is the chair's within half a step.
+    let ((lo, hi), (lo0, hi0)) = (got.bbox().unwrap(), src.bbox().unwrap());
+    let off = (lo - lo0).abs().max(hi - hi0).max_element();
+    assert!(off < 0.005, "box off by {off}");
+}
+
+#[test]
+#[ignore = "issue 33, not met yet: the mug at 4 mm keeps genus 1 but 84% of its volume, and is not refused"]
+fn the_mug_made_a_component_keeps_its_walls_or_is_refused() {
+    // True size: a 4 mm wall is one cell at the finest step; it must
+    // either keep genus 1 within 1% or be refused by name, never become
+    // a sieve.
+    match object_as_component("mug.jsonl", 0.004) {
+        Ok(log) => same_shape("mug at 4 mm", &mesh(&log, 2), &mesh(&log, 1), 1.0, 0.01),
+        Err(e) => {
+            let e = sdf_err(e);
+            assert!(matches!(e, SdfError::TooThin { .. }), "{e}");
+            let text = e.to_string();
+            assert!(
+                text.contains("object #1") && text.contains("0.004"),
+                "{text}"
+            );
+        }
+    }
+    // Two and a half times as large (a 1 cm wall): kept.
+    let mut text = data("mug.jsonl");
+    text.push_str(
+        r#"{"op":"set_transform","id":1,"transform":{"translate":[0,0,0],"rotate":[0,0,0,1],"scale":[2.5,2.5,2.5]}}"#,
+    );
+    text.push('\n');
+    let mut log = run(&text);
+    for l in [
+        r#"{"op":"sdf_create","step":0.004}"#,
+        r#"{"op":"sdf_component_from_object","volume":2,"object":1,"name":"mug","csg":"union"}"#,
+        r#"{"op":"sdf_update","volume":2}"#,
+    ] {
+        log.apply(op(l)).unwrap();
+    }
+    same_shape(
+        "mug x2.5 at 4 mm",
+        &mesh(&log, 2),
+        &mesh(&log, 1),
+        1.0,
+        0.01,
+    );
+}
+
+#[test]
+fn a_copy_of_the_fused_cup_is_the_cup() {
+    let mut log = run(&data("csg_cup.jsonl"));
+    let cup = mesh(&log, 1);
+    log.apply(op(r#"{"op":"sdf_copy_fused","volume":1,"name":"cup","csg":"union","transform":{"translate":[0.41,0.013,0.0071],"rotate":[0,0,0,1],"scale":[1,1,1]}}"#))
+        .unwrap();
+    log.apply(op(r#"{"op":"sdf_update","volume":1}"#)).unwrap();
+    let both = report(&mesh(&log, 1));
+    let one = report(&cup);
+    assert_eq!(both.components, 2);
+    assert_eq!(both.genus, Some(2), "two cups, a handle each");
+    let ratio = both.signed_volume / (2.0 * one.signed_volume);
+    eprintln!("cup and its copy: volume ratio {ratio:.4}");
+    assert!((ratio - 1.0).abs() < 0.01, "copy volume ratio {ratio}");
+}
+
+#[test]
+fn the_fused_cup_moved_at_half_scale_keeps_its_shape() {
+    // Before, the move resampled at the volume's step: 7 pieces, -42%.
+    let mut log = run(&data("csg_cup.jsonl"));
+    let cup = mesh(&log, 1);
+    log.apply(op(r#"{"op":"sdf_move_fused","volume":1,"transform":{"translate":[0,0,0],"rotate":[0,0,0,1],"scale":[0.5,0.5,0.5]}}"#))
+        .unwrap();
+    same_shape("cup moved at scale 0.5", &mesh(&log, 1), &cup, 0.5, 0.01);
+}
+
+#[test]
+#[ignore = "issue 33, not met yet: shrunk to 0.15 (a 2.25 mm wall at the finest step) the cup keeps genus 1 but 61% of its volume, and is not refused"]
+fn a_fused_cup_shrunk_below_the_grid_keeps_its_shape_or_is_refused() {
+    let mut log = run(&data("csg_cup.jsonl"));
+    log.apply(op(r#"{"op":"sdf_move_fused","volume":1,"transform":{"translate":[0,0,0],"rotate":[0,0,0,1],"scale":[0.5,0.5,0.5]}}"#))
+        .unwrap();
+    // A third again (0.15 of the cup) keeps its shape or is refused, and
+    // then the document is unchanged.
+    let before = log.document().content_hash();
+    let half = mesh(&log, 1);
+    match log.apply(op(r#"{"op":"sdf_move_fused","volume":1,"transform":{"translate":[0,0,0],"rotate":[0,0,0,1],"scale":[0.3,0.3,0.3]}}"#)) {
+        Ok(_) => same_shape("cup moved at scale 0.15", &mesh(&log, 1), &half, 0.3, 0.05),
+        Err(e) => {
+            let e = sdf_err(e);
+            assert!(matches!(e, SdfError::TooThin { .. }), "{e}");
+            assert_eq!(log.document().content_hash(), before);
+        }
+    }
+}
