@@ -14,8 +14,7 @@ use super::thicken::{hollow, thicken};
 use super::{ClosedSurfaces, PrintError, PrintSettings};
 use crate::mesh::{
     at_precision_in, self_intersections, snap, union_snapped_with, validate, BooleanError,
-    Precision,
-    TriMesh, ValidationReport, ValidationSettings,
+    Precision, TriMesh, ValidationReport, ValidationSettings,
 };
 
 /// Rounds of snapping: the tolerance is the base times these factors.
