@@ -62,7 +62,7 @@ WINDOWS_SYSTEM_DLLS = {
 WINDOWS_API_SET = re.compile(r"^api-ms-win-[a-z0-9-]+\.dll$")
 # What macOS has at these paths on every machine (the dyld shared cache).
 MACOS_SYSTEM = re.compile(
-    r"^(/usr/lib/lib(System\.B|c\+\+\.1|iconv\.2|resolv\.9|objc\.A)\.dylib"
+    r"^(/usr/lib/lib(System\.B|c\+\+\.1|iconv\.2|charset\.1|resolv\.9|objc\.A)\.dylib"
     r"|/System/Library/Frameworks/[A-Za-z]+\.framework/Versions/[A-Z]/[A-Za-z]+)$"
 )
 # glibc's own libraries and libgcc: on every manylinux_2_28 system.
@@ -130,12 +130,15 @@ def test_wheel_tags_and_record(wheel: Path) -> None:
 @pytest.mark.parametrize("wheel", _wheels(), ids=lambda w: w.name)
 def test_native_module_links_only_python_and_the_system(wheel: Path) -> None:
     platform, data = _native(wheel)
-    binary = lief.parse(list(data))
+    # Mach-O through MachO.parse: it keeps the fat header (lief.parse
+    # returns the first slice as a plain Binary and hides a second one).
+    macos = platform.startswith("macos")
+    binary = lief.MachO.parse(list(data)) if macos else lief.parse(list(data))
     assert binary is not None, f"{wheel.name}: LIEF cannot read the native module"
     machine = PLATFORMS[platform][2]
     if platform.startswith("windows"):
         _check_pe(binary, machine)
-    elif platform.startswith("macos"):
+    elif macos:
         _check_macho(binary, machine, data)
     else:
         _check_elf(binary, machine)
@@ -161,7 +164,8 @@ def _check_macho(fat: lief.MachO.FatBinary, machine: str, raw: bytes) -> None:
     want = {"x86_64": lief.MachO.Header.CPU_TYPE.X86_64, "arm64": lief.MachO.Header.CPU_TYPE.ARM64}
     assert macho.header.cpu_type == want[machine], macho.header.cpu_type
     assert "_PyInit__native" in {s.name for s in macho.exported_symbols}
-    libs = [lib.name for lib in macho.libraries]
+    # The libraries it loads (LC_ID_DYLIB, the module's own name, is no load).
+    libs = [lib.name for lib in macho.libraries if lib.command != lief.MachO.LoadCommand.TYPE.ID_DYLIB]
     assert libs, "no load commands for libraries"
     foreign = [lib for lib in libs if not MACOS_SYSTEM.match(lib)]
     assert not foreign, f"links libraries macOS does not have: {foreign}"
