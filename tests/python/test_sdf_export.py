@@ -8,20 +8,12 @@ from __future__ import annotations
 import subprocess
 from pathlib import Path
 
-import numpy as np
 import pytest
+from test_print import read_stl  # millimetres, as the host writes STL
 
 manifold3d = pytest.importorskip("manifold3d")
 
 DATA = Path(__file__).resolve().parents[2] / "tests" / "data"
-
-
-def read_stl(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    """Binary STL -> vertices welded by value, triangles."""
-    data = path.read_bytes()
-    rec = np.frombuffer(data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
-    verts, inv = np.unique(rec["v"].reshape(-1, 3), axis=0, return_inverse=True)
-    return verts.astype(np.float32), inv.reshape(-1, 3).astype(np.uint32)
 
 
 def export(host_bin: Path, script: Path, out: Path) -> manifold3d.Manifold:

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_print import read_stl  # millimetres, as the host writes STL
 
 manifold3d = pytest.importorskip("manifold3d")
 M = manifold3d.Manifold
@@ -26,16 +27,6 @@ CS = manifold3d.CrossSection
 DATA = Path(__file__).resolve().parents[2] / "tests" / "data"
 STEPS = [round(0.004 + 0.0005 * i, 4) for i in range(17)]
 SEGMENTS = 256
-
-
-def read_stl(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    """Binary STL -> vertices welded by value, triangles."""
-    data = path.read_bytes()
-    n = int.from_bytes(data[80:84], "little")
-    assert len(data) == 84 + 50 * n, "STL length disagrees with its count"
-    rec = np.frombuffer(data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
-    verts, inv = np.unique(rec["v"].reshape(-1, 3), axis=0, return_inverse=True)
-    return verts.astype(np.float32), inv.reshape(-1, 3).astype(np.uint32)
 
 
 def quat_deg(q: list) -> tuple[float, float, float]:
@@ -149,6 +140,7 @@ def test_sdf_scene_topology_matches_exact_csg_at_every_step(
         r = subprocess.run(cmd, capture_output=True, text=True)
         assert r.returncode == 0, r.stderr
         verts, tris = read_stl(out)
+        verts = (verts.astype(np.float64) * 1e-3).astype(np.float32)  # the scenes are in metres
         m = M(manifold3d.Mesh(vert_properties=verts, tri_verts=tris))
         assert m.status() == manifold3d.Error.NoError, (step, m.status())
         got = (m.genus(), len(m.decompose()))
