@@ -21,7 +21,7 @@ trace="${1:-tests/data/teapot.trace.jsonl}"
 name="$(basename "$trace" .trace.jsonl)"
 mkdir -p out
 cargo build --release -q -p shapewright-xr
-bin=target/release/shapewright-xr
+bin="${CARGO_TARGET_DIR:-target}/release/shapewright-xr"
 "$bin" replay "$trace" --out "out/$name.usda" --stl "out/$name.stl" --png "out/$name.png"
 echo
 "$bin" info "out/$name.usda"
