@@ -95,6 +95,11 @@ pub fn check_out(out: &Path) -> Result<()> {
 /// precision of its format), or an error naming the object(s) and why,
 /// before anything is written.
 pub fn print_for(doc: &Document, out: &Path) -> Result<Printable> {
+    print_for_scaled(doc, out, 1.0)
+}
+
+/// [`print_for`] at a uniform `scale` ([`PrintSettings::scale`]).
+pub fn print_for_scaled(doc: &Document, out: &Path, scale: f64) -> Result<Printable> {
     let Some(format) = MeshFormat::from_path(out) else {
         bail!(
             "cannot write {}: unknown extension (use {MESH_EXTENSIONS}, or {} for the document with its op log)",
@@ -102,7 +107,10 @@ pub fn print_for(doc: &Document, out: &Path) -> Result<Printable> {
             shapewright_usd::SAVE_EXTENSIONS
         );
     };
-    let settings = PrintSettings::for_format(format);
+    let settings = PrintSettings {
+        scale,
+        ..PrintSettings::for_format(format)
+    };
     let printed =
         print_document(doc, &settings).with_context(|| format!("{} not written", out.display()))?;
     for part in printed.report.skipped() {

@@ -69,6 +69,15 @@ enum Command {
         /// Write PLY (metres) here.
         #[arg(long)]
         ply: Option<PathBuf>,
+        /// Print at this uniform scale (0.5: half size); walls of
+        /// thickened surfaces keep their thickness.
+        #[arg(long, conflicts_with = "scale_to_fit")]
+        scale: Option<f64>,
+        /// Scale the model down to fit the document's printer (set_printer;
+        /// Prusa MK4 by default), as far as needed and no further; a model
+        /// that fits is written at true size.
+        #[arg(long)]
+        scale_to_fit: bool,
     },
     /// Import the meshes of a USD file (Blender, pxr) into a document as an
     /// SDF library component or a sculpt base mesh, or as a grid brush.
@@ -152,12 +161,19 @@ fn main() -> ExitCode {
             three_mf,
             obj,
             ply,
+            scale,
+            scale_to_fit,
         } => {
             let targets: Vec<&std::path::Path> = [&stl, &three_mf, &obj, &ply]
                 .into_iter()
                 .filter_map(|p| p.as_deref())
                 .collect();
-            usd_cmd::export(&file, &targets)
+            let scale = match (scale, scale_to_fit) {
+                (_, true) => usd_cmd::Scale::ToFit,
+                (Some(s), false) => usd_cmd::Scale::By(s),
+                (None, false) => usd_cmd::Scale::By(1.0),
+            };
+            usd_cmd::export(&file, &targets, scale)
         }
         Command::Replay(args) => replay_cmd::replay(&args),
         Command::Import(args) => import_cmd::import(&args),

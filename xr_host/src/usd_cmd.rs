@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use shapewright::mesh::validate;
-use shapewright::print::{print_document, PrintSettings};
+use shapewright::print::{document_size, print_document, PrintSettings};
 use shapewright_usd::{load_file, LoadOptions, Mismatch};
 
 /// `export FILE.usda --stl/--3mf/--obj/--ply OUT`: the printable model of
@@ -19,7 +19,16 @@ use shapewright_usd::{load_file, LoadOptions, Mismatch};
 /// with the log is replaced by the replayed log (the load does that and
 /// says so), and stored meshes that disagree with the document are only
 /// reported; what is exported is always the log's document.
-pub fn export(file: &Path, targets: &[&Path]) -> Result<()> {
+/// The scale `export` prints at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Scale {
+    /// This factor (1: true size).
+    By(f64),
+    /// Down to fit the document's printer ([`shapewright::print::BedFit::print_scale`]).
+    ToFit,
+}
+
+pub fn export(file: &Path, targets: &[&Path], scale: Scale) -> Result<()> {
     if targets.is_empty() {
         bail!("nothing to export: give --stl, --3mf, --obj and/or --ply with an output path");
     }
@@ -50,10 +59,26 @@ pub fn export(file: &Path, targets: &[&Path]) -> Result<()> {
         );
     }
     let doc = loaded.log.document();
+    let scale = match scale {
+        Scale::By(s) => s,
+        Scale::ToFit => {
+            let fit = document_size(doc).map(|s| s.fit(&doc.print_setup().printer));
+            let s = fit.map_or(1.0, |f| f.print_scale());
+            if let Some(f) = fit.filter(|f| !f.fits) {
+                println!(
+                    "scaled to {:.1}% to fit the {}; at true size it is {}",
+                    s * 100.0,
+                    f.printer.describe(),
+                    f.overhang()
+                );
+            }
+            s
+        }
+    };
     // Every target is checked before any is written.
     let mut printed = Vec::new();
     for path in targets {
-        let p = crate::cmd::print_for(doc, path)
+        let p = crate::cmd::print_for_scaled(doc, path, scale)
             .with_context(|| format!("exporting {}", file.display()))?;
         printed.push((path, p));
     }

@@ -290,7 +290,21 @@ impl BedFit {
             .collect();
         axes.join(", ")
     }
+
+    /// The scale to print at so that the model fits: [`Self::scale_to_fit`]
+    /// rounded down to a tenth of a percent (a number a person can repeat),
+    /// 1 when it fits, never below [`MIN_PRINT_SCALE`]
+    /// ([`super::PrintSettings::scale`]).
+    pub fn print_scale(&self) -> f64 {
+        if self.fits {
+            return 1.0;
+        }
+        ((self.scale_to_fit * 1000.0).floor() / 1000.0).max(MIN_PRINT_SCALE)
+    }
 }
+
+/// The smallest [`super::PrintSettings::scale`]: a tenth of a percent.
+pub const MIN_PRINT_SCALE: f64 = 1e-3;
 
 impl fmt::Display for BedFit {
     /// `fits the Prusa MK4 (250 x 210 x 220 mm)` or `does NOT fit the

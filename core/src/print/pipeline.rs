@@ -8,6 +8,8 @@
 
 use std::collections::BTreeSet;
 
+use glam::{DAffine3, DVec3};
+
 use super::control::{PrintControl, PrintStage};
 use super::report::{PartReport, PrintReport, Treatment};
 use super::thicken::{hollow, thicken};
@@ -231,7 +233,15 @@ fn prepare(
     part: &PrintPart,
     settings: &PrintSettings,
 ) -> Result<(Treatment, Option<TriMesh>), PrintError> {
-    let m = part.mesh;
+    let scaled;
+    let m = if settings.scale == 1.0 {
+        part.mesh
+    } else {
+        let mut s = part.mesh.clone();
+        s.transform(&DAffine3::from_scale(DVec3::splat(settings.scale)));
+        scaled = s;
+        &scaled
+    };
     if m.triangles.is_empty() {
         let reason = if part.surface {
             "no patches yet: nothing to print"

@@ -58,6 +58,12 @@ pub struct PrintSettings {
     /// Coordinates beyond this magnitude (model units) are refused:
     /// 1e6 (a thousand kilometres) by default.
     pub max_abs_coordinate: f64,
+    /// Uniform scale of the printed model, 1 (true size) by default: every
+    /// object is scaled about the origin before it is thickened, so a
+    /// surface printed at 10% still gets walls of `wall_thickness`, the
+    /// thickness a printer needs. Hosts set it from
+    /// [`super::BedFit::scale_to_fit`] (`export --scale-to-fit`).
+    pub scale: f64,
 }
 
 impl Default for PrintSettings {
@@ -69,6 +75,7 @@ impl Default for PrintSettings {
             precision: Precision::F32,
             unit: FileUnit::Millimetre,
             max_abs_coordinate: 1e6,
+            scale: 1.0,
         }
     }
 }
@@ -124,6 +131,13 @@ impl PrintSettings {
                 "max_abs_coordinate",
                 self.max_abs_coordinate,
                 "must be positive, finite and well inside the precision's range",
+            );
+        }
+        if !(self.scale.is_finite() && (super::MIN_PRINT_SCALE..=1e3).contains(&self.scale)) {
+            return bad(
+                "scale",
+                self.scale,
+                "must be between 0.001 and 1000 (1 prints at true size)",
             );
         }
         Ok(())
