@@ -12,8 +12,10 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import struct
 import zlib
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -35,19 +37,44 @@ OTHER = (200, 200, 200)
 SKIP = {"", "Custom", "Skirt", "Skirt/Brim", "Brim", "Wipe tower"}
 
 
-def segments(text: str) -> tuple[np.ndarray, list[tuple[int, int, int]]]:
-    """Extruding moves as rows (x0, y0, x1, y1, z, color index)."""
+@dataclass
+class Extrusions:
+    """What a G-code file extrudes for the model's own features (skirt,
+    brim, wipe tower and custom start/end code left out)."""
+
+    # One row per extruding move: x0, y0, x1, y1, z.
+    moves: np.ndarray
+    # Each move's feature type (`;TYPE:` of PrusaSlicer's G-code).
+    kinds: list[str]
+    # `;LAYER_CHANGE` markers.
+    layers: int
+    # The external perimeter extrusion width in mm, from the G-code's
+    # settings block (None when absent).
+    width: float | None
+
+
+def extrusions(text: str) -> Extrusions:
+    """The extruding moves of `text` (absolute or relative E, `G92 E`
+    resets): the one G-code reader of this preview and of
+    tests/python/test_slicer.py."""
     x = y = z = None
     e_abs = 0.0
     relative = False
     kind = ""
-    palette: list[tuple[int, int, int]] = []
-    index: dict[tuple[int, int, int], int] = {}
-    rows = []
+    rows: list[tuple[float, float, float, float, float]] = []
+    kinds: list[str] = []
+    layers = 0
+    width = None
     for line in text.splitlines():
         if line.startswith(";TYPE:"):
             kind = line[6:].strip()
             continue
+        if line.startswith(";LAYER_CHANGE"):
+            layers += 1
+            continue
+        m = re.match(r"; external perimeters extrusion width = ([\d.]+)mm", line)
+        if m:
+            width = float(m[1])
         code = line.split(";", 1)[0].split()
         if not code:
             continue
@@ -67,13 +94,26 @@ def segments(text: str) -> tuple[np.ndarray, list[tuple[int, int, int]]]:
             if e is not None and not relative:
                 e_abs = e
             if extrudes and kind not in SKIP and None not in (x, y, nx, ny, nz):
-                color = COLORS.get(kind, OTHER)
-                if color not in index:
-                    index[color] = len(palette)
-                    palette.append(color)
-                rows.append((x, y, nx, ny, nz, index[color]))
+                rows.append((x, y, nx, ny, nz))
+                kinds.append(kind)
             x, y, z = nx, ny, nz
-    return np.array(rows, dtype=np.float64).reshape(-1, 6), palette
+    return Extrusions(np.array(rows, dtype=np.float64).reshape(-1, 5), kinds, layers, width)
+
+
+def segments(text: str) -> tuple[np.ndarray, list[tuple[int, int, int]]]:
+    """Extruding moves as rows (x0, y0, x1, y1, z, color index)."""
+    ex = extrusions(text)
+    palette: list[tuple[int, int, int]] = []
+    index: dict[tuple[int, int, int], int] = {}
+    colors = []
+    for kind in ex.kinds:
+        color = COLORS.get(kind, OTHER)
+        if color not in index:
+            index[color] = len(palette)
+            palette.append(color)
+        colors.append(index[color])
+    rows = np.column_stack([ex.moves, np.array(colors, dtype=np.float64)]) if ex.kinds else np.zeros((0, 6))
+    return rows, palette
 
 
 def write_png(path: Path, rgb: np.ndarray) -> None:

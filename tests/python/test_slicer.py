@@ -1,6 +1,8 @@
 """A real slicer reads our printable exits at true size (issue 31).
 
-Each model is exported (`export --stl --3mf`) and handed to Debian's
+Each model is exported (`export --stl --3mf --scale-to-fit`: true size,
+or scaled down to fit the document's printer as a user prints a model too
+big for the bed, like the 4 m sculpted bust) and handed to Debian's
 PrusaSlicer 2.5 (`prusa-slicer`, headless), which must:
 - read it (`--info`) at the size and volume the print path reported for
   the document (the bounding box to 0.02 mm, the volume to 0.1%), every
@@ -28,12 +30,16 @@ import re
 import shutil
 import struct
 import subprocess
+import sys
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+from gcode_preview import extrusions  # noqa: E402
 
 PRUSA = shutil.which("prusa-slicer")
 pytestmark = pytest.mark.skipif(
@@ -100,7 +106,7 @@ def export(host_bin: Path, name: str, work: Path) -> tuple[Path, Path, Expected]
         r = run([host_bin, "apply", src, "--out", usda])
     assert r.returncode == 0, r.stderr
     stl, tmf = work / f"{name}.stl", work / f"{name}.3mf"
-    r = run([host_bin, "export", usda, "--stl", stl, "--3mf", tmf])
+    r = run([host_bin, "export", usda, "--stl", stl, "--3mf", tmf, "--scale-to-fit"])
     assert r.returncode == 0, r.stderr
     return stl, tmf, expected_of(r.stdout)
 
@@ -124,51 +130,16 @@ def prusa_info(path: Path) -> list[dict[str, str]]:
 def gcode_extent(gcode: str) -> tuple[np.ndarray, np.ndarray, float, int, float]:
     """Low and high corners (x, y, z) of the extruding moves of the
     model's own features, the top layer's z, the layer count and the
-    external perimeter width, all read from the G-code."""
-    x = y = z = None
-    e_abs = 0.0
-    relative = False
-    kind = ""
-    lo = np.full(3, np.inf)
-    hi = np.full(3, -np.inf)
-    layers = 0
-    width = None
-    for line in gcode.splitlines():
-        if line.startswith(";TYPE:"):
-            kind = line[6:].strip()
-            continue
-        if line.startswith(";LAYER_CHANGE"):
-            layers += 1
-            continue
-        m = re.match(r"; external perimeters extrusion width = ([\d.]+)mm", line)
-        if m:
-            width = float(m[1])
-        code = line.split(";", 1)[0].split()
-        if not code:
-            continue
-        if code[0] == "M83":
-            relative = True
-        elif code[0] == "M82":
-            relative = False
-        elif code[0] == "G92":
-            for w in code[1:]:
-                if w[0] == "E":
-                    e_abs = float(w[1:])
-        elif code[0] in ("G0", "G1"):
-            d = {w[0]: float(w[1:]) for w in code[1:] if w[0] in "XYZEF"}
-            nx, ny, nz = d.get("X", x), d.get("Y", y), d.get("Z", z)
-            e = d.get("E")
-            extrudes = e is not None and (e > 0 if relative else e > e_abs)
-            if e is not None and not relative:
-                e_abs = e
-            model_feature = kind not in ("", "Custom", "Skirt", "Skirt/Brim", "Brim", "Wipe tower")
-            if extrudes and model_feature and None not in (x, y, nx, ny, nz):
-                for p in ((x, y, nz), (nx, ny, nz)):
-                    lo = np.minimum(lo, p)
-                    hi = np.maximum(hi, p)
-            x, y, z = nx, ny, nz
-    assert width is not None, "no external perimeter width in the G-code"
-    return lo, hi, float(hi[2]), layers, width
+    external perimeter width, all read from the G-code (by
+    scripts/gcode_preview.py's reader)."""
+    ex = extrusions(gcode)
+    assert ex.width is not None, "no external perimeter width in the G-code"
+    assert len(ex.moves), "no extruding moves in the G-code"
+    starts = ex.moves[:, [0, 1, 4]]
+    ends = ex.moves[:, [2, 3, 4]]
+    lo = np.minimum(starts.min(axis=0), ends.min(axis=0))
+    hi = np.maximum(starts.max(axis=0), ends.max(axis=0))
+    return lo, hi, float(hi[2]), ex.layers, ex.width
 
 
 def check(path: Path, expected: Expected, work: Path, always_slice: bool = True) -> list[str]:
@@ -223,6 +194,39 @@ def test_slices_at_true_size(name: str, host_bin: Path, tmp_path: Path) -> None:
     stl, tmf, expected = export(host_bin, name, tmp_path)
     problems = check(stl, expected, tmp_path) + check(tmf, expected, tmp_path)
     assert not problems, "\n".join(problems)
+
+
+def test_a_model_too_big_for_the_bed_is_scaled_to_fit(host_bin: Path, tmp_path: Path) -> None:
+    """`export --scale-to-fit`: the sculpted bust (4 m tall as authored)
+    comes out as large as the document's printer (Prusa MK4, 250 x 210 x
+    220 mm) takes, at the volume the scale implies, and PrusaSlicer reads
+    it at that size (slicing it is `scripts/slice_all.sh`'s)."""
+    usda = tmp_path / "bust.usda"
+    assert run([host_bin, "apply", DATA / "bust.jsonl", "--out", usda]).returncode == 0
+    true_size = tmp_path / "true.3mf"
+    r = run([host_bin, "export", usda, "--3mf", true_size])
+    assert r.returncode == 0, r.stderr
+    assert "does NOT fit the Prusa MK4" in r.stdout, r.stdout
+    full = expected_of(r.stdout)
+    fitted = tmp_path / "fitted.3mf"
+    r = run([host_bin, "export", usda, "--3mf", fitted, "--scale-to-fit"])
+    assert r.returncode == 0, r.stderr
+    m = re.search(r"scaled to ([\d.]+)% to fit the Prusa MK4", r.stdout)
+    assert m, r.stdout
+    scale = float(m[1]) / 100.0
+    assert "printer    fits the Prusa MK4" in r.stdout, r.stdout
+    got = expected_of(r.stdout)
+    # As large as fits: the scale is the fitting one rounded down to 0.1%,
+    # so the tightest axis is within that rounding of the bed.
+    bed = np.array([250.0, 210.0, 220.0])
+    size = np.array(got.size)
+    assert np.all(size <= bed + 1e-6) or np.all(size[[1, 0, 2]] <= bed + 1e-6), got
+    assert max(size / bed) >= 1 - 1e-3 / scale, (got.size, scale)
+    assert np.allclose(got.size, np.array(full.size) * scale, rtol=1e-4), (got.size, full.size, scale)
+    assert abs(got.volume / (full.volume * scale**3) - 1) < 1e-3, (got.volume, full.volume, scale)
+    info = prusa_info(fitted)
+    size = np.array([float(info[0][f"size_{a}"]) for a in "xyz"])
+    assert np.abs(size - np.array(got.size)).max() < 0.02, (size, got.size)
 
 
 def scale_stl(src: Path, dst: Path, factor: float) -> None:
