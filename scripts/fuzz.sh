@@ -3,6 +3,9 @@
 # each for a fixed time over its checked-in seed corpus (fuzz/corpus/T),
 # which holds every reproducer of issue 22 as a regression case.
 #   bash scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]
+#   SW_FUZZ_BUILD_ONLY=1 bash scripts/fuzz.sh   only builds (test.sh builds
+#       in the background while the tests run, then runs the targets)
+#   SW_FUZZ_JOBS=N   runs N targets at a time (default: one per core)
 # Defaults: 45 s, the CI targets below. Prints executions and findings per
 # target; exits 1 when any target found a crash, a leak of the limits or a
 # timeout (the reproducer is in fuzz/out/artifacts/T/: turn it into a test
@@ -30,12 +33,13 @@ target_dir="${SW_FUZZ_TARGET_DIR:-$root/fuzz/target}"
 echo "== fuzz: building ${targets[*]} ($triple)"
 (cd "$root/fuzz" && cargo build --release -q --target "$triple" --target-dir "$target_dir" \
   $(printf -- '--bin %s ' "${targets[@]}"))
+[ "${SW_FUZZ_BUILD_ONLY:-}" = 1 ] && exit 0
 out="$root/fuzz/out"
-failed=0
-for t in "${targets[@]}"; do
-  work="$out/corpus/$t"; art="$out/artifacts/$t"
+# One target per core at a time: libFuzzer runs one thread.
+jobs="${SW_FUZZ_JOBS:-$(nproc)}"
+fuzz_one() {
+  local t=$1 work="$out/corpus/$1" art="$out/artifacts/$1" log="$out/$1.log" rc
   mkdir -p "$work" "$art"
-  log="$out/$t.log"
   # -timeout: one input may take at most 20 s; -rss_limit_mb and
   # -malloc_limit_mb turn a runaway allocation into a finding instead of
   # an abort of the machine.
@@ -45,8 +49,21 @@ for t in "${targets[@]}"; do
     -artifact_prefix="$art/" -print_final_stats=1 >"$log" 2>&1
   rc=$?
   set -e
+  echo "$rc" >"$out/$t.rc"
+}
+pending=("${targets[@]}")
+while [ "${#pending[@]}" -gt 0 ]; do
+  batch=("${pending[@]:0:$jobs}")
+  pending=("${pending[@]:$jobs}")
+  for t in "${batch[@]}"; do fuzz_one "$t" & done
+  wait
+done
+failed=0
+for t in "${targets[@]}"; do
+  rc="$(cat "$out/$t.rc")"
+  log="$out/$t.log"
   execs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)"
-  found="$(find "$art" -type f | wc -l)"
+  found="$(find "$out/artifacts/$t" -type f | wc -l)"
   echo "fuzz $t: ${execs:-?} executions in ${secs} s, $found findings (exit $rc)"
   if [ "$rc" -ne 0 ] || [ "$found" -ne 0 ]; then
     failed=1
