@@ -30,6 +30,12 @@ export RUSTFLAGS="--cfg fuzzing -Cpasses=sancov-module -Cllvm-args=-sanitizer-co
 -Cllvm-args=-sanitizer-coverage-inline-8bit-counters -Cllvm-args=-sanitizer-coverage-pc-table \
 -Cllvm-args=-sanitizer-coverage-trace-compares -Cdebug-assertions -Coverflow-checks"
 target_dir="${SW_FUZZ_TARGET_DIR:-$root/fuzz/target}"
+# SW_FUZZ_QUICK_BUILD=1 (CI's short runs): optimise less, for a shorter
+# build, in its own target dir; long runs keep the full build.
+if [ "${SW_FUZZ_QUICK_BUILD:-}" = 1 ]; then
+  export CARGO_PROFILE_RELEASE_OPT_LEVEL=1
+  target_dir="${SW_FUZZ_TARGET_DIR:-$root/fuzz/target-quick}"
+fi
 echo "== fuzz: building ${targets[*]} ($triple)"
 (cd "$root/fuzz" && cargo build --release -q --target "$triple" --target-dir "$target_dir" \
   $(printf -- '--bin %s ' "${targets[@]}"))

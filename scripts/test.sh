@@ -9,7 +9,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # in the debug build): no incremental caches and no pip cache there, and
 # each stage prints the space left where the target dir lives.
 if [ "${CI:-}" = "true" ]; then
-  export CARGO_INCREMENTAL=0 PIP_NO_CACHE_DIR=1
+  export CARGO_INCREMENTAL=0 PIP_NO_CACHE_DIR=1 SW_FUZZ_QUICK_BUILD=1
 fi
 source "$root/scripts/setup.sh"
 cd "$root"
