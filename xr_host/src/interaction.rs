@@ -764,7 +764,7 @@ impl Interaction {
         if self.print_status.0 != self.scene.version {
             self.print_status = (
                 self.scene.version,
-                shapewright::print::print_status(&self.doc),
+                shapewright::doc::print_status(&self.doc),
             );
         }
         crate::ui::overlay(
