@@ -3,11 +3,8 @@
 
 use std::time::Duration;
 
-use shapewright::doc::shared::{
-    colour_for, Presence, PresencePose, PRESENCE_HZ, PRESENCE_STALE_SECS,
-};
+use shapewright::doc::shared::{colour_for, Presence, PRESENCE_HZ, PRESENCE_STALE_SECS};
 use shapewright::doc::ObjectId;
-use shapewright::interact;
 
 use super::commit::*;
 use super::frame::*;
@@ -28,25 +25,11 @@ impl Interaction {
         }
         self.presence_sent = f.time;
         let to_model = self.session.model().inverse();
-        let pose = |p: &interact::Pose| PresencePose {
-            p: to_model.apply(p.position).as_vec3().to_array(),
-            q: (to_model.rotate * p.orientation)
-                .normalize()
-                .as_quat()
-                .to_array(),
-        };
-        let hand = |h: interact::Hand| {
-            f.controller(h)
-                .and_then(|c| c.grip)
-                .or_else(|| f.hand(h).and_then(|j| j.pose(interact::Joint::Palm)))
-                .map(|p| pose(&p))
-        };
-        channel.send(&Presence {
-            head: f.head.as_ref().map(pose),
-            hands: [hand(interact::Hand::Left), hand(interact::Hand::Right)],
-            selected: self.session.preview().selected.map(|id| id.0),
-            ..Presence::empty()
-        });
+        channel.send(&Presence::from_frame(
+            f,
+            &to_model,
+            self.session.preview().selected.map(|id| id.0),
+        ));
     }
 
     /// The other participants heard from lately, placed in this person's
