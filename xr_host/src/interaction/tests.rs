@@ -1,3 +1,7 @@
+//! Tests of the interaction step: stepping a trace matches the core's
+//! replay bit for bit, commits apply in order off the frame, autosave and
+//! its failures, a frame never waiting for a commit, and message wrapping.
+
 use std::sync::mpsc;
 use std::sync::Arc;
 use std::time::{Duration, Instant};

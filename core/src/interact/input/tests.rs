@@ -1,3 +1,7 @@
+//! Tests of the input layer: the sanitizer against bad frames (NaN,
+//! lost tracking, time going backwards) and traces keeping non-finite
+//! numbers.
+
 use super::joints::*;
 use super::pose::*;
 use super::raw::*;
