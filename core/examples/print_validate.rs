@@ -19,12 +19,13 @@
 
 use std::time::Instant;
 
+use shapewright::doc::print_document;
 use shapewright::doc::{parse_script, run_script, Op, OpLog, ScriptCommand};
 use shapewright::interact::trace::{replay, Trace};
 use shapewright::mesh::{
     at_precision, self_intersections, validate, write_stl, Precision, TriMesh, ValidationSettings,
 };
-use shapewright::print::{check_edit, print_document, PrintSettings};
+use shapewright::print::{check_edit, PrintSettings};
 use shapewright::solid::{tessellate, SolidShape};
 
 fn stats(mut v: Vec<f64>) -> String {

@@ -291,7 +291,8 @@ fn refusals_name_the_relation() {
 /// slivers (Manifold's own clean-up) and the table prints.
 #[test]
 fn a_table_with_an_overlapping_copy_prints() {
-    use shapewright::print::{print_document, PrintSettings};
+    use shapewright::doc::print_document;
+    use shapewright::print::PrintSettings;
     let mut text = common::data("table.jsonl");
     text.push_str(r#"{"op": "gc_copy", "id": 1, "part": 0, "translate": [0.2, 0, 0]}"#);
     text.push('\n');

@@ -1,10 +1,11 @@
 //! The op log end to end: undo/redo/replay bit-identity, atomic failures,
 //! the redo tail, ids, scripts and their errors.
 
+use shapewright::doc::print_document;
 use shapewright::doc::*;
 use shapewright::math::Transform;
 use shapewright::mesh::validate;
-use shapewright::print::{print_document, PrintSettings};
+use shapewright::print::PrintSettings;
 use shapewright::solid::SolidShape;
 
 fn sphere(r: f64) -> Op {

@@ -10,15 +10,14 @@
 //! run on the same kind of files); every failure is a typed error naming
 //! the object(s).
 
+use shapewright::doc::print_document;
 use shapewright::doc::{
     parse_script, run_script, AddSolid, Document, LogError, Op, OpError, OpLog,
 };
 use shapewright::mesh::{
     manifold_accepts, read_stl, validate, write_stl, TriMesh, ValidationSettings,
 };
-use shapewright::print::{
-    print_document, ClosedSurfaces, PrintError, PrintSettings, Printable, Treatment,
-};
+use shapewright::print::{ClosedSurfaces, PrintError, PrintSettings, Printable, Treatment};
 use shapewright::solid::SolidShape;
 
 mod common;

@@ -12,12 +12,13 @@
 //! the document unchanged; under `flag` they apply and printing refuses
 //! naming the object.
 
+use shapewright::doc::print_document;
 use shapewright::doc::{Document, LogError, Op, OpError, OpLog};
 use shapewright::mesh::{
     manifold_accepts, read_stl, self_intersections, validate, write_stl, ValidationSettings,
 };
 use shapewright::print::{
-    print_document, PrintError, PrintSettings, SelfIntersectionPolicy, SetWallThickness, Treatment,
+    PrintError, PrintSettings, SelfIntersectionPolicy, SetWallThickness, Treatment,
     MAX_WALL_THICKNESS, MIN_WALL_THICKNESS,
 };
 

@@ -7,8 +7,9 @@
 mod common;
 
 use common::{data, run};
+use shapewright::doc::print_document;
 use shapewright::doc::Op;
-use shapewright::print::{print_document, PrintSettings};
+use shapewright::print::PrintSettings;
 
 fn op(json: &str) -> Op {
     serde_json::from_str(json).unwrap_or_else(|e| panic!("{json}: {e}"))

@@ -43,14 +43,7 @@ GEOMETRY = {
 HOSTS = ("shapewright_xr", "shapewright_py", "shapewright_net", "shapewright_usd")
 
 # (kind, from, to) -> why it is still here and what removes it.
-KNOWN = {
-    ("up", "print", "doc"): "print/document.rs bridges the printable path to "
-    "the document; it moves into doc/ (issue 36)",
-    ("circle", "doc", "print"): "the same file: doc uses print's pipeline and print/document.rs uses doc",
-    ("circle", "assembly", "gc"): "gc/assembly.rs stores assembly::Attachment "
-    "and RecordedRelations in the GC model; the loop breaks when those types "
-    "move down into gc/ (issue 36)",
-}
+KNOWN: dict[tuple[str, str, str], str] = {}
 
 CFG_TEST_MOD = re.compile(r"#\[cfg\(test\)\]\s*(?:#\[[^\]]*\]\s*)*(?:pub(?:\([^)]*\))?\s+)?mod\s+(\w+)\s*;")
 CFG_TEST_INLINE = re.compile(r"#\[cfg\(test\)\]\s*(?:#\[[^\]]*\]\s*)*(?:pub(?:\([^)]*\))?\s+)?mod\s+\w+\s*\{")

@@ -4,11 +4,10 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
+use shapewright::doc::{document_names, print_document};
 use shapewright::doc::{parse_script, run_script_with, Document, OpLog};
 use shapewright::mesh::{self, MeshFormat, ValidationReport, MESH_EXTENSIONS};
-use shapewright::print::{
-    document_names, print_document, PrintSettings, Printable, PrintedSize, Printer,
-};
+use shapewright::print::{PrintSettings, Printable, PrintedSize, Printer};
 pub use shapewright_xr::files::read_mesh;
 
 /// `apply SCRIPT --out FILE`.

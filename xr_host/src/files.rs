@@ -18,7 +18,7 @@ pub fn write_mesh(mesh: &TriMesh, path: &Path) -> Result<Written> {
 
 /// Writes `mesh` in the format named by `path`'s extension, crash-safely,
 /// naming its parts (3MF objects) by `names` (the document's names by
-/// object id, [`shapewright::print::document_names`]).
+/// object id, [`shapewright::doc::document_names`]).
 pub fn write_mesh_named(mesh: &TriMesh, names: &PartNames, path: &Path) -> Result<Written> {
     let Some(format) = MeshFormat::from_path(path) else {
         bail!(

@@ -9,10 +9,11 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
+use shapewright::doc::print_document;
 use shapewright::doc::OpLog;
 use shapewright::interact::Trace;
 use shapewright::mesh::MeshFormat;
-use shapewright::print::{print_document, PrintSettings};
+use shapewright::print::PrintSettings;
 use shapewright_xr::interaction::Interaction;
 use shapewright_xr::render::{render_mesh_png, RenderSettings};
 use shapewright_xr::xr::quantile;

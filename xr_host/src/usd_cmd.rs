@@ -4,8 +4,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
+use shapewright::doc::{document_size, print_document};
 use shapewright::mesh::validate;
-use shapewright::print::{document_size, print_document, PrintSettings};
+use shapewright::print::PrintSettings;
 use shapewright_usd::{load_file, LoadOptions, Mismatch};
 
 /// `export FILE.usda --stl/--3mf/--obj/--ply OUT`: the printable model of

@@ -1,5 +1,5 @@
 //! Long work off Blender's UI thread. An [`ExportJob`] runs the core's one
-//! print path (`shapewright::print::print_document_with`) on a copy of the
+//! print path (`shapewright::doc::print_document_with`) on a copy of the
 //! document (meshes are shared, so the copy is cheap) on a thread of its
 //! own and writes the result, while Blender keeps drawing; the same job
 //! without a path is the History panel's printability check, so the panel
@@ -25,10 +25,10 @@ use std::thread::JoinHandle;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use shapewright::doc::Document;
+use shapewright::doc::{document_names, print_document_with};
 use shapewright::mesh::{MeshFormat, PartNames, TriMesh, MESH_EXTENSIONS};
 use shapewright::print::{
-    document_names, print_document_with, BedFit, PrintControl, PrintError, PrintReport,
-    PrintSettings, PrintStage, PrintedSize,
+    BedFit, PrintControl, PrintError, PrintReport, PrintSettings, PrintStage, PrintedSize,
 };
 
 use crate::doc::Session;
@@ -200,7 +200,7 @@ pub(crate) fn print_status_dict<'py>(
     py: Python<'py>,
     doc: &Document,
 ) -> PyResult<Option<Bound<'py, PyDict>>> {
-    let Some(status) = py.detach(|| shapewright::print::print_status(doc)) else {
+    let Some(status) = py.detach(|| shapewright::doc::print_status(doc)) else {
         return Ok(None);
     };
     let d = PyDict::new(py);

@@ -23,11 +23,7 @@ use crate::placement::Pose;
 pub struct Presence(pub(crate) CorePresence);
 
 fn to_core(p: &Pose) -> PresencePose {
-    let q = p.0.orientation;
-    PresencePose {
-        p: p.0.position.as_vec3().to_array(),
-        q: [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
-    }
+    PresencePose::from_pose(&p.0)
 }
 
 fn from_core(p: &PresencePose) -> Pose {

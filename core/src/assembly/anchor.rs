@@ -3,31 +3,10 @@
 //! `(n, t, n x t)` at an anchor.
 
 use glam::{DAffine3, DVec3};
-use serde::{Deserialize, Serialize};
 
 use super::AssemblyError;
-use crate::gc::Gc;
+use crate::gc::{Anchor, Gc};
 use crate::nurbs::NurbsSurface;
-
-/// A point of a parent's side surface `S(u, v)` (`u` around the sections,
-/// `v` the spine parameter).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Anchor {
-    /// Parameter around the section.
-    pub u: f64,
-    /// Spine parameter.
-    pub v: f64,
-}
-
-/// How a child is attached to its parent: its spine starts at `start`,
-/// and a handle's spine also ends at `end` (a spout's end is free).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Attachment {
-    /// Anchor of the spine's start (the picked point).
-    pub start: Anchor,
-    /// Anchor of the spine's end, for a handle.
-    pub end: Option<Anchor>,
-}
 
 /// The closest point of a surface to a query point.
 #[derive(Clone, Copy, Debug, PartialEq)]

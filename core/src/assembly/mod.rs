@@ -57,9 +57,9 @@ mod union;
 
 pub mod edit;
 
+pub use crate::gc::{Anchor, Attachment, RecordedRelations};
 pub use anchor::{
-    anchor_frame, anchor_frame_in_plane, project_near, project_to_surface, Anchor, Attachment,
-    Projection,
+    anchor_frame, anchor_frame_in_plane, project_near, project_to_surface, Projection,
 };
 pub use cache::{CacheStats, UnionCache};
 pub use edit::{ChildEnd, GcAddChild, GcCopy, GcEditPart, GcTransformPart, PartEdit};
@@ -72,7 +72,7 @@ pub use relations::{
 pub use rigid::{flip_profile, mirror_gc, mirror_plane, reflect, transform_gc};
 pub use structure::{
     check_relations, ensure_recorded, propagate_edit, record_new_part, GcRelease, MirrorEdit,
-    RecordedRelations, RelationKind, RELATION_TOLERANCE,
+    RelationKind, RELATION_TOLERANCE,
 };
 pub use union::{union_mesh, union_mesh_cached};
 

@@ -44,41 +44,8 @@ use super::{
     flip_profile, mirror_plane, project_to_surface, reattach_descendants, reflect, AssemblyError,
     Attachment, GcEditPart, PartEdit,
 };
-use crate::gc::{self, Gc, GcAssembly, GcEdit, GcError, PartId};
+use crate::gc::{self, Gc, GcAssembly, GcEdit, GcError, PartId, RecordedRelations};
 use crate::nurbs::euclidean;
-
-/// Relations recorded between the parts of an assembly, each pair
-/// `(i, j)` with `i < j`.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct RecordedRelations {
-    /// Same parent, mirror images about the parent's spine plane.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub symmetric: Vec<(usize, usize)>,
-    /// Spines in one plane.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub coplanar: Vec<(usize, usize)>,
-    /// Parent and child with straight spines on one line.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub concentric: Vec<(usize, usize)>,
-}
-
-impl RecordedRelations {
-    /// The recorded twins of `part`.
-    pub fn twins_of(&self, part: usize) -> Vec<usize> {
-        self.symmetric
-            .iter()
-            .filter_map(|&(a, b)| {
-                if a == part {
-                    Some(b)
-                } else if b == part {
-                    Some(a)
-                } else {
-                    None
-                }
-            })
-            .collect()
-    }
-}
 
 /// A relation of §3.3, as an error names it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]

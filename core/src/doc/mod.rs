@@ -33,6 +33,7 @@ mod log;
 mod object;
 pub mod ops;
 mod origin;
+mod printable;
 pub mod schema;
 mod script;
 pub mod shared;
@@ -46,6 +47,10 @@ pub use object::{KindOf, Object, ObjectKind, Solid};
 pub use ops::{
     AddSolid, Apply, Create, Delete, Duplicate, Edit, EditCx, EditSolid, ObjectCreate, ObjectEdit,
     Op, OpOutcome, RenameObject, ReserveIds, SetTransform, TransformBy, OP_KINDS, OP_NAMES,
+};
+pub use printable::{
+    document_names, document_parts, document_size, print_document, print_document_with,
+    print_status,
 };
 pub use script::{
     parse_script, run_script, run_script_with, ScriptCommand, ScriptError, ScriptErrorKind,

@@ -20,7 +20,7 @@ pub struct GcPart {
     /// Where a child sits on its parent's surface (see
     /// [`crate::assembly`]); `None` for roots.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub attach: Option<crate::assembly::Attachment>,
+    pub attach: Option<super::Attachment>,
 }
 
 /// An assembly of generalized cylinders.
@@ -32,7 +32,7 @@ pub struct GcAssembly {
     /// [`crate::assembly::RecordedRelations`]); `None` in assemblies saved
     /// before relations were recorded, which get them detected once.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub relations: Option<crate::assembly::RecordedRelations>,
+    pub relations: Option<super::RecordedRelations>,
 }
 
 impl GcAssembly {

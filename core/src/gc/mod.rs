@@ -23,15 +23,18 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod assembly;
+mod attachment;
 pub mod budget;
 mod edit;
 pub mod edits;
 mod error;
 mod mesh;
 mod model;
+mod relations;
 mod section;
 
 pub use assembly::{GcAssembly, GcPart};
+pub use attachment::{Anchor, Attachment};
 pub use edits::{
     build_gc, edit_part_gc, GcBend, GcCreate, GcDeleteSection, GcEdit, GcInsertSection,
     GcReplaceSection, GcReplaceSpine, GcResize, GcSetResolution, GcSetShape, GcShift, GcTwist,
@@ -43,6 +46,7 @@ pub use model::{
     fit_spine, ClosedEnd, Gc, Resolution, ShapeType, Spine, SpineFrames, MAX_SPINE_POINTS,
     RMF_STEPS,
 };
+pub use relations::RecordedRelations;
 pub use section::{loop_self_intersects, signed_area, KeySection, Profile, MAX_CURVE_DEGREE};
 
 #[cfg(test)]

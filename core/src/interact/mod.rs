@@ -33,6 +33,7 @@ mod modeler_op_tests;
 #[cfg(test)]
 mod modeler_tests;
 pub mod palette;
+mod presence;
 pub mod reach;
 mod session;
 pub mod snap;

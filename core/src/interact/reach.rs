@@ -193,11 +193,26 @@ const TOOL_SOURCES: [(&str, &[&str]); 5] = [
         &[
             include_str!("tools/gc_tool/create.rs"),
             include_str!("tools/gc_tool/edit.rs"),
+            include_str!("tools/gc_tool/state.rs"),
             include_str!("tools/gc_tool/tool.rs"),
         ],
     ),
-    ("csg", &[include_str!("tools/csg_tool.rs")]),
-    ("curve", &[include_str!("tools/curve_tool.rs")]),
+    (
+        "csg",
+        &[
+            include_str!("tools/csg_tool/settings.rs"),
+            include_str!("tools/csg_tool/gestures.rs"),
+            include_str!("tools/csg_tool/tool.rs"),
+        ],
+    ),
+    (
+        "curve",
+        &[
+            include_str!("tools/curve_tool/settings.rs"),
+            include_str!("tools/curve_tool/modes.rs"),
+            include_str!("tools/curve_tool/tool.rs"),
+        ],
+    ),
     ("sculpt", &[include_str!("tools/brush_tool.rs")]),
 ];
 

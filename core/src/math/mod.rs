@@ -6,17 +6,11 @@
 
 pub mod frames;
 mod mirror;
+mod tolerance;
 mod transform;
 
 pub use frames::{double_reflection, rmf_step, Frame};
 pub use glam::{DAffine3, DMat3, DMat4, DQuat, DVec2, DVec3};
 pub use mirror::{reflect, MirrorError, MirrorPlane};
+pub use tolerance::{all_finite, LENGTH_EPS};
 pub use transform::{Transform, TransformError};
-
-/// Lengths below this (in model units, metres) are treated as zero.
-pub const LENGTH_EPS: f64 = 1e-12;
-
-/// True when every component is finite.
-pub fn all_finite(v: &[f64]) -> bool {
-    v.iter().all(|x| x.is_finite())
-}

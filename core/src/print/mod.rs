@@ -1,6 +1,6 @@
 //! The one printable path: every exit that writes a model for printing
 //! (`apply --out`, `replay --stl`, `export`, the Blender export, the
-//! headset's save) calls [`print_document`] (or [`printable`] on parts it
+//! headset's save) calls [`crate::doc::print_document`] (or [`printable`] on parts it
 //! gathered itself) and writes the mesh it returns, or shows the error.
 //!
 //! What it does, in order (SPEC "Across all four": the printable model is
@@ -57,7 +57,6 @@
 //!   capped at 2), so creases keep the wall thickness up to 120 degrees.
 
 mod control;
-mod document;
 mod error;
 mod fit;
 mod pipeline;
@@ -68,10 +67,6 @@ mod tests;
 mod thicken;
 
 pub use control::{PrintControl, PrintProgress, PrintStage};
-pub use document::{
-    document_names, document_parts, document_size, print_document, print_document_with,
-    print_status,
-};
 pub use error::PrintError;
 pub use fit::{
     mm3, BedFit, PrintStatus, PrintedSize, Printer, PrinterPreset, SetPrinter, MAX_BED_SIDE,

@@ -42,7 +42,7 @@ pub enum ClosedSurfaces {
 pub struct PrintSettings {
     /// Wall thickness of thickened surfaces, in model units (metres):
     /// 0.002 (2 mm) by default, enough for FDM and resin printers.
-    /// [`super::print_document`] takes it from the document's
+    /// [`crate::doc::print_document`] takes it from the document's
     /// [`PrintSetup`]; [`super::printable`] uses it as given.
     pub wall_thickness: f64,
     /// Where the wall lies relative to an open surface.

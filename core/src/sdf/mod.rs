@@ -4,7 +4,8 @@
 //! - [`mc`]: our own watertight marching cubes (§5.1's extraction), the
 //!   core guarantee: a closed oriented 2-manifold, even with exact zeros.
 //! - [`grid`]: the scene SDF as sparse 8³ bricks, narrow band, no extent.
-//! - [`extract`]: extraction brick by brick and stitching into one mesh.
+//! - [`extract`]: extraction brick by brick (stitching the pieces into one
+//!   mesh: `assemble.rs`).
 //! - [`features`]: sharp edges and corners kept (feature-sensitive fans
 //!   with exact normals from the operands).
 //! - [`analytic`], [`dense`], [`placement`]: component fields, trilinear
@@ -34,6 +35,7 @@
 //! is not manifold-safe).
 
 pub mod analytic;
+mod assemble;
 pub mod budget;
 pub mod cache;
 pub mod csg;

@@ -6,9 +6,10 @@
 use super::network::CurveNetwork;
 use super::patch::MeshSample;
 use super::surface_hold::PatchSampler;
+use crate::doc::print_document;
 use crate::doc::{Op, OpLog};
 use crate::math::DVec3;
-use crate::print::{print_document, PrintSettings};
+use crate::print::PrintSettings;
 
 /// The ops of a flat regular `n`-gon of circumradius `r` (model metres)
 /// in the plane z = 0, each side bowed 4% outwards, filled, and its

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use proptest::prelude::*;
 
 use super::*;
-use crate::doc::{ObjectId, OpLog};
+use crate::doc::{ObjectId, Op, OpLog};
 
 mod trust;
 

@@ -11,10 +11,11 @@ use crate::solid::{tessellate, SolidShape};
 /// A flat square of side `side` in the z = 0 plane (an open surface).
 fn square(side: f64) -> TriMesh {
     let h = side / 2.0;
-    let mut m = TriMesh::default();
-    m.positions = vec![[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]];
-    m.triangles = vec![[0, 1, 2], [0, 2, 3]];
-    m
+    TriMesh {
+        positions: vec![[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]],
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        ..TriMesh::default()
+    }
 }
 
 fn part<'a>(id: u32, surface: bool, mesh: &'a TriMesh) -> PrintPart<'a> {

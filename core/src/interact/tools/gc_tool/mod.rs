@@ -16,6 +16,7 @@ mod create;
 mod edit;
 mod hand;
 mod settings;
+mod state;
 mod target;
 #[cfg(test)]
 mod tests;
@@ -24,7 +25,8 @@ mod tests_drawn;
 mod tool;
 
 pub use settings::GcToolSettings;
+pub use state::GcPreview;
 pub use target::GcTarget;
+pub use tool::GcTool;
 #[cfg(test)]
 pub(crate) use tool::RESOLUTIONS;
-pub use tool::{GcPreview, GcTool};

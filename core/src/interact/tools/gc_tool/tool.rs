@@ -52,14 +52,14 @@ use std::collections::VecDeque;
 
 use crate::assembly::{ensure_recorded, GcRelease, RelationKind};
 use crate::doc::{Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
-use crate::gc::{mesh_gc, GcAssembly, GcSetResolution, PartId, Profile, Resolution, ShapeType};
+use crate::gc::{mesh_gc, GcAssembly, GcSetResolution, PartId, Resolution};
 use crate::math::DVec3;
 use crate::mesh::TriMesh;
-use crate::sketch::{DrawnSection, SketchPlane};
 
 use super::create::{create_op, replace_op, replace_plane, section_profile, Start};
 use super::edit::{drag_op, end_of, hold_op, pinch_shape, shape_op};
 use super::hand::{HandFilter, HandIn};
+use super::state::*;
 use super::target::{GcTarget, GeoCache};
 use super::GcToolSettings;
 use crate::interact::gesture::bimanual::HandleBar;
@@ -70,42 +70,6 @@ use crate::interact::palette::ChoiceGroup;
 use crate::interact::tools::lost_too_long;
 use crate::interact::tools::pick::Ray;
 use crate::interact::tools::{Preview, PreviewRay, Tool, ToolContext};
-
-/// GC-specific preview state (part of [`Preview`]).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct GcPreview {
-    /// The state machine's state (`idle`, `placed`, `sketch_section`, ...).
-    pub mode: &'static str,
-    /// The element under the ray (or being edited).
-    pub target: Option<GcTarget>,
-    /// Progress of a 3 s hold in `[0, 1]`.
-    pub hold: f64,
-    /// The sketch plane (origin, normal; model space) while sketching.
-    pub plane: Option<(DVec3, DVec3)>,
-    /// The matched section of a part being created.
-    pub profile: Option<Profile>,
-    /// The edited part as it would be if the gesture ended now (model
-    /// space, preview resolution).
-    pub mesh: Option<Arc<TriMesh>>,
-    /// The whole-shape view transform on top of the session's placement
-    /// (world to world), when not the identity.
-    pub view: Option<Similarity>,
-}
-
-#[derive(Clone, Debug)]
-enum State {
-    Idle,
-    Placed(Start),
-    SketchSection(Start, Vec<DVec3>),
-    Sectioned(Start, DrawnSection),
-    SketchSpine(Start, DrawnSection, Vec<DVec3>),
-    /// A key point or section picked by POINT, waiting for its stroke.
-    ReplaceArmed(GcTarget, SketchPlane),
-    Replace(GcTarget, SketchPlane, Vec<DVec3>),
-    Drag(Drag),
-    Pinch(PinchState),
-    View(ViewGrab),
-}
 
 /// The copy a 3 s FIST makes of `part`: where it is (the drag that
 /// follows moves it), mirrored across its parent's symmetry plane only
@@ -124,58 +88,6 @@ pub(crate) fn instance_op(
         rotate: [0.0, 0.0, 0.0, 1.0],
         tolerance: 1e-3,
     })
-}
-
-impl State {
-    fn name(&self) -> &'static str {
-        match self {
-            State::Idle => "idle",
-            State::Placed(_) => "placed",
-            State::SketchSection(..) => "sketch_section",
-            State::Sectioned(..) => "sectioned",
-            State::SketchSpine(..) => "sketch_spine",
-            State::ReplaceArmed(..) => "replace",
-            State::Replace(..) => "sketch_replace",
-            State::Drag(_) => "drag",
-            State::Pinch(_) => "pinch",
-            State::View(_) => "view",
-        }
-    }
-}
-
-#[derive(Clone, Debug)]
-struct Drag {
-    target: GcTarget,
-    /// Palm (world) where the drag started.
-    start: DVec3,
-    started: f64,
-    /// The last good motion (model space).
-    motion: DVec3,
-    /// Still eligible for the instance hold.
-    may_instance: bool,
-}
-
-#[derive(Clone, Debug)]
-struct PinchState {
-    target: GcTarget,
-    /// (time, proposed shape), recent frames.
-    history: Vec<(f64, ShapeType)>,
-}
-
-#[derive(Clone, Debug)]
-struct ViewGrab {
-    /// The view when the grab (or the last change of hands) started.
-    before: Similarity,
-    hands: Vec<(Hand, Pose)>,
-    bar: Option<HandleBar>,
-}
-
-#[derive(Clone, Copy, Debug)]
-struct Hold {
-    target: GcTarget,
-    since: f64,
-    palm: DVec3,
-    fired: bool,
 }
 
 /// The paper-1 hand-gesture tool (Figure 10).

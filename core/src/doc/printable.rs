@@ -1,12 +1,14 @@
 //! The document's objects as [`PrintPart`]s: the one call every exit makes.
+//! It lives with the document, above the printable path it calls
+//! ([`crate::print`] knows parts and meshes, never the document).
 
-use super::{
+use super::{Document, ObjectKind};
+use crate::math::Transform;
+use crate::mesh::{PartNames, TriMesh};
+use crate::print::{
     printable_with, PrintControl, PrintError, PrintPart, PrintSettings, PrintStatus, Printable,
     PrintedSize,
 };
-use crate::doc::{Document, ObjectKind};
-use crate::math::Transform;
-use crate::mesh::{PartNames, TriMesh};
 
 /// Every object of `doc`, in id order, as a part to print. Curve networks
 /// are surfaces; every other kind is a solid (an open mesh of any kind is

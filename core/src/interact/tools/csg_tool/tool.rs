@@ -1,72 +1,21 @@
-//! [`CsgTool`]: the controller interface of paper 2 (EasyVRModeling §4)
-//! over the `sdf_*` ops.
-//!
-//! The paper's eight modes on two 6-DOF controllers, adapted to the action
-//! map of [`crate::interact::ActionMap`] (either hand works, as in the paper, except
-//! where noted):
-//!
-//! | paper mode      | action                      | op                          |
-//! |-----------------|-----------------------------|-----------------------------|
-//! | select          | `select` (trigger) on a ray | — (selection)               |
-//! | grab            | `grab` held on an operand   | `sdf_set_operand_transform` |
-//! | scale (§4.3)    | both `grab` on one operand  | `sdf_scale_two_hand`        |
-//! | scale axis      | right stick quadrant        | X (→), Y (↑), Z (←), A (↓)  |
-//! | menu            | `menu`: right next, left previous | — (component)         |
-//! | SceneOperate    | stick ↑/↓ picks, `primary` applies | `sdf_add_operand` / `sdf_cancel_operand` |
-//! | update          | `secondary`                 | `sdf_update`                |
-//! | copy (§4.4)     | `secondary` with an operand selected | `sdf_copy_operand` |
-//! | delete          | double `select` on a target | `sdf_cancel_operand` / `delete` |
-//! | undo / redo     | stick flick ← / →           | undo / redo                 |
-//!
-//! Choices:
-//! - Paper 2 applies union / intersect / subtract to an operand already in
-//!   the scene; here SceneOperate with a CSG operation places the menu's
-//!   current component at the controller as a new pending operand with that
-//!   operation (the op log's `sdf_add_operand` carries both), and *cancel*
-//!   removes the selected pending operand.
-//! - In a document without an SDF volume, SceneOperate creates one
-//!   (`sdf_create`, one op for that press); the tool keeps working on the
-//!   volume it found first while it exists, else on the newest one.
-//! - As in the paper, copy is the update button with one operand selected;
-//!   the copy is placed [`CsgToolSettings::copy_offset`] away.
-//! - Operands are picked by their placed local bounding box (cheap every
-//!   frame; the fused surface is picked by the document's mesh).
-//! - Scaling starts when the second hand grabs the operand the first one
-//!   holds (or the selected one): a drag in progress is committed first.
-//!   The op stores both hands' model-space positions at start and end, so
-//!   the ratio of Eq. 1 (clamped to `[0.4, 4]`) is recomputed by the op.
-//!
-//! - Palette "Grab moves: operand | fused result": with *fused result*,
-//!   a grab on the fused surface drags the whole result (paper 2 §4.4's
-//!   moving of a result as such); on release one `sdf_move_fused` carries
-//!   the motion (a similarity in the volume's own frame). Pending operand
-//!   boxes are not grabbed in that mode.
-//! - Palette "Component from": every other object of the document; picking
-//!   one is `sdf_component_from_object` (the object's closed mesh becomes a
-//!   user component of the volume), and once applied that component is
-//!   added to the "Component" menu and made the active one, so the next
-//!   SceneOperate places it.
-//!
-//! Bad input during a drag or a scale: tracking lost → the preview
-//! freezes and, after [`CsgToolSettings::grace`] s, the gesture is cancelled
-//! (document unchanged); a teleport → the gesture is committed at its last
-//! good state; NaN samples never reach the tool.
+//! [`CsgTool`]: the state machine over the gestures (idle, grab, select,
+//! SceneOperate, drag, scale) and its [`Tool`] implementation (update,
+//! preview, palette choices).
 
-use crate::doc::{Create, Delete, Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
-use crate::math::{DAffine3, DVec3, Transform};
-use crate::sdf::placement::two_hand_ratio;
+use crate::doc::{Create, Delete, Document, Edit, ObjectId, Op, ScriptCommand};
+use crate::math::{DVec3, Transform};
 use crate::sdf::volume::DEFAULT_STEP;
 use crate::sdf::{Component, CsgOp, ScaleAxis, SdfVolume};
 use crate::sdf::{
     OperandIndex, SdfAddOperand, SdfCancelOperand, SdfComponentFromObject, SdfCopyFused,
-    SdfCopyOperand, SdfCreate, SdfMoveFused, SdfScaleTwoHand, SdfSetOperandTransform, SdfSetStep,
-    SdfUpdate,
+    SdfCopyOperand, SdfCreate, SdfSetOperandTransform, SdfSetStep, SdfUpdate,
 };
-use crate::solid::SolidShape;
 
+use super::gestures::*;
+use super::settings::*;
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
-use crate::interact::input::{Hand, Pose};
+use crate::interact::input::Hand;
 use crate::interact::palette::ChoiceGroup;
 use crate::interact::tools::lost_too_long;
 use crate::interact::tools::pick::{pick, Ray};
@@ -74,325 +23,33 @@ use crate::interact::tools::{
     object_label, MovingPreview, OperandPreview, Preview, PreviewRay, Tool, ToolContext,
 };
 
-/// A SceneOperate choice (paper 2 §4.2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SceneOperate {
-    /// Add with union.
-    Union,
-    /// Add with intersection.
-    Intersect,
-    /// Add with subtraction.
-    Subtract,
-    /// Remove the selected operand.
-    Cancel,
-}
-
-impl SceneOperate {
-    /// The four choices in menu order.
-    pub const ALL: [SceneOperate; 4] = [
-        SceneOperate::Union,
-        SceneOperate::Intersect,
-        SceneOperate::Subtract,
-        SceneOperate::Cancel,
-    ];
-
-    /// Its name.
-    pub fn name(self) -> &'static str {
-        match self {
-            SceneOperate::Union => "union",
-            SceneOperate::Intersect => "intersect",
-            SceneOperate::Subtract => "subtract",
-            SceneOperate::Cancel => "cancel",
-        }
-    }
-}
-
-/// Settings of the CSG tool.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CsgToolSettings {
-    /// How far rays reach (metres).
-    pub reach: f64,
-    /// Seconds a gesture survives lost tracking before it is cancelled.
-    pub grace: f64,
-    /// Grid step of volumes the tool creates.
-    pub step: f64,
-    /// The component menu.
-    pub components: Vec<Component>,
-    /// Where a copy goes relative to its original (model units).
-    pub copy_offset: [f64; 3],
-    /// Two presses of `select` within this many seconds are a double click.
-    pub double_click: f64,
-}
-
-/// The library components on the tool's menu after its primitives, in
-/// menu order: listed here, so a component added to the library never
-/// shifts the menu (a test checks every name is in the library).
-pub const MENU_LIBRARY: &[&str] = &[
-    "chair_seat",
-    "chair_back",
-    "chair_leg",
-    "chair_leg_square",
-    "chair_armrest",
-    "chair_crossbar",
-    "cup_body",
-    "cup_hollow",
-    "cup_handle",
-    "cup_saucer",
-    "cup_rim",
-    "blob",
-    "bean",
-    "mushroom",
-    "snowman",
-];
-
-impl Default for CsgToolSettings {
-    fn default() -> Self {
-        let solid = |shape| Component::Solid { shape };
-        let mut components = vec![
-            solid(SolidShape::Cylinder {
-                radius: 0.05,
-                height: 0.1,
-            }),
-            solid(SolidShape::Torus {
-                major_radius: 0.04,
-                minor_radius: 0.01,
-            }),
-            solid(SolidShape::Sphere { radius: 0.05 }),
-            solid(SolidShape::Box {
-                size: [0.1, 0.1, 0.1],
-            }),
-            solid(SolidShape::Cone {
-                radius: 0.05,
-                height: 0.1,
-            }),
-            solid(SolidShape::Capsule {
-                radius: 0.03,
-                length: 0.06,
-            }),
-        ];
-        components.extend(MENU_LIBRARY.iter().map(|n| Component::Library {
-            name: (*n).to_string(),
-        }));
-        Self {
-            reach: 5.0,
-            grace: 0.25,
-            step: DEFAULT_STEP,
-            components,
-            copy_offset: [0.15, 0.0, 0.0],
-            double_click: 0.4,
-        }
-    }
-}
-
-/// What a ray or the selection points at, in the tool's volume.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Target {
-    Operand(usize),
-    Volume,
-}
-
-/// One hand dragging a pending operand.
-#[derive(Clone, Copy, Debug)]
-struct OperandDrag {
-    volume: ObjectId,
-    index: usize,
-    base: Transform,
-    hand: Hand,
-    grip0: Pose,
-    /// Model-space motion so far.
-    motion: Similarity,
-    lost_since: Option<f64>,
-}
-
-impl OperandDrag {
-    fn transform(&self) -> Transform {
-        self.motion.then_transform(&self.base)
-    }
-}
-
-/// One hand dragging the fused result of a volume.
-#[derive(Clone, Copy, Debug)]
-struct FusedDrag {
-    volume: ObjectId,
-    /// The volume's placement (its own frame to model space).
-    placement: Transform,
-    hand: Hand,
-    grip0: Pose,
-    /// Model-space motion so far.
-    motion: Similarity,
-    lost_since: Option<f64>,
-}
-
-impl FusedDrag {
-    /// The op moving the result by the motion so far, in the volume's own
-    /// frame; `None` for no motion or a placement with a per-axis scale
-    /// (the motion would not stay a similarity there).
-    fn op(&self) -> Option<Op> {
-        let p = &self.placement;
-        let [a, b, c] = p.scale;
-        if a != b || b != c || a <= 0.0 {
-            return None;
-        }
-        let own = Similarity {
-            translate: DVec3::from_array(p.translate),
-            rotate: crate::math::DQuat::from_array(p.rotate).normalize(),
-            scale: a,
-        };
-        let local = own.conjugate(&self.motion);
-        let transform = local.then_transform(&Transform::IDENTITY);
-        if !local.is_valid() || transform.validate().is_err() || transform == Transform::IDENTITY {
-            return None;
-        }
-        Some(Op::SdfMoveFused(Edit::new(
-            self.volume,
-            SdfMoveFused { transform },
-        )))
-    }
-}
-
-/// Both hands scaling a pending operand.
-#[derive(Clone, Copy, Debug)]
-struct ScaleGesture {
-    volume: ObjectId,
-    index: usize,
-    base: Transform,
-    /// Model-space hand positions (left, right) at the start and now.
-    start: [DVec3; 2],
-    end: [DVec3; 2],
-    axis: ScaleAxis,
-    lost_since: Option<f64>,
-}
-
-impl ScaleGesture {
-    fn op(&self) -> Edit<SdfScaleTwoHand> {
-        Edit::new(
-            self.volume,
-            SdfScaleTwoHand {
-                operand: OperandIndex(self.index),
-                axis: self.axis,
-                hands_start: self.start.map(|p| p.to_array()),
-                hands_end: self.end.map(|p| p.to_array()),
-            },
-        )
-    }
-
-    /// The operand's placement if the gesture ended now.
-    fn transform(&self) -> Transform {
-        let op = self.op().edit;
-        let r = two_hand_ratio(op.hands_start, op.hands_end).unwrap_or(1.0);
-        let mut t = self.base;
-        match self.axis {
-            ScaleAxis::X => t.scale[0] *= r,
-            ScaleAxis::Y => t.scale[1] *= r,
-            ScaleAxis::Z => t.scale[2] *= r,
-            ScaleAxis::Uniform => t.scale = t.scale.map(|s| s * r),
-        }
-        t
-    }
-}
-
-/// Local boxes of the pending operands, for picking.
-#[derive(Clone, Debug, Default)]
-struct OperandBoxes {
-    key: Option<(ObjectId, Vec<crate::sdf::Operand>)>,
-    boxes: Vec<Option<(DAffine3, DVec3, DVec3)>>,
-}
-
-impl OperandBoxes {
-    fn refresh(&mut self, id: ObjectId, v: &SdfVolume) {
-        if self
-            .key
-            .as_ref()
-            .is_some_and(|(k, p)| *k == id && *p == v.pending)
-        {
-            return;
-        }
-        self.boxes = v
-            .pending
-            .iter()
-            .map(|o| {
-                let f = v.placed(o).ok()?;
-                Some((f.inverse, f.local_box.0, f.local_box.1))
-            })
-            .collect();
-        self.key = Some((id, v.pending.clone()));
-    }
-
-    /// The nearest operand box along `ray` (model space) within `max_t`.
-    fn pick(&self, ray: &Ray, max_t: f64) -> Option<(usize, f64)> {
-        let mut best: Option<(usize, f64)> = None;
-        for (i, b) in self.boxes.iter().enumerate() {
-            let Some((inv, lo, hi)) = b else { continue };
-            let o = inv.transform_point3(ray.origin);
-            let d = inv.transform_vector3(ray.dir);
-            // The local ray's parameter equals the model one (same t).
-            let Some(t) = slab(o, d, *lo, *hi) else {
-                continue;
-            };
-            if t <= max_t && best.is_none_or(|(_, bt)| t <= bt) {
-                best = Some((i, t));
-            }
-        }
-        best
-    }
-}
-
-/// Entry parameter of the ray `o + t d` into the box (0 when inside).
-fn slab(o: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> Option<f64> {
-    let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
-    for k in 0..3 {
-        if d[k].abs() < 1e-15 {
-            if o[k] < lo[k] || o[k] > hi[k] {
-                return None;
-            }
-            continue;
-        }
-        let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
-        t0 = t0.max(a.min(b));
-        t1 = t1.min(a.max(b));
-    }
-    (t0 <= t1).then_some(t0)
-}
-
-/// The volume the tool edits: `preferred` if still there, else the newest.
-fn volume(doc: &Document, preferred: Option<ObjectId>) -> Option<(ObjectId, &SdfVolume)> {
-    let as_volume = |id: ObjectId| match &doc.get(id).ok()?.kind {
-        ObjectKind::SdfVolume(v) => Some((id, v)),
-        #[allow(unreachable_patterns)]
-        _ => None,
-    };
-    preferred
-        .and_then(as_volume)
-        .or_else(|| doc.objects().filter_map(|(id, _)| as_volume(id)).last())
-}
-
 /// Paper 2's controller interface: grab, select, menu, update,
 /// SceneOperate, scaling, copy, delete, undo and redo.
 #[derive(Clone, Debug)]
 pub struct CsgTool {
-    settings: CsgToolSettings,
-    preview: Preview,
-    prev: [CtlInput; 2],
-    flick: Flick,
-    component: usize,
-    scene_op: SceneOperate,
-    axis: ScaleAxis,
-    volume: Option<ObjectId>,
+    pub(super) settings: CsgToolSettings,
+    pub(super) preview: Preview,
+    pub(super) prev: [CtlInput; 2],
+    pub(super) flick: Flick,
+    pub(super) component: usize,
+    pub(super) scene_op: SceneOperate,
+    pub(super) axis: ScaleAxis,
+    pub(super) volume: Option<ObjectId>,
     /// The volume's grid step, as of the last frame.
-    step: Option<f64>,
-    selected: Option<Target>,
-    last_select: [Option<(f64, Target)>; 2],
-    drag: Option<OperandDrag>,
-    scale: Option<ScaleGesture>,
-    boxes: OperandBoxes,
+    pub(super) step: Option<f64>,
+    pub(super) selected: Option<Target>,
+    pub(super) last_select: [Option<(f64, Target)>; 2],
+    pub(super) drag: Option<OperandDrag>,
+    pub(super) scale: Option<ScaleGesture>,
+    pub(super) boxes: OperandBoxes,
     /// Grabs on the fused surface move the result ("Grab moves").
-    grab_fused: bool,
-    fused_drag: Option<FusedDrag>,
+    pub(super) grab_fused: bool,
+    pub(super) fused_drag: Option<FusedDrag>,
     /// The other objects of the document, for "Component from".
-    objects: Vec<(ObjectId, String)>,
+    pub(super) objects: Vec<(ObjectId, String)>,
     /// A component asked for by "Component from", made active once the
     /// volume has it.
-    pending_component: Option<String>,
+    pub(super) pending_component: Option<String>,
 }
 
 impl Default for CsgTool {
@@ -438,7 +95,7 @@ impl CsgTool {
         self.scene_op
     }
 
-    fn update_mode(&mut self) {
+    pub(super) fn update_mode(&mut self) {
         let comp = self
             .component()
             .map_or_else(|| "-".to_string(), component_name);
@@ -451,7 +108,7 @@ impl CsgTool {
         self.preview.mode = format!("{} {} scale:{}", self.scene_op.name(), comp, axis);
     }
 
-    fn idle(
+    pub(super) fn idle(
         &mut self,
         cx: &ToolContext,
         inputs: &[CtlInput; 2],
@@ -569,7 +226,7 @@ impl CsgTool {
 
     /// A grab press of `hand` on `hit`. `Some(cmd)` ends the frame's
     /// input handling (`cmd` may be `None`).
-    fn start_grab(
+    pub(super) fn start_grab(
         &mut self,
         cx: &ToolContext,
         inputs: &[CtlInput; 2],
@@ -635,7 +292,7 @@ impl CsgTool {
         Some(None)
     }
 
-    fn click_select(
+    pub(super) fn click_select(
         &mut self,
         time: f64,
         hand: Hand,
@@ -664,7 +321,7 @@ impl CsgTool {
         }))
     }
 
-    fn scene_operate_now(
+    pub(super) fn scene_operate_now(
         &mut self,
         cx: &ToolContext,
         now: CtlInput,
@@ -705,7 +362,11 @@ impl CsgTool {
         ))))
     }
 
-    fn dragging(&mut self, cx: &ToolContext, inputs: &[CtlInput; 2]) -> Option<ScriptCommand> {
+    pub(super) fn dragging(
+        &mut self,
+        cx: &ToolContext,
+        inputs: &[CtlInput; 2],
+    ) -> Option<ScriptCommand> {
         let mut d = self.drag.take()?;
         let now = inputs[d.hand.index()];
         if now.teleported {
@@ -760,7 +421,7 @@ impl CsgTool {
         None
     }
 
-    fn fused_dragging(
+    pub(super) fn fused_dragging(
         &mut self,
         cx: &ToolContext,
         inputs: &[CtlInput; 2],
@@ -798,7 +459,7 @@ impl CsgTool {
         None
     }
 
-    fn commit_drag(&mut self, d: &OperandDrag) -> Option<ScriptCommand> {
+    pub(super) fn commit_drag(&mut self, d: &OperandDrag) -> Option<ScriptCommand> {
         self.preview.csg_mut().moving_operand = None;
         let t = d.transform();
         if t.validate().is_err() || t == d.base {
@@ -813,7 +474,11 @@ impl CsgTool {
         ))))
     }
 
-    fn scaling(&mut self, cx: &ToolContext, inputs: &[CtlInput; 2]) -> Option<ScriptCommand> {
+    pub(super) fn scaling(
+        &mut self,
+        cx: &ToolContext,
+        inputs: &[CtlInput; 2],
+    ) -> Option<ScriptCommand> {
         let mut s = self.scale.take()?;
         if inputs.iter().any(|i| i.teleported) {
             return self.commit_scale(&s);
@@ -863,7 +528,7 @@ impl CsgTool {
         None
     }
 
-    fn commit_scale(&mut self, s: &ScaleGesture) -> Option<ScriptCommand> {
+    pub(super) fn commit_scale(&mut self, s: &ScaleGesture) -> Option<ScriptCommand> {
         self.preview.csg_mut().moving_operand = None;
         if s.transform() == s.base {
             return None;
@@ -1083,12 +748,13 @@ impl Tool for CsgTool {
 }
 
 /// The scale axes in palette order.
-const AXES: [ScaleAxis; 4] = [ScaleAxis::X, ScaleAxis::Y, ScaleAxis::Z, ScaleAxis::Uniform];
+pub(super) const AXES: [ScaleAxis; 4] =
+    [ScaleAxis::X, ScaleAxis::Y, ScaleAxis::Z, ScaleAxis::Uniform];
 /// SDF grid steps the palette offers (metres; the op's range is 4 to 12 mm).
-const GRID_STEPS: [f64; 5] = [0.004, 0.006, 0.008, DEFAULT_STEP, 0.012];
+pub(super) const GRID_STEPS: [f64; 5] = [0.004, 0.006, 0.008, DEFAULT_STEP, 0.012];
 
 /// A component's label.
-fn component_name(c: &Component) -> String {
+pub(super) fn component_name(c: &Component) -> String {
     match c {
         Component::Solid { shape } => shape.name().to_string(),
         Component::Library { name } | Component::User { name } => name.clone(),

@@ -1,406 +1,46 @@
-//! [`CurveNetworkTool`]: the controller interface of paper 3 (variational
-//! curve styling, §6): draw curves in space, edit them with the smoother,
-//! sharpener and puller chosen by the pointer pose (Table 1), fill loops,
-//! undo and redo. Registered for traces as `"curve"`.
-//!
-//! The dominant hand (right by default) holds the pen; its tip is the aim
-//! pose's position plus [`CurveToolSettings::tip_offset`] along the aim.
-//! The other hand holds a plane.
-//!
-//! | input (dominant hand)   | action                                      |
-//! |-------------------------|---------------------------------------------|
-//! | trigger held            | draw, or apply the tool chosen at the press |
-//! | `primary` (A)           | fill every loop found (`curve_fill_auto`), or the pointed loop (`curve_fill_loop`) when the palette says so |
-//! | `secondary` (B)         | delete the pointed curve (Table 1 bands)    |
-//! | stick flick ← / → (either hand) | undo / redo                         |
-//!
-//! | input (other hand)      | plane (through the grip, normal = its aim)  |
-//! |-------------------------|---------------------------------------------|
-//! | `grab` held at the press | drawing plane: samples are projected on it |
-//! | trigger held at the press | symmetry plane: the stroke is mirrored    |
-//!
-//! At the trigger's press edge, [`crate::styling::select::select_in_network`]
-//! applies Table 1 to the curve nearest to the tip: `d < 2 cm` and the
-//! pointer across the curve (60°..120°) pulls the pointed point (puller),
-//! `2..4 cm` across sharpens, `2..4 cm` along (≤ 30° or ≥ 150°) smooths. The
-//! choice holds until release. Anything else (attach: `d < 2 cm` along;
-//! far away; between the angle bands) draws a new curve, which the network
-//! snaps to the curves it passes within [`CurveToolSettings::snap_tol`].
-//! The palette's "Trigger" group can force one tool instead ("auto" is
-//! Table 1). Forced smooth, sharpen and pull act on the pointed *surface*
-//! (paper 3 §4: `surface_smooth`, `surface_sharpen`, `surface_pull` at the
-//! pointed `(u0, v0)`) when a patch is at least [`SURFACE_MARGIN`] nearer
-//! to the tip than any curve, and on the nearest curve otherwise; "auto"
-//! never edits a surface, so a stroke started over a patch still draws.
-//! Forced "attract" draws the pointed curve towards what the other hand
-//! holds at the press (§2.2, `curve_attract`, local around the pointed
-//! point): its grip point, the line along its aim when its trigger is
-//! held, the plane through its grip normal to its aim when its grip is
-//! held; one frame of attraction per frame held.
-//!
-//! Each held application is one op carrying its sampled path: `curve_draw`
-//! with the tip samples (model space, at least `min_spacing` apart),
-//! `curve_pull` / `curve_smooth` / `curve_sharpen` with the tip per frame.
-//! The first press with no network in the document emits
-//! `curve_network_create` (the stroke goes on; its curve goes to the new
-//! network at release). A mirrored stroke is a second `curve_draw` on the
-//! next frame (at most one command per frame). The planes are taken at the
-//! press and held for the stroke, so a wobbling hand does not bend it.
-//!
-//! Bad input during a stroke (as [`crate::interact::ObjectTool`]): NaN poses never
-//! reach the tool (the sanitizer drops them; the frame adds no sample);
-//! tracking lost freezes the stroke and cancels it (nothing emitted) after
-//! [`CurveToolSettings::grace`] seconds; a teleport commits the stroke as
-//! it was before the jump.
-//!
-//! Preview each frame: the pen ray, the sketch being drawn (model space),
-//! and [`CurvePreview`] (the mode the trigger would start or is running,
-//! the pointed curve point, the planes, the held path).
+//! [`CurveNetworkTool`]: the tool's state machine (draw, edit, fill,
+//! delete, undo, redo) and its [`Tool`] implementation (update, preview,
+//! palette choices).
 
 use crate::doc::{Create, Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
 use crate::math::DVec3;
-use crate::styling::curve::FitMode;
 use crate::styling::select::{
-    nearest_loop, nearest_patch_point, select_in_network, CurveTool as TableTool, PatchPoint,
+    nearest_loop, nearest_patch_point, select_in_network, CurveTool as TableTool,
 };
-use crate::styling::surface::SurfaceWeights;
-use crate::styling::tools::{PullParams, SharpenLimits, SmoothParams, MAX_FRAMES};
+use crate::styling::tools::MAX_FRAMES;
 use crate::styling::CurveNetwork;
 use crate::styling::{
-    AttractParams, Attractor, CurveAttract, CurveDelete, CurveDraw, CurveDrawInFrame,
-    CurveFillAuto, CurveFillLoop, CurveId, CurveNetworkCreate, CurvePull, CurveSharpen,
-    CurveSmooth, ModelingFrame, PatchId, SurfaceEquilibrium, SurfacePull, SurfaceSharpen,
-    SurfaceSmooth,
+    CurveAttract, CurveDelete, CurveDraw, CurveDrawInFrame, CurveFillAuto, CurveFillLoop, CurveId,
+    CurveNetworkCreate, CurvePull, CurveSharpen, CurveSmooth, ModelingFrame, PatchId,
+    SurfaceEquilibrium, SurfacePull, SurfaceSharpen, SurfaceSmooth,
 };
 
-use crate::interact::input::{Hand, Pose};
+use super::modes::*;
+use super::settings::*;
+use crate::interact::input::Hand;
 use crate::interact::palette::ChoiceGroup;
 use crate::interact::tools::lost_too_long;
 use crate::interact::tools::{Preview, PreviewRay, Tool, ToolContext, ToolPreview};
 
-/// Settings of the curve tool. Lengths are metres in the world.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CurveToolSettings {
-    /// The hand holding the pen.
-    pub dominant: Hand,
-    /// Pen tip distance along the aim from the aim pose.
-    pub tip_offset: f64,
-    /// Length of the drawn ray.
-    pub reach: f64,
-    /// Seconds a stroke survives lost tracking before it is cancelled.
-    pub grace: f64,
-    /// Smallest spacing of drawn samples (closer ones are skipped).
-    pub min_spacing: f64,
-    /// How drawn samples become a curve.
-    pub fit: FitMode,
-    /// Arc-length resampling of drawn samples before fitting.
-    pub resample: Option<f64>,
-    /// Closest approach under which a new curve joins an existing one.
-    pub snap_tol: f64,
-    /// Mesh samples per patch side of a new network.
-    pub resolution: u32,
-    /// Surface-tool control points per patch side of a new network.
-    pub surface_n: u32,
-    /// Smoother weights.
-    pub smooth: SmoothParams,
-    /// Sharpener weights.
-    pub sharpen: SmoothParams,
-    /// Where the sharpener stops.
-    pub sharpen_limits: SharpenLimits,
-    /// Puller weights.
-    pub pull: PullParams,
-    /// Attractor weights (`curve_attract`).
-    pub attract: AttractParams,
-    /// Surface tools' internal energy weights.
-    pub surface: SurfaceWeights,
-    /// Surface smoother's factor on `w_q` per frame, in (0, 1).
-    pub surface_smooth_f: f64,
-    /// Surface sharpener's factor on `w_q` per frame, in (1, 2], and its cap.
-    pub surface_sharpen: (f64, f64),
-    /// How far from the pen tip the surface smoother and sharpener act
-    /// (the gaussian radius of their weight on the patch), metres in the
-    /// model.
-    pub surface_radius: f64,
-    /// The most the surface smoother and sharpener move any point of the
-    /// patch in one frame (metres in the model): 1 s held changes a
-    /// patch by at most this times the frame rate.
-    pub surface_max_step: f64,
-    /// Surface puller's attractor weight.
-    pub surface_wpp: f64,
-}
-
-impl Default for CurveToolSettings {
-    fn default() -> Self {
-        Self {
-            dominant: Hand::Right,
-            tip_offset: 0.0,
-            reach: 5.0,
-            grace: 0.25,
-            min_spacing: 0.003,
-            fit: FitMode::Approximate { tol: 0.001 },
-            resample: Some(0.01),
-            snap_tol: 0.02,
-            resolution: 24,
-            surface_n: 8,
-            smooth: SmoothParams {
-                wb: 1e-6,
-                ws: 0.0,
-                wp0: 1.0,
-                wp1: 0.0,
-                wp2: 0.0,
-                alpha: 20.0,
-            },
-            sharpen: SmoothParams {
-                wb: 2e-6,
-                ws: 0.0,
-                wp0: 1.0,
-                wp1: 0.0,
-                wp2: 3e-6,
-                alpha: 30.0,
-            },
-            sharpen_limits: SharpenLimits {
-                max_step: 0.004,
-                max_growth: 4.0,
-            },
-            pull: PullParams {
-                wpp: 200.0,
-                wp0: 1.0,
-                wp1: 0.001,
-            },
-            // 3% of the way per frame: about 2/3 of the way in a 0.5 s
-            // hold at 72 Hz, so the user sees it move and can stop.
-            attract: AttractParams {
-                weight: 0.03,
-                wp0: 1.0,
-                wp1: 0.0,
-                alpha: 20.0,
-                keep_ends: false,
-            },
-            // The values of the styled fixtures (tests/data/lampshade.jsonl).
-            surface: SurfaceWeights { wb: 1.0, ws: 0.0 },
-            // Both act within about 5 cm of the pen and move the patch at
-            // most 0.25 mm a frame: 1.8 cm in a held second at 72 Hz, 3 cm
-            // at 120 Hz (issue 33: 1.2 per frame up to 4 times took a
-            // 4.7 cm bump to 18.4 cm in one second, and stronger settings
-            // made it overhang). Where the pen is, the smoother takes the
-            // patch 0.95 of the way to its minimal shape in a second at
-            // 72 Hz, the sharpener away from it by up to 3 times.
-            surface_smooth_f: 0.96,
-            surface_sharpen: (1.03, 3.0),
-            surface_radius: 0.05,
-            surface_max_step: 0.000_25,
-            surface_wpp: 2000.0,
-        }
-    }
-}
-
-/// A plane held by the non-dominant hand (model space).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DrawPlane {
-    /// A point on it (the grip position).
-    pub origin: DVec3,
-    /// Unit normal (the hand's aim direction).
-    pub normal: DVec3,
-}
-
-impl DrawPlane {
-    fn project(&self, p: DVec3) -> DVec3 {
-        p - self.normal * (p - self.origin).dot(self.normal)
-    }
-
-    fn mirror(&self, p: DVec3) -> DVec3 {
-        crate::math::reflect(p, self.origin, self.normal)
-    }
-}
-
-/// A patch is this much nearer to the tip than every curve (metres)
-/// before a forced smooth, sharpen or pull acts on the surface.
-pub const SURFACE_MARGIN: f64 = 0.01;
-
-/// A surface tool of paper 3 §4.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SurfaceTool {
-    /// `surface_smooth`.
-    Smooth,
-    /// `surface_sharpen`.
-    Sharpen,
-    /// `surface_pull` at the pointed point.
-    Pull,
-}
-
-/// What the trigger starts (idle) or is doing (held).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CurveMode {
-    /// Draw a new curve.
-    Draw,
-    /// A Table 1 tool on the pointed curve (`AttachNewCurve` draws).
-    Edit(TableTool),
-    /// `curve_attract` on the pointed curve.
-    Attract,
-    /// A surface tool on the pointed patch.
-    Surface(SurfaceTool),
-}
-
-impl CurveMode {
-    /// What the headset shows next to the pen.
-    pub fn label(&self) -> &'static str {
-        match self {
-            CurveMode::Draw | CurveMode::Edit(TableTool::AttachNewCurve) => "draw",
-            CurveMode::Edit(TableTool::SmoothSegment) => "smooth curve",
-            CurveMode::Edit(TableTool::SharpenSegment) => "sharpen curve",
-            CurveMode::Edit(TableTool::EditDataPoint) => "pull curve",
-            CurveMode::Attract => "attract curve",
-            CurveMode::Surface(SurfaceTool::Smooth) => "smooth surface",
-            CurveMode::Surface(SurfaceTool::Sharpen) => "sharpen surface",
-            CurveMode::Surface(SurfaceTool::Pull) => "pull surface",
-        }
-    }
-}
-
-/// The patch point the pen points at.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PatchTarget {
-    /// The network.
-    pub network: ObjectId,
-    /// The patch point (model space; distance in model units).
-    pub at: PatchPoint,
-    /// Tip distance to it (metres).
-    pub distance: f64,
-}
-
-/// The curve point the pen points at.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CurveTarget {
-    /// The network.
-    pub network: ObjectId,
-    /// The curve index.
-    pub curve: usize,
-    /// Parameter of the pointed point (t0).
-    pub t0: f64,
-    /// The pointed point (model space).
-    pub point: DVec3,
-    /// Tip distance to it (metres).
-    pub distance: f64,
-    /// Angle between the pen and the curve tangent (degrees).
-    pub angle_deg: f64,
-    /// What Table 1 selects there.
-    pub tool: Option<TableTool>,
-}
-
-/// What a forced attract draws the curve towards: held by the other hand.
-fn attractor_of(cx: &ToolContext, pen: &Pen) -> Option<Attractor> {
-    let (grip, aim) = (pen.grip?, pen.aim?);
-    let to_model = cx.model.inverse();
-    let a = to_model.apply(grip.position).to_array();
-    let dir = to_model.apply_dir(aim.forward()).normalize_or_zero();
-    if dir == DVec3::ZERO {
-        return None;
-    }
-    Some(if pen.grab {
-        Attractor::Plane {
-            a,
-            normal: dir.to_array(),
-        }
-    } else if pen.trigger {
-        Attractor::Line {
-            a,
-            dir: dir.to_array(),
-        }
-    } else {
-        Attractor::Point { p: a }
-    })
-}
-
-/// The curve tool's preview state.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct CurvePreview {
-    /// The pen tip (model space), when tracked.
-    pub tip: Option<DVec3>,
-    /// The mode a press would start, or the held stroke's mode.
-    pub mode: Option<CurveMode>,
-    /// The pointed curve point (for a held edit: as at the press).
-    pub target: Option<CurveTarget>,
-    /// The pointed patch point, when a forced surface tool would act on it.
-    pub patch: Option<PatchTarget>,
-    /// The drawing plane in use or offered.
-    pub plane: Option<DrawPlane>,
-    /// The symmetry plane in use or offered.
-    pub symmetry: Option<DrawPlane>,
-    /// The pointer path of a held edit (model space).
-    pub path: Vec<DVec3>,
-    /// A stroke is frozen by lost tracking.
-    pub frozen: bool,
-}
-
-/// One hand's controller this frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Pen {
-    tracked: bool,
-    aim: Option<Pose>,
-    grip: Option<Pose>,
-    trigger: bool,
-    grab: bool,
-    primary: bool,
-    secondary: bool,
-    stick_x: f64,
-    teleported: bool,
-}
-
-fn read_pen(cx: &ToolContext, hand: Hand) -> Pen {
-    let Some(c) = cx.frame.controller(hand) else {
-        return Pen::default();
-    };
-    let b = c.buttons.unwrap_or_default();
-    Pen {
-        tracked: c.aim.is_some() && c.buttons.is_some(),
-        aim: c.aim,
-        grip: c.grip,
-        trigger: b.select > 0.5,
-        grab: b.grab > 0.5,
-        primary: b.primary,
-        secondary: b.secondary,
-        stick_x: b.stick[0],
-        teleported: c.teleported,
-    }
-}
-
-/// A held trigger.
-#[derive(Clone, Debug)]
-struct Stroke {
-    mode: CurveMode,
-    target: Option<CurveTarget>,
-    patch: Option<PatchTarget>,
-    /// A forced attract's attractor, taken at the press.
-    attractor: Option<Attractor>,
-    plane: Option<DrawPlane>,
-    symmetry: Option<DrawPlane>,
-    /// Tip samples (model space).
-    path: Vec<DVec3>,
-    /// The other hand's modeling frame at each sample (model space), when
-    /// drawing in the held frame (paper 3 §5.4).
-    frames: Vec<ModelingFrame>,
-    lost_since: Option<f64>,
-}
-
 /// Draw, smooth, sharpen, pull, fill, delete, undo, redo on curve networks.
 #[derive(Clone, Debug)]
 pub struct CurveNetworkTool {
-    settings: CurveToolSettings,
-    preview: Preview,
-    prev: [Pen; 2],
-    stick_armed: [bool; 2],
-    stroke: Option<Stroke>,
+    pub(super) settings: CurveToolSettings,
+    pub(super) preview: Preview,
+    pub(super) prev: [Pen; 2],
+    pub(super) stick_armed: [bool; 2],
+    pub(super) stroke: Option<Stroke>,
     /// Commands waiting for a frame of their own (a mirrored stroke).
-    pending: std::collections::VecDeque<ScriptCommand>,
+    pub(super) pending: std::collections::VecDeque<ScriptCommand>,
     /// The palette's trigger mode (index into [`MODES`]; 0: Table 1).
-    forced: usize,
+    pub(super) forced: usize,
     /// Strokes are drawn in the modeling frame the other hand holds
     /// (paper 3 §5.4, `curve_draw_in_frame`): the network moves with the
     /// hand while drawing. The palette's "Draw in: left hand".
-    in_frame: bool,
+    pub(super) in_frame: bool,
     /// `primary` fills the pointed loop (`curve_fill_loop`) instead of
     /// every loop. The palette's "A fills".
-    fill_pointed: bool,
+    pub(super) fill_pointed: bool,
 }
 
 impl Default for CurveNetworkTool {
@@ -410,7 +50,7 @@ impl Default for CurveNetworkTool {
 }
 
 /// The network the tool works on: the first curve network of the document.
-fn network(doc: &Document) -> Option<(ObjectId, &CurveNetwork)> {
+pub(super) fn network(doc: &Document) -> Option<(ObjectId, &CurveNetwork)> {
     doc.objects().find_map(|(id, o)| match &o.kind {
         ObjectKind::CurveNetwork(n) => Some((id, n)),
         #[allow(unreachable_patterns)]
@@ -418,7 +58,7 @@ fn network(doc: &Document) -> Option<(ObjectId, &CurveNetwork)> {
     })
 }
 
-fn arr(p: &[DVec3]) -> Vec<[f64; 3]> {
+pub(super) fn arr(p: &[DVec3]) -> Vec<[f64; 3]> {
     p.iter().map(|v| v.to_array()).collect()
 }
 
@@ -446,12 +86,12 @@ impl CurveNetworkTool {
         &self.settings
     }
 
-    fn cp(&mut self) -> &mut CurvePreview {
+    pub(super) fn cp(&mut self) -> &mut CurvePreview {
         self.preview.curve_mut()
     }
 
     /// The pen tip and direction in model space.
-    fn tip(&self, cx: &ToolContext, pen: &Pen) -> Option<(DVec3, DVec3)> {
+    pub(super) fn tip(&self, cx: &ToolContext, pen: &Pen) -> Option<(DVec3, DVec3)> {
         let aim = pen.aim?;
         let to_model = cx.model.inverse();
         let dir = aim.forward();
@@ -460,7 +100,7 @@ impl CurveNetworkTool {
     }
 
     /// The plane the other hand offers now (model space).
-    fn held_plane(cx: &ToolContext, pen: &Pen) -> Option<DrawPlane> {
+    pub(super) fn held_plane(cx: &ToolContext, pen: &Pen) -> Option<DrawPlane> {
         let (grip, aim) = (pen.grip?, pen.aim?);
         let to_model = cx.model.inverse();
         let normal = to_model.apply_dir(aim.forward()).normalize_or_zero();
@@ -471,7 +111,7 @@ impl CurveNetworkTool {
     }
 
     /// The modeling frame the other hand holds: its grip, in model space.
-    fn held_frame(cx: &ToolContext, pen: &Pen) -> Option<ModelingFrame> {
+    pub(super) fn held_frame(cx: &ToolContext, pen: &Pen) -> Option<ModelingFrame> {
         let grip = pen.grip?;
         let to_model = cx.model.inverse();
         Some(ModelingFrame::new(
@@ -480,7 +120,7 @@ impl CurveNetworkTool {
         ))
     }
 
-    fn target(cx: &ToolContext, tip: DVec3, dir: DVec3) -> Option<CurveTarget> {
+    pub(super) fn target(cx: &ToolContext, tip: DVec3, dir: DVec3) -> Option<CurveTarget> {
         let (network, net) = network(cx.doc)?;
         let (curve, s) = select_in_network(net, tip, dir, cx.model.scale)?;
         Some(CurveTarget {
@@ -497,7 +137,7 @@ impl CurveNetworkTool {
     /// The patch a forced smooth, sharpen or pull would act on: one
     /// [`SURFACE_MARGIN`] nearer to the tip than the pointed curve. Only
     /// searched in those modes (the search samples every patch).
-    fn patch_target(
+    pub(super) fn patch_target(
         &self,
         cx: &ToolContext,
         tip: DVec3,
@@ -520,7 +160,11 @@ impl CurveNetworkTool {
 
     /// What the trigger starts at `target` (or `patch`): the palette's
     /// forced mode, or Table 1's choice by distance and angle ("auto").
-    fn mode_of(&self, target: Option<&CurveTarget>, patch: Option<&PatchTarget>) -> CurveMode {
+    pub(super) fn mode_of(
+        &self,
+        target: Option<&CurveTarget>,
+        patch: Option<&PatchTarget>,
+    ) -> CurveMode {
         let forced = match MODES.get(self.forced).map(|m| m.1) {
             Some(Some(CurveMode::Draw)) => return CurveMode::Draw,
             Some(Some(CurveMode::Attract)) if target.is_some() => return CurveMode::Attract,
@@ -548,7 +192,7 @@ impl CurveNetworkTool {
         }
     }
 
-    fn idle(&mut self, cx: &ToolContext, pens: &[Pen; 2]) -> Option<ScriptCommand> {
+    pub(super) fn idle(&mut self, cx: &ToolContext, pens: &[Pen; 2]) -> Option<ScriptCommand> {
         let d = self.settings.dominant.index();
         let o = self.settings.dominant.other().index();
         let (now, was) = (pens[d], self.prev[d]);
@@ -663,7 +307,7 @@ impl CurveNetworkTool {
         None
     }
 
-    fn show_stroke(&mut self) {
+    pub(super) fn show_stroke(&mut self) {
         let Some(s) = self.stroke.clone() else {
             self.preview.sketch.clear();
             return;
@@ -681,7 +325,7 @@ impl CurveNetworkTool {
         cp.frozen = s.lost_since.is_some();
     }
 
-    fn stroking(&mut self, cx: &ToolContext, pens: &[Pen; 2]) -> Option<ScriptCommand> {
+    pub(super) fn stroking(&mut self, cx: &ToolContext, pens: &[Pen; 2]) -> Option<ScriptCommand> {
         let mut s = self.stroke.take()?;
         let now = pens[self.settings.dominant.index()];
         let t = cx.frame.time;
@@ -737,7 +381,7 @@ impl CurveNetworkTool {
 
     /// The op of a finished stroke (`None` when it is too short or there
     /// is no network to put it in).
-    fn commit(&mut self, cx: &ToolContext, s: Stroke) -> Option<ScriptCommand> {
+    pub(super) fn commit(&mut self, cx: &ToolContext, s: Stroke) -> Option<ScriptCommand> {
         self.stroke = None;
         self.show_stroke();
         let (id, net) = network(cx.doc)?;
@@ -815,7 +459,7 @@ impl CurveNetworkTool {
 
     /// The op of a finished attract or surface stroke (`Some(None)`: that
     /// kind of stroke, nothing to emit; `None`: another kind).
-    fn commit_other(
+    pub(super) fn commit_other(
         &self,
         id: ObjectId,
         net: &CurveNetwork,
@@ -877,7 +521,7 @@ impl CurveNetworkTool {
         }
     }
 
-    fn draw(&self, id: ObjectId, samples: &[DVec3]) -> Edit<CurveDraw> {
+    pub(super) fn draw(&self, id: ObjectId, samples: &[DVec3]) -> Edit<CurveDraw> {
         Edit::new(
             id,
             CurveDraw {
@@ -890,7 +534,7 @@ impl CurveNetworkTool {
     }
 
     /// Undo / redo by a stick flick of either hand (not while stroking).
-    fn flick(&mut self, pens: &[Pen; 2]) -> Option<ScriptCommand> {
+    pub(super) fn flick(&mut self, pens: &[Pen; 2]) -> Option<ScriptCommand> {
         for hand in [Hand::Right, Hand::Left] {
             let i = hand.index();
             let x = pens[i].stick_x;
@@ -912,7 +556,7 @@ impl CurveNetworkTool {
         None
     }
 
-    fn ray(&mut self, pens: &[Pen; 2]) {
+    pub(super) fn ray(&mut self, pens: &[Pen; 2]) {
         let reach = self.settings.reach;
         let d = self.settings.dominant;
         self.preview.rays = [None, None];
@@ -1004,7 +648,7 @@ impl Tool for CurveNetworkTool {
 /// The trigger's modes in the palette: "auto" lets Table 1 choose by the
 /// pen's distance and angle to the curve; the others force one tool on
 /// the pointed curve or surface (drawing when nothing is pointed).
-const MODES: [(&str, Option<CurveMode>); 6] = [
+pub(super) const MODES: [(&str, Option<CurveMode>); 6] = [
     ("auto", None),
     ("draw", Some(CurveMode::Draw)),
     ("smooth", Some(CurveMode::Edit(TableTool::SmoothSegment))),

@@ -1,0 +1,76 @@
+//! [`Entry`]: one message of a document's stream (an op, a seed, a
+//! snapshot), its format version and the largest one a replica applies.
+
+use serde::{Deserialize, Serialize};
+
+use super::identity::*;
+use crate::doc::Op;
+
+/// Version of the entry format.
+pub const ENTRY_VERSION: u32 = 1;
+
+/// The largest entry a replica applies (bytes of JSON): under NATS's
+/// default 1 MiB message limit, with room for headers. An op bigger than
+/// this (a sculpt stroke of some 10,000 samples; a 90 Hz stroke of ten
+/// seconds is about 900) is refused for its author before it is published.
+pub const MAX_ENTRY_BYTES: usize = 960 << 10;
+
+/// One message of the stream (the same on the wire as here, JSON).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Entry {
+    /// Format version ([`ENTRY_VERSION`]).
+    pub v: u32,
+    /// The author's participant id: 1 to 64 bytes of `A-Z a-z 0-9 _ - .`.
+    pub author: String,
+    /// The author's own entry counter (1, 2, ...): with the author, the
+    /// message id the stream de-duplicates on, and the name an undo uses.
+    pub n: u64,
+    /// The stream sequence the author had seen when publishing it.
+    pub base: u64,
+    /// What it does.
+    pub body: Body,
+}
+
+/// What an entry does.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Body {
+    /// The author joins (or rejoins, with a new name or colour).
+    Join {
+        /// The name shown to others.
+        name: String,
+        /// Their colour (linear RGB, 0 to 1).
+        colour: [f32; 3],
+    },
+    /// An op.
+    Op {
+        /// The first id the op's created objects take (absent: it
+        /// creates none).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        ids_from: Option<u32>,
+        /// The op, as in a `.jsonl` script.
+        op: Op,
+    },
+    /// Takes back the author's op `n`.
+    Undo(u64),
+    /// Brings back the author's undone op `n`.
+    Redo(u64),
+    /// The single-user history the session starts from (a file someone
+    /// opened and then shared): valid only as the first op entry. Its
+    /// objects keep their ids (below the participants' ranges); nobody's
+    /// undo takes it back.
+    Seed(Vec<Op>),
+}
+
+impl Entry {
+    /// The message id the stream de-duplicates on (`Nats-Msg-Id`).
+    pub fn msg_id(&self) -> String {
+        msg_id(&self.author, self.n)
+    }
+
+    /// The entry as a stream message.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        serde_json::to_vec(self).unwrap_or_default()
+    }
+}

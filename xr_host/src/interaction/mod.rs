@@ -1,0 +1,51 @@
+//! The interaction step both frame loops (headset, headless) and `replay`
+//! run: one raw [`interact::InputFrame`] in, a
+//! [`shapewright::interact::Session`] stepped against the latest document,
+//! and the [`Scene`] (document mesh, drag preview, rays and sketch)
+//! brought up to date for the renderer.
+//!
+//! **Commits run off the frame.** A command the tool produces is handed
+//! to a commit thread that owns the [`OpLog`]: applying an op re-evaluates
+//! its object (a generalized-cylinder assembly re-unites all its parts,
+//! 70 to 160 ms for the teapot), which would drop several 90 Hz frames.
+//! The frame keeps stepping against the last committed document and
+//! picks up the new one (and its mesh) when the commit reports back;
+//! commands are applied strictly in the order they were produced.
+//! [`Interaction::flush`] waits for every pending commit: `replay` calls it
+//! after each frame, so the tool sees exactly what the core's
+//! [`interact::replay`] shows it, and the result is bit-identical.
+//!
+//! Persistence: an optional [`Autosaver`] on the commit thread saves the
+//! log as USD (with its history, so `run --open` continues it and undo
+//! works) every N changes or T seconds, and [`Interaction::save_now`] is
+//! called on session loss, instance loss and exit; it saves after every
+//! command produced before it, so no acknowledged op is lost. A failed
+//! save is reported (stderr, [`InteractionStats::save_errors`], and a red
+//! message in the headset until a save succeeds) and retried at the next
+//! trigger; it never stops the session, and the file on disk keeps the
+//! last good save (the autosaver replaces it atomically), so a failure
+//! loses at most the ops since then.
+//!
+//! Shared sessions (`run --join`): the commit thread also owns the
+//! session's [`shapewright_net::Link`]. It pumps it every few milliseconds
+//! (others' entries in, this person's appends out) and hands the frame a
+//! new document when others' edits arrived, exactly as after a local
+//! commit; the headset says when the server is out of reach and shows the
+//! refusals the session sends this person.
+//!
+//! Haptics: a short pulse on the hand(s) that made a command when its
+//! commit lands (the hands holding a button in the frame that produced
+//! it, else both), and a tick when a ray starts pointing at something.
+//!
+//! Tools come from [`interact::tool_named`], so every tool the core
+//! registers is available to `--tool` without a list here.
+
+mod commit;
+mod frame;
+mod presence;
+mod sink;
+#[cfg(test)]
+mod tests;
+
+pub use commit::LogGuard;
+pub use frame::{Interaction, InteractionError, InteractionStats};

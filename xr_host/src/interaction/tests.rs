@@ -1,0 +1,239 @@
+//! Tests of the interaction step: stepping a trace matches the core's
+//! replay bit for bit, commits apply in order off the frame, autosave and
+//! its failures, a frame never waiting for a commit, and message wrapping.
+
+use std::sync::mpsc;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use shapewright::doc::OpLog;
+use shapewright::interact::{apply_command, Similarity, TraceError};
+use shapewright_usd::Autosaver;
+
+use super::commit::*;
+use super::frame::*;
+use super::sink::*;
+use crate::xr::{FrameSink, LifecycleEvent};
+use shapewright::interact::{replay, Trace};
+use shapewright_usd::{load_file, AutosaveSettings, LoadOptions, SaveOptions};
+
+fn fixture() -> Trace {
+    let p = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../tests/data/primitives_session.trace.jsonl"
+    );
+    Trace::from_jsonl(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+#[test]
+fn stepping_a_trace_matches_the_core_replay_bit_for_bit() {
+    let trace = fixture();
+    let model = trace.header.model.similarity().unwrap();
+    let mut it = Interaction::new(&trace.header.tool, model, OpLog::new(), None).unwrap();
+    let mut rays = 0;
+    for f in &trace.frames {
+        it.step(f);
+        it.flush();
+        rays += usize::from(!it.scene().lines.is_empty());
+    }
+    let core = replay(&trace).unwrap();
+    assert_eq!(it.stats().commands as usize, core.commands.len());
+    assert_eq!(it.stats().rejected.len(), core.rejected.len());
+    assert_eq!(it.log().len(), core.log.len());
+    assert_eq!(
+        it.log().document().content_hash(),
+        core.log.document().content_hash()
+    );
+    // The scene follows: the document mesh has every object, and the
+    // controllers' rays were drawn on most frames.
+    let doc = it.scene().document.as_ref().unwrap();
+    assert_eq!(
+        doc.triangle_count(),
+        core.log.document().combined_mesh().triangle_count()
+    );
+    assert!(rays * 2 >= trace.frames.len(), "{rays}");
+    assert!(it.scene().version as usize > core.log.cursor());
+}
+
+#[test]
+fn commits_in_the_background_apply_every_command_in_order() {
+    // Without a flush per frame the tool may see a document a commit
+    // behind; every command it produced is still applied, in order,
+    // and the scene catches up.
+    let trace = fixture();
+    let model = trace.header.model.similarity().unwrap();
+    let mut it = Interaction::new(&trace.header.tool, model, OpLog::new(), None).unwrap();
+    let mut produced = Vec::new();
+    for f in &trace.frames {
+        if let Some(c) = it.step(f) {
+            produced.push(c);
+        }
+    }
+    assert!(produced.len() >= 3, "{}", produced.len());
+    let mut expected = OpLog::new();
+    let mut refused = 0;
+    for c in &produced {
+        refused += usize::from(apply_command(&mut expected, c).is_err());
+    }
+    let hash = it.log().document().content_hash();
+    assert_eq!(hash, expected.document().content_hash());
+    assert_eq!(it.stats().rejected.len(), refused);
+    assert_eq!(it.stats().commit_ms.len(), produced.len());
+    assert_eq!(it.document().content_hash(), hash);
+    let doc = it.scene().document.as_ref().unwrap();
+    assert_eq!(
+        doc.triangle_count(),
+        expected.document().combined_mesh().triangle_count()
+    );
+}
+
+#[test]
+fn unknown_tools_are_typed_errors() {
+    let e = Interaction::new("nope", Similarity::IDENTITY, OpLog::new(), None).err();
+    assert!(matches!(e, Some(InteractionError::Tool(TraceError::UnknownTool(t))) if t.0 == "nope"));
+}
+
+#[test]
+fn session_loss_saves_every_op_and_reopening_continues_the_history() {
+    let dir = std::env::temp_dir().join(format!("sw_xr_interaction_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("s.usda");
+    let trace = fixture();
+    let model = trace.header.model.similarity().unwrap();
+    // Only the loss triggers a save: no op or time trigger fires.
+    let settings = AutosaveSettings {
+        every_ops: usize::MAX,
+        every: std::time::Duration::from_secs(3600),
+    };
+    let saver = Autosaver::new(&path, settings, SaveOptions::default());
+    let mut it = Interaction::new("object", model, OpLog::new(), Some(saver)).unwrap();
+    let half = trace.frames.len() / 2;
+    for f in &trace.frames[..half] {
+        it.step(f);
+    }
+    assert!(!path.exists(), "nothing saved before the loss");
+    let acknowledged = it.log().len();
+    assert!(acknowledged >= 2, "{acknowledged}");
+    it.lifecycle(&LifecycleEvent::SessionLost);
+    let loaded = load_file(&path, LoadOptions::default()).unwrap();
+    assert_eq!(loaded.log.len(), acknowledged);
+    assert_eq!(
+        loaded.log.document().content_hash(),
+        it.log().document().content_hash()
+    );
+    // Continue from the file: the history is kept, new ops append to
+    // it, the exit save has them all, and undo reaches back into the
+    // saved history.
+    let saver = Autosaver::new(&path, AutosaveSettings::default(), SaveOptions::default());
+    let mut cont = Interaction::new("object", model, loaded.log, Some(saver)).unwrap();
+    for f in &trace.frames[half..] {
+        cont.step(f);
+    }
+    let kept = it.log().cursor();
+    assert!(cont.log().len() > kept);
+    assert_eq!(cont.log().ops()[..kept], it.log().ops()[..kept]);
+    cont.save_now();
+    let reopened = load_file(&path, LoadOptions::default()).unwrap();
+    assert_eq!(reopened.log.ops(), cont.log().ops());
+    assert_eq!(reopened.log.cursor(), cont.log().cursor());
+    let mut log = reopened.log;
+    while log.cursor() > 0 {
+        log.undo().unwrap();
+    }
+    assert!(log.document().is_empty());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn commits_pulse_the_hands_that_made_them() {
+    let trace = fixture();
+    let model = trace.header.model.similarity().unwrap();
+    let mut it = Interaction::new(&trace.header.tool, model, OpLog::new(), None).unwrap();
+    let mut pulses = Vec::new();
+    for f in &trace.frames {
+        it.step(f);
+        it.flush();
+        pulses.extend(it.take_haptics());
+    }
+    let commits = it.stats().commands as usize - it.stats().rejected.len();
+    let strong: Vec<_> = pulses.iter().filter(|p| p.amplitude > 0.5).collect();
+    assert!(commits >= 3, "{commits}");
+    // At least one pulse per landed commit, on a real hand.
+    assert!(strong.len() >= commits, "{} < {commits}", strong.len());
+    assert!(strong.iter().all(|p| p.hand < 2 && p.millis > 0));
+    // Ticks when a ray starts pointing at something.
+    assert!(pulses.iter().any(|p| p.amplitude < 0.5));
+    assert_eq!(it.stats().haptics as usize, pulses.len());
+}
+
+#[test]
+fn a_failing_save_shows_in_the_headset_until_a_save_succeeds() {
+    let dir = std::env::temp_dir().join(format!("sw_xr_notice_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("s.usda");
+    // A directory where the file should be: the atomic save's final
+    // rename fails (whatever its temporary file is called).
+    let blocker = path.clone();
+    std::fs::create_dir(&blocker).unwrap();
+    let trace = fixture();
+    let model = trace.header.model.similarity().unwrap();
+    let saver = Autosaver::new(&path, AutosaveSettings::default(), SaveOptions::default());
+    let mut it = Interaction::new("object", model, OpLog::new(), Some(saver)).unwrap();
+    let mut k = 0;
+    while it.log().is_empty() {
+        it.step(&trace.frames[k]);
+        k += 1;
+    }
+    assert!(!it.save_now());
+    let notes = it.notices();
+    assert_eq!(notes.len(), 1);
+    assert!(notes[0].warning && notes[0].text.starts_with("AUTOSAVE FAILED"));
+    assert!(!it.stats().save_errors.is_empty());
+    std::fs::remove_dir(&blocker).unwrap();
+    assert!(it.save_now());
+    assert!(it.notices().is_empty());
+    let loaded = load_file(&path, LoadOptions::default()).unwrap();
+    assert_eq!(loaded.log.len(), it.log().len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_frame_reads_its_notices_while_a_commit_holds_the_log() {
+    // The commit thread holds the log while an op applies (a quarter
+    // second for a GC edit); the frame's notices must not wait for it.
+    let trace = fixture();
+    let model = trace.header.model.similarity().unwrap();
+    let it = Interaction::new("object", model, OpLog::new(), None).unwrap();
+    let held = Arc::clone(&it.shared);
+    let (locked_tx, locked) = mpsc::channel();
+    let (release, release_rx) = mpsc::channel::<()>();
+    let holder = std::thread::spawn(move || {
+        let _guard = lock(&held);
+        locked_tx.send(()).unwrap();
+        let _ = release_rx.recv_timeout(Duration::from_secs(10));
+    });
+    locked.recv().unwrap();
+    let t0 = Instant::now();
+    let notes = it.notices();
+    let waited = t0.elapsed();
+    release.send(()).unwrap();
+    holder.join().unwrap();
+    assert!(notes.is_empty());
+    assert!(
+        waited < Duration::from_secs(5),
+        "notices() waited {waited:?} for the log"
+    );
+}
+
+#[test]
+fn wrapped_messages_fit_the_width() {
+    let w = wrap(
+        "cannot author the USD layer: object #1: patch 4 has 6 sides and more words",
+        20,
+    );
+    assert!(w.lines().all(|l| l.chars().count() <= 20), "{w}");
+    assert!(w.starts_with("cannot author the"));
+    assert_eq!(wrap(&"x".repeat(50), 20).lines().count(), 3);
+    assert!(wrap(&"word ".repeat(100), 10).ends_with("..."));
+}
