@@ -8,7 +8,7 @@ use crate::math::DVec3;
 use super::preview::*;
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::gesture::GestureState;
-use crate::interact::input::Frame;
+use crate::interact::input::{Frame, Pose};
 use crate::interact::palette::{ChoiceGroup, Snap};
 
 /// What a tool sees each frame.
@@ -62,6 +62,16 @@ pub trait Tool {
     fn choose(&mut self, doc: &Document, group: usize, option: usize) -> Option<ScriptCommand> {
         let _ = (doc, group, option);
         None
+    }
+}
+
+impl ToolContext<'_> {
+    /// The model-space motion of a hand whose grip went from `grip0` to
+    /// `grip` (world poses), or `None` when it is degenerate (a drag then
+    /// keeps its last motion).
+    pub(crate) fn grip_motion(&self, grip0: &Pose, grip: &Pose) -> Option<Similarity> {
+        let world = Similarity::from_pose(&grip.compose(&grip0.inverse()));
+        Some(self.model.conjugate(&world)).filter(Similarity::is_valid)
     }
 }
 

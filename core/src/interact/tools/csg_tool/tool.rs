@@ -382,9 +382,7 @@ impl CsgTool {
         }
         d.lost_since = None;
         let grip = now.grip?;
-        let world = Similarity::from_pose(&grip.compose(&d.grip0.inverse()));
-        let m = cx.model.conjugate(&world);
-        if m.is_valid() {
+        if let Some(m) = cx.grip_motion(&d.grip0, &grip) {
             d.motion = m;
         }
         let other = inputs[d.hand.other().index()];
@@ -442,9 +440,7 @@ impl CsgTool {
         }
         d.lost_since = None;
         let grip = now.grip?;
-        let world = Similarity::from_pose(&grip.compose(&d.grip0.inverse()));
-        let m = cx.model.conjugate(&world);
-        if m.is_valid() {
+        if let Some(m) = cx.grip_motion(&d.grip0, &grip) {
             d.motion = m;
         }
         self.preview.moving = Some(MovingPreview {
