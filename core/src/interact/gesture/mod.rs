@@ -27,6 +27,7 @@ pub(crate) mod controller_hand;
 pub(crate) mod handmodel;
 pub(crate) mod similarity;
 
+use crate::math::fm::DetMath as _;
 use serde::{Deserialize, Serialize};
 
 use crate::math::DVec3;
@@ -281,7 +282,7 @@ impl GestureClassifier {
         let s = self.settings;
         let f = match self.features {
             Some(prev) if s.smoothing > 0.0 && time > self.last_time => {
-                let a = 1.0 - (-(time - self.last_time) / s.smoothing).exp();
+                let a = 1.0 - (-(time - self.last_time) / s.smoothing).fexp();
                 prev.blend(&raw, a)
             }
             _ => raw,
