@@ -231,7 +231,7 @@ def rust_files(paths: list[Path]) -> list[Path]:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("paths", nargs="*", type=Path)
-    ap.add_argument("--skip", action="append", default=[], type=Path, help="a file or directory to leave alone")
+    ap.add_argument("--skip", action="append", default=[], type=Path, help="a file or folder to leave alone")
     ap.add_argument("--check", action="store_true", help="report, rewrite nothing")
     args = ap.parse_args()
     paths = [p.resolve() for p in args.paths] or [ROOT / c for c in CRATES]
