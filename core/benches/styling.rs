@@ -9,6 +9,7 @@
 #![allow(missing_docs)] // criterion_group! generates undocumented functions.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use shapewright::math::fm::DetMath as _;
 use shapewright::nurbs::clamped_uniform_knots;
 use shapewright::styling::solver::FixedSolver;
 use shapewright::styling::surface::{SurfaceSystem, SurfaceWeights};
@@ -20,7 +21,7 @@ fn helix(n: usize) -> SplineCurve {
         .map(|i| {
             let s = i as f64 / (n - 1) as f64;
             let a = 40.0 * s;
-            [0.5 * s, 0.05 * a.cos(), 0.05 * a.sin()]
+            [0.5 * s, 0.05 * a.fcos(), 0.05 * a.fsin()]
         })
         .collect();
     SplineCurve::new(clamped_uniform_knots(n, 3), ctrl).expect("helix")
@@ -68,7 +69,7 @@ fn surfaces(c: &mut Criterion) {
             .map(|k| {
                 let (i, j) = (k / n, k % n);
                 let (u, v) = (i as f64 / (n - 1) as f64, j as f64 / (n - 1) as f64);
-                [u, v, 0.05 * (9.0 * u).sin() * (7.0 * v).cos()]
+                [u, v, 0.05 * (9.0 * u).fsin() * (7.0 * v).fcos()]
             })
             .collect();
         let (a, fixed) = (sys.a.clone(), sys.fixed.clone());

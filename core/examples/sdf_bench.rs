@@ -20,6 +20,7 @@
 //! are written (raw little-endian f32 plus JSON), so the peer resamples and
 //! fuses the same data; the full grids too.
 
+use shapewright::math::fm::DetMath as _;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -304,7 +305,7 @@ fn full_grid(n: usize) -> (Vec<f32>, SparseGrid) {
             for x in 0..n {
                 let p = [x as f64 * h - c, y as f64 * h - c, z as f64 * h - c];
                 let sphere = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 0.4;
-                let torus = ((p[0] * p[0] + p[1] * p[1]).sqrt() - 0.3).hypot(p[2]) - 0.12;
+                let torus = ((p[0] * p[0] + p[1] * p[1]).sqrt() - 0.3).fhypot(p[2]) - 0.12;
                 dense[x + n * (y + n * z)] = sphere.max(-torus) as f32;
             }
         }

@@ -9,6 +9,7 @@
 //! Prints one JSON object per system on stdout.
 #![allow(missing_docs, clippy::needless_range_loop)]
 
+use shapewright::math::fm::DetMath as _;
 use std::io::Write;
 use std::time::Instant;
 
@@ -24,7 +25,7 @@ fn helix(n: usize) -> SplineCurve {
         .map(|i| {
             let s = i as f64 / (n - 1) as f64;
             let a = 40.0 * s + 0.3 * ((i * 7919 % 13) as f64 / 13.0);
-            [0.5 * s, 0.05 * a.cos(), 0.05 * a.sin()]
+            [0.5 * s, 0.05 * a.fcos(), 0.05 * a.fsin()]
         })
         .collect();
     SplineCurve::new(clamped_uniform_knots(n, 3), ctrl).expect("helix")
@@ -35,7 +36,7 @@ fn bumpy(n: usize) -> Vec<[f64; 3]> {
     for i in 0..n {
         for j in 0..n {
             let (u, v) = (i as f64 / (n - 1) as f64, j as f64 / (n - 1) as f64);
-            let z = 0.05 * (9.0 * u).sin() * (7.0 * v).cos()
+            let z = 0.05 * (9.0 * u).fsin() * (7.0 * v).fcos()
                 + 0.005 * (((i * 31 + j * 17) % 7) as f64 - 3.0);
             d.push([u, v, z]);
         }

@@ -4,6 +4,7 @@
 //! the work (these used to abort on allocation or run past a minute), and
 //! the document is left as it was.
 
+use shapewright::math::fm::DetMath as _;
 use std::path::PathBuf;
 
 use shapewright::doc::{parse_script, LogError, OpError, OpLog, ScriptCommand};
@@ -133,8 +134,8 @@ fn gc_skinning_work_of_many_distinct_profiles_is_bounded() {
             let pts: Vec<[f64; 2]> = (0..300)
                 .map(|j| {
                     let a = std::f64::consts::TAU * j as f64 / 300.0;
-                    let r = 0.04 * (1.0 + 0.1 * (7.0 * a + i as f64).sin());
-                    [r * a.cos(), r * a.sin()]
+                    let r = 0.04 * (1.0 + 0.1 * (7.0 * a + i as f64).fsin());
+                    [r * a.fcos(), r * a.fsin()]
                 })
                 .collect();
             serde_json::json!({"profile": {"template": "points", "points": pts}, "v": i as f64 / (n - 1) as f64})
@@ -240,7 +241,7 @@ fn curve_draw_abuse_is_refused_before_resampling() {
     let ring: Vec<[f64; 3]> = (0..100_000)
         .map(|i| {
             let a = std::f64::consts::TAU * i as f64 / 1e5;
-            [0.1 * a.cos(), 0.1 * a.sin(), 0.0]
+            [0.1 * a.fcos(), 0.1 * a.fsin(), 0.0]
         })
         .collect();
     let draw = serde_json::json!({

@@ -22,6 +22,7 @@ use shapewright::doc::{Edit, ObjectId, ObjectKind, Op, OpLog};
 use shapewright::gc::{
     GcAssembly, GcReplaceSection, GcResize, PartId, Profile, SectionIndex, ShapeType,
 };
+use shapewright::math::fm::DetMath as _;
 use shapewright::mesh::validate;
 use shapewright::nurbs::euclidean;
 
@@ -196,8 +197,8 @@ fn profiles(r: f64) -> Vec<Profile> {
     let blob: Vec<[f64; 2]> = (0..11)
         .map(|i| {
             let a = std::f64::consts::TAU * i as f64 / 11.0 + 0.3;
-            let k = r * (1.0 + 0.12 * (3.0 * a).sin() + 0.05 * (2.0 * a).cos());
-            [k * a.cos(), k * a.sin()]
+            let k = r * (1.0 + 0.12 * (3.0 * a).fsin() + 0.05 * (2.0 * a).fcos());
+            [k * a.fcos(), k * a.fsin()]
         })
         .collect();
     vec![

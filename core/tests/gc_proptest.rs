@@ -10,6 +10,7 @@ use proptest::prelude::*;
 use shapewright::doc::{Edit as DocEdit, LogError, ObjectId, Op, OpError, OpLog};
 use shapewright::gc::*;
 use shapewright::gc::{ClosedEnd, Profile, Resolution, ShapeType};
+use shapewright::math::fm::DetMath as _;
 use shapewright::mesh::validate;
 use shapewright::print::PrintError;
 
@@ -31,7 +32,7 @@ fn profile() -> impl Strategy<Value = Profile> {
                         .map(|i| {
                             let a = i as f64 / n as f64 * std::f64::consts::TAU;
                             let rr = r * (1.0 + noise[i]);
-                            [rr * a.cos(), rr * a.sin()]
+                            [rr * a.fcos(), rr * a.fsin()]
                         })
                         .collect(),
                 }

@@ -14,6 +14,7 @@
 //! `scripts/print_soak.sh` runs more) and prints the count of refusals by
 //! reason.
 
+use shapewright::math::fm::DetMath as _;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -132,7 +133,7 @@ fn random_document(lib: &[Item], seed: u64) -> (Vec<(usize, TriMesh)>, Vec<Strin
             let mut m = mesh.clone();
             let mut t = at;
             if choice == 1 {
-                let d = 10f64.powf(rng.range(-9.0, -4.0));
+                let d = 10f64.fpowf(rng.range(-9.0, -4.0));
                 let dir = DVec3::new(
                     rng.range(-1.0, 1.0),
                     rng.range(-1.0, 1.0),

@@ -11,6 +11,7 @@
 use glam::{DQuat, DVec3};
 use shapewright::doc::{Create, Edit, ObjectId, Op, OpLog};
 use shapewright::interact::{BrushPreset, BrushToolSettings};
+use shapewright::math::fm::DetMath as _;
 use shapewright::math::MirrorPlane;
 use shapewright::mesh::validate;
 use shapewright::sculpt::{SculptBase, SculptCreate, SculptStroke, StrokeSample};
@@ -44,7 +45,7 @@ fn stroke(rng: &mut Rng, presets: &[BrushPreset], mirror: bool) -> SculptStroke 
     settings.influence *= k;
     let th = rng.r(0.0, std::f64::consts::TAU);
     let x0 = rng.r(-0.03, 0.03);
-    let dir = DVec3::new(x0 / 0.1, th.cos(), th.sin()).normalize();
+    let dir = DVec3::new(x0 / 0.1, th.fcos(), th.fsin()).normalize();
     let mut pos = dir * rng.r(0.08, 0.11);
     let n = 2 + (rng.f() * 14.0) as usize;
     let step = rng.v() * 0.006;

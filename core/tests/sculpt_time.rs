@@ -12,6 +12,7 @@
 //! `--release --ignored --nocapture`) prints the measurements the
 //! constants come from.
 
+use shapewright::math::fm::DetMath as _;
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -78,7 +79,7 @@ fn circle(n: usize, ring: f64, z: f64) -> Vec<StrokeSample> {
         .map(|i| {
             let a = std::f64::consts::TAU * i as f64 / n.max(1) as f64 * 0.5;
             StrokeSample {
-                position: [ring * a.cos(), ring * a.sin(), z],
+                position: [ring * a.fcos(), ring * a.fsin(), z],
                 rotation: DQuat::from_rotation_z(0.3 * a).to_array(),
                 pressure: 1.0,
             }
@@ -250,7 +251,7 @@ fn a_base_mesh_at_the_time_limit_is_built_within_it() {
     let mut edge = 0.0005;
     let ok = |e: f64| {
         shapewright::sculpt::base::sphere_frequency(1.0, e).is_ok_and(|n| {
-            let v = 10.0 * (n as f64).powi(2) + 2.0;
+            let v = 10.0 * (n as f64).fpowi(2) + 2.0;
             shapewright::sculpt::budget::CreateCost { vertices: v }.seconds() <= 0.9 * MAX_SECONDS
         })
     };

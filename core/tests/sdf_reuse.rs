@@ -8,6 +8,7 @@ mod common;
 
 use common::{data, run};
 use shapewright::doc::{LogError, ObjectId, Op, OpError, OpLog};
+use shapewright::math::fm::DetMath as _;
 use shapewright::mesh::{validate, TriMesh, ValidationReport};
 use shapewright::sdf::SdfError;
 
@@ -29,7 +30,7 @@ fn report(m: &TriMesh) -> ValidationReport {
 /// (relative) of `scale³` times `want`'s.
 fn same_shape(what: &str, got: &TriMesh, want: &TriMesh, scale: f64, tol: f64) {
     let (g, w) = (report(got), report(want));
-    let ratio = g.signed_volume / (w.signed_volume * scale.powi(3));
+    let ratio = g.signed_volume / (w.signed_volume * scale.fpowi(3));
     eprintln!(
         "{what}: volume ratio {ratio:.4}, genus {:?} vs {:?}, pieces {} vs {}",
         g.genus, w.genus, g.components, w.components

@@ -4,6 +4,7 @@
 //! ops are built from `shapewright::sketch` values as JSON, the way the
 //! Blender add-on builds them.
 
+use shapewright::math::fm::DetMath as _;
 use std::f64::consts::PI;
 
 use serde_json::json;
@@ -60,7 +61,7 @@ fn arc() -> Vec<DVec3> {
     (0..=n)
         .map(|i| {
             let a = 0.5 * PI * i as f64 / n as f64;
-            DVec3::new(0.12 * (1.0 - a.cos()), 0.0, 0.12 * a.sin())
+            DVec3::new(0.12 * (1.0 - a.fcos()), 0.0, 0.12 * a.fsin())
         })
         .collect()
 }
@@ -118,7 +119,7 @@ fn handle_stroke() -> Vec<DVec3> {
     (0..=40)
         .map(|i| {
             let a = PI * i as f64 / 40.0;
-            DVec3::new(0.04 + 0.035 * a.sin(), 0.0, 0.05 + 0.03 * a.cos())
+            DVec3::new(0.04 + 0.035 * a.fsin(), 0.0, 0.05 + 0.03 * a.fcos())
         })
         .collect()
 }
@@ -201,7 +202,7 @@ fn replacing_a_two_section_handles_spine_keeps_the_part() {
     let stroke: Vec<DVec3> = (0..=30)
         .map(|i| {
             let a = 0.6 * PI * i as f64 / 30.0;
-            DVec3::new(0.5 + 0.05 * a.sin(), 0.0, 0.3 + 0.05 * (1.0 - a.cos()))
+            DVec3::new(0.5 + 0.05 * a.fsin(), 0.0, 0.3 + 0.05 * (1.0 - a.fcos()))
         })
         .collect();
     let asm = assembly(&log, id);

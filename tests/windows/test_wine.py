@@ -36,7 +36,6 @@ import subprocess
 import time
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -122,97 +121,46 @@ def put(hosts: tuple[Host, Host], src: Path, name: str | None = None) -> str:
     return name
 
 
-# Known difference (measured here 2026-11-28): the geometry's last bits
-# differ between the two builds, because std's f64 `sin`, `cos`, `atan2`,
-# `exp`, `ln`, `powf` and `acos` call the C library: glibc on Linux,
-# msvcrt.dll on Windows (wine's own implementation under wine, Microsoft's
-# on a real Windows). Over 20 000 random inputs, wine 8's and glibc's
-# results differ in the last bit for 0.06-0.1 % of sin/cos/atan2/exp/log/pow
-# calls and 7.8 % of acos calls; a sign decision of the SDF mesher can then
-# turn out differently. Byte identity needs a libm of the core's own (the
-# `libm` crate or correctly rounded functions) on every OS: until then a
-# byte difference is reported as an expected failure with where it lies,
-# after the checks below that must hold anyway (every command succeeds on
-# both OSes, printed text and USD files agree to 1e-6 in every number
-# whenever their structure agrees, and every STL has the same triangle
-# count to 1 %, bounding box to 10 um and volume to 1e-5).
-# SHAPEWRIGHT_WINE_EXACT=1 makes a byte difference a plain failure.
-EXACT = os.environ.get("SHAPEWRIGHT_WINE_EXACT") == "1"
-NUMBER = re.compile(rb"(-?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?)")
+# Byte for byte (issue 32): both builds compute every transcendental
+# function with the same code (core/src/math/fm.rs over the pure-Rust
+# `libm` crate; glam's `libm` feature), not with the C library (glibc on
+# Linux, msvcrt.dll on Windows, whose last bits differed for 0.06-0.1 % of
+# sin/cos/atan2/exp/log/pow calls and 7.8 % of acos calls under wine 8 and
+# turned some SDF mesher sign decisions). Any byte difference is a failure.
 
 
 def first_difference(a: bytes, b: bytes) -> int:
     return next((i for i, (x, y) in enumerate(zip(a, b, strict=False)) if x != y), min(len(a), len(b)))
 
 
-def near_text(a: bytes, b: bytes, what: str) -> bool:
-    """Whether `a` and `b` are the same text with every number within 1e-6
-    (relative above 1). False when their structure differs (a different
-    mesh topology); an assertion error when only numbers are far apart."""
-    pa, pb = NUMBER.split(a), NUMBER.split(b)
-    if len(pa) != len(pb) or pa[0::2] != pb[0::2]:
-        return False
-    for x, y in zip(pa[1::2], pb[1::2], strict=True):
-        if x != y:
-            if not any(c in x + y for c in b".eE"):
-                return False  # an index (OBJ faces): another topology
-            fx, fy = float(x), float(y)
-            close = abs(fx - fy) <= 1e-6 * max(1.0, abs(fx), abs(fy))
-            assert close, f"{what}: {x!r} on Linux, {y!r} on Windows"
-    return True
-
-
-def stl_summary(data: bytes) -> tuple[int, np.ndarray, np.ndarray, float]:
-    """Triangle count, bounding box and enclosed volume of a binary STL."""
-    n = int.from_bytes(data[80:84], "little")
-    assert len(data) == 84 + 50 * n, "not a binary STL"
-    rec = np.frombuffer(data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
-    v = rec["v"].astype(np.float64)
-    vol = float(np.einsum("ij,ij->i", v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6.0)
-    return n, v.reshape(-1, 3).min(axis=0), v.reshape(-1, 3).max(axis=0), vol
-
-
-def near_stl(a: bytes, b: bytes, what: str) -> None:
-    (na, lo_a, hi_a, va), (nb, lo_b, hi_b, vb) = stl_summary(a), stl_summary(b)
-    assert abs(na - nb) <= 0.01 * max(na, nb), f"{what}: {na} triangles on Linux, {nb} on Windows"
-    assert np.allclose(lo_a, lo_b, atol=1e-5) and np.allclose(hi_a, hi_b, atol=1e-5), (
-        f"{what}: bounding box {lo_a}..{hi_a} on Linux, {lo_b}..{hi_b} on Windows"
-    )
-    assert abs(va - vb) <= 1e-5 * max(abs(va), 1e-12), f"{what}: volume {va} on Linux, {vb} on Windows"
+def around(data: bytes, at: int) -> bytes:
+    return data[max(0, at - 24) : at + 24]
 
 
 class Compare:
-    """Compares outputs of the two builds: the tolerant checks assert at
-    once; byte differences are collected and, at `done()`, end the test as
-    an expected failure naming them (a plain failure under EXACT)."""
+    """Compares outputs of the two builds byte for byte; every difference
+    is collected, and `done()` fails the test naming all of them."""
 
     def __init__(self) -> None:
         self.diffs: list[str] = []
 
     def text(self, a: bytes, b: bytes, what: str) -> None:
         if a != b:
-            near_text(a, b, what)
-            self.diffs.append(f"{what} (from byte {first_difference(a, b)})")
+            at = first_difference(a, b)
+            self.diffs.append(
+                f"{what} from byte {at}: {around(a, at)!r} on Linux, {around(b, at)!r} on Windows"
+            )
 
     def files(self, hosts: tuple[Host, Host], *names: str) -> None:
         for n in names:
             a, b = hosts[0].file(n), hosts[1].file(n)
-            if a == b:
-                continue
-            if n.endswith(".stl"):
-                near_stl(a, b, n)
-            elif n.endswith((".usda", ".obj", ".json")):
-                near_text(a, b, n)
-            at = first_difference(a, b)
-            self.diffs.append(f"{n}: Linux {len(a)} bytes, Windows {len(b)}, from byte {at}")
+            if a != b:
+                self.diffs.append(
+                    f"{n}: Linux {len(a)} bytes, Windows {len(b)}, from byte {first_difference(a, b)}"
+                )
 
     def done(self) -> None:
-        if not self.diffs:
-            return
-        msg = "differs in the last bits (platform libm, see EXACT): " + "; ".join(self.diffs)
-        if EXACT:
-            pytest.fail(msg)
-        pytest.xfail(msg)
+        assert not self.diffs, "Linux and Windows differ: " + "; ".join(self.diffs)
 
 
 def same_files(hosts: tuple[Host, Host], *names: str) -> None:

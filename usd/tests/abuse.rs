@@ -15,6 +15,7 @@
 
 mod common;
 
+use shapewright::math::fm::DetMath as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -134,7 +135,7 @@ fn big_polygon(n: usize, star: bool) -> String {
         .map(|i| {
             let a = std::f64::consts::TAU * i as f64 / n as f64;
             let r = if star && i % 2 == 1 { 0.5 } else { 1.0 };
-            format!("({}, {}, 0)", r * a.cos(), r * a.sin())
+            format!("({}, {}, 0)", r * a.fcos(), r * a.fsin())
         })
         .collect();
     let indices: Vec<String> = (0..n).map(|i| i.to_string()).collect();
@@ -174,7 +175,7 @@ fn hexagon_script(r: f64) -> Vec<Op> {
     )];
     let corner = |k: usize| {
         let a = std::f64::consts::PI / 3.0 * k as f64;
-        DVec3::new(r * a.cos(), r * a.sin(), 0.0)
+        DVec3::new(r * a.fcos(), r * a.fsin(), 0.0)
     };
     for k in 0..6 {
         let (a, b) = (corner(k), corner(k + 1));
@@ -183,7 +184,7 @@ fn hexagon_script(r: f64) -> Vec<Op> {
             .map(|i| {
                 let t = -0.25 + 1.5 * f64::from(i) / 7.0;
                 // A slight bulge out of the plane keeps the curve honest.
-                let bulge = 0.02 * r * (std::f64::consts::PI * t).sin();
+                let bulge = 0.02 * r * (std::f64::consts::PI * t).fsin();
                 (a + d * t + DVec3::new(0.0, 0.0, bulge)).to_array()
             })
             .collect();

@@ -5,6 +5,7 @@
 mod common;
 
 use shapewright::doc::ObjectKind;
+use shapewright::math::fm::DetMath as _;
 use shapewright::math::DVec3;
 use shapewright::nurbs::segment;
 use shapewright::nurbs::uniform_samples as params;
@@ -26,7 +27,7 @@ fn segment_is_the_curve_over_its_span() {
     let pts: Vec<DVec3> = (0..9)
         .map(|i| {
             let t = i as f64 * 0.7;
-            DVec3::new(t.cos(), t.sin(), 0.3 * t)
+            DVec3::new(t.fcos(), t.fsin(), 0.3 * t)
         })
         .collect();
     let c = interpolate(&pts, 3, ParamMethod::ChordLength).unwrap();

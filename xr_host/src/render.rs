@@ -2,6 +2,7 @@
 //! Vulkan conventions (also used for OpenXR's asymmetric eye frusta), and
 //! PNG encoding. Safe code on top of [`crate::gfx`].
 
+use shapewright::math::fm::DetMath as _;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -67,7 +68,7 @@ impl Default for RenderSettings {
 /// A perspective projection in Vulkan clip space (y down, depth 0..1) from
 /// OpenXR-style half-angles in radians (left and down negative).
 pub fn projection_from_fov(left: f32, right: f32, up: f32, down: f32, near: f32, far: f32) -> Mat4 {
-    let (tl, tr, tu, td) = (left.tan(), right.tan(), up.tan(), down.tan());
+    let (tl, tr, tu, td) = (left.ftan(), right.ftan(), up.ftan(), down.ftan());
     let w = tr - tl;
     let h = td - tu; // Vulkan: y points down in clip space
     Mat4::from_cols_array(&[
@@ -123,8 +124,8 @@ pub fn framing_camera(
     let up = Vec3::from_array(settings.up).normalize_or(Vec3::Z);
     let aspect = settings.width as f32 / settings.height.max(1) as f32;
     let half_y = (settings.fov_y_deg.clamp(5.0, 150.0) * 0.5).to_radians();
-    let half_x = (half_y.tan() * aspect).atan();
-    let dist = radius / half_y.min(half_x).sin() * 1.05;
+    let half_x = (half_y.ftan() * aspect).fatan();
+    let dist = radius / half_y.min(half_x).fsin() * 1.05;
     let right = up.cross(dir).normalize_or(Vec3::X);
     // Parallel eyes (as in a headset): both the eye and its target shift.
     let shift = right * (eye_offset * radius);
@@ -247,7 +248,7 @@ pub fn render_scene(
     let target = OffscreenTarget::new(ctx, width, height, 1)?;
     let r = target.renderer();
     let half_y = (fov_y_deg.clamp(5.0, 150.0) * 0.5).to_radians();
-    let half_x = (half_y.tan() * width as f32 / height.max(1) as f32).atan();
+    let half_x = (half_y.ftan() * width as f32 / height.max(1) as f32).fatan();
     let cam = eye_camera(
         head.0,
         head.1,

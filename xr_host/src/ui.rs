@@ -7,6 +7,7 @@
 
 use glam::{DVec3, Quat, Vec3};
 use shapewright::interact::{palette::facing, Hand, PaletteAction, PaletteView, Session};
+use shapewright::math::fm::DetMath as _;
 
 use crate::gfx::text::{quad, Baseline, Font};
 use crate::gfx::LineVertex;
@@ -208,7 +209,7 @@ fn circle(out: &mut Vec<LineVertex>, c: Vec3, u: Vec3, v: Vec3, r: f32, color: [
     let n = 32;
     let at = |k: usize| {
         let a = k as f32 / n as f32 * std::f32::consts::TAU;
-        c + (u * a.cos() + v * a.sin()) * r
+        c + (u * a.fcos() + v * a.fsin()) * r
     };
     for k in 0..n {
         line(out, at(k), at(k + 1), color);
@@ -244,7 +245,7 @@ pub fn tool_marks(session: &Session, out: &mut Vec<LineVertex>) {
                 for k in 0..n {
                     let a0 = k as f32 / 32.0 * std::f32::consts::TAU;
                     let a1 = (k + 1) as f32 / 32.0 * std::f32::consts::TAU;
-                    let at = |a: f32| c + (Vec3::X * a.cos() + Vec3::Y * a.sin()) * r;
+                    let at = |a: f32| c + (Vec3::X * a.fcos() + Vec3::Y * a.fsin()) * r;
                     line(out, at(a0), at(a1), MARK);
                 }
             }

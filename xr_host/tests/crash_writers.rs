@@ -13,6 +13,7 @@
 //!
 //! `CRASH_RUNS` kills per format (default 200).
 
+use shapewright::math::fm::DetMath as _;
 use std::collections::HashMap;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -37,9 +38,9 @@ fn mesh(version: usize) -> TriMesh {
                 std::f64::consts::PI * j as f64 / nv as f64,
             );
             positions.push([
-                v.sin() * u.cos() + version as f64 * 1e-3,
-                v.sin() * u.sin(),
-                v.cos(),
+                v.fsin() * u.fcos() + version as f64 * 1e-3,
+                v.fsin() * u.fsin(),
+                v.fcos(),
             ]);
         }
     }

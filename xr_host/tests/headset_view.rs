@@ -5,6 +5,7 @@
 //! the model; the status line and drag readout are drawn too. The image
 //! is written to `target/headset_view.png` (the README's picture).
 
+use shapewright::math::fm::DetMath as _;
 use std::sync::Arc;
 
 use glam::Vec4;
@@ -46,7 +47,7 @@ fn the_headset_view_shows_the_palette_with_labels_next_to_the_model() {
     // Where the palette's centre lands on screen (the camera render_scene
     // uses: 70 degrees vertical).
     let half_y = 35f32.to_radians();
-    let half_x = (half_y.tan() * w as f32 / h as f32).atan();
+    let half_x = (half_y.ftan() * w as f32 / h as f32).fatan();
     let cam = shapewright_xr::render::eye_camera(
         pose.0,
         pose.1,

@@ -98,6 +98,7 @@ impl Object {
 #[cfg(test)]
 mod tests {
     use crate::doc::{Op, OpLog};
+    use crate::math::fm::DetMath as _;
     use crate::math::Transform;
 
     fn apply(log: &mut OpLog, json: &str) -> crate::doc::ObjectId {
@@ -164,7 +165,7 @@ mod tests {
         // Turned 90 degrees about its own centre: the centre stays put.
         let h = std::f64::consts::FRAC_PI_4;
         let turned = Transform {
-            rotate: [h.sin(), 0.0, 0.0, h.cos()],
+            rotate: [h.fsin(), 0.0, 0.0, h.fcos()],
             ..before
         };
         let t = log

@@ -1,6 +1,7 @@
 //! GC tests: exact loft, insert invariance, twist, bend, analytic volumes
 //! of the three shape types, typed errors.
 
+use crate::math::fm::DetMath as _;
 use std::f64::consts::PI;
 
 use glam::DVec3;
@@ -56,8 +57,8 @@ pub(crate) fn vase(shape: ShapeType) -> Gc {
                     points: (0..9)
                         .map(|i| {
                             let a = i as f64 / 9.0 * std::f64::consts::TAU;
-                            let r = 0.3 + 0.04 * (4.0 * a).cos();
-                            [r * a.cos(), r * a.sin()]
+                            let r = 0.3 + 0.04 * (4.0 * a).fcos();
+                            [r * a.fcos(), r * a.fsin()]
                         })
                         .collect(),
                 },
@@ -288,7 +289,7 @@ fn shift_delete_replace_and_replace_spine() {
     );
     assert_eq!((gc.sections[1].scale, gc.sections[1].twist), (1.0, 0.0));
     for (x, y) in local_samples(&gc, 1) {
-        let e = (x / 0.35).powi(2) + (y / 0.3).powi(2);
+        let e = (x / 0.35).fpowi(2) + (y / 0.3).fpowi(2);
         assert!(
             (e - 1.0).abs() < 1e-9,
             "a surface point at v = 0.3 is not on the ellipse: {e}"
@@ -316,7 +317,7 @@ fn shift_delete_replace_and_replace_spine() {
     let mean = c0.iter().fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
     assert!(mean.0.abs() < 1e-9 && mean.1.abs() < 1e-9);
     for (x, y) in local_samples(&gc, 1) {
-        assert!(((x / 0.35).powi(2) + (y / 0.3).powi(2) - 1.0).abs() < 1e-9);
+        assert!(((x / 0.35).fpowi(2) + (y / 0.3).fpowi(2) - 1.0).abs() < 1e-9);
     }
     let rep = report(&gc);
     assert_eq!(rep.genus, Some(1));

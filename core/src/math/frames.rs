@@ -103,6 +103,7 @@ pub fn double_reflection(first: Frame, points: &[DVec3], tangents: &[DVec3]) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::fm::DetMath as _;
 
     #[test]
     fn helix_frames_are_orthonormal_and_rotation_minimizing() {
@@ -111,8 +112,8 @@ mod tests {
         // along s (the defining property of an RMF), by finite differences.
         let n = 2000;
         let (a, b) = (1.0, 0.3);
-        let pt = |t: f64| DVec3::new(a * t.cos(), a * t.sin(), b * t);
-        let tg = |t: f64| DVec3::new(-a * t.sin(), a * t.cos(), b).normalize();
+        let pt = |t: f64| DVec3::new(a * t.fcos(), a * t.fsin(), b * t);
+        let tg = |t: f64| DVec3::new(-a * t.fsin(), a * t.fcos(), b).normalize();
         let ts: Vec<f64> = (0..=n).map(|i| 6.0 * i as f64 / n as f64).collect();
         let pts: Vec<DVec3> = ts.iter().map(|t| pt(*t)).collect();
         let tgs: Vec<DVec3> = ts.iter().map(|t| tg(*t)).collect();
@@ -139,7 +140,7 @@ mod tests {
         let mut noisy = 0;
         for k in 0..200 {
             let a = k as f64 * 0.137;
-            let d = DVec3::new(a.cos(), (1.3 * a).sin(), 0.7 + 0.1 * a.sin());
+            let d = DVec3::new(a.fcos(), (1.3 * a).fsin(), 0.7 + 0.1 * a.fsin());
             let t = d.normalize();
             let f = Frame::new(DVec3::new(1.0, 2.0, 3.0), t, DVec3::new(0.3, 1.0, -0.2))
                 .expect("frame");
@@ -156,11 +157,11 @@ mod tests {
         let pts: Vec<DVec3> = (0..100)
             .map(|i| {
                 let t = i as f64 * 0.05;
-                DVec3::new(t, t.sin(), 0.0)
+                DVec3::new(t, t.fsin(), 0.0)
             })
             .collect();
         let tgs: Vec<DVec3> = (0..100)
-            .map(|i| DVec3::new(1.0, (i as f64 * 0.05).cos(), 0.0).normalize())
+            .map(|i| DVec3::new(1.0, (i as f64 * 0.05).fcos(), 0.0).normalize())
             .collect();
         let f0 = Frame::new(pts[0], tgs[0], DVec3::Z).unwrap();
         for f in double_reflection(f0, &pts, &tgs) {

@@ -2,8 +2,11 @@
 //! transforms with validation, and tolerances.
 //!
 //! All geometry is `f64`. glam's scalar paths are deterministic (no fused
-//! multiply-add unless asked), which keeps replays bit-identical.
+//! multiply-add unless asked), which keeps replays bit-identical; so are
+//! the transcendental functions of [`fm`] (the platforms' C libraries
+//! differ in the last bits, issue 32).
 
+pub mod fm;
 pub mod frames;
 mod mirror;
 mod tolerance;

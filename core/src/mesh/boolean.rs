@@ -350,6 +350,7 @@ fn export(mf: &Manifold) -> TriMesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::fm::DetMath as _;
     use crate::mesh::validate;
     use crate::solid::{tessellate, SolidShape};
     use glam::{DAffine3, DVec3};
@@ -373,7 +374,7 @@ mod tests {
         assert_eq!(rep.components, 1);
         // Union = 2 spheres - lens; lens = pi (4r + d)(2r - d)^2 / 12.
         let sphere = a.signed_volume();
-        let lens = std::f64::consts::PI * (4.0 * r + d) * (2.0 * r - d).powi(2) / 12.0;
+        let lens = std::f64::consts::PI * (4.0 * r + d) * (2.0 * r - d).fpowi(2) / 12.0;
         let want = 2.0 * sphere - lens * (sphere / (4.0 / 3.0 * std::f64::consts::PI));
         assert!(
             (rep.signed_volume - want).abs() / want < 2e-3,

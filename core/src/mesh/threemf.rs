@@ -55,9 +55,12 @@ const RELS: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
 pub fn write_3mf(mesh: &TriMesh, names: &PartNames, w: &mut impl Write) -> std::io::Result<()> {
     let model = model_xml(mesh, names);
     let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
+    // The same bytes on every OS (issue 32): the zip crate's default
+    // "made by" system is the build's own (Unix here, DOS on Windows).
     let options = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Deflated)
-        .last_modified_time(zip::DateTime::default());
+        .last_modified_time(zip::DateTime::default())
+        .system(zip::System::Unix);
     let io = |e: zip::result::ZipError| std::io::Error::other(e.to_string());
     for (name, text) in [
         ("[Content_Types].xml", CONTENT_TYPES),

@@ -354,12 +354,13 @@ pub fn approximate_to_tolerance(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::fm::DetMath as _;
 
     fn wavy(n: usize) -> Vec<DVec3> {
         (0..n)
             .map(|i| {
                 let t = i as f64 / (n - 1) as f64;
-                DVec3::new(t * 4.0, (t * 6.0).sin(), 0.3 * (t * 3.0).cos())
+                DVec3::new(t * 4.0, (t * 6.0).fsin(), 0.3 * (t * 3.0).fcos())
             })
             .collect()
     }
@@ -381,7 +382,7 @@ mod tests {
         let pts: Vec<DVec3> = (0..7)
             .map(|i| {
                 let a = i as f64 / 7.0 * std::f64::consts::TAU;
-                DVec3::new(a.cos() * (1.0 + 0.2 * (3.0 * a).sin()), a.sin(), 0.0)
+                DVec3::new(a.fcos() * (1.0 + 0.2 * (3.0 * a).fsin()), a.fsin(), 0.0)
             })
             .collect();
         let c = interpolate_closed(&pts, ParamMethod::ChordLength).unwrap();

@@ -5,6 +5,7 @@
 //! parameters of different templates lie at about the same angle (which
 //! keeps lofts between circles and polygons untwisted).
 
+use crate::math::fm::DetMath as _;
 use glam::DVec3;
 
 use super::curve::homogeneous;
@@ -56,10 +57,10 @@ fn closed_polyline_with(
     if vertices.iter().any(|v| !v.is_finite()) {
         return Err(NurbsError::NonFinite("vertex"));
     }
-    let a0 = vertices[0].y.atan2(vertices[0].x);
+    let a0 = vertices[0].y.fatan2(vertices[0].x);
     let ang: Vec<f64> = vertices
         .iter()
-        .map(|v| (v.y.atan2(v.x) - a0).rem_euclid(std::f64::consts::TAU))
+        .map(|v| (v.y.fatan2(v.x) - a0).rem_euclid(std::f64::consts::TAU))
         .collect();
     let by_angle = ang.windows(2).all(|w| w[1] > w[0]) && ang[0] == 0.0;
     let mut t: Vec<f64> = if let Some(p) = params {
@@ -95,7 +96,7 @@ pub fn regular_polygon(sides: usize, r: f64) -> Result<NurbsCurve, NurbsError> {
     let v: Vec<DVec3> = (0..sides)
         .map(|i| {
             let a = std::f64::consts::TAU * i as f64 / sides as f64;
-            DVec3::new(r * a.cos(), r * a.sin(), 0.0)
+            DVec3::new(r * a.fcos(), r * a.fsin(), 0.0)
         })
         .collect();
     // Exact knots i / n (not recomputed from the vertices' angles).

@@ -210,6 +210,7 @@ fn boundary_edges(s: &TriMesh) -> Result<Vec<(u32, u32, usize)>, ThickenError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::fm::DetMath as _;
     use crate::mesh::{validate, ValidationSettings};
 
     /// A flat n x n grid of unit squares in the xy plane, facing +z.
@@ -285,7 +286,7 @@ mod tests {
         let r = validate(&h, &ValidationSettings::default());
         assert!(r.is_printable(), "{}", r.problems());
         assert_eq!(r.components, 2);
-        let shell = 4.0 / 3.0 * std::f64::consts::PI * (0.05f64.powi(3) - 0.048f64.powi(3));
+        let shell = 4.0 / 3.0 * std::f64::consts::PI * (0.05f64.fpowi(3) - 0.048f64.fpowi(3));
         assert!(
             (r.signed_volume - shell).abs() / shell < 0.01,
             "{}",

@@ -6,6 +6,7 @@
 //! remembers its cell and slot, so moves are O(1). Queries return ids
 //! sorted, so results never depend on hash or insertion order.
 
+use crate::math::fm::DetMath as _;
 use std::collections::HashMap;
 
 use glam::DVec3;
@@ -138,7 +139,7 @@ impl VertexGrid {
         // the divisions) from `center / cell`.
         let c = center / self.cell;
         let rc = radius / self.cell;
-        let reach2 = (rc * (1.0 + 1e-9) + 1e-6).powi(2);
+        let reach2 = (rc * (1.0 + 1e-9) + 1e-6).fpowi(2);
         let far = |k: &[i32; 3]| {
             let mut d2 = 0.0;
             for i in 0..3 {

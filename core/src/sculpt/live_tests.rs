@@ -3,6 +3,7 @@
 //! `sculpt_stroke` ops, and the render buffers updated from each frame's
 //! changes equal buffers built from scratch.
 
+use crate::math::fm::DetMath as _;
 use glam::{DQuat, DVec3};
 
 use super::object::stroke_poses;
@@ -26,7 +27,7 @@ fn path(z: f64, n: usize, warp_scale: f64) -> Vec<StrokeSample> {
         .map(|i| {
             let t = i as f64 * 0.04 * warp_scale;
             sample(
-                [t - 0.1, 0.05 * (3.0 * t).sin(), z + t * 0.4],
+                [t - 0.1, 0.05 * (3.0 * t).fsin(), z + t * 0.4],
                 DQuat::from_rotation_y(t),
                 (0.6 + t).min(1.0),
             )

@@ -1,6 +1,7 @@
 //! Tests of the sculpt module: structure, adaptation, brushes, weights,
 //! warps, strokes through the op log, and bad input.
 
+use crate::math::fm::DetMath as _;
 use glam::{DQuat, DVec3};
 use proptest::prelude::*;
 
@@ -179,7 +180,11 @@ fn grid_brush_matches_the_sampled_field() {
     let mut worst: f64 = 0.0;
     for i in 0..200 {
         let t = i as f64 * 0.37;
-        let p = DVec3::new(t.sin() * 0.8, (t * 1.3).cos() * 0.7, (t * 0.7).sin() * 0.6);
+        let p = DVec3::new(
+            t.fsin() * 0.8,
+            (t * 1.3).fcos() * 0.7,
+            (t * 0.7).fsin() * 0.6,
+        );
         let (d, grad) = shape.eval(p);
         worst = worst.max((d - sphere(p)).abs());
         assert!(grad.dot(p.normalize()) > 0.99, "{p} {grad}");

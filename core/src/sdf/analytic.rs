@@ -9,6 +9,7 @@
 //! zero set and gradient norm at most 1, so it never overestimates the true
 //! distance (the fusion's far-brick test relies on that).
 
+use crate::math::fm::DetMath as _;
 use crate::math::DVec3;
 use crate::solid::SolidShape;
 
@@ -64,7 +65,7 @@ pub fn solid_distance(shape: &SolidShape, p: DVec3) -> f64 {
         SolidShape::Torus {
             major_radius,
             minor_radius,
-        } => (p.truncate().length() - major_radius).hypot(p.z) - minor_radius,
+        } => (p.truncate().length() - major_radius).fhypot(p.z) - minor_radius,
         SolidShape::Capsule { radius, length } => {
             let h = length / 2.0;
             let z = p.z.clamp(-h, h);

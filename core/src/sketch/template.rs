@@ -7,6 +7,7 @@
 //! resampled stroke to the fitted outline and `r` the stroke's mean
 //! radius: 1 for a perfect fit, 0 at an error as large as the shape.
 
+use crate::math::fm::DetMath as _;
 use glam::{DMat2, DVec2, DVec3};
 
 use super::stroke::{closed_loop_self_intersects, length, rdp_closed, resample};
@@ -122,10 +123,10 @@ pub fn match_section(points: &[DVec2]) -> Result<SectionMatch, SketchError> {
         sxy += d.x * d.y;
         syy += d.y * d.y;
     }
-    let phi = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    let phi = 0.5 * (2.0 * sxy).fatan2(sxx - syy);
     let (e1, e2) = (
-        DVec2::new(phi.cos(), phi.sin()),
-        DVec2::new(-phi.sin(), phi.cos()),
+        DVec2::new(phi.fcos(), phi.fsin()),
+        DVec2::new(-phi.fsin(), phi.fcos()),
     );
     let ext1 = pts
         .iter()
@@ -160,9 +161,9 @@ pub fn match_section(points: &[DVec2]) -> Result<SectionMatch, SketchError> {
         let (mut sn, mut cs) = (0.0, 0.0);
         for c in &corners {
             let d = *c - center;
-            let a = d.y.atan2(d.x) * k;
-            sn += a.sin();
-            cs += a.cos();
+            let a = d.y.fatan2(d.x) * k;
+            sn += a.fsin();
+            cs += a.fcos();
         }
         cands.push((
             "polygon",
@@ -170,7 +171,7 @@ pub fn match_section(points: &[DVec2]) -> Result<SectionMatch, SketchError> {
                 sides: corners.len() as u32,
                 radius,
             },
-            sn.atan2(cs) / k,
+            sn.fatan2(cs) / k,
         ));
     }
     let mut scored: Vec<(&'static str, Profile, f64, f64)> = cands
@@ -256,10 +257,10 @@ impl DrawnSection {
                 0.0,
             ),
             other => {
-                let axis = plane.x * self.rotation.cos() + plane.y * self.rotation.sin();
+                let axis = plane.x * self.rotation.fcos() + plane.y * self.rotation.fsin();
                 let a = to_frame(axis);
                 let twist = if a.length() > 1e-12 {
-                    a.y.atan2(a.x)
+                    a.y.fatan2(a.x)
                 } else {
                     0.0
                 };

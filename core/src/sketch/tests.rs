@@ -1,5 +1,6 @@
 //! Sketch tests: templates recognized from noisy strokes, typed errors.
 
+use crate::math::fm::DetMath as _;
 use std::f64::consts::TAU;
 
 use glam::{DVec2, DVec3};
@@ -24,8 +25,8 @@ fn polygon_point(sides: usize, r: f64, rot: f64, t: f64) -> DVec2 {
     let f = s - k;
     let a0 = rot + TAU * k / sides as f64;
     let a1 = rot + TAU * (k + 1.0) / sides as f64;
-    let p0 = DVec2::new(a0.cos(), a0.sin()) * r;
-    let p1 = DVec2::new(a1.cos(), a1.sin()) * r;
+    let p0 = DVec2::new(a0.fcos(), a0.fsin()) * r;
+    let p1 = DVec2::new(a1.fcos(), a1.fsin()) * r;
     p0 + (p1 - p0) * f
 }
 
@@ -33,7 +34,7 @@ fn polygon_point(sides: usize, r: f64, rot: f64, t: f64) -> DVec2 {
 fn recognizes_templates() {
     let c = DVec2::new(0.3, -0.2);
     let circle = noisy_loop(
-        |t| c + DVec2::new((TAU * t).cos(), (TAU * t).sin()) * 0.5,
+        |t| c + DVec2::new((TAU * t).fcos(), (TAU * t).fsin()) * 0.5,
         150,
         0.01,
     );
@@ -46,7 +47,7 @@ fn recognizes_templates() {
     assert!((m.center - c).length() < 0.01);
 
     let ell = noisy_loop(
-        |t| DVec2::new(0.8 * (TAU * t).cos(), 0.3 * (TAU * t).sin()),
+        |t| DVec2::new(0.8 * (TAU * t).fcos(), 0.3 * (TAU * t).fsin()),
         150,
         0.005,
     );
@@ -135,7 +136,7 @@ fn spine_fit_is_within_tolerance_and_in_plane() {
     let stroke: Vec<DVec3> = (0..200)
         .map(|i| {
             let t = i as f64 / 199.0;
-            DVec3::new(0.3 * (3.0 * t).sin(), 0.01 * (40.0 * t).sin(), t)
+            DVec3::new(0.3 * (3.0 * t).fsin(), 0.01 * (40.0 * t).fsin(), t)
         })
         .collect();
     let fit = fit_spine_stroke(&stroke, &plane, 1e-3).unwrap();

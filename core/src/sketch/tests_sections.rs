@@ -1,6 +1,7 @@
 //! Section placement tests: the skin through the chosen sections follows
 //! the sketched tube; too-tight bends are refused with a clear error.
 
+use crate::math::fm::DetMath as _;
 use std::f64::consts::PI;
 
 use glam::DVec3;
@@ -17,7 +18,7 @@ fn arc_stroke(r: f64, angle: f64) -> Vec<DVec3> {
         .map(|i| {
             let a = angle * i as f64 / (n - 1) as f64;
             let j = ((i * 7919) % 101) as f64 / 101.0 - 0.5;
-            DVec3::new(r * (1.0 - a.cos()), 1e-4 * j, r * a.sin())
+            DVec3::new(r * (1.0 - a.fcos()), 1e-4 * j, r * a.fsin())
         })
         .collect()
 }
@@ -110,7 +111,7 @@ fn a_u_shaped_sketch_works_when_the_tube_fits_its_bend() {
     }
     for i in 0..=60 {
         let a = PI * i as f64 / 60.0;
-        stroke.push(DVec3::new(0.04 * (1.0 - a.cos()), 0.0, -0.04 * a.sin()));
+        stroke.push(DVec3::new(0.04 * (1.0 - a.fcos()), 0.0, -0.04 * a.fsin()));
     }
     for i in 1..=50 {
         stroke.push(DVec3::new(0.08, 0.0, 0.002 * i as f64));

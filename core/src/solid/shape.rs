@@ -1,5 +1,6 @@
 //! The solid shapes, their parameters and analytic measures.
 
+use crate::math::fm::DetMath as _;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -204,7 +205,7 @@ impl SolidShape {
     pub fn analytic_volume(&self) -> f64 {
         match *self {
             Self::Box { size } => size[0] * size[1] * size[2],
-            Self::Sphere { radius } => 4.0 / 3.0 * PI * radius.powi(3),
+            Self::Sphere { radius } => 4.0 / 3.0 * PI * radius.fpowi(3),
             Self::Ellipsoid { radii } => 4.0 / 3.0 * PI * radii[0] * radii[1] * radii[2],
             Self::Cylinder { radius, height } => PI * radius * radius * height,
             Self::Cone { radius, height } => PI * radius * radius * height / 3.0,
@@ -213,7 +214,7 @@ impl SolidShape {
                 minor_radius,
             } => 2.0 * PI * PI * major_radius * minor_radius * minor_radius,
             Self::Capsule { radius, length } => {
-                PI * radius * radius * length + 4.0 / 3.0 * PI * radius.powi(3)
+                PI * radius * radius * length + 4.0 / 3.0 * PI * radius.fpowi(3)
             }
         }
     }

@@ -2,6 +2,7 @@
 //! profile curve around +Z, with single pole vertices where the profile
 //! meets the axis, so every mesh is a closed 2-manifold by construction.
 
+use crate::math::fm::DetMath as _;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use super::{SolidError, SolidShape, MAX_SEGMENTS, MIN_SEGMENTS};
@@ -41,11 +42,11 @@ pub fn tessellate(shape: &SolidShape, segments: u32) -> Result<TriMesh, SolidErr
             let mut profile = vec![(0.0, -h - radius)];
             for i in 1..=quarter {
                 let a = -FRAC_PI_2 + FRAC_PI_2 * i as f64 / quarter as f64;
-                profile.push((radius * a.cos(), -h + radius * a.sin()));
+                profile.push((radius * a.fcos(), -h + radius * a.fsin()));
             }
             for i in 0..quarter {
                 let a = FRAC_PI_2 * i as f64 / quarter as f64;
-                let p = (radius * a.cos(), h + radius * a.sin());
+                let p = (radius * a.fcos(), h + radius * a.fsin());
                 if i > 0 || length > 0.0 {
                     profile.push(p);
                 }
@@ -72,7 +73,7 @@ fn sphere_profile(r: f64, steps: usize) -> Vec<(f64, f64)> {
             } else if i == steps {
                 (0.0, r)
             } else {
-                (r * a.cos(), r * a.sin())
+                (r * a.fcos(), r * a.fsin())
             }
         })
         .collect()
@@ -87,7 +88,7 @@ fn revolve(profile: &[(f64, f64)], n: usize) -> TriMesh {
     for &(r, z) in rings {
         for j in 0..n {
             let a = TAU * j as f64 / n as f64;
-            positions.push([r * a.cos(), r * a.sin(), z]);
+            positions.push([r * a.fcos(), r * a.fsin(), z]);
         }
     }
     let top = positions.len() as u32;
@@ -122,8 +123,8 @@ fn torus(big: f64, small: f64, n: usize, m: usize) -> TriMesh {
         let a = TAU * j as f64 / n as f64;
         for i in 0..m {
             let b = TAU * i as f64 / m as f64;
-            let r = big + small * b.cos();
-            positions.push([r * a.cos(), r * a.sin(), small * b.sin()]);
+            let r = big + small * b.fcos();
+            positions.push([r * a.fcos(), r * a.fsin(), small * b.fsin()]);
         }
     }
     let idx = |j: usize, i: usize| ((j % n) * m + i % m) as u32;

@@ -13,6 +13,7 @@
 //! 3`) in all coordinates, whatever terms are present, so one symbolic
 //! factorization serves every frame of a tool.
 
+use crate::math::fm::DetMath as _;
 use crate::math::{DMat3, DVec3};
 
 use super::curve::{SplineCurve, DEGREE};
@@ -81,7 +82,7 @@ impl Weight {
         Self::Gaussian {
             s0,
             alpha,
-            half_width: (1e3f64.ln() / alpha).sqrt(),
+            half_width: (1e3f64.fln() / alpha).sqrt(),
         }
     }
 
@@ -96,7 +97,7 @@ impl Weight {
             } => {
                 let d = s - s0;
                 if d.abs() <= half_width {
-                    (-alpha * d * d).exp()
+                    (-alpha * d * d).fexp()
                 } else {
                     0.0
                 }

@@ -216,6 +216,7 @@ impl Sub for VJet {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::fm::DetMath as _;
 
     /// Central differences of a scalar function of `(x, y)`.
     fn fd(f: impl Fn(f64, f64) -> f64, x: f64, y: f64) -> [f64; 5] {
@@ -236,7 +237,7 @@ mod tests {
             let b = Jet::affine(0.9 * x + 0.2 * y + 0.4, 0.9, 0.2);
             let s = (a * a * b) * (a + b).recip();
             let t = s.v;
-            s.compose(t.sin(), t.cos(), -t.sin())
+            s.compose(t.fsin(), t.fcos(), -t.fsin())
         };
         let f = |x: f64, y: f64| at(x, y).v;
         for (x, y) in [(0.2, 0.3), (0.7, -0.4), (1.3, 0.9)] {
@@ -257,9 +258,9 @@ mod tests {
                 * Jet::affine(x + 2.0 * y, 1.0, 2.0);
             let g = |t: f64| {
                 [
-                    DVec3::new(t * t, t.sin(), 1.0 / (1.0 + t)),
-                    DVec3::new(2.0 * t, t.cos(), -1.0 / ((1.0 + t) * (1.0 + t))),
-                    DVec3::new(2.0, -t.sin(), 2.0 / ((1.0 + t) * (1.0 + t) * (1.0 + t))),
+                    DVec3::new(t * t, t.fsin(), 1.0 / (1.0 + t)),
+                    DVec3::new(2.0 * t, t.fcos(), -1.0 / ((1.0 + t) * (1.0 + t))),
+                    DVec3::new(2.0, -t.fsin(), 2.0 / ((1.0 + t) * (1.0 + t) * (1.0 + t))),
                 ]
             };
             s.compose_curve(g(s.v))

@@ -12,6 +12,7 @@
 //!   by the same least-change solve, with its other nodes held, so shared
 //!   points stay equal to rounding (tests check 1e-9).
 
+use crate::math::fm::DetMath as _;
 use crate::math::DVec3;
 
 use super::curve::SplineCurve;
@@ -49,7 +50,7 @@ pub fn constrain(
     let m = cons.len();
     let k = |i: usize, j: usize| {
         let d = (i as f64 - j as f64) / 3.0;
-        (-d * d).exp()
+        (-d * d).fexp()
     };
     // Two passes: the second removes the rounding left by the first.
     for _ in 0..2 {

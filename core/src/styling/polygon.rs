@@ -33,6 +33,7 @@
 //! gets the 4×4 collapsed (Duffy) Gauss rule, exact for polynomials of
 //! degree 6 on the triangle.
 
+use crate::math::fm::DetMath as _;
 use crate::math::DVec2;
 
 use super::jet::Jet;
@@ -67,19 +68,19 @@ impl NgonDomain {
         let verts = (0..n)
             .map(|k| {
                 let t = start + step * k as f64;
-                c + 0.5 * DVec2::new(t.cos(), t.sin())
+                c + 0.5 * DVec2::new(t.fcos(), t.fsin())
             })
             .collect();
         let out = (0..n)
             .map(|k| {
                 let t = -std::f64::consts::FRAC_PI_2 + step * k as f64;
-                DVec2::new(t.cos(), t.sin())
+                DVec2::new(t.fcos(), t.fsin())
             })
             .collect();
         Self {
             verts,
             out,
-            inradius: 0.5 * (0.5 * step).cos(),
+            inradius: 0.5 * (0.5 * step).fcos(),
         }
     }
 
@@ -289,13 +290,13 @@ mod tests {
                 }
             }
             let r = 0.5;
-            let exact = 0.5 * n as f64 * r * r * (std::f64::consts::TAU / n as f64).sin();
+            let exact = 0.5 * n as f64 * r * r * (std::f64::consts::TAU / n as f64).fsin();
             assert!((area - exact).abs() < 1e-12, "n {n}: {area} vs {exact}");
             assert!((mx - 0.5 * exact).abs() < 1e-12);
             // Second moment of a regular polygon about a centroidal axis:
             // (A R² / 24) (2 + cos(2π/n)) ... in the form A/24 (6R² - a²)
             // with side a = 2 R sin(π/n).
-            let a = 2.0 * r * (std::f64::consts::PI / n as f64).sin();
+            let a = 2.0 * r * (std::f64::consts::PI / n as f64).fsin();
             let ixx = exact / 24.0 * (6.0 * r * r - a * a);
             assert!((mxx - ixx).abs() < 1e-12, "n {n}: {mxx} vs {ixx}");
         }

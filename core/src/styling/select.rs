@@ -15,6 +15,7 @@
 //! picking a loop to fill, [`nearest_patch_point`] and [`nearest_loop`]
 //! find what the pointer is at; the tools decide what to do with it.
 
+use crate::math::fm::DetMath as _;
 use serde::{Deserialize, Serialize};
 
 use crate::math::{DVec2, DVec3};
@@ -73,7 +74,7 @@ pub fn select_tool(curve: &SplineCurve, tip: DVec3, dir: DVec3) -> Selection {
     let tangent = curve.derivs(t, 1)[1];
     let angle_deg = if dir.length() > 0.0 && tangent.length() > 0.0 && dir.is_finite() {
         let c = (dir.normalize().dot(tangent.normalize())).clamp(-1.0, 1.0);
-        c.acos().to_degrees()
+        c.facos().to_degrees()
     } else {
         f64::NAN
     };

@@ -38,6 +38,7 @@
 //! displacement coefficients ([`PatchSampler`]), so a frame costs a sparse
 //! product, not a re-evaluation of the (transfinite) base surface.
 
+use crate::math::fm::DetMath as _;
 use serde::{Deserialize, Serialize};
 
 use crate::math::{DVec2, DVec3};
@@ -239,7 +240,7 @@ pub fn hold_equilibrium(
         let mut step = 0.0f64;
         for (i, w) in wq.iter().enumerate() {
             let gamma = match (hold.radius, &at) {
-                (Some(r), Some(at)) => (-(at[i].distance_squared(*p)) / (r * r)).exp(),
+                (Some(r), Some(at)) => (-(at[i].distance_squared(*p)) / (r * r)).fexp(),
                 _ => 1.0,
             };
             next[i] = (w * (1.0 + gamma * (hold.f - 1.0))).clamp(0.0, hold.wq_max);

@@ -5,6 +5,7 @@ use super::energy::{curve_pattern, flatten, CurveSystem, Weight};
 use super::solver::{FixedSolver, SymPattern};
 use super::tools::{CurveSession, PullParams, SharpenLimits, SmoothParams, StopReason};
 use super::StylingError;
+use crate::math::fm::DetMath as _;
 use crate::math::DVec3;
 
 /// A wavy space curve with a little deterministic noise.
@@ -15,8 +16,8 @@ pub(crate) fn wavy_samples(count: usize, noise: f64) -> Vec<[f64; 3]> {
             let jitter = noise * ((i * 7919 % 13) as f64 / 13.0 - 0.5);
             [
                 0.3 * s,
-                0.03 * (12.0 * s).sin() + jitter,
-                0.02 * (5.0 * s).cos() - jitter,
+                0.03 * (12.0 * s).fsin() + jitter,
+                0.02 * (5.0 * s).fcos() - jitter,
             ]
         })
         .collect()
@@ -135,8 +136,8 @@ fn energies_match_direct_integrals() {
     // the weighted squared distances (the constant term cancels).
     let mut c2 = c.clone();
     for (i, p) in c2.ctrl.iter_mut().enumerate() {
-        p[1] += 0.01 * (i as f64 * 0.7).sin();
-        p[2] -= 0.02 * (i as f64 * 0.3).cos();
+        p[1] += 0.01 * (i as f64 * 0.7).fsin();
+        p[2] -= 0.02 * (i as f64 * 0.3).fcos();
     }
     let (n, a) = (
         DVec3::new(0.2, 0.1, 1.0).normalize(),
@@ -155,7 +156,7 @@ fn energies_match_direct_integrals() {
             (
                 "plane",
                 Box::new(move |s| s.add_plane_attractor(2.0, weight, a, n)),
-                Box::new(move |x, _| (x - a).dot(n).powi(2)),
+                Box::new(move |x, _| (x - a).dot(n).fpowi(2)),
             ),
             (
                 "line",
@@ -234,7 +235,7 @@ fn smoother_lowers_bend_energy_and_is_local() {
     assert_eq!(s.refactor_count(), 1, "same t0 must reuse the factors");
     assert!(prev < 0.9 * c0.bend_energy());
     // Outside the gaussian support the curve is unchanged.
-    let hw = (1e3f64.ln() / p.alpha).sqrt();
+    let hw = (1e3f64.fln() / p.alpha).sqrt();
     let ts = (0..400).map(|i| a + (b - a) * i as f64 / 399.0);
     let outside = ts.filter(|t| ((t - a) / (b - a) - 0.5).abs() > hw);
     let dev = max_dev(&s.curve, &c0, outside);

@@ -8,6 +8,7 @@ use super::tests::wavy_samples;
 use super::tests_net::edge_samples;
 use super::tools::CurveSession;
 use super::StylingError;
+use crate::math::fm::DetMath as _;
 use crate::math::DVec3;
 
 fn wavy() -> SplineCurve {
@@ -40,8 +41,8 @@ fn check_exact(target: Target, frames: usize) -> SplineCurve {
     let mut s = CurveSession::new(c0.clone()).unwrap();
     s.attract(&p, &target, 0.0, frames).unwrap();
     assert_eq!(s.refactor_count(), 1, "one factorization for every frame");
-    let keep = (1.0 - p.step_fraction()).powi(frames as i32);
-    assert!((keep - 0.25f64.powi(frames as i32)).abs() < 1e-15);
+    let keep = (1.0 - p.step_fraction()).fpowi(frames as i32);
+    assert!((keep - 0.25f64.fpowi(frames as i32)).abs() < 1e-15);
     let mut worst: f64 = 0.0;
     for t in params(&c0, 200) {
         let before = target.distance(c0.point(t));
@@ -90,7 +91,7 @@ fn a_curved_attractor_draws_the_curve_onto_itself() {
     let arc: Vec<[f64; 3]> = (0..30)
         .map(|i| {
             let s = i as f64 / 29.0;
-            [-0.05 + 0.4 * s, 0.08 * (3.0 * s).sin(), 0.04]
+            [-0.05 + 0.4 * s, 0.08 * (3.0 * s).fsin(), 0.04]
         })
         .collect();
     let y = fit_curve(&arc, FitMode::Interpolate, None).unwrap();
@@ -136,7 +137,7 @@ fn a_local_attractor_pulls_around_the_pointer_only() {
         prev = d;
     }
     assert!(prev < 0.3 * d0, "{prev} of {d0}");
-    let hw = (1e3f64.ln() / local.alpha).sqrt();
+    let hw = (1e3f64.fln() / local.alpha).sqrt();
     let outside = params(&c0, 400)
         .into_iter()
         .filter(|t| ((t - a) / (b - a) - 0.5).abs() > hw);

@@ -6,6 +6,7 @@ use super::frame::{mirror_in_frame, project_to_drawing_plane, stroke_in_frame, M
 use super::surface::SurfaceWeights;
 use super::tests_ngon::{boundary_gap, prism};
 use super::StylingError;
+use crate::math::fm::DetMath as _;
 use crate::math::{DQuat, DVec3};
 use crate::mesh::validate;
 
@@ -24,7 +25,7 @@ fn a_stroke_drawn_on_a_moving_frame_is_recovered_in_it() {
     let local: Vec<DVec3> = (0..count)
         .map(|i| {
             let a = std::f64::consts::TAU * i as f64 / count as f64 * 0.9;
-            DVec3::new(0.1 * a.cos(), 0.1 * a.sin(), 0.0)
+            DVec3::new(0.1 * a.fcos(), 0.1 * a.fsin(), 0.0)
         })
         .collect();
     let frames: Vec<ModelingFrame> = (0..count).map(|i| frame(i as f64 / 60.0)).collect();
@@ -139,7 +140,7 @@ fn drawing_plane_and_symmetry_plane() {
     let s: Vec<[f64; 3]> = (0..20)
         .map(|i| {
             let t = i as f64 / 19.0;
-            a.transform_point3(DVec3::new(0.2 * t, 0.05 * (6.0 * t).sin(), 0.03 * t))
+            a.transform_point3(DVec3::new(0.2 * t, 0.05 * (6.0 * t).fsin(), 0.03 * t))
                 .to_array()
         })
         .collect();
@@ -205,7 +206,7 @@ mod op {
         let local: Vec<DVec3> = (0..count)
             .map(|i| {
                 let a = 2.0 * i as f64 / count as f64;
-                DVec3::new(0.05 + 0.1 * a.cos(), 0.1 * a.sin(), 0.02 * a)
+                DVec3::new(0.05 + 0.1 * a.fcos(), 0.1 * a.fsin(), 0.02 * a)
             })
             .collect();
         let frames: Vec<ModelingFrame> =
@@ -303,7 +304,11 @@ mod op {
         let world: Vec<[f64; 3]> = (0..30)
             .map(|i| {
                 let a = 2.0 * i as f64 / 30.0;
-                let l = DVec3::new(0.25 + 0.1 * a.cos(), 0.1 * a.sin(), 0.01 * (i as f64).sin());
+                let l = DVec3::new(
+                    0.25 + 0.1 * a.fcos(),
+                    0.1 * a.fsin(),
+                    0.01 * (i as f64).fsin(),
+                );
                 f.affine().unwrap().transform_point3(l).to_array()
             })
             .collect();

@@ -8,6 +8,7 @@ use super::patch::MeshSample;
 use super::surface_hold::PatchSampler;
 use crate::doc::print_document;
 use crate::doc::{Op, OpLog};
+use crate::math::fm::DetMath as _;
 use crate::math::DVec3;
 use crate::print::PrintSettings;
 
@@ -19,7 +20,7 @@ pub(crate) fn ngon_ops(n: usize, r: f64, bump: f64) -> Vec<Op> {
         vec![r#"{"op":"curve_network_create","resolution":24,"surface_n":8}"#.to_string()];
     let corner = |k: usize| {
         let a = std::f64::consts::TAU * k as f64 / n as f64;
-        DVec3::new(r * a.cos(), r * a.sin(), 0.0)
+        DVec3::new(r * a.fcos(), r * a.fsin(), 0.0)
     };
     for k in 0..n {
         let (a, b) = (corner(k), corner(k + 1));

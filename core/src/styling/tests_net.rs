@@ -6,6 +6,7 @@ use super::select::{select_tool, table1, CurveTool};
 use super::surface::{eval_grid, SurfaceSystem, SurfaceWeights};
 use super::StylingError;
 use crate::doc::{LogError, Op, OpError, OpLog};
+use crate::math::fm::DetMath as _;
 use crate::math::DVec3;
 use crate::mesh::validate;
 
@@ -14,7 +15,7 @@ fn bumpy_grid(n: usize) -> Vec<[f64; 3]> {
     for i in 0..n {
         for j in 0..n {
             let (u, v) = (i as f64 / (n - 1) as f64, j as f64 / (n - 1) as f64);
-            let z = 0.05 * ((7.0 * u).sin() * (5.0 * v).cos())
+            let z = 0.05 * ((7.0 * u).fsin() * (5.0 * v).fcos())
                 + 0.01 * (((i * 31 + j * 17) % 7) as f64 - 3.0) / 3.0;
             d.push([u, v, z]);
         }
@@ -476,8 +477,8 @@ fn curve_attract_op_pulls_by_the_predicted_fraction() {
                 let s = i as f64 / 12.0;
                 [
                     0.3 * s,
-                    0.05 * (3.0 * s).sin() + z0,
-                    z0 + 0.04 * (5.0 * s).cos(),
+                    0.05 * (3.0 * s).fsin() + z0,
+                    z0 + 0.04 * (5.0 * s).fcos(),
                 ]
             })
             .collect();

@@ -9,6 +9,7 @@ use super::polygon::NgonDomain;
 use super::surface::SurfaceWeights;
 use super::tests_net::edge_samples;
 use super::StylingError;
+use crate::math::fm::DetMath as _;
 use crate::math::{DVec2, DVec3};
 use crate::mesh::validate;
 
@@ -27,7 +28,11 @@ pub(crate) fn prism(n: usize, r: f64, h: f64, wave: f64, resolution: u32) -> Cur
     let mut net = CurveNetwork::new(resolution, 6).unwrap();
     let corner = |k: usize, z: f64| {
         let a = std::f64::consts::TAU * k as f64 / n as f64;
-        DVec3::new(r * a.cos(), r * a.sin(), z + wave * (2.0 * a + 0.3).sin())
+        DVec3::new(
+            r * a.fcos(),
+            r * a.fsin(),
+            z + wave * (2.0 * a + 0.3).fsin(),
+        )
     };
     for z in [0.0, h] {
         for k in 0..n {
@@ -120,7 +125,7 @@ pub(crate) fn worst_seam_angle(net: &CurveNetwork, k: usize, count: usize) -> f6
 #[test]
 fn the_seam_measure_sees_a_crease() {
     // A surface folded along the x axis by 10 degrees, probed across it.
-    let k = (10f64).to_radians().tan();
+    let k = (10f64).to_radians().ftan();
     let fold = |p: DVec2| DVec3::new(p.x, p.y, k * p.y.max(0.0));
     let a = crease_deg(&fold, DVec2::new(-1.0, 0.0), DVec2::new(1.0, 0.0), 0.3);
     assert!((a - 10.0).abs() < 0.01, "measured {a}");
@@ -267,7 +272,7 @@ fn surface_tools_shape_multisided_patches() {
         );
         // Sharpener: moves away from the minimal surface by w_q, energy up.
         let (sharp, wq) = sys.equilibrium_frames(&pulled, 1.3, 4, 2.0).unwrap();
-        assert!((wq - 1.3f64.powi(4).min(2.0)).abs() < 1e-12);
+        assert!((wq - 1.3f64.fpowi(4).min(2.0)).abs() < 1e-12);
         assert!((gap(&sharp) - wq * gap0).abs() < 1e-9);
         assert!(sys.energy(&sharp) > sys.energy(&pulled));
         let mut h = net.clone();

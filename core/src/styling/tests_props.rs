@@ -2,6 +2,7 @@
 //! nets with quads and pentagons), the sharpener's safety, the smoother's
 //! monotonicity.
 
+use crate::math::fm::DetMath as _;
 use std::sync::OnceLock;
 
 use proptest::prelude::*;
@@ -32,7 +33,7 @@ fn pentagonal_prism_fills_and_meshes_closed() {
         crate::mesh::write_stl(&m, &mut f).unwrap();
     }
     // Volume: the straight prism is 5/2 r² sin 72° h; the bows add a little.
-    let straight = 2.5 * 0.01 * (72f64.to_radians()).sin() * 0.12;
+    let straight = 2.5 * 0.01 * (72f64.to_radians()).fsin() * 0.12;
     let v = m.signed_volume();
     assert!(v > straight && v < 1.25 * straight, "{v} vs {straight}");
     // A hexagonal and an octagonal prism too.
@@ -117,7 +118,7 @@ fn random_curve() -> impl Strategy<Value = SplineCurve> {
             let samples: Vec<[f64; 3]> = (0..count)
                 .map(|i| {
                     let s = i as f64 / (count - 1) as f64;
-                    [0.3 * s, a1 * (f * s + ph).sin(), a2 * (0.7 * f * s).cos()]
+                    [0.3 * s, a1 * (f * s + ph).fsin(), a2 * (0.7 * f * s).fcos()]
                 })
                 .collect();
             fit_curve(&samples, FitMode::Interpolate, None).unwrap()

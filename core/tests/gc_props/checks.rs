@@ -7,6 +7,7 @@ use shapewright::assembly::{
     MAX_SINK,
 };
 use shapewright::gc::*;
+use shapewright::math::fm::DetMath as _;
 
 use super::edits::{profile_radius, straight_axis, Made, Motion};
 
@@ -92,7 +93,7 @@ fn drift_ok(now: DVec3, want: DVec3, open_end: bool, r: f64, tol: f64) -> bool {
     if d.length() <= tol {
         return true;
     }
-    open_end && d.x < 0.0 && -d.x <= MAX_SINK * r + tol && d.y.hypot(d.z) <= tol
+    open_end && d.x < 0.0 && -d.x <= MAX_SINK * r + tol && d.y.fhypot(d.z) <= tol
 }
 
 /// Checks every relation independently of the core's own check. Children

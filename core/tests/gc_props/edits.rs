@@ -11,6 +11,7 @@ use shapewright::assembly::{
     GcCopy, GcTransformPart,
 };
 use shapewright::gc::*;
+use shapewright::math::fm::DetMath as _;
 use shapewright::nurbs::euclidean;
 
 /// The random numbers one op is made from (read against the assembly as
@@ -80,8 +81,8 @@ pub fn profile_of_kind(k: usize, old: &Profile, r: f64, y: f64) -> Profile {
             points: (0..9)
                 .map(|i| {
                     let a = std::f64::consts::TAU * i as f64 / 9.0 + y;
-                    let k = r * (0.9 + 0.1 * (3.0 * a + y).sin());
-                    [k * a.cos(), k * a.sin()]
+                    let k = r * (0.9 + 0.1 * (3.0 * a + y).fsin());
+                    [k * a.fcos(), k * a.fsin()]
                 })
                 .collect(),
         },
@@ -251,7 +252,7 @@ pub fn make(asm: &GcAssembly, s: &Seed) -> Made {
             part: id,
             section: SectionIndex(pick(s.section, 0, k)),
             // 0.5 to 2, as often below 1 as above
-            factor: 0.5 * 4f64.powf(s.z),
+            factor: 0.5 * 4f64.fpowf(s.z),
         }),
         2 => {
             let i = pick(s.section, 1, k - 1);

@@ -6,6 +6,7 @@
 //! `xr_host/shaders/compile.sh` (glslangValidator) and committed, so a
 //! build needs no shader compiler.
 
+use shapewright::math::fm::DetMath as _;
 use std::io::Cursor;
 use std::sync::Arc;
 
@@ -136,7 +137,7 @@ pub struct Renderer {
 /// the face normal where they do not (creases), so STL boxes and smooth
 /// spheres both shade right. 30° crease threshold.
 fn expand_vertices(mesh: &TriMesh) -> Vec<MeshVertex> {
-    let cos_crease = 30f64.to_radians().cos();
+    let cos_crease = 30f64.to_radians().fcos();
     let has_normals = mesh.normals.len() == mesh.positions.len();
     let mut out = Vec::with_capacity(mesh.triangles.len() * 3);
     for t in &mesh.triangles {

@@ -14,6 +14,7 @@
 //!   in model coordinates through the frame, so a sculpt stroke is recorded
 //!   in model space whatever the view.
 
+use crate::math::fm::DetMath as _;
 use crate::math::{DQuat, DVec3};
 
 use crate::interact::gesture::similarity::Similarity;
@@ -68,7 +69,7 @@ impl HandleBar {
         let twist = |start: &Pose, now: &Pose| {
             let delta = swing.inverse() * now.orientation * start.orientation.inverse();
             let v = DVec3::new(delta.x, delta.y, delta.z);
-            let mut angle = 2.0 * v.dot(axis0).atan2(delta.w);
+            let mut angle = 2.0 * v.dot(axis0).fatan2(delta.w);
             if angle > std::f64::consts::PI {
                 angle -= std::f64::consts::TAU;
             } else if angle < -std::f64::consts::PI {

@@ -2,6 +2,7 @@
 //! hand out, with its thresholds and timings ([`GestureSettings`]) and what
 //! it holds between frames ([`GestureState`]).
 
+use crate::math::fm::DetMath as _;
 use serde::{Deserialize, Serialize};
 
 use super::features::*;
@@ -147,7 +148,7 @@ impl GestureClassifier {
         let s = self.settings;
         let f = match self.features {
             Some(prev) if s.smoothing > 0.0 && time > self.last_time => {
-                let a = 1.0 - (-(time - self.last_time) / s.smoothing).exp();
+                let a = 1.0 - (-(time - self.last_time) / s.smoothing).fexp();
                 prev.blend(&raw, a)
             }
             _ => raw,

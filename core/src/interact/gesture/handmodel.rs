@@ -12,6 +12,7 @@
 //! joint, adequate for what the classifier reads (the tip position).
 //! Tracking jitter is independent Gaussian noise on every joint position.
 
+use crate::math::fm::DetMath as _;
 use crate::math::{DQuat, DVec3};
 
 use crate::interact::gesture::GestureLabel;
@@ -51,7 +52,7 @@ impl Rng {
     pub fn normal(&mut self) -> f64 {
         let u1 = self.unit().max(1e-300);
         let u2 = self.unit();
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+        (-2.0 * u1.fln()).sqrt() * (std::f64::consts::TAU * u2).fcos()
     }
 
     /// A uniformly random unit vector.

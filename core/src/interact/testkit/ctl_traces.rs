@@ -7,6 +7,7 @@
 //! and checks the op sequence, the printable model and bit-identity.
 
 use crate::doc::{Op, ScriptCommand};
+use crate::math::fm::DetMath as _;
 use crate::math::{DQuat, DVec3};
 use crate::mesh::{self, TriMesh};
 use crate::sdf::{CsgOp, ScaleAxis};
@@ -291,8 +292,8 @@ fn csg_cup_trace_replays_to_a_genus_one_cup() {
     assert_eq!(report.genus, Some(1));
     // Volume: the body minus the hollow, plus the handle (sampled at 1 cm).
     let pi = std::f64::consts::PI;
-    let expected = pi * 0.12f64.powi(2) * 0.24 - pi * 0.105f64.powi(2) * 0.21
-        + 2.0 * pi * pi * 0.06 * 0.015f64.powi(2) * 0.6;
+    let expected = pi * 0.12f64.fpowi(2) * 0.24 - pi * 0.105f64.fpowi(2) * 0.21
+        + 2.0 * pi * pi * 0.06 * 0.015f64.fpowi(2) * 0.6;
     let vol = report.signed_volume;
     assert!(
         (vol - expected).abs() / expected < 0.2,

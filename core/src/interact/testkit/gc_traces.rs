@@ -9,6 +9,7 @@
 //! and turn the wrist so that the tool's hand ray (palm, along the mean
 //! knuckle direction) points at the intended target.
 
+use crate::math::fm::DetMath as _;
 use crate::math::{DMat3, DQuat, DVec3};
 
 use crate::interact::gesture::controller_hand::point_tip_offset;
@@ -240,7 +241,7 @@ pub(crate) fn loop_points(c: DVec3, u: DVec3, v: DVec3, a: f64, b: f64, n: usize
     (0..=n)
         .map(|i| {
             let t = std::f64::consts::TAU * i as f64 / n as f64;
-            c + u * (a * t.cos()) + v * (b * t.sin())
+            c + u * (a * t.fcos()) + v * (b * t.fsin())
         })
         .collect()
 }
@@ -268,7 +269,7 @@ pub(crate) fn create(r: &mut Rig, start: DVec3, from: DVec3, section: &[DVec3], 
 /// A point on a body of revolution about the model z axis.
 pub(crate) fn ring(radius: f64, angle_deg: f64, z: f64) -> DVec3 {
     let a = angle_deg.to_radians();
-    DVec3::new(radius * a.cos(), radius * a.sin(), z)
+    DVec3::new(radius * a.fcos(), radius * a.fsin(), z)
 }
 
 pub(crate) fn outward(angle_deg: f64, dist: f64, up: f64) -> DVec3 {

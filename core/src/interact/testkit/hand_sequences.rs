@@ -2,6 +2,7 @@
 //! (the kinematic hand model of [`crate::interact::gesture`] posed, moved
 //! and jittered), and the score of a classifier on them.
 
+use crate::math::fm::DetMath as _;
 use crate::math::{DQuat, DVec3};
 
 use crate::interact::gesture::handmodel::{hand_pose, HandParams, Rng};
@@ -115,13 +116,13 @@ pub fn labelled_sequence(settings: &SequenceSettings) -> Vec<LabelledFrame> {
         let phase = rng.range(0.0, std::f64::consts::TAU);
         for k in 0..n {
             let tt = k as f64 * dt;
-            let wob = |i: f64| settings.tremor * (tt * 9.0 + phase + i).sin();
+            let wob = |i: f64| settings.tremor * (tt * 9.0 + phase + i).fsin();
             let mut p = params;
             for (i, c) in p.curls.iter_mut().enumerate() {
                 *c = (*c + wob(i as f64)).clamp(0.0, 1.0);
             }
             p.pinch_gap = (p.pinch_gap + 0.1 * wob(5.0) * p.pinch_gap).max(0.0);
-            let drift = DVec3::new((tt * 1.3).sin(), (tt * 0.7).cos(), 0.0) * 0.01;
+            let drift = DVec3::new((tt * 1.3).fsin(), (tt * 0.7).fcos(), 0.0) * 0.01;
             let w = Pose::new(wrist.position + drift, wrist.orientation);
             out.push(frame_of(
                 t,

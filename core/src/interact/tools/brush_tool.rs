@@ -30,6 +30,7 @@
 //! tool. The orienting hand losing tracking or teleporting lets go of the
 //! model where it was.
 
+use crate::math::fm::DetMath as _;
 use std::sync::Arc;
 
 use crate::doc::{Create, Document, Edit, ObjectId, ObjectKind, Op, ScriptCommand};
@@ -543,7 +544,7 @@ impl BrushTool {
                 self.update_mode();
             }
             if let Some(k) = self.flick.fired(hand, 1, &now) {
-                self.size = (self.size * 1.25f64.powi(k)).clamp(0.1, 10.0);
+                self.size = (self.size * 1.25f64.fpowi(k)).clamp(0.1, 10.0);
                 self.update_mode();
             }
             if now.primary && !was.primary && target.is_none() {

@@ -2,6 +2,7 @@
 //! by the puppet through a [`Session`].
 
 use crate::doc::{Create, Edit, ObjectId, ObjectKind, Op, OpLog, ScriptCommand};
+use crate::math::fm::DetMath as _;
 use crate::math::{DQuat, DVec3, Transform};
 use crate::mesh;
 use crate::sculpt::{SculptBase, SculptCreate};
@@ -221,7 +222,7 @@ fn csg_select_copy_delete_update_and_undo() {
         &Default::default(),
     );
     assert!(r.is_closed_manifold());
-    let exact = std::f64::consts::PI * 0.05f64.powi(2) * 0.1;
+    let exact = std::f64::consts::PI * 0.05f64.fpowi(2) * 0.1;
     assert!(
         (r.signed_volume - exact).abs() / exact < 0.1,
         "{}",

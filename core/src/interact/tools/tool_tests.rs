@@ -5,6 +5,7 @@
 use crate::doc::{
     AddSolid, Delete, Duplicate, ObjectId, ObjectKind, Op, OpLog, ScriptCommand, SetTransform,
 };
+use crate::math::fm::DetMath as _;
 use crate::math::{DQuat, DVec3, Transform};
 use crate::solid::SolidShape;
 
@@ -142,7 +143,7 @@ fn two_hand_scale_is_one_op_with_the_handle_bar() {
         .unwrap()
         .mesh
         .signed_volume();
-    assert!((v - 27.0 * 0.12f64.powi(3)).abs() < 1e-9, "{v}");
+    assert!((v - 27.0 * 0.12f64.fpowi(3)).abs() < 1e-9, "{v}");
 }
 
 #[test]

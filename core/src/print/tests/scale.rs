@@ -2,6 +2,7 @@
 //! about the origin, with walls of the true thickness; bad scales are
 //! refused by name; [`crate::print::BedFit::print_scale`] fits.
 
+use crate::math::fm::DetMath as _;
 use crate::mesh::TriMesh;
 use crate::print::{
     printable, PrintError, PrintPart, PrintSettings, PrintedSize, Printer, PrinterPreset, Treatment,
@@ -41,7 +42,7 @@ fn a_scaled_print_scales_the_solid_and_keeps_the_wall_thickness() {
     // Volumes in model units (m³): the solid scales by s³.
     let (v1, v4) = (full.mesh.signed_volume(), quarter.mesh.signed_volume());
     assert!(
-        (v4 / v1 - 0.25f64.powi(3)).abs() < 1e-4,
+        (v4 / v1 - 0.25f64.fpowi(3)).abs() < 1e-4,
         "solid volume ratio {} (want 1/64)",
         v4 / v1
     );
@@ -60,7 +61,7 @@ fn a_scaled_print_scales_the_solid_and_keeps_the_wall_thickness() {
         Treatment::Thickened { thickness, .. } => assert_eq!(*thickness, 0.002),
         t => panic!("the sheet was not thickened: {t:?}"),
     }
-    let want = (0.2 * 0.25f64).powi(2) * 0.002;
+    let want = (0.2 * 0.25f64).fpowi(2) * 0.002;
     let got = slab.mesh.signed_volume();
     assert!(
         (got / want - 1.0).abs() < 0.01,

@@ -1,6 +1,7 @@
 //! Furniture families (paper 2 §6.2's chair task and the COSEG chair
 //! parts of its dataset): legs, seats, backs, bases and brackets.
 
+use crate::math::fm::DetMath as _;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use super::kit::*;
@@ -22,9 +23,9 @@ fn leg_cabriole(d: Detail) -> TriMesh {
     for i in 0..=m {
         let t = i as f64 / m as f64;
         // Knee out, ankle in, foot out: an S in the XZ plane.
-        let x = 0.035 * (PI * t).sin() * (1.0 - 2.0 * t) - 0.01 * t;
+        let x = 0.035 * (PI * t).fsin() * (1.0 - 2.0 * t) - 0.01 * t;
         path.push(DVec3::new(x, 0.0, 0.06 + 0.39 * t));
-        radii.push(0.016 + 0.016 * t * t + 0.006 * (PI * t).sin());
+        radii.push(0.016 + 0.016 * t * t + 0.006 * (PI * t).fsin());
     }
     let shaft = sweep(&round_section(d.segments()), &path, &radii, DVec3::Y, false);
     let foot = solid_at(
@@ -50,7 +51,7 @@ fn seat_saddle(d: Detail) -> TriMesh {
     let h = DVec3::new(0.2, 0.21, 0.035);
     implicit(
         |p| {
-            let dip = 0.03 * (1.0 - (p.x / 0.2).powi(2)) - 0.02 * (p.y / 0.21).powi(2);
+            let dip = 0.03 * (1.0 - (p.x / 0.2).fpowi(2)) - 0.02 * (p.y / 0.21).fpowi(2);
             rounded_box(p + DVec3::new(0.0, 0.0, dip), h, 0.03)
         },
         DVec3::new(-0.21, -0.22, -0.07),
@@ -80,11 +81,11 @@ fn back_curved(_d: Detail) -> TriMesh {
     let mut poly = Vec::new();
     for i in 0..=k {
         let t = -a + 2.0 * a * i as f64 / k as f64;
-        poly.push([r0 * t.sin(), r0 * t.cos() - r0]);
+        poly.push([r0 * t.fsin(), r0 * t.fcos() - r0]);
     }
     for i in (0..=k).rev() {
         let t = -a + 2.0 * a * i as f64 / k as f64;
-        poly.push([r1 * t.sin(), r1 * t.cos() - r0]);
+        poly.push([r1 * t.fsin(), r1 * t.fcos() - r0]);
     }
     extrude(&poly, 0.0, 0.42)
 }
@@ -160,7 +161,7 @@ fn back_oval(d: Detail) -> TriMesh {
     let poly: Vec<[f64; 2]> = (0..n)
         .map(|i| {
             let a = TAU * i as f64 / n as f64;
-            [0.22 * a.cos(), 0.27 * a.sin()]
+            [0.22 * a.fcos(), 0.27 * a.fsin()]
         })
         .collect();
     plate_xz(&poly, 0.03)

@@ -24,6 +24,7 @@
 //! [`Detail`] says how finely to mesh: the full component, or the
 //! low-poly preview the headset palette shows as its thumbnail.
 
+use crate::math::fm::DetMath as _;
 use std::f64::consts::TAU;
 
 use crate::math::frames::{double_reflection, Frame};
@@ -130,7 +131,7 @@ pub fn rings(rings: &[Vec<DVec3>], ends: Option<(End, End)>) -> TriMesh {
 fn circle(n: usize) -> impl Iterator<Item = (f64, f64)> {
     (0..n).map(move |j| {
         let a = TAU * j as f64 / n as f64;
-        (a.cos(), a.sin())
+        (a.fcos(), a.fsin())
     })
 }
 
@@ -147,7 +148,7 @@ pub fn lathe_mod(profile: &[[f64; 2]], n: usize, modulation: impl Fn(f64) -> f64
                 .map(|j| {
                     let a = TAU * j as f64 / n as f64;
                     let r = r * modulation(a);
-                    DVec3::new(r * a.cos(), r * a.sin(), z)
+                    DVec3::new(r * a.fcos(), r * a.fsin(), z)
                 })
                 .collect()
         })
@@ -178,7 +179,7 @@ pub fn lathe_ring_mod(profile: &[[f64; 2]], n: usize, modulation: impl Fn(f64) -
                 .map(|j| {
                     let a = TAU * j as f64 / n as f64;
                     let r = r * modulation(a);
-                    DVec3::new(r * a.cos(), r * a.sin(), z)
+                    DVec3::new(r * a.fcos(), r * a.fsin(), z)
                 })
                 .collect()
         })
@@ -198,7 +199,7 @@ pub fn arc(centre: [f64; 2], radius: f64, a0: f64, a1: f64, count: usize) -> Vec
     (0..count)
         .map(|i| {
             let a = a0 + (a1 - a0) * i as f64 / (count - 1) as f64;
-            [centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]
+            [centre[0] + radius * a.fcos(), centre[1] + radius * a.fsin()]
         })
         .collect()
 }
@@ -348,7 +349,7 @@ pub fn rounded_rect(w: f64, h: f64, r: f64, k: usize) -> Vec<[f64; 2]> {
     {
         for i in 0..k {
             let a = TAU / 4.0 * (q as f64 + i as f64 / (k - 1).max(1) as f64);
-            out.push([cx + r * a.cos(), cy + r * a.sin()]);
+            out.push([cx + r * a.fcos(), cy + r * a.fsin()]);
         }
     }
     out
@@ -359,7 +360,7 @@ pub fn regular(n: usize, r: f64, phase: f64) -> Vec<[f64; 2]> {
     (0..n)
         .map(|i| {
             let a = phase + TAU * i as f64 / n as f64;
-            [r * a.cos(), r * a.sin()]
+            [r * a.fcos(), r * a.fsin()]
         })
         .collect()
 }
@@ -371,7 +372,7 @@ pub fn star(n: usize, r0: f64, r1: f64) -> Vec<[f64; 2]> {
         .map(|i| {
             let a = TAU * i as f64 / (2 * n) as f64;
             let r = if i % 2 == 0 { r0 } else { r1 };
-            [r * a.cos(), r * a.sin()]
+            [r * a.fcos(), r * a.fsin()]
         })
         .collect()
 }

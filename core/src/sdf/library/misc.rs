@@ -2,6 +2,7 @@
 //! geometric primitives, animal models and chair components"; its users'
 //! snail, flower and Pikachu-on-a-dog scenes need wheels and blobs).
 
+use crate::math::fm::DetMath as _;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
 use super::kit::*;
@@ -102,7 +103,7 @@ fn wheel_gear(d: Detail) -> TriMesh {
         let w = TAU / n as f64;
         for (f, r) in [(0.0, root), (0.2, tip), (0.5, tip), (0.7, root)] {
             let t = a + w * f;
-            outline.push([r * t.cos(), r * t.sin()]);
+            outline.push([r * t.fcos(), r * t.fsin()]);
         }
     }
     let gear = extrude(&outline, -0.02, 0.02);

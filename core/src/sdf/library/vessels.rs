@@ -2,6 +2,7 @@
 //! kitchenware users build from its dataset): bodies, handles, spouts,
 //! knobs, lids and lamp shades.
 
+use crate::math::fm::DetMath as _;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use super::kit::*;
@@ -96,8 +97,8 @@ fn handle_teapot(d: Detail) -> TriMesh {
     let (mut path, mut radii) = (Vec::new(), Vec::new());
     for i in 0..m {
         let a = TAU * i as f64 / m as f64;
-        path.push(DVec3::new(0.07 + 0.07 * a.cos(), 0.0, 0.1 * a.sin()));
-        radii.push(0.015 + 0.004 * a.cos());
+        path.push(DVec3::new(0.07 + 0.07 * a.fcos(), 0.0, 0.1 * a.fsin()));
+        radii.push(0.015 + 0.004 * a.fcos());
     }
     sweep(
         &round_section(d.segments().min(24)),
@@ -135,7 +136,7 @@ fn spout_gooseneck(d: Detail) -> TriMesh {
             DVec3::new(
                 0.12 * (3.0 * t * t - 2.0 * t * t * t),
                 0.0,
-                0.22 * t + 0.03 * (TAU * t).sin(),
+                0.22 * t + 0.03 * (TAU * t).fsin(),
             )
         })
         .collect();
@@ -468,7 +469,7 @@ pub(super) fn entries() -> Vec<Entry> {
                 let a0 = -65f64.to_radians();
                 lathe(
                     &capped(
-                        vec![[0.0, 0.0], [0.03 * a0.cos(), 0.0]],
+                        vec![[0.0, 0.0], [0.03 * a0.fcos(), 0.0]],
                         0.055,
                         0.03,
                         a0,
@@ -551,7 +552,7 @@ pub(super) fn entries() -> Vec<Entry> {
                         [0.0, 0.05],
                     ],
                     n,
-                    |a| 1.0 + 0.04 * (12.0 * a).cos(),
+                    |a| 1.0 + 0.04 * (12.0 * a).fcos(),
                 )
             },
         },
@@ -726,7 +727,7 @@ pub(super) fn entries() -> Vec<Entry> {
                     Detail::Preview => 32,
                 };
                 lathe_ring_mod(&shell(&[[0.2, 0.0], [0.1, 0.2]], 0.005), n, |a| {
-                    1.0 + 0.05 * (16.0 * a).cos()
+                    1.0 + 0.05 * (16.0 * a).fcos()
                 })
             },
         },

@@ -2,6 +2,7 @@
 //! closed low-poly preview, names unique, categories covering the paper's
 //! families, and the normalized SDF's sign agreeing with the mesh.
 
+use crate::math::fm::DetMath as _;
 use std::collections::BTreeSet;
 
 use crate::math::DVec3;
@@ -19,7 +20,7 @@ fn winding(m: &TriMesh, p: DVec3) -> f64 {
         let (la, lb, lc) = (a.length(), b.length(), c.length());
         let num = a.dot(b.cross(c));
         let den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-        w += 2.0 * num.atan2(den);
+        w += 2.0 * num.fatan2(den);
     }
     w / (4.0 * std::f64::consts::PI)
 }

@@ -1,3 +1,4 @@
+use crate::math::fm::DetMath as _;
 use proptest::prelude::*;
 
 use crate::mesh::{validate, TriMesh};
@@ -32,13 +33,13 @@ fn sphere_volume_and_genus() {
     let r = 0.35;
     let v = field([n; 3], |x, y, z| {
         let c = 0.5 / h;
-        (((x - c).powi(2) + (y - c).powi(2) + (z - c).powi(2)).sqrt() * h) - r
+        (((x - c).fpowi(2) + (y - c).fpowi(2) + (z - c).fpowi(2)).sqrt() * h) - r
     });
     let m = mesh_of(&v, [n; 3], h);
     let rep = validate(&m, &Default::default());
     assert!(rep.is_closed_manifold(), "{}", rep.problems());
     assert_eq!(rep.genus, Some(0));
-    let exact = 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+    let exact = 4.0 / 3.0 * std::f64::consts::PI * r.fpowi(3);
     assert!(
         (rep.signed_volume - exact).abs() / exact < 0.01,
         "{}",
@@ -53,7 +54,7 @@ fn torus_is_genus_one() {
     let v = field([n; 3], |x, y, z| {
         let c = 0.48 / h;
         let (x, y, z) = ((x - c) * h, (y - c) * h, (z - c) * h);
-        let q = ((x * x + y * y).sqrt() - 0.3).hypot(z);
+        let q = ((x * x + y * y).sqrt() - 0.3).fhypot(z);
         q - 0.1
     });
     let rep = validate(&mesh_of(&v, [n; 3], h), &Default::default());

@@ -1,4 +1,5 @@
 use crate::doc::{parse_script, run_script, OpLog};
+use crate::math::fm::DetMath as _;
 use crate::mesh::validate;
 
 fn run(text: &str) -> OpLog {
@@ -28,7 +29,7 @@ fn cup_scene_is_genus_one() {
     let log = check(include_str!("../../../../tests/data/csg_cup.jsonl"), 1);
     let r = validate(&log.document().combined_mesh(), &Default::default());
     // Body minus hollow plus the handle's share outside the body.
-    let body = std::f64::consts::PI * (0.12f64.powi(2) * 0.24 - 0.105f64.powi(2) * 0.21);
+    let body = std::f64::consts::PI * (0.12f64.fpowi(2) * 0.24 - 0.105f64.fpowi(2) * 0.21);
     assert!(
         r.signed_volume > body && r.signed_volume < body * 1.25,
         "{}",

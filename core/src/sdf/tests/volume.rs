@@ -1,3 +1,4 @@
+use crate::math::fm::DetMath as _;
 use std::f64::consts::PI;
 
 use proptest::prelude::*;
@@ -63,7 +64,7 @@ fn sphere_box_intersection(r: f64, c: [f64; 3], a: f64) -> f64 {
     let mut vol = 0.0;
     for i in 0..n {
         let z = z0 + (i as f64 + 0.5) * dz;
-        let rr = (r * r - (z - c[2]).powi(2)).max(0.0).sqrt();
+        let rr = (r * r - (z - c[2]).fpowi(2)).max(0.0).sqrt();
         // Area of disk (centre c.xy, radius rr) within the square, by
         // integrating chord lengths along x.
         let m = 400;
@@ -75,7 +76,7 @@ fn sphere_box_intersection(r: f64, c: [f64; 3], a: f64) -> f64 {
         let mut area = 0.0;
         for j in 0..m {
             let x = x0 + (j as f64 + 0.5) * dx;
-            let hy = (rr * rr - (x - c[0]).powi(2)).max(0.0).sqrt();
+            let hy = (rr * rr - (x - c[0]).fpowi(2)).max(0.0).sqrt();
             let (y0, y1) = ((c[1] - hy).max(-a), (c[1] + hy).min(a));
             area += (y1 - y0).max(0.0) * dx;
         }
@@ -168,7 +169,7 @@ fn vertex_normals_are_the_outward_field_gradient() {
 fn sphere_box_csg_volumes_within_one_percent() {
     let (r, a, c): (f64, f64, [f64; 3]) = (0.2, 0.2, [0.2, 0.15, 0.1]);
     let vs = 4.0 / 3.0 * PI * r * r * r;
-    let vb = (2.0 * a).powi(3);
+    let vb = (2.0 * a).fpowi(3);
     let vi = sphere_box_intersection(r, c, a);
     let cases = [
         (CsgOp::Union, vs + vb - vi),

@@ -10,6 +10,7 @@
 //! [`super::GcToolSettings`]); the filter restarts whenever the hand
 //! reappears or teleports, so it never drags an old position along.
 
+use crate::math::fm::DetMath as _;
 use crate::math::DVec3;
 
 use super::GcToolSettings;
@@ -62,7 +63,7 @@ fn blend(old: DVec3, new: DVec3, dt: f64, tau: f64) -> DVec3 {
     if tau <= 0.0 {
         return new;
     }
-    let a = 1.0 - (-dt / tau).exp();
+    let a = 1.0 - (-dt / tau).fexp();
     old + (new - old) * a
 }
 

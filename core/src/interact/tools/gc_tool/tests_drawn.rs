@@ -9,6 +9,7 @@ use crate::gc::Profile;
 use crate::interact::gesture::GestureLabel;
 use crate::interact::testkit::gc_traces::{create, loop_points, outward, path, ring, Rig};
 use crate::interact::trace::ModelPlacement;
+use crate::math::fm::DetMath as _;
 use crate::math::DVec3;
 
 use super::tests::{body, ops, run};
@@ -56,9 +57,9 @@ fn a_diagonal_ellipse_makes_a_diagonal_part() {
     let axis = first_axis(&run.log, 1);
     let cos = axis.dot(diag).abs();
     assert!(
-        cos > 10f64.to_radians().cos(),
+        cos > 10f64.to_radians().fcos(),
         "the ellipse's long axis {axis} is {:.1} degrees from the drawn one",
-        cos.acos().to_degrees()
+        cos.facos().to_degrees()
     );
 }
 
@@ -71,8 +72,8 @@ fn a_turned_rectangle_replaces_a_section_turned() {
     let c = DVec3::new(0.0, -0.1, 0.04);
     let turn = 30f64.to_radians();
     let (ex, ey) = (
-        DVec3::new(turn.cos(), turn.sin(), 0.0),
-        DVec3::new(-turn.sin(), turn.cos(), 0.0),
+        DVec3::new(turn.fcos(), turn.fsin(), 0.0),
+        DVec3::new(-turn.fsin(), turn.fcos(), 0.0),
     );
     let corners = [
         (-1.0, -1.0),
@@ -104,9 +105,9 @@ fn a_turned_rectangle_replaces_a_section_turned() {
     let width_dir = (curves[k].point(0.0) - gc.key_points()[k]).normalize();
     let cos = width_dir.dot(ex).abs();
     assert!(
-        cos > 8f64.to_radians().cos(),
+        cos > 8f64.to_radians().fcos(),
         "the width lies {:.1} degrees from the drawn side",
-        cos.acos().to_degrees()
+        cos.facos().to_degrees()
     );
 }
 
