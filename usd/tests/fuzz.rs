@@ -139,7 +139,7 @@ fn mutated_and_truncated_usda_never_panics_or_hangs() {
     let seed: u64 = std::env::var("FUZZ_SEED")
         .ok()
         .and_then(|v| v.parse().ok())
-        .unwrap_or(0x5eed_0f_05da);
+        .unwrap_or(0x5eed_f05d);
     let mut seed_bytes = [0u8; 32];
     seed_bytes[..8].copy_from_slice(&seed.to_le_bytes());
     let (tx, rx) = mpsc::channel::<(u32, usize, usize)>();
