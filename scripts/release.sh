@@ -23,6 +23,8 @@ version="$(python -c 'import tomllib; print(tomllib.load(open("Cargo.toml", "rb"
 start=$SECONDS
 say() { echo "== release: $* [at $((SECONDS - start)) s]"; }
 
+# The test switches of build_addon.sh make wheels that are not for shipping.
+unset SHAPEWRIGHT_ADDON_HOST SHAPEWRIGHT_ADDON_LINK_CHECK
 rm -rf dist
 mkdir -p dist/blender dist/wheels
 
