@@ -4,8 +4,11 @@
 //! - `.usdz`: a USDZ package as Pixar's `UsdUtils` and Apple's AR Quick
 //!   Look expect it: a zip whose first entry is the root layer (the usda,
 //!   named after the file), stored uncompressed with its data aligned to
-//!   64 bytes (openusd's `usdz::ArchiveWriter`, which writes exactly that
-//!   with the `zip` crate).
+//!   64 bytes. Written with the `zip` crate directly, as openusd's
+//!   `usdz::ArchiveWriter` does, plus one option it lacks: every entry is
+//!   "made by Unix". The zip crate otherwise records the system it was
+//!   built for, so a Windows save differed from a Linux one in the central
+//!   directory (issue 32: the same ops give the same bytes everywhere).
 //! - `.usdc` is refused, naming `.usda` and `.usdz`: openusd 0.6's crate
 //!   writer is rejected by Pixar's reader ("Invalid children found in
 //!   primChildren field"), and writing usda text under a `.usdc` name made
@@ -16,7 +19,7 @@
 //! Any other extension gets the usda text, as before (autosave names,
 //! temporary files).
 
-use std::io::Cursor;
+use std::io::{Cursor, Write};
 use std::path::Path;
 
 use crate::SaveError;
@@ -68,13 +71,21 @@ fn package(path: &Path, text: &str) -> Result<Vec<u8>, SaveError> {
         .and_then(|s| s.to_str())
         .filter(|s| !s.is_empty() && !s.contains(['/', '\\']) && *s != "..")
         .unwrap_or("root");
-    let mut archive = openusd::usdz::ArchiveWriter::new(Cursor::new(Vec::new()));
-    let author = |e: anyhow::Error| SaveError::Author(format!("usdz package: {e:#}"));
+    let author = |e: &dyn std::fmt::Display| SaveError::Author(format!("usdz package: {e}"));
+    let options = zip::write::SimpleFileOptions::default()
+        .compression_method(zip::CompressionMethod::Stored)
+        .with_alignment(USDZ_ALIGNMENT)
+        .system(zip::System::Unix);
+    let mut archive = zip::ZipWriter::new(Cursor::new(Vec::new()));
     archive
-        .add_layer(&format!("{stem}.usda"), text.as_bytes())
-        .map_err(author)?;
-    Ok(archive.finish().map_err(author)?.into_inner())
+        .start_file(format!("{stem}.usda"), options)
+        .map_err(|e| author(&e))?;
+    archive.write_all(text.as_bytes()).map_err(|e| author(&e))?;
+    Ok(archive.finish().map_err(|e| author(&e))?.into_inner())
 }
+
+/// USDZ's data alignment (Pixar's `UsdZipFileWriter`, openusd's writer).
+const USDZ_ALIGNMENT: u16 = 64;
 
 #[cfg(test)]
 mod tests {
@@ -110,5 +121,12 @@ mod tests {
         let data = 30 + name_len + extra_len;
         assert_eq!(data % 64, 0, "data at {data}");
         assert_eq!(&bytes[data..data + text.len()], text.as_bytes());
+        // Central directory: "version made by" names Unix (3) in its high
+        // byte on every platform (tests/windows compares whole files).
+        let central = bytes
+            .windows(4)
+            .position(|w| w == b"PK\x01\x02")
+            .expect("a central directory entry");
+        assert_eq!(bytes[central + 5], 3, "made by Unix");
     }
 }
