@@ -10,7 +10,8 @@
 #   shapewright-xr-<v>-windows-x64.zip       the headset host for Windows (scripts/build_windows.sh)
 #   THIRD_PARTY_NOTICES-*.txt                the notices each artifact also carries inside
 #   SHA256SUMS                               every file above (sha256sum -c SHA256SUMS)
-# Then runs tests/release over the extension (every platform required).
+# Then runs tests/release over the extension (every platform required),
+# and the Blender suite (tests/blender) on the linux-x64 zip as shipped.
 # Takes about an hour cold on 2 cores (five release builds of the core);
 # SHAPEWRIGHT_RELEASE_PLATFORMS="linux-x64 windows-x64" limits the extension.
 set -euo pipefail
@@ -35,6 +36,13 @@ expect=all
 [ -n "${SHAPEWRIGHT_RELEASE_PLATFORMS:-}" ] && expect=
 SHAPEWRIGHT_EXPECT_PLATFORMS="$expect" python -m pytest -q -p no:cacheprovider tests/release
 cp out/extension/*.zip out/extension/index.json out/extension/index.html dist/blender/
+# The shipped linux-x64 zip (zig-linked, manylinux_2_28) through the whole
+# Blender suite: the tests' own zip is linked by this machine's toolchain.
+linux_zip="$(ls -1 dist/blender/shapewright-*-linux_x64.zip 2>/dev/null || true)"
+if [ -n "$linux_zip" ]; then
+  say "the Blender suite on $(basename "$linux_zip")"
+  SHAPEWRIGHT_ADDON_ZIP="$root/$linux_zip" python -m pytest -q -p no:cacheprovider tests/blender
+fi
 cp out/wheels/*.whl dist/wheels/
 cp out/addon-stage/shapewright_blender/THIRD_PARTY_NOTICES.txt dist/THIRD_PARTY_NOTICES-blender-extension.txt
 
