@@ -17,7 +17,7 @@ from pathlib import Path
 
 import bpy
 import shapewright as sw
-from bpy.props import IntProperty, StringProperty
+from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
 
 from . import checks, history
 
@@ -31,8 +31,8 @@ class ExportTask:
     by the modal operator (or a test): `tick()` returns `running`,
     `done`, `failed` or `cancelled`; `message` says what happened."""
 
-    def __init__(self, s: sw.Session, path: str) -> None:
-        self.job = sw.ExportJob(s, path)
+    def __init__(self, s: sw.Session, path: str, scale: float = 1.0, fit: bool = False) -> None:
+        self.job = sw.ExportJob(s, path, scale=scale, fit=fit)
         self.message = ""
         self.summary: dict | None = None
         self.cancelled = False
@@ -56,8 +56,18 @@ class ExportTask:
         except (sw.ShapewrightError, OSError) as e:
             self.message = str(e)
             return "failed"
-        self.message = f"exported {self.summary['triangles']} triangles to {self.summary['path']}"
+        self.message = exported_message(self.summary)
         return "done"
+
+
+def exported_message(summary: dict) -> str:
+    """`exported N triangles to PATH`, and the scale when it is not 1."""
+    msg = f"exported {summary['triangles']} triangles to {summary['path']}"
+    if summary.get("scaled"):
+        return f"{msg}; {summary['scaled']}"
+    if summary.get("scale", 1.0) != 1.0:
+        return f"{msg} at {summary['scale']:.1%}"
+    return msg
 
 
 def _folder_problem(path: str) -> str | None:
@@ -82,6 +92,29 @@ class SHAPEWRIGHT_OT_export(bpy.types.Operator):
     filter_glob: StringProperty(
         default="*.stl;*.3mf;*.obj;*.ply;*.usda", description="Files the browser lists", options={"HIDDEN"}
     )
+    # The printed size (meshes only; a .usda keeps the document as it is).
+    size: EnumProperty(
+        name="Size",
+        items=(
+            ("TRUE", "True Size", "Print the model at the size it has in the scene"),
+            (
+                "FIT",
+                "Fit the Printer",
+                "Scale the model down to the document's printer when it is too big for it "
+                "(walls of open surfaces keep their thickness)",
+            ),
+            ("SCALE", "Scale", "Print the model at the scale below"),
+        ),
+        default="TRUE",
+    )
+    scale: FloatProperty(
+        name="Scale",
+        description="The printed size as a percentage of the model's (with Size: Scale)",
+        default=100.0,
+        min=0.1,
+        max=100000.0,
+        subtype="PERCENTAGE",
+    )
 
     _task: ExportTask | None = None
     _timer = None
@@ -95,6 +128,10 @@ class SHAPEWRIGHT_OT_export(bpy.types.Operator):
             self.filepath = bpy.path.ensure_ext(bpy.data.filepath or "untitled", ".stl")
         context.window_manager.fileselect_add(self)
         return {"RUNNING_MODAL"}
+
+    def _scale(self) -> dict:
+        """The export's `scale` and `fit` for the core."""
+        return {"scale": self.scale / 100.0 if self.size == "SCALE" else 1.0, "fit": self.size == "FIT"}
 
     def _usd(self, context) -> set[str]:
         s = history.session(context.scene)
@@ -121,14 +158,14 @@ class SHAPEWRIGHT_OT_export(bpy.types.Operator):
         if context.window is None or bpy.app.background:
             # Scripts and headless runs: the same checks, on this thread.
             try:
-                out = s.export_mesh(self.filepath)
+                out = s.export_mesh(self.filepath, **self._scale())
             except (sw.ShapewrightError, OSError) as e:
                 self.report({"ERROR"}, str(e))
                 return {"CANCELLED"}
-            self.report({"INFO"}, f"exported {out['triangles']} triangles to {out['path']}")
+            self.report({"INFO"}, exported_message(out))
             return {"FINISHED"}
         try:
-            self._task = ExportTask(s, self.filepath)
+            self._task = ExportTask(s, self.filepath, **self._scale())
         except sw.ShapewrightError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}

@@ -12,13 +12,13 @@
 //! the document unchanged; under `flag` they apply and printing refuses
 //! naming the object.
 
-use shapewright::doc::print_document;
+use shapewright::doc::{document_size, print_document, print_document_scaled, PrintScale};
 use shapewright::doc::{Document, LogError, Op, OpError, OpLog};
 use shapewright::mesh::{
     manifold_accepts, read_stl, self_intersections, validate, write_stl, ValidationSettings,
 };
 use shapewright::print::{
-    PrintError, PrintSettings, SelfIntersectionPolicy, SetWallThickness, Treatment,
+    PrintControl, PrintError, PrintSettings, SelfIntersectionPolicy, SetWallThickness, Treatment,
     MAX_WALL_THICKNESS, MIN_WALL_THICKNESS,
 };
 
@@ -81,6 +81,61 @@ fn the_thickened_lampshade_volume_scales_with_the_document_wall_thickness() {
     // Doubling the wall doubles the volume (to the same few percent).
     assert!((vols[1] / vols[0] - 2.0).abs() < 0.06, "{vols:?}");
     assert!((vols[2] / vols[1] - 2.0).abs() < 0.06, "{vols:?}");
+}
+
+/// Scale to fit with open surfaces: the walls keep their thickness, so the
+/// scale taken from the objects' box leaves the thickened lampshade a wall
+/// too big for a bed exactly half its size; the print shrinks the scale
+/// until the printed model fits, and no further than a few tenths of a
+/// percent below what fits. A model that fits stays at true size; a given
+/// factor is printed as given.
+#[test]
+fn scale_to_fit_fits_the_printed_model_walls_included() {
+    let mut log = run(&data("lampshade.jsonl"));
+    let e = document_size(log.document()).unwrap().extent();
+    let bed = e.map(|v| v * 0.5);
+    log.apply(op(&format!(
+        r#"{{"op": "set_printer", "printer": "custom", "size": [{}, {}, {}]}}"#,
+        bed[0], bed[1], bed[2]
+    )))
+    .unwrap();
+    let doc = log.document();
+    let control = PrintControl::default();
+    let settings = PrintSettings::default();
+    let fitted = print_document_scaled(doc, &settings, PrintScale::ToFit, &control).unwrap();
+    let printed = fitted.printable.report.size().unwrap();
+    let fit = printed.fit(&doc.print_setup().printer);
+    assert!(
+        fit.fits,
+        "scaled to {} the print is {:?} mm for a {:?} mm bed",
+        fitted.scale,
+        printed.extent_mm(),
+        bed.map(|v| v * 1e3)
+    );
+    // The box alone gave 0.5; the 2 mm wall (4 mm across) pushes it down.
+    assert!(
+        fitted.scale < 0.5 && fitted.scale > 0.45,
+        "{}",
+        fitted.scale
+    );
+    assert_eq!((fitted.scale * 1000.0).round(), fitted.scale * 1000.0);
+    let line = fitted.scaled_line().expect("a scaled model says so");
+    assert!(
+        line.starts_with(&format!("scaled to {:.1}%", fitted.scale * 100.0)),
+        "{line}"
+    );
+
+    let mut true_size = run(&data("lampshade.jsonl"));
+    true_size
+        .apply(op(
+            r#"{"op": "set_printer", "printer": "custom", "size": [1, 1, 1]}"#,
+        ))
+        .unwrap();
+    let asis = print_document_scaled(true_size.document(), &settings, PrintScale::ToFit, &control)
+        .unwrap();
+    assert_eq!((asis.scale, asis.too_big.is_none()), (1.0, true));
+    let half = print_document_scaled(doc, &settings, PrintScale::By(0.5), &control).unwrap();
+    assert_eq!((half.scale, half.scaled_line()), (0.5, None));
 }
 
 #[test]

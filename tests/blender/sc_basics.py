@@ -151,6 +151,44 @@ def scenario_export(work: Path) -> None:
     assert out.is_file() and out.stat().st_size == 84 + 50 * core_session().validate()["triangles"]
 
 
+def stl_extent_mm(path: Path) -> np.ndarray:
+    """The extent of a binary STL's vertices (millimetres, as written)."""
+    data = path.read_bytes()
+    n = int.from_bytes(data[80:84], "little")
+    rec = np.frombuffer(data, dtype=np.uint8, count=50 * n, offset=84).reshape(n, 50)
+    pts = rec[:, 12:48].copy().view("<f4").reshape(-1, 3)
+    return pts.max(axis=0) - pts.min(axis=0)
+
+
+def scenario_export_fit(work: Path) -> None:
+    """The export's Size (issue 31 in Blender): a 400 mm ball is too big
+    for the default printer (Prusa MK4, 250 x 210 x 220 mm): True Size
+    writes it at 400 mm, Fit the Printer at the scale that fits the bed's
+    210 mm side (52.5%), Scale at the percentage typed; the same scale
+    both on this thread and as a background job."""
+    add("sphere", 0.0, dimensions=(0.4, 0.4, 0.4))
+    ops = bpy.ops.shapewright
+    true = work / "true.stl"
+    step(ops.export_mesh(filepath=str(true)), "export true size")
+    e = stl_extent_mm(true)
+    assert np.allclose(e, 400.0, atol=1.0), e
+    fit = work / "fit.stl"
+    step(ops.export_mesh(filepath=str(fit), size="FIT"), "export to fit")
+    e = stl_extent_mm(fit)
+    assert np.all(e <= [250.0, 210.0, 220.0]) and np.allclose(e, 400.0 * 0.525, atol=0.6), e
+    half = work / "half.stl"
+    step(ops.export_mesh(filepath=str(half), size="SCALE", scale=50.0), "export at 50%")
+    assert np.allclose(stl_extent_mm(half), 200.0, atol=0.5), stl_extent_mm(half)
+    # The background job (what the file browser's export runs) says why.
+    task = addon().ops_export.ExportTask(core_session(), str(work / "job.stl"), fit=True)
+    while task.tick() == "running":
+        pass
+    assert task.summary["scale"] == 0.525, task.summary["scale"]
+    assert task.message.endswith(task.summary["scaled"]), task.message
+    assert "scaled to 52.5% to fit the Prusa MK4" in task.message, task.message
+    assert (work / "job.stl").read_bytes() == fit.read_bytes()
+
+
 MODELS = ("teapot", "vase", "mug", "chair", "funnel", "csg_cup", "curve_network", "primitives")
 
 

@@ -69,6 +69,8 @@ ROOT = Path(__file__).resolve().parents[2]
         "record_flat",
         "autosave_off_thread",
         "export_cancel",
+        # issue 31 in Blender: the export's Size (true, fit the printer, scale)
+        "export_fit",
         "join_async",
         # issue 36: the typed pyo3 border and its stub
         "native_stub",

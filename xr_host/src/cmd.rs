@@ -4,10 +4,10 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use shapewright::doc::{document_names, print_document};
+use shapewright::doc::{document_names, print_document_scaled, PrintScale, ScaledPrint};
 use shapewright::doc::{parse_script, run_script_with, Document, OpLog};
 use shapewright::mesh::{self, MeshFormat, ValidationReport, MESH_EXTENSIONS};
-use shapewright::print::{PrintSettings, Printable, PrintedSize, Printer};
+use shapewright::print::{PrintControl, PrintSettings, Printable, PrintedSize, Printer};
 pub use shapewright_xr::files::read_mesh;
 
 /// `apply SCRIPT --out FILE`.
@@ -94,11 +94,12 @@ pub fn check_out(out: &Path) -> Result<()> {
 /// precision of its format), or an error naming the object(s) and why,
 /// before anything is written.
 pub fn print_for(doc: &Document, out: &Path) -> Result<Printable> {
-    print_for_scaled(doc, out, 1.0)
+    Ok(print_for_scaled(doc, out, PrintScale::By(1.0))?.printable)
 }
 
-/// [`print_for`] at a uniform `scale` ([`PrintSettings::scale`]).
-pub fn print_for_scaled(doc: &Document, out: &Path, scale: f64) -> Result<Printable> {
+/// [`print_for`] at a [`PrintScale`] (the core's
+/// [`shapewright::doc::print_document_scaled`]).
+pub fn print_for_scaled(doc: &Document, out: &Path, scale: PrintScale) -> Result<ScaledPrint> {
     let Some(format) = MeshFormat::from_path(out) else {
         bail!(
             "cannot write {}: unknown extension (use {MESH_EXTENSIONS}, or {} for the document with its op log)",
@@ -106,13 +107,10 @@ pub fn print_for_scaled(doc: &Document, out: &Path, scale: f64) -> Result<Printa
             shapewright_usd::SAVE_EXTENSIONS
         );
     };
-    let settings = PrintSettings {
-        scale,
-        ..PrintSettings::for_format(format)
-    };
-    let printed =
-        print_document(doc, &settings).with_context(|| format!("{} not written", out.display()))?;
-    for part in printed.report.skipped() {
+    let settings = PrintSettings::for_format(format);
+    let printed = print_document_scaled(doc, &settings, scale, &PrintControl::default())
+        .with_context(|| format!("{} not written", out.display()))?;
+    for part in printed.printable.report.skipped() {
         eprintln!("shapewright-xr: note: {part} has nothing to print yet and was left out");
     }
     Ok(printed)

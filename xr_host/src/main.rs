@@ -15,6 +15,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use shapewright::doc::PrintScale;
 
 /// mimalloc: the system allocator returns and re-faults large blocks on
 /// every mesh update (see the workspace manifest).
@@ -169,9 +170,9 @@ fn main() -> ExitCode {
                 .filter_map(|p| p.as_deref())
                 .collect();
             let scale = match (scale, scale_to_fit) {
-                (_, true) => usd_cmd::Scale::ToFit,
-                (Some(s), false) => usd_cmd::Scale::By(s),
-                (None, false) => usd_cmd::Scale::By(1.0),
+                (_, true) => PrintScale::ToFit,
+                (Some(s), false) => PrintScale::By(s),
+                (None, false) => PrintScale::By(1.0),
             };
             usd_cmd::export(&file, &targets, scale)
         }

@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use shapewright::doc::{document_size, print_document};
+use shapewright::doc::{print_document, PrintScale};
 use shapewright::mesh::validate;
 use shapewright::print::PrintSettings;
 use shapewright_usd::{load_file, LoadOptions, Mismatch};
@@ -20,16 +20,7 @@ use shapewright_usd::{load_file, LoadOptions, Mismatch};
 /// with the log is replaced by the replayed log (the load does that and
 /// says so), and stored meshes that disagree with the document are only
 /// reported; what is exported is always the log's document.
-/// The scale `export` prints at.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Scale {
-    /// This factor (1: true size).
-    By(f64),
-    /// Down to fit the document's printer ([`shapewright::print::BedFit::print_scale`]).
-    ToFit,
-}
-
-pub fn export(file: &Path, targets: &[&Path], scale: Scale) -> Result<()> {
+pub fn export(file: &Path, targets: &[&Path], scale: PrintScale) -> Result<()> {
     if targets.is_empty() {
         bail!("nothing to export: give --stl, --3mf, --obj and/or --ply with an output path");
     }
@@ -60,28 +51,18 @@ pub fn export(file: &Path, targets: &[&Path], scale: Scale) -> Result<()> {
         );
     }
     let doc = loaded.log.document();
-    let scale = match scale {
-        Scale::By(s) => s,
-        Scale::ToFit => {
-            let fit = document_size(doc).map(|s| s.fit(&doc.print_setup().printer));
-            let s = fit.map_or(1.0, |f| f.print_scale());
-            if let Some(f) = fit.filter(|f| !f.fits) {
-                println!(
-                    "scaled to {:.1}% to fit the {}; at true size it is {}",
-                    s * 100.0,
-                    f.printer.describe(),
-                    f.overhang()
-                );
-            }
-            s
-        }
-    };
-    // Every target is checked before any is written.
+    // Every target is checked before any is written, all at the scale the
+    // first one settles on.
+    let mut scale = scale;
     let mut printed = Vec::new();
     for path in targets {
         let p = crate::cmd::print_for_scaled(doc, path, scale)
             .with_context(|| format!("exporting {}", file.display()))?;
-        printed.push((path, p));
+        if let Some(line) = p.scaled_line().filter(|_| printed.is_empty()) {
+            println!("{line}");
+        }
+        scale = PrintScale::By(p.scale);
+        printed.push((path, p.printable));
     }
     for (path, p) in &printed {
         crate::cmd::write_printed(doc, p, path)?;

@@ -362,13 +362,17 @@ impl Session {
     /// (.stl or .3mf in millimetres, .obj or .ply in metres) on this
     /// thread (GIL released); refuses, writing nothing, what the print
     /// path refuses. Returns the export's summary with the printed size and
-    /// bed fit (see `ExportJob`).
+    /// bed fit (see `ExportJob`, also for `scale` and `fit`).
+    #[pyo3(signature = (path, *, scale=1.0, fit=false))]
     fn export_mesh<'py>(
         &self,
         py: Python<'py>,
         path: std::path::PathBuf,
+        scale: f64,
+        fit: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
-        crate::jobs::export_now(py, self.log.document(), &path)
+        let scale = crate::jobs::print_scale(scale, fit);
+        crate::jobs::export_now(py, self.log.document(), &path, scale)
     }
 
     /// The print line for the History panel (issue 31): the objects' size

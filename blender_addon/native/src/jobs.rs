@@ -25,10 +25,10 @@ use std::thread::JoinHandle;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use shapewright::doc::Document;
-use shapewright::doc::{document_names, print_document_with};
+use shapewright::doc::{document_names, print_document_scaled, PrintScale, ScaledPrint};
 use shapewright::mesh::{MeshFormat, PartNames, TriMesh, MESH_EXTENSIONS};
 use shapewright::print::{
-    BedFit, PrintControl, PrintError, PrintReport, PrintSettings, PrintStage, PrintedSize,
+    BedFit, PrintControl, PrintError, PrintSettings, PrintStage, PrintedSize,
 };
 
 use crate::doc::Session;
@@ -90,30 +90,37 @@ pub(crate) struct Summary {
     report: String,
     size: Option<PrintedSize>,
     fit: Option<BedFit>,
+    /// The factor it was printed at, and the sentence saying why when it
+    /// was scaled to fit ([`ScaledPrint::scaled_line`]).
+    scale: f64,
+    scaled: Option<String>,
 }
 
 fn run(
     doc: &Document,
     target: Option<(MeshFormat, &Path)>,
+    scale: PrintScale,
     control: &PrintControl,
 ) -> Result<Summary, ExportError> {
     // Without a file, the check is the STL export's (float32 millimetres,
     // as STL and 3MF store it): the panel says what the usual export will do.
     let settings = PrintSettings::for_format(target.map_or(MeshFormat::Stl, |(f, _)| f));
-    let printed = print_document_with(doc, &settings, control).map_err(|e| match e {
+    let scaled = print_document_scaled(doc, &settings, scale, control).map_err(|e| match e {
         PrintError::Cancelled => ExportError::Cancelled,
         e if target.is_some() => ExportError::Refused(format!("{e}: nothing was written")),
         e => ExportError::Refused(e.to_string()),
     })?;
+    let printed = &scaled.printable;
     if let Some((format, path)) = target {
         control.set(PrintStage::Writing, 0, 1);
         write_atomic(&printed.mesh, &document_names(doc), format, path, control)?;
     }
     control.set(PrintStage::Done, 1, 1);
-    Ok(summary_of(doc, &printed.mesh, &printed.report))
+    Ok(summary_of(doc, &scaled))
 }
 
-fn summary_of(doc: &Document, mesh: &TriMesh, report: &PrintReport) -> Summary {
+fn summary_of(doc: &Document, scaled: &ScaledPrint) -> Summary {
+    let (mesh, report) = (&scaled.printable.mesh, &scaled.printable.report);
     let size = report.size();
     Summary {
         triangles: mesh.triangles.len(),
@@ -122,6 +129,19 @@ fn summary_of(doc: &Document, mesh: &TriMesh, report: &PrintReport) -> Summary {
         report: report.to_string(),
         size,
         fit: size.map(|s| s.fit(&doc.print_setup().printer)),
+        scale: scaled.scale,
+        scaled: scaled.scaled_line(),
+    }
+}
+
+/// The scale an export asks for from Python: `fit=True` scales the model
+/// down to the document's printer when it is too big; otherwise `scale`
+/// (1: true size; 0.001 to 1000, refused by name outside that).
+pub(crate) fn print_scale(scale: f64, fit: bool) -> PrintScale {
+    if fit {
+        PrintScale::ToFit
+    } else {
+        PrintScale::By(scale)
     }
 }
 
@@ -161,6 +181,8 @@ fn summary<'py>(py: Python<'py>, s: &Summary, path: Option<&Path>) -> PyResult<B
     d.set_item("volume", s.volume)?;
     d.set_item("bbox", s.bbox)?;
     d.set_item("report", &s.report)?;
+    d.set_item("scale", s.scale)?;
+    d.set_item("scaled", s.scaled.as_deref())?;
     if let Some(size) = &s.size {
         d.set_item("size_mm", size.extent_mm().to_vec())?;
         d.set_item("volume_cm3", size.volume_cm3().unwrap_or(0.0))?;
@@ -179,12 +201,13 @@ pub(crate) fn export_now<'py>(
     py: Python<'py>,
     doc: &Document,
     path: &Path,
+    scale: PrintScale,
 ) -> PyResult<Bound<'py, PyDict>> {
     let format = format_of(path)?;
     check_folder(path)?;
     let control = PrintControl::new();
     let s = py
-        .detach(|| run(doc, Some((format, path)), &control))
+        .detach(|| run(doc, Some((format, path)), scale, &control))
         .map_err(ExportError::into_py)?;
     summary(py, &s, Some(path))
 }
@@ -230,10 +253,12 @@ pub struct ExportJob {
 impl ExportJob {
     /// Starts printing `doc` as it is now (later edits do not change this
     /// job): to `path` (format by extension) or, without a path, only the
-    /// check the export would make.
+    /// check the export would make; at `scale` (1: true size), or with
+    /// `fit=True` scaled down to the document's printer when too big.
     #[new]
-    #[pyo3(signature = (doc, path=None))]
-    fn new(doc: &Session, path: Option<PathBuf>) -> PyResult<Self> {
+    #[pyo3(signature = (doc, path=None, *, scale=1.0, fit=false))]
+    fn new(doc: &Session, path: Option<PathBuf>, scale: f64, fit: bool) -> PyResult<Self> {
+        let scale = print_scale(scale, fit);
         let format = path.as_deref().map(format_of).transpose()?;
         if let Some(p) = &path {
             check_folder(p)?;
@@ -245,7 +270,7 @@ impl ExportJob {
             .name("shapewright-print".into())
             .spawn(move || {
                 let target = format.zip(p.as_deref());
-                run(&document, target, &c)
+                run(&document, target, scale, &c)
             })
             .map_err(|e| OpRejected::new_err(format!("cannot start the print thread: {e}")))?;
         Ok(Self {
@@ -276,7 +301,9 @@ impl ExportJob {
     }
 
     /// Waits for the job and returns `{"path", "triangles", "volume",
-    /// "bbox", "report"}` (metres; `path` None for a check) and the printed
+    /// "bbox", "report"}` (metres; `path` None for a check), `"scale"` (the
+    /// factor printed at) and `"scaled"` (the sentence saying so when the
+    /// model was scaled to fit, else None), and the printed
     /// size: `"size_mm"`, `"volume_cm3"`, `"fits"`, `"fit"` (the sentence
     /// to show), `"over_mm"`; or raises
     /// why nothing was written. Call once.

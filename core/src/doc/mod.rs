@@ -49,8 +49,8 @@ pub use ops::{
     Op, OpOutcome, RenameObject, ReserveIds, SetTransform, TransformBy, OP_KINDS, OP_NAMES,
 };
 pub use printable::{
-    document_names, document_parts, document_size, print_document, print_document_with,
-    print_status,
+    document_names, document_parts, document_size, print_document, print_document_scaled,
+    print_document_with, print_status, PrintScale, ScaledPrint, FIT_RETRIES,
 };
 pub use script::{
     parse_script, run_script, run_script_with, ScriptCommand, ScriptError, ScriptErrorKind,

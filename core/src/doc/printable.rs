@@ -6,8 +6,8 @@ use super::{Document, ObjectKind};
 use crate::math::Transform;
 use crate::mesh::{PartNames, TriMesh};
 use crate::print::{
-    printable_with, PrintControl, PrintError, PrintPart, PrintSettings, PrintStatus, Printable,
-    PrintedSize,
+    printable_with, BedFit, PrintControl, PrintError, PrintPart, PrintSettings, PrintStatus,
+    Printable, PrintedSize, MIN_PRINT_SCALE,
 };
 
 /// Every object of `doc`, in id order, as a part to print. Curve networks
@@ -86,6 +86,102 @@ pub fn print_document_with(
     }
     printable_with(&parts, &doc.print_setup().apply_to(settings), control)
 }
+
+/// The size a print is made at, as a host's export asks for it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PrintScale {
+    /// This factor about the origin (1: true size;
+    /// [`PrintSettings::scale`]).
+    By(f64),
+    /// Down to fit the document's printer, or true size when it fits
+    /// ([`BedFit::print_scale`]).
+    ToFit,
+}
+
+/// A print made at a [`PrintScale`].
+#[derive(Debug)]
+pub struct ScaledPrint {
+    /// The printable model, at [`ScaledPrint::scale`].
+    pub printable: Printable,
+    /// The factor it was printed at.
+    pub scale: f64,
+    /// For [`PrintScale::ToFit`] of a model too big at true size: how
+    /// it fits at true size (the sentence a host shows with the scale).
+    pub too_big: Option<BedFit>,
+}
+
+impl ScaledPrint {
+    /// What a host says when [`PrintScale::ToFit`] scaled the model down:
+    /// `scaled to 5.4% to fit the Prusa MK4 (250 x 210 x 220 mm); at true
+    /// size it is too big by x 2662.4 mm, ...`. `None` at true size.
+    pub fn scaled_line(&self) -> Option<String> {
+        self.too_big.map(|f| {
+            format!(
+                "scaled to {:.1}% to fit the {}; at true size it is {}",
+                self.scale * 100.0,
+                f.printer.describe(),
+                f.overhang()
+            )
+        })
+    }
+}
+
+/// [`print_document_with`] at `scale` (in place of `settings.scale`).
+///
+/// [`PrintScale::ToFit`] takes the scale from the objects' box
+/// ([`document_size`]) and then checks the printed model: an open
+/// surface's wall keeps its thickness at any scale, so a model scaled to
+/// the bed's edge can come out up to a wall too big. Then the scale
+/// shrinks by what the printed model overhangs, floored to 0.1% again, and
+/// the model is printed once more (at most [`FIT_RETRIES`] times; after
+/// that the print is returned as it is and its report's size says it does
+/// not fit).
+pub fn print_document_scaled(
+    doc: &Document,
+    settings: &PrintSettings,
+    scale: PrintScale,
+    control: &PrintControl,
+) -> Result<ScaledPrint, PrintError> {
+    let at = |s: f64| {
+        let settings = PrintSettings {
+            scale: s,
+            ..*settings
+        };
+        print_document_with(doc, &settings, control)
+    };
+    if let PrintScale::By(s) = scale {
+        return Ok(ScaledPrint {
+            printable: at(s)?,
+            scale: s,
+            too_big: None,
+        });
+    }
+    let printer = doc.print_setup().printer;
+    let too_big = document_size(doc)
+        .map(|size| size.fit(&printer))
+        .filter(|f| !f.fits);
+    let mut s = too_big.map_or(1.0, |f| f.print_scale());
+    let mut printable = at(s)?;
+    for _ in 0..FIT_RETRIES {
+        let Some(fit) = printable.report.size().map(|size| size.fit(&printer)) else {
+            break;
+        };
+        if fit.fits || s <= MIN_PRINT_SCALE {
+            break;
+        }
+        s = ((s * fit.scale_to_fit * 1000.0).floor() / 1000.0).max(MIN_PRINT_SCALE);
+        printable = at(s)?;
+    }
+    Ok(ScaledPrint {
+        printable,
+        scale: s,
+        too_big,
+    })
+}
+
+/// How often [`print_document_scaled`] shrinks a fitted print that its
+/// walls pushed over the bed.
+pub const FIT_RETRIES: usize = 3;
 
 /// Every object's name for files that name parts (3MF): its user name, or
 /// `kind id` when it has none (`gc_assembly 3`).
