@@ -389,9 +389,32 @@ def _make_pxr_importable() -> None:
 
 classes = (SHAPEWRIGHT_USD_hook,)
 
-_register, unregister = bpy.utils.register_classes_factory(classes)
+_register, _unregister = bpy.utils.register_classes_factory(classes)
+
+# Why the hook is not registered in this Blender ("" when it is).
+unavailable = ""
 
 
 def register() -> None:
+    """Registers the hook when Blender's `pxr` can be imported. Blender's
+    C++ side imports `pxr.Usd` before it calls any hook, and an import
+    error there is not caught: it ends the process
+    (`boost::python::error_already_set`) on the first USD export or
+    import. `bpy` 4.2 from PyPI ships no `pxr` at all; there the hook is
+    left out (USD export and import then work without the document)."""
+    global unavailable
     _make_pxr_importable()
+    if importlib.util.find_spec("pxr") is None:
+        unavailable = (
+            f"Blender {bpy.app.version_string} has no USD Python module (pxr): "
+            "File > Export/Import > USD will not carry the Shapewright document"
+        )
+        print(f"Shapewright: {unavailable}")
+        return
+    unavailable = ""
     _register()
+
+
+def unregister() -> None:
+    if not unavailable:
+        _unregister()
