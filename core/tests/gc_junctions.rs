@@ -214,21 +214,26 @@ fn a_handle_turned_about_the_axis_turns_once() {
 /// A copy of the handle turned a quarter, a half or three quarters of a
 /// turn about the axis lands on the body's side there, outside it: two
 /// handles, genus 2, one piece; the source handle and the body stay.
+/// A copy of the mug's handle (part 1) moved by `translate` and `rotate`.
+fn copy_of_handle(translate: DVec3, rotate: [f64; 4]) -> GcCopy {
+    GcCopy {
+        part: PartId(1),
+        mirror: false,
+        translate,
+        rotate,
+        tolerance: 1e-6,
+    }
+}
+
 #[test]
 fn a_turned_copy_of_the_handle_lands_outside_the_body() {
     let base = example("mug", 2);
     for deg in [90.0f64, 180.0, 270.0] {
         let mut asm = base.clone();
         let (m, translate, rotate) = turn_about(DVec3::ZERO, DVec3::Z, deg.to_radians());
-        GcCopy {
-            part: PartId(1),
-            mirror: false,
-            translate,
-            rotate,
-            tolerance: 1e-6,
-        }
-        .apply_to(&mut asm)
-        .expect("copy");
+        copy_of_handle(translate, rotate)
+            .apply_to(&mut asm)
+            .expect("copy");
         assert_eq!(asm.parts.len(), 3);
         assert_eq!(asm.parts[1], base.parts[1], "copy {deg}: the source moved");
         assert_turned(&base, 1, &asm, 2, &m, &format!("copy turned {deg}"));
@@ -282,14 +287,7 @@ fn a_handle_turns_rigidly_with_its_body_of_revolution() {
                 let what = format!("stand {s}, turn {deg}, copy {copy}");
                 let mut asm = base.clone();
                 let done = if copy {
-                    GcCopy {
-                        part: PartId(1),
-                        mirror: false,
-                        translate,
-                        rotate,
-                        tolerance: 1e-6,
-                    }
-                    .apply_to(&mut asm)
+                    copy_of_handle(translate, rotate).apply_to(&mut asm)
                 } else {
                     GcTransformPart {
                         part: PartId(1),
