@@ -6,6 +6,7 @@ fixtures in `tests/conftest.py`."""
 
 from __future__ import annotations
 
+import os
 import socket
 import subprocess
 import time
@@ -85,7 +86,7 @@ def test_shared_session_with_a_headset(run_scenario: Callable[..., str], tmp_pat
     on a real nats-server (installed by scripts/setup.sh), over TLS with a
     team CA from scripts/session_certs.sh (issue 35): both verify the
     server with the CA their credentials file names."""
-    host = ROOT / "target" / "release" / "shapewright-xr"
+    host = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release" / "shapewright-xr"
     if not host.exists():
         subprocess.run(["cargo", "build", "--release", "-q", "-p", "shapewright-xr"], cwd=ROOT, check=True)
     with socket.socket() as sock:

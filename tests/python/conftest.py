@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -20,4 +21,5 @@ def root() -> Path:
 @pytest.fixture(scope="session")
 def host_bin() -> Path:
     subprocess.run(["cargo", "build", "--release", "-q", "-p", "shapewright-xr"], cwd=ROOT, check=True)
-    return ROOT / "target" / "release" / "shapewright-xr"
+    # Where cargo put it: CARGO_TARGET_DIR when set (a shared target dir).
+    return Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release" / "shapewright-xr"
