@@ -95,6 +95,7 @@ class SHAPEWRIGHT_OT_export(bpy.types.Operator):
     # The printed size (meshes only; a .usda keeps the document as it is).
     size: EnumProperty(
         name="Size",
+        description="The printed size of a mesh export (a .usda keeps the document as it is)",
         items=(
             ("TRUE", "True Size", "Print the model at the size it has in the scene"),
             (
