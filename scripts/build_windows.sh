@@ -32,7 +32,7 @@ cargo build --release --target "$target" -p shapewright-xr --bin shapewright-xr 
 cargo build --release --target "$target" -p shapewright-atomic --example crash_writer >&2
 echo "build_windows: built in $((SECONDS - start)) s" >&2
 
-out="$root/target/$target/release"
+out="${CARGO_TARGET_DIR:-$root/target}/$target/release"
 exe="$out/shapewright-xr.exe"
 
 # The import table: every DLL must be one Windows ships. A mingw runtime

@@ -66,7 +66,7 @@ name="shapewright-xr-$version-linux-x64"
 host_notices x86_64-unknown-linux-gnu "dist/THIRD_PARTY_NOTICES-$name.txt"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
-stage_host "$tmp/$name" target/release/shapewright-xr "dist/THIRD_PARTY_NOTICES-$name.txt"
+stage_host "$tmp/$name" "${CARGO_TARGET_DIR:-target}/release/shapewright-xr" "dist/THIRD_PARTY_NOTICES-$name.txt"
 tar --sort=name --owner=0 --group=0 --numeric-owner --mtime='2026-01-01 00:00Z' \
   -C "$tmp" -czf "dist/$name.tar.gz" "$name"
 
