@@ -83,7 +83,10 @@ for p in "${platforms[@]}"; do
   else
     profile=(--release)
     if [[ " ${SHAPEWRIGHT_ADDON_LINK_CHECK:-} " == *" $p "* ]]; then
-      profile=(--profile link-check)
+      # Its own target dir: test.sh builds it in the background while
+      # pytest builds the linux wheel, and two maturins in one target dir
+      # race on its staging folder (target/maturin).
+      profile=(--profile link-check --target-dir "${CARGO_TARGET_DIR:-$root/target}/link-check")
       echo "build_addon: $p in the link-check profile (unoptimized: for checking, not for shipping)" >&2
     fi
     rustc_args=()
