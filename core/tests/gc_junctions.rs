@@ -197,14 +197,9 @@ fn a_handle_turned_about_the_axis_turns_once() {
     let base = example("mug", 2);
     let mut asm = base.clone();
     let (m, translate, rotate) = turn_about(DVec3::ZERO, DVec3::Z, std::f64::consts::PI);
-    GcTransformPart {
-        part: PartId(1),
-        translate,
-        rotate,
-        tolerance: 1e-6,
-    }
-    .apply_to(&mut asm)
-    .expect("turn the handle");
+    turn_of_handle(translate, rotate)
+        .apply_to(&mut asm)
+        .expect("turn the handle");
     assert_turned(&base, 1, &asm, 1, &m, "handle turned 180");
     // the handle is outside the body (radius 4-4.3 cm), less its sunk ends
     assert!(nearest_to_axis(&asm, 1) > 0.036);
@@ -214,6 +209,16 @@ fn a_handle_turned_about_the_axis_turns_once() {
 /// A copy of the handle turned a quarter, a half or three quarters of a
 /// turn about the axis lands on the body's side there, outside it: two
 /// handles, genus 2, one piece; the source handle and the body stay.
+/// The mug's handle (part 1) moved by `translate` and `rotate`.
+fn turn_of_handle(translate: DVec3, rotate: [f64; 4]) -> GcTransformPart {
+    GcTransformPart {
+        part: PartId(1),
+        translate,
+        rotate,
+        tolerance: 1e-6,
+    }
+}
+
 /// A copy of the mug's handle (part 1) moved by `translate` and `rotate`.
 fn copy_of_handle(translate: DVec3, rotate: [f64; 4]) -> GcCopy {
     GcCopy {
@@ -289,13 +294,7 @@ fn a_handle_turns_rigidly_with_its_body_of_revolution() {
                 let done = if copy {
                     copy_of_handle(translate, rotate).apply_to(&mut asm)
                 } else {
-                    GcTransformPart {
-                        part: PartId(1),
-                        translate,
-                        rotate,
-                        tolerance: 1e-6,
-                    }
-                    .apply_to(&mut asm)
+                    turn_of_handle(translate, rotate).apply_to(&mut asm)
                 };
                 done.unwrap_or_else(|e| panic!("{what}: {e}"));
                 let k = if copy { 2 } else { 1 };
