@@ -134,6 +134,21 @@ fn scale_to_fit_fits_the_printed_model_walls_included() {
     let asis = print_document_scaled(true_size.document(), &settings, PrintScale::ToFit, &control)
         .unwrap();
     assert_eq!((asis.scale, asis.too_big.is_none()), (1.0, true));
+    // A bed exactly the objects' box: the box fits, the walls do not, so
+    // the fitted print is scaled down and says so.
+    let mut snug = run(&data("lampshade.jsonl"));
+    snug.apply(op(&format!(
+        r#"{{"op": "set_printer", "printer": "custom", "size": [{}, {}, {}]}}"#,
+        e[0], e[1], e[2]
+    )))
+    .unwrap();
+    let snugged =
+        print_document_scaled(snug.document(), &settings, PrintScale::ToFit, &control).unwrap();
+    assert!(snugged.scale < 1.0, "{}", snugged.scale);
+    let line = snugged
+        .scaled_line()
+        .expect("a model scaled to fit says so");
+    assert!(line.contains("at true size it is"), "{line}");
     let half = print_document_scaled(doc, &settings, PrintScale::By(0.5), &control).unwrap();
     assert_eq!((half.scale, half.scaled_line()), (0.5, None));
 }

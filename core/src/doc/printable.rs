@@ -6,8 +6,8 @@ use super::{Document, ObjectKind};
 use crate::math::Transform;
 use crate::mesh::{PartNames, TriMesh};
 use crate::print::{
-    printable_with, BedFit, PrintControl, PrintError, PrintPart, PrintSettings, PrintStatus,
-    Printable, PrintedSize, MIN_PRINT_SCALE,
+    floor_print_scale, printable_with, BedFit, PrintControl, PrintError, PrintPart, PrintSettings,
+    PrintStatus, Printable, PrintedSize, MIN_PRINT_SCALE,
 };
 
 /// Every object of `doc`, in id order, as a part to print. Curve networks
@@ -162,6 +162,9 @@ pub fn print_document_scaled(
         .filter(|f| !f.fits);
     let mut s = too_big.map_or(1.0, |f| f.print_scale());
     let mut printable = at(s)?;
+    // A model whose box fits but whose walls do not is too big as printed:
+    // that is the fit its scale sentence reports.
+    let mut too_big = too_big;
     for _ in 0..FIT_RETRIES {
         let Some(fit) = printable.report.size().map(|size| size.fit(&printer)) else {
             break;
@@ -169,7 +172,8 @@ pub fn print_document_scaled(
         if fit.fits || s <= MIN_PRINT_SCALE {
             break;
         }
-        s = ((s * fit.scale_to_fit * 1000.0).floor() / 1000.0).max(MIN_PRINT_SCALE);
+        too_big = too_big.or(Some(fit));
+        s = floor_print_scale(s * fit.scale_to_fit);
         printable = at(s)?;
     }
     Ok(ScaledPrint {

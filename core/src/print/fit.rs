@@ -299,12 +299,18 @@ impl BedFit {
         if self.fits {
             return 1.0;
         }
-        ((self.scale_to_fit * 1000.0).floor() / 1000.0).max(MIN_PRINT_SCALE)
+        floor_print_scale(self.scale_to_fit)
     }
 }
 
 /// The smallest [`super::PrintSettings::scale`]: a tenth of a percent.
 pub const MIN_PRINT_SCALE: f64 = 1e-3;
+
+/// `scale` rounded down to a tenth of a percent, never below
+/// [`MIN_PRINT_SCALE`]: the scales a fit prints at.
+pub fn floor_print_scale(scale: f64) -> f64 {
+    ((scale * 1000.0).floor() / 1000.0).max(MIN_PRINT_SCALE)
+}
 
 impl fmt::Display for BedFit {
     /// `fits the Prusa MK4 (250 x 210 x 220 mm)` or `does NOT fit the

@@ -69,8 +69,8 @@ mod thicken;
 pub use control::{PrintControl, PrintProgress, PrintStage};
 pub use error::PrintError;
 pub use fit::{
-    mm3, BedFit, PrintStatus, PrintedSize, Printer, PrinterPreset, SetPrinter, MAX_BED_SIDE,
-    MIN_BED_SIDE, MIN_PRINT_SCALE,
+    floor_print_scale, mm3, BedFit, PrintStatus, PrintedSize, Printer, PrinterPreset, SetPrinter,
+    MAX_BED_SIDE, MIN_BED_SIDE, MIN_PRINT_SCALE,
 };
 pub use pipeline::{check_edit, check_part, printable, printable_with, PrintPart, Printable};
 pub use report::{PartReport, PrintReport, Treatment};
