@@ -26,7 +26,6 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 py="${PYTHON:-$root/.venv/bin/python}"
-[ -x "$py" ] || py=/work/main/.venv/bin/python
 xr="${SHAPEWRIGHT_XR:-${CARGO_TARGET_DIR:-$root/target}/release/shapewright-xr}"
 if [ ! -x "$xr" ]; then
   echo "render_issue33.sh: no $xr; build it (cargo build --release -p shapewright-xr) or set SHAPEWRIGHT_XR" >&2
