@@ -13,13 +13,13 @@
 # The add-on is staged in out/addon-stage (the source tree is not written):
 # its manifest lists the platforms built, plus THIRD_PARTY_NOTICES.txt for
 # the crates in those wheels.
-# Two switches for testing, never for shipping (release.sh clears both):
+# Switches for testing, never for shipping (release.sh clears them):
 # SHAPEWRIGHT_ADDON_HOST=1 builds the linux-x64 wheel with this machine's
-#   own toolchain in target/release (no zig, no --target), so it shares
-#   the compiled core with `cargo build --release -p shapewright-xr`
-#   (about 40 s instead of a second cold release build of the core, 9 min
-#   on 2 cores). Its tag is what maturin's audit finds for this machine's
-#   glibc (manylinux_2_34 on Debian 12), not the manylinux_2_28 the shipped
+#   own toolchain (no zig, no --target) in SHAPEWRIGHT_TEST_PROFILE
+#   (release when unset; test.sh sets dev), so it shares the compiled
+#   dependencies with the host and the tests (about 90 s instead of a
+#   cold release build of the core, 9 min on 2 cores). Its tag is what
+#   maturin's audit finds for this machine's glibc (manylinux_2_34 on Debian 12), not the manylinux_2_28 the shipped
 #   wheel carries; the staged manifest names it. scripts/test.sh sets it.
 # SHAPEWRIGHT_ADDON_LINK_CHECK="macos-arm64 ..." builds those platforms'
 #   wheels in the `link-check` profile (unoptimized, same link): CI checks
@@ -79,7 +79,7 @@ for p in "${platforms[@]}"; do
   targets+=("--target" "$t")
   echo "build_addon: wheel for $p ($t)" >&2
   if [[ "$p" == linux-x64 && "${SHAPEWRIGHT_ADDON_HOST:-}" == 1 ]]; then
-    maturin build --release -q -m blender_addon/native/Cargo.toml -o "$wheels_dir"
+    maturin build --profile "${SHAPEWRIGHT_TEST_PROFILE:-release}" -q -m blender_addon/native/Cargo.toml -o "$wheels_dir"
   else
     profile=(--release)
     if [[ " ${SHAPEWRIGHT_ADDON_LINK_CHECK:-} " == *" $p "* ]]; then

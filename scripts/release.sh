@@ -25,7 +25,7 @@ start=$SECONDS
 say() { echo "== release: $* [at $((SECONDS - start)) s]"; }
 
 # The test switches of build_addon.sh make wheels that are not for shipping.
-unset SHAPEWRIGHT_ADDON_HOST SHAPEWRIGHT_ADDON_LINK_CHECK
+unset SHAPEWRIGHT_ADDON_HOST SHAPEWRIGHT_ADDON_LINK_CHECK SHAPEWRIGHT_TEST_PROFILE
 rm -rf dist
 mkdir -p dist/blender dist/wheels
 

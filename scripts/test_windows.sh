@@ -3,7 +3,7 @@
 # core's Android check:
 #   bash scripts/test_windows.sh [pytest args...]
 # 1. cross-builds shapewright-xr.exe (scripts/build_windows.sh) and the
-#    Linux release binary;
+#    Linux binary (release, or dev with SHAPEWRIGHT_TEST_PROFILE=dev);
 # 2. builds the wine-only ProcessPrng shim (tests/windows/processprng_shim.c:
 #    wine 8 lacks bcryptprimitives.dll, which Rust's std imports; never
 #    shipped) and puts it beside copies of the exes in target/wine-test/;
@@ -28,7 +28,15 @@ done
 start=$SECONDS
 exe="$(bash scripts/build_windows.sh | tail -n 1)"
 echo "test_windows: Windows build $((SECONDS - start)) s" >&2
-cargo build --release -q -p shapewright-xr
+# The Linux build to compare with: SHAPEWRIGHT_TEST_PROFILE=dev (test.sh)
+# takes the one `cargo test` built; otherwise release.
+if [ "${SHAPEWRIGHT_TEST_PROFILE:-release}" = dev ]; then
+  linux_exe="${CARGO_TARGET_DIR:-$root/target}/debug/shapewright-xr"
+  [ -x "$linux_exe" ] || cargo build -q -p shapewright-xr
+else
+  cargo build --release -q -p shapewright-xr
+  linux_exe="${CARGO_TARGET_DIR:-$root/target}/release/shapewright-xr"
+fi
 
 work="$root/target/wine-test"
 mkdir -p "$work/bin"
@@ -46,7 +54,7 @@ trap 'wineserver -k >/dev/null 2>&1 || true' EXIT
 
 export SHAPEWRIGHT_WIN_EXE="$work/bin/shapewright-xr.exe"
 export SHAPEWRIGHT_WIN_CRASH_WRITER="$work/bin/crash_writer.exe"
-export SHAPEWRIGHT_LINUX_EXE="$root/target/release/shapewright-xr"
+export SHAPEWRIGHT_LINUX_EXE="$linux_exe"
 export SHAPEWRIGHT_WINE="$wine"
 t=$SECONDS
 xvfb-run -a .venv/bin/python -m pytest -q -p no:cacheprovider tests/windows "$@"

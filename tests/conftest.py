@@ -1,10 +1,15 @@
 """Shared fixtures for the Blender tests (tests/blender, tests/usd): the
-extension zip, built once per session with Blender's own tool, and a runner
+extension zip, built once per session with Blender's own tool, a runner
 for the Blender-side scenarios (`tests/blender/scenarios.py`), each in a
-fresh Python with `bpy`.
+fresh Python with `bpy`, and the standalone host binary every suite
+drives.
 
 SHAPEWRIGHT_ADDON_ZIP=path skips the build and uses that zip (iterating
-locally on the Python side)."""
+locally on the Python side).
+SHAPEWRIGHT_TEST_PROFILE=dev (set by scripts/test.sh) tests the host and
+the linux wheel as cargo's dev profile builds them, the one `cargo test`
+just built (no second, optimized build of the core; the heavy geometry is
+in dependencies, optimized in every profile); unset, the release build."""
 
 from __future__ import annotations
 
@@ -18,6 +23,26 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS = ROOT / "tests" / "blender" / "scenarios.py"
+
+
+def host_binary() -> Path:
+    """The `shapewright-xr` the tests drive, in SHAPEWRIGHT_TEST_PROFILE
+    (default release, built here when needed) under CARGO_TARGET_DIR when
+    set (a shared target dir)."""
+    profile = os.environ.get("SHAPEWRIGHT_TEST_PROFILE", "release")
+    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    path = target / ("debug" if profile == "dev" else profile) / "shapewright-xr"
+    # dev: the binary `cargo test --workspace` built, with the features
+    # that build unified; rebuilding it alone would compile the core again.
+    if profile != "dev" or not path.exists():
+        build = ["cargo", "build", "--profile", profile, "-q", "-p", "shapewright-xr"]
+        subprocess.run(build, cwd=ROOT, check=True)
+    return path
+
+
+@pytest.fixture(scope="session")
+def host_bin() -> Path:
+    return host_binary()
 
 
 @pytest.fixture(scope="session")

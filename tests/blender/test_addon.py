@@ -6,7 +6,6 @@ fixtures in `tests/conftest.py`."""
 
 from __future__ import annotations
 
-import os
 import socket
 import subprocess
 import time
@@ -81,14 +80,13 @@ def test_scenario(scenario: str, run_scenario: Callable[..., str]) -> None:
     run_scenario(scenario)
 
 
-def test_shared_session_with_a_headset(run_scenario: Callable[..., str], tmp_path: Path) -> None:
+def test_shared_session_with_a_headset(
+    run_scenario: Callable[..., str], host_bin: Path, tmp_path: Path
+) -> None:
     """Issue 23: a headset host and Blender, both headless, in one session
     on a real nats-server (installed by scripts/setup.sh), over TLS with a
     team CA from scripts/session_certs.sh (issue 35): both verify the
     server with the CA their credentials file names."""
-    host = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release" / "shapewright-xr"
-    if not host.exists():
-        subprocess.run(["cargo", "build", "--release", "-q", "-p", "shapewright-xr"], cwd=ROOT, check=True)
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))
         port = sock.getsockname()[1]
@@ -112,7 +110,7 @@ def test_shared_session_with_a_headset(run_scenario: Callable[..., str], tmp_pat
             "shared_session",
             SHAPEWRIGHT_JOIN_URL=f"tls://127.0.0.1:{port}/blender_and_headset",
             SHAPEWRIGHT_SESSION_CREDENTIALS=str(credentials),
-            SHAPEWRIGHT_HOST_BIN=str(host),
+            SHAPEWRIGHT_HOST_BIN=str(host_bin),
             SHAPEWRIGHT_TRACE=str(ROOT / "tests" / "data" / "primitives_session.trace.jsonl"),
         )
         print(out.splitlines()[-2])

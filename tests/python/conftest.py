@@ -1,9 +1,7 @@
-"""Shared fixtures: repository paths and the release host binary."""
+"""Shared fixtures: repository paths (the host binary: tests/conftest.py)."""
 
 from __future__ import annotations
 
-import os
-import subprocess
 import sys
 from pathlib import Path
 
@@ -17,9 +15,3 @@ sys.path.insert(0, str(Path(__file__).parent))
 def root() -> Path:
     return ROOT
 
-
-@pytest.fixture(scope="session")
-def host_bin() -> Path:
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "shapewright-xr"], cwd=ROOT, check=True)
-    # Where cargo put it: CARGO_TARGET_DIR when set (a shared target dir).
-    return Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release" / "shapewright-xr"

@@ -3,7 +3,6 @@ as a closed 2-manifold (status NoError), with the genus we expect."""
 
 from __future__ import annotations
 
-import os
 import subprocess
 from pathlib import Path
 
@@ -13,13 +12,6 @@ import pytest
 manifold3d = pytest.importorskip("manifold3d")
 
 MODELS = {"mug": 1, "teapot": 1, "vase": 0, "funnel": 1, "hammer": 0, "table": 0, "chair": 2, "rack": 1}
-
-
-@pytest.fixture(scope="session")
-def gc_bin(root: Path) -> Path:
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "shapewright-xr"], cwd=root, check=True)
-    target = Path(os.environ.get("CARGO_TARGET_DIR", root / "target"))
-    return target / "release" / "shapewright-xr"
 
 
 def read_stl(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -35,10 +27,11 @@ def read_stl(path: Path) -> tuple[np.ndarray, np.ndarray]:
 
 
 @pytest.mark.parametrize("name", sorted(MODELS))
-def test_manifold3d_accepts_example(name: str, root: Path, gc_bin: Path, tmp_path: Path) -> None:
+def test_manifold3d_accepts_example(name: str, root: Path, host_bin: Path, tmp_path: Path) -> None:
     out = tmp_path / f"{name}.stl"
     subprocess.run(
-        [str(gc_bin), "apply", str(root / "tests" / "data" / f"{name}.jsonl"), "--out", str(out)], check=True
+        [str(host_bin), "apply", str(root / "tests" / "data" / f"{name}.jsonl"), "--out", str(out)],
+        check=True,
     )
     verts, tris = read_stl(out)
     m = manifold3d.Manifold(manifold3d.Mesh(vert_properties=verts, tri_verts=tris))

@@ -185,12 +185,6 @@ def test_pxr_resave_still_loads(tool: Path, written: list[Path], tmp_path: Path)
 # naming the extensions that work, with nothing written.
 
 
-@pytest.fixture(scope="session")
-def host_bin() -> Path:
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "shapewright-xr"], cwd=ROOT, check=True)
-    return Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release" / "shapewright-xr"
-
-
 def _host(host_bin: Path, *args: object) -> subprocess.CompletedProcess:
     return subprocess.run([str(host_bin), *map(str, args)], capture_output=True, text=True, check=False)
 
