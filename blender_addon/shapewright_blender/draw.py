@@ -10,12 +10,9 @@ import bpy
 
 _state: dict = {"sketch": [], "rays": [], "preview": None, "palette": None}
 # Palette colours (the headset host's, linear RGB).
-_COLORS = {
-    "panel": (0.05, 0.055, 0.07, 1.0),
-    "button": (0.2, 0.22, 0.27, 1.0),
-    "active": (0.18, 0.42, 0.78, 1.0),
-    "hover": (0.95, 0.62, 0.2, 1.0),
-}
+# blf's font size for palette labels: the text is measured (xr.py) and
+# drawn at it, one unit of font size mapping to 1/BLF_SIZE em.
+BLF_SIZE = 64
 _handles: list = []
 
 
@@ -75,26 +72,24 @@ def _draw_palette(shader, batch_for_shader) -> None:
     import gpu
     from mathutils import Matrix, Vector
 
-    for corners, kind in _state["palette"]["quads"]:
+    # The core's draw list, its colours included (xr.palette_geometry).
+    for corners, _role, rgb in _state["palette"]["quads"]:
         a, b, c, d = corners
         batch = batch_for_shader(shader, "TRIS", {"pos": [a, b, c, a, c, d]})
-        shader.uniform_float("color", _COLORS[kind])
+        shader.uniform_float("color", (*rgb, 1.0))
         batch.draw(shader)
-    # Labels: blf draws in the current matrix; one unit of font size maps
-    # to the label's height.
-    font, size = 0, 64
-    for text, origin, right_end, top in _state["palette"]["labels"]:
+    # Labels: blf draws in the current matrix, BLF_SIZE units of font size
+    # to the em the core placed the label at.
+    for text, origin, right_end, top, rgb in _state["palette"]["labels"]:
         o = Vector(origin)
-        right, up = Vector(right_end) - o, Vector(top) - o
-        em = min(up.length * 0.55, 0.0105)
-        x, y = right.normalized() * em / size, up.normalized() * em / size
+        x, y = (Vector(right_end) - o) / BLF_SIZE, (Vector(top) - o) / BLF_SIZE
         m = Matrix(((x[0], y[0], 0, o[0]), (x[1], y[1], 0, o[1]), (x[2], y[2], 0, o[2]), (0, 0, 0, 1)))
         with gpu.matrix.push_pop():
             gpu.matrix.multiply_matrix(m)
-            blf.size(font, size)
-            blf.color(font, 0.95, 0.96, 0.98, 1.0)
-            blf.position(font, 0, 0, 0)
-            blf.draw(font, text)
+            blf.size(0, BLF_SIZE)
+            blf.color(0, *rgb, 1.0)
+            blf.position(0, 0, 0, 0)
+            blf.draw(0, text)
 
 
 def register() -> None:

@@ -178,39 +178,26 @@ def _stage_point(p) -> tuple:
 
 
 def palette_geometry(view: sw.PaletteView | None) -> dict | None:
-    """The core's palette (stage space, plane coordinates) as Blender-world
-    geometry for the draw handler: the panel and button quads with their
-    colours, and each label's baseline origin, right and up vectors."""
+    """The core's palette draw list (stage space: layout, depth layers,
+    theme) as Blender-world geometry for the draw handler: quads
+    `(corners, role, rgb)` and labels `(text, origin, right_end, top, rgb)`,
+    the baseline's start and the ends of its one-em right and up vectors,
+    placed by the core from blf's measure of each text."""
     if view is None:
         return None
-    pose = view.pose
-    c, (qw, qx, qy, qz) = pose.p, (pose.q[3], *pose.q[:3])
+    import blf
 
-    def rot(v):
-        # Rotates v by the stage quaternion (x, y, z, w).
-        x, y, z = v
-        tx, ty, tz = 2 * (qy * z - qz * y), 2 * (qz * x - qx * z), 2 * (qx * y - qy * x)
-        return (
-            x + qw * tx + qy * tz - qz * ty,
-            y + qw * ty + qz * tx - qx * tz,
-            z + qw * tz + qx * ty - qy * tx,
-        )
-
-    def at(x, y, dz=0.0):
-        r = rot((x, y, dz))
-        return _stage_point((c[0] + r[0], c[1] + r[1], c[2] + r[2]))
-
-    w, h = view.size
-    back = -0.001
-    corners = [(-w / 2, -h / 2), (w / 2, -h / 2), (w / 2, h / 2), (-w / 2, h / 2)]
-    quads = [([at(x, y, back) for x, y in corners], "panel")]
+    d = view.draw_list()
+    quads = [([_stage_point(p) for p in corners], role, rgb) for corners, role, rgb in d.quads]
+    size = draw.BLF_SIZE
+    blf.size(0, size)
+    cap = blf.dimensions(0, "H")[1] / size
     labels = []
-    for k, (label, (x0, y0, x1, y1), active, pickable) in enumerate(view.items):
-        if pickable:
-            kind = "hover" if view.hovered == k else ("active" if active else "button")
-            quads.append(([at(x0, y0), at(x1, y0), at(x1, y1), at(x0, y1)], kind))
-        base, lift = (y0 + y1) / 2 - 0.004, 0.0008
-        labels.append((label, at(x0 + 0.003, base, lift), at(x1, base, lift), at(x0 + 0.003, y1, lift)))
+    for label in d.labels:
+        o, em = label.place(blf.dimensions(0, label.text)[0] / size, cap)
+        right = [c + r * em for c, r in zip(o, label.right, strict=True)]
+        up = [c + u * em for c, u in zip(o, label.up, strict=True)]
+        labels.append((label.text, _stage_point(o), _stage_point(right), _stage_point(up), label.color))
     return {"quads": quads, "labels": labels}
 
 

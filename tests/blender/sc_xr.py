@@ -174,7 +174,20 @@ def scenario_xr_lamp_session(work: Path) -> None:
     texts = [t for t, *_ in pal["labels"]]
     for label in ("Object", "GC", "CSG", "Curve", "Sculpt", "Undo", "Save", "Component"):
         assert label in texts, texts
-    assert "active" in [k for _, k in pal["quads"]], pal["quads"][:3]
+    assert "active" in [q[1] for q in pal["quads"]], pal["quads"][:3]
+    # The core's layout and theme: the panel first, the blue of an active
+    # button, each label one em high on the panel.
+    assert pal["quads"][0][1] == "panel", pal["quads"][0]
+    active = next(q for q in pal["quads"] if q[1] == "active")
+    assert np.allclose(active[2], (0.18, 0.42, 0.78), atol=1e-6), active
+    panel = np.array(pal["quads"][0][0])
+    lo, hi = panel.min(axis=0) - 1e-3, panel.max(axis=0) + 1e-3
+    for text, origin, right_end, top, rgb in pal["labels"]:
+        em = np.linalg.norm(np.subtract(top, origin))
+        assert 0.0 < em <= 0.0105 + 1e-9, (text, em)
+        assert abs(np.linalg.norm(np.subtract(right_end, origin)) - em) < 1e-9, text
+        assert np.all(origin >= lo) and np.all(origin <= hi), (text, origin)
+        assert len(rgb) == 3, rgb
     # Blender world: the panel floats above the left hand (Z up).
     zs = [p[2] for p in pal["quads"][0][0]]
     assert min(zs) > 1.05, zs

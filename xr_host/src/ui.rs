@@ -6,26 +6,19 @@
 //! and picking are the core's, so this only draws.
 
 use glam::{DVec3, Quat, Vec3};
-use shapewright::interact::{palette::facing, Hand, PaletteAction, PaletteView, Session};
+use shapewright::interact::{palette::facing, Hand, PaletteRole, PaletteView, Session};
 use shapewright::math::fm::DetMath as _;
 
 use crate::gfx::text::{quad, Baseline, Font};
 use crate::gfx::LineVertex;
 
-const PANEL: [f32; 3] = [0.05, 0.055, 0.07];
-const BUTTON: [f32; 3] = [0.2, 0.22, 0.27];
-const ACTIVE: [f32; 3] = [0.18, 0.42, 0.78];
-const HOVER: [f32; 3] = [0.95, 0.62, 0.2];
-const LABEL: [f32; 3] = [0.95, 0.96, 0.98];
-const HEADER: [f32; 3] = [0.6, 0.66, 0.74];
+const PANEL: [f32; 3] = PaletteRole::Panel.color();
 const STATUS: [f32; 3] = [0.85, 0.9, 0.95];
 const READOUT: [f32; 3] = [0.98, 0.8, 0.4];
 const REFUSED: [f32; 3] = [1.0, 0.35, 0.3];
 /// Seconds a refused-edit message stays, the last of them fading.
 pub const MESSAGE_SECS: f64 = 4.0;
 
-/// The em height of palette labels (metres).
-const LABEL_EM: f32 = 0.0105;
 /// The em height of the status line next to the hand (metres).
 const STATUS_EM: f32 = 0.012;
 
@@ -33,66 +26,23 @@ fn v3(v: DVec3) -> Vec3 {
     v.as_vec3()
 }
 
-/// Draws the palette into `out`.
+/// Draws the palette into `out`: the core's draw list
+/// ([`PaletteView::draw_list`]) rasterized, its labels measured with `font`.
 pub fn palette(font: &mut Font, view: &PaletteView, out: &mut Vec<LineVertex>) {
-    let q = view.pose.orientation.as_quat();
-    let (x, y, z) = (q * Vec3::X, q * Vec3::Y, q * Vec3::Z);
-    let c = v3(view.pose.position);
-    let at = |px: f64, py: f64, dz: f32| c + x * px as f32 + y * py as f32 + z * dz;
-    let (w, h) = (view.size[0] as f32, view.size[1] as f32);
-    quad(
-        out,
-        at(0.0, 0.0, -0.001) - x * (w / 2.0) - y * (h / 2.0),
-        x * w,
-        y * h,
-        PANEL,
-    );
-    for (k, it) in view.items.iter().enumerate() {
-        let [x0, y0, x1, y1] = it.rect;
-        let (bw, bh) = ((x1 - x0) as f32, (y1 - y0) as f32);
-        let header = it.action == PaletteAction::None;
-        if !header {
-            let color = if view.hovered == Some(k) {
-                HOVER
-            } else if it.active {
-                ACTIVE
-            } else {
-                BUTTON
-            };
-            quad(out, at(x0, y0, 0.0), x * bw, y * bh, color);
-        }
-        // Fit the label: shrink long ones to the button's width.
-        let pad = 0.003;
-        let mut em = LABEL_EM;
-        let tw = font.width(&it.label, em);
-        if tw > bw - 2.0 * pad {
-            em *= (bw - 2.0 * pad) / tw;
-        }
-        let tw = font.width(&it.label, em);
-        let left = if header {
-            x0 as f32
-        } else {
-            x0 as f32 + (bw - tw) / 2.0
-        };
-        let base = y0 as f32 + (bh - font.cap_height() * em) / 2.0;
-        let origin = c + x * left + y * base + z * 0.0008;
-        let color = if header { HEADER } else { LABEL };
-        let line = Baseline {
-            origin,
-            right: x,
-            up: y,
-        };
-        font.push(out, &it.label, line, em, color);
+    let d = view.draw_list();
+    for q in &d.quads {
+        let [a, b, _, c] = q.corners;
+        quad(out, v3(a), v3(b - a), v3(c - a), q.role.color());
     }
-    if let Some(p) = view.pointer {
-        let s = 0.003;
-        quad(
-            out,
-            v3(p) + z * 0.0015 - (x + y) * (s / 2.0),
-            x * s,
-            y * s,
-            HOVER,
-        );
+    let cap = f64::from(font.cap_height());
+    for l in &d.labels {
+        let (origin, em) = l.place(f64::from(font.width(&l.text, 1.0)), cap);
+        let line = Baseline {
+            origin: v3(origin),
+            right: v3(l.right),
+            up: v3(l.up),
+        };
+        font.push(out, &l.text, line, em as f32, l.role.color());
     }
 }
 

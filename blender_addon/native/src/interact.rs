@@ -8,8 +8,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use shapewright::doc::ScriptCommand;
 use shapewright::interact::{
-    apply_command, tool_named, ActionMap, Hand, PaletteAction, PaletteView as CorePalette, Preview,
-    Session as Driver, Similarity, TRACE_FORMAT, TRACE_VERSION,
+    apply_command, tool_named, ActionMap, Hand, PaletteAction, PaletteDraw as CoreDraw,
+    PaletteLabel as CoreLabel, PaletteView as CorePalette, Preview, Session as Driver, Similarity,
+    TRACE_FORMAT, TRACE_VERSION,
 };
 use shapewright::math::DQuat;
 
@@ -175,6 +176,90 @@ impl PaletteView {
     /// The stage-space point of plane point `(x, y)`.
     fn to_world(&self, x: f64, y: f64) -> [f64; 3] {
         self.0.to_world(x, y).to_array()
+    }
+
+    /// What to draw: the core's draw list (stage space) with its theme.
+    fn draw_list(&self) -> PaletteDraw {
+        PaletteDraw(self.0.draw_list())
+    }
+}
+
+/// The open palette as the core lays it out for drawing (stage space).
+#[pyclass(module = "shapewright._native", frozen)]
+#[derive(Clone, Debug)]
+pub struct PaletteDraw(CoreDraw);
+
+/// A quad of the draw list: corners (lower left, lower right, upper right,
+/// upper left), role, linear RGB.
+type QuadTuple = ([[f64; 3]; 4], &'static str, [f32; 3]);
+
+#[pymethods]
+impl PaletteDraw {
+    /// Back to front: `(corners, role, rgb)`.
+    #[getter]
+    fn quads(&self) -> Vec<QuadTuple> {
+        self.0
+            .quads
+            .iter()
+            .map(|q| {
+                (
+                    q.corners.map(|c| c.to_array()),
+                    q.role.name(),
+                    q.role.color(),
+                )
+            })
+            .collect()
+    }
+
+    /// One per palette item, in order.
+    #[getter]
+    fn labels(&self) -> Vec<PaletteLabel> {
+        self.0.labels.iter().cloned().map(PaletteLabel).collect()
+    }
+}
+
+/// A label of the draw list and the room it has on its button.
+#[pyclass(module = "shapewright._native", frozen)]
+#[derive(Clone, Debug)]
+pub struct PaletteLabel(CoreLabel);
+
+#[pymethods]
+impl PaletteLabel {
+    #[getter]
+    fn text(&self) -> &str {
+        &self.0.text
+    }
+
+    /// `"label"` or `"header"`.
+    #[getter]
+    fn role(&self) -> &'static str {
+        self.0.role.name()
+    }
+
+    /// Linear RGB of the text.
+    #[getter]
+    fn color(&self) -> [f32; 3] {
+        self.0.role.color()
+    }
+
+    /// Unit vector along the text (stage space).
+    #[getter]
+    fn right(&self) -> [f64; 3] {
+        self.0.right.to_array()
+    }
+
+    /// Unit vector up the letters (stage space).
+    #[getter]
+    fn up(&self) -> [f64; 3] {
+        self.0.up.to_array()
+    }
+
+    /// `(origin, em)`: the baseline's start (stage space) and the em height
+    /// (metres) for this text, given its width and its capitals' height at
+    /// an em of 1 in the host's font.
+    fn place(&self, advance: f64, cap: f64) -> ([f64; 3], f64) {
+        let (origin, em) = self.0.place(advance, cap);
+        (origin.to_array(), em)
     }
 }
 

@@ -48,6 +48,8 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<input::InputFrame>()?;
     m.add_class::<interact::InputSession>()?;
     m.add_class::<interact::PaletteView>()?;
+    m.add_class::<interact::PaletteDraw>()?;
+    m.add_class::<interact::PaletteLabel>()?;
     m.add_class::<shared::Presence>()?;
     m.add_class::<jobs::ExportJob>()?;
     m.add_class::<autosave::Autosaver>()?;

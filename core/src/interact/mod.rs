@@ -33,6 +33,7 @@ mod modeler_op_tests;
 #[cfg(test)]
 mod modeler_tests;
 pub mod palette;
+pub mod palette_draw;
 mod presence;
 pub mod reach;
 mod session;
@@ -61,6 +62,7 @@ pub use input::{
     JOINT_COUNT,
 };
 pub use palette::{ChoiceGroup, PaletteAction, PaletteItem, PaletteView, Snap};
+pub use palette_draw::{PaletteDraw, PaletteLabel, PaletteQuad, PaletteRole};
 pub use session::Session;
 pub use tools::brush_tool::{BrushPreset, BrushTool, BrushToolSettings};
 pub use tools::csg_tool::{CsgTool, CsgToolSettings, SceneOperate};
