@@ -216,7 +216,7 @@ pub(super) fn folds_after(n: DVec3, m: DVec3, before: impl FnOnce() -> (DVec3, D
     if l.is_nan() || l <= 0.0 || d <= -0.5 * l {
         return true;
     }
-    if d > crease_cos() * l {
+    if d > 0.0 {
         return false;
     }
     let (nb, mb) = before();
@@ -228,14 +228,3 @@ pub(super) fn folds_after(n: DVec3, m: DVec3, before: impl FnOnce() -> (DVec3, D
 /// Slack on the cosine of a crease that may not sharpen (rounding of a
 /// step halved back to nearly nothing).
 const CREASE_TOLERANCE: f64 = 1e-9;
-
-/// EXPERIMENT
-pub(super) fn crease_cos() -> f64 {
-    static C: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
-    *C.get_or_init(|| {
-        std::env::var("SW_CREASE_COS")
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(0.0)
-    })
-}

@@ -232,7 +232,7 @@ fn a_mesh_brush_refines_like_the_analytic_brush_of_its_shape() {
             .unwrap()
             .mesh
             .triangles
-            .len();
+            .len() as i64;
         let mut s = settings(brush, r, Warp::Explode { delta: 0.15 });
         s.max_edge_rel = 0.14;
         s.min_edge_rel = 0.04;
@@ -252,7 +252,7 @@ fn a_mesh_brush_refines_like_the_analytic_brush_of_its_shape() {
             .unwrap()
             .mesh
             .triangles
-            .len()
+            .len() as i64
             - before
     };
     let analytic = run(BrushShape::Sphere { radius: r });

@@ -55,6 +55,7 @@ pub mod adapt;
 pub mod base;
 pub mod brush;
 pub mod budget;
+mod crossing_guard;
 mod error;
 mod fold_guard;
 pub mod grid;

@@ -478,6 +478,11 @@ impl Sculptor {
             hi: hi + pad,
         };
         let tests = self.prevent_folds(&mut moves, &lim);
+        // Only a step the fold guard pulled back can make sheets meet
+        // (see `super::crossing_guard`).
+        if tests.is_none() {
+            self.prevent_crossings(&mut moves, &lim);
+        }
         for &(v, _, _, _) in &moves {
             let x = self.mesh.position(v);
             self.grid.update(v, x);

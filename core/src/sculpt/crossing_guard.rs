@@ -1,0 +1,153 @@
+//! The crossing guard of a frame ([`Sculptor::apply_frame`]), after the
+//! fold guard ([`super::fold_guard`]): a warp step may not make the
+//! surface pass through itself.
+//!
+//! The fold guard judges each triangle against the triangles it shares a
+//! vertex with; it cannot see two sheets a few triangles apart meet. Every
+//! vertex of a frame follows one warp, which does not fold space for the
+//! brushes' step limits, so sheets do not meet while the fold guard takes
+//! every step whole. They do once it halves or undoes some steps and not
+//! their neighbours': the surface where it pulled back is no longer the
+//! warp's image, and pleats of it can pass through each other. That is
+//! what mirrored strokes on the headset's presets did (issue 33: two
+//! brushes pushing the same crease from both sides of the mirror plane,
+//! the fold guard pulling back hundreds of vertices a frame; 4 of 140
+//! random stroke-pair sequences crossed themselves, by up to 164 triangle
+//! pairs, though no triangle folded onto a neighbour).
+//!
+//! So in a frame where the fold guard pulled back a step, the triangles
+//! around the frame's moves (every triangle at a vertex in the moves' box,
+//! padded by the max edge length) are searched for crossing pairs with the
+//! exact test of [`crate::mesh::self_intersections`]; the moved corners of
+//! each crossing pair go back to where they were before the frame, then
+//! the fold guard's test runs again on the triangles around them (a vertex
+//! put back can fold against a neighbour that kept its step, which then
+//! goes back too), until neither finds anything. Each round puts at least
+//! one vertex back, so it ends, at worst at the surface before the frame,
+//! which did not cross itself. The search reads positions only and puts
+//! vertices back in id order, so a frame gives the same bits on any number
+//! of threads.
+
+use std::collections::HashMap;
+
+use super::halfedge::{FaceId, VertId};
+use super::sculptor::{Limits, Move, Sculptor};
+use crate::mesh::{self_intersections, TriMesh};
+
+impl Sculptor {
+    /// Puts back the moves that make the surface cross itself (see the
+    /// module doc); returns whether it put any back.
+    pub(super) fn prevent_crossings(&mut self, moves: &mut [Move], lim: &Limits) -> bool {
+        let mut any = false;
+        loop {
+            let mut bad = self.crossing_corners(lim);
+            let mut changed = self.put_back(moves, &mut bad);
+            if changed.is_empty() {
+                return any;
+            }
+            any = true;
+            // Folds against the vertices put back, until there are none.
+            while !changed.is_empty() {
+                let stamp = self.next_face_stamp();
+                let mut folding = Vec::new();
+                for &v in &changed {
+                    let mut faces = Vec::new();
+                    let (mesh, marks) = (&self.mesh, &mut self.face_mark);
+                    mesh.for_each_out(v, |h| {
+                        let f = h.face();
+                        if marks[f.0 as usize] != stamp {
+                            marks[f.0 as usize] = stamp;
+                            faces.push(f);
+                        }
+                    });
+                    for f in faces {
+                        if self.face_folds(f) {
+                            folding.extend(self.mesh.face_verts(f));
+                        }
+                    }
+                }
+                changed = self.put_back(moves, &mut folding);
+            }
+        }
+    }
+
+    /// The corners, moved this frame, of the triangles near the frame's
+    /// moves that cross another triangle (sorted, deduplicated).
+    fn crossing_corners(&mut self, lim: &Limits) -> Vec<VertId> {
+        let mut near = Vec::new();
+        self.grid
+            .query(lim.lo, lim.hi, &mut near, &mut self.cand_scratch);
+        let stamp = self.next_face_stamp();
+        let mut faces: Vec<FaceId> = Vec::new();
+        {
+            let (mesh, marks) = (&self.mesh, &mut self.face_mark);
+            for &v in &near {
+                if !mesh.vert_alive(v) {
+                    continue;
+                }
+                mesh.for_each_out(v, |h| {
+                    let f = h.face();
+                    if marks[f.0 as usize] != stamp {
+                        marks[f.0 as usize] = stamp;
+                        faces.push(f);
+                    }
+                });
+            }
+        }
+        let mut local: HashMap<u32, u32> = HashMap::new();
+        let mut sub = TriMesh::default();
+        for &f in &faces {
+            let t = self.mesh.face_verts(f).map(|v| {
+                *local.entry(v.0).or_insert_with(|| {
+                    sub.positions.push(self.mesh.position(v).to_array());
+                    (sub.positions.len() - 1) as u32
+                })
+            });
+            sub.triangles.push(t);
+        }
+        let mut bad = Vec::new();
+        for (a, b) in self_intersections(&sub).pairs {
+            for f in [faces[a as usize], faces[b as usize]] {
+                bad.extend(
+                    self.mesh
+                        .face_verts(f)
+                        .into_iter()
+                        .filter(|&v| self.moved_this_frame(v)),
+                );
+            }
+        }
+        bad
+    }
+
+    /// Whether `v` is one of this frame's moves.
+    #[inline]
+    fn moved_this_frame(&self, v: VertId) -> bool {
+        self.old_mark.get(v.0 as usize) == Some(&self.frame_stamp)
+    }
+
+    /// Puts the moves of `bad` back where they were before the frame;
+    /// returns the vertices that changed position, in id order. A rigid
+    /// move put back no longer moves with its neighbours: its triangles
+    /// change shape, so it joins the frame's region.
+    fn put_back(&mut self, moves: &mut [Move], bad: &mut Vec<VertId>) -> Vec<VertId> {
+        bad.sort_unstable();
+        bad.dedup();
+        let mut changed = Vec::new();
+        if bad.is_empty() {
+            return changed;
+        }
+        for (v, old, new, rigid) in moves.iter_mut() {
+            if *new != *old && bad.binary_search(v).is_ok() {
+                *new = *old;
+                self.mesh.set_position(*v, *old);
+                if *rigid {
+                    *rigid = false;
+                    self.moved_mark[v.0 as usize] = self.frame_stamp;
+                    self.mark(*v, true);
+                }
+                changed.push(*v);
+            }
+        }
+        changed
+    }
+}
