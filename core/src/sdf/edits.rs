@@ -398,7 +398,7 @@ impl SdfComponentFromObject {
         // Steps are in model units; the mesh is in the volume's frame.
         let step = super::reuse::reuse_step(source_step, v.step, 1.0) / scale;
         let (user, back) = super::reuse::component_from_mesh(&local, Some(step), cache)?;
-        let want = super::reuse::topology(&local);
+        let want = super::reuse::shape(&local);
         let mut n = v.clone();
         n.user_components.insert(self.name.clone(), user);
         let o = Operand::new(
@@ -410,7 +410,9 @@ impl SdfComponentFromObject {
         );
         n.placed_with(&o, cache)?;
         if let Some(want) = want {
-            n.check_reuse(&o, want, &format!("object #{}", self.object.0), cache)?;
+            let what = format!("object #{}", self.object.0);
+            let tol = Some(super::reuse::REUSE_VOLUME_TOL);
+            n.check_reuse(&o, want, tol, &what, cache)?;
         }
         if self.csg.is_some() {
             n = n.with_pending(|p| p.push(o));
