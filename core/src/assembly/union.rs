@@ -525,6 +525,41 @@ mod tests {
 
     use crate::mesh::test_meshes::tetra;
 
+    /// A closed tetrahedron with a zero-height cap `A B M` (M the middle
+    /// of A B) standing for the face split at M: [`flip_caps`] splits the
+    /// other face at M instead, without moving a vertex.
+    #[test]
+    fn a_cap_is_flipped_into_the_face_beside_it() {
+        let p = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.5, 0.0, 0.0],
+        ];
+        let (a, b, c, d, m) = (0, 1, 2, 3, 4);
+        let t = vec![
+            [a, c, b],
+            [a, b, m],
+            [a, m, d],
+            [m, b, d],
+            [a, d, c],
+            [b, c, d],
+        ];
+        let mut mesh = TriMesh::new(p.clone(), t);
+        let before = quick_check(&mesh).expect("judged");
+        assert!(before.closed);
+        assert_eq!(before.degenerate, 1);
+        assert!(flip_caps(&mut mesh, 1e-14));
+        let after = quick_check(&mesh).expect("judged");
+        assert!(after.closed);
+        assert_eq!(after.degenerate, 0);
+        assert!((after.volume - 1.0 / 6.0).abs() < 1e-15);
+        assert_eq!(mesh.positions, p, "no vertex moved");
+        assert_eq!(mesh.triangles[1], [m, a, c]);
+        assert_eq!(mesh.triangles[0], [c, b, m]);
+    }
+
     /// The quick check's verdict and counts are [`validate`]'s.
     fn agrees(m: &TriMesh, what: &str) {
         let r = validate(m, &ValidationSettings::topology_only());
