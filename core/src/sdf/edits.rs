@@ -410,9 +410,12 @@ impl SdfComponentFromObject {
         );
         n.placed_with(&o, cache)?;
         if let Some(want) = want {
+            // Topology only: the volume an object loses at this step is
+            // mostly the grid's own chords (a 3 cm sphere at 1 cm keeps
+            // 93.7%), which a volume test cannot tell from walls below two
+            // cells (the mug's at 4 mm, 91.4%). Issue 33 keeps it open.
             let what = format!("object #{}", self.object.0);
-            let tol = Some(super::reuse::REUSE_VOLUME_TOL);
-            n.check_reuse(&o, want, tol, &what, cache)?;
+            n.check_reuse(&o, want, None, &what, cache)?;
         }
         if self.csg.is_some() {
             n = n.with_pending(|p| p.push(o));
