@@ -82,8 +82,10 @@ fn the_chair_made_a_component_at_1_cm_keeps_its_volume_or_is_refused() {
 }
 
 #[test]
+#[ignore = "12 s in the test profile (over CI's few seconds a test): cargo test -p shapewright --test sdf_reuse -- --ignored the_chair_made_a_component_keeps; passes (99.61%)"]
 fn the_chair_made_a_component_keeps_its_volume_legs_and_genus() {
-    // At the finest step: 99.6% (a thin, many-part object).
+    // At the finest step: 99.6% (a thin, many-part object; at 6 mm
+    // 98.99%, at 1 cm 97.56%).
     let log = object_as_component("chair.jsonl", 0.004).unwrap();
     let (src, got) = (mesh(&log, 1), mesh(&log, 2));
     same_shape("chair at 4 mm", &got, &src, 1.0, 0.01);
