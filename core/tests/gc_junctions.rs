@@ -455,6 +455,25 @@ fn a_table_with_an_overlapping_copy_prints() {
     assert!(printed.report.checks.is_printable());
 }
 
+/// Issue 33: "the GC mesher leaves degenerate triangles in a table with
+/// copies". A copy of the table slid 0.3 m across its width (half its
+/// top over the original's, their end caps in one plane) left 41
+/// degenerate triangles in the union: Manifold's triangulation of the
+/// merged end caps has zero-height caps (a vertex on the opposite edge),
+/// which the shortest-edge collapse and Manifold's snap cannot remove.
+#[test]
+fn a_table_with_copies_in_its_planes_has_no_degenerate_triangle() {
+    let mut text = common::data("table.jsonl");
+    text.push_str(r#"{"op": "gc_copy", "id": 1, "part": 0, "translate": [0, 0.3, 0]}"#);
+    text.push('\n');
+    let asm = assembly(&common::run(&text));
+    assert_eq!(
+        topology(&asm),
+        (0, 1, 0),
+        "one piece, no degenerate triangle"
+    );
+}
+
 /// The teapot trace's spout is drawn solid with its root's rim partly out
 /// of the body (harmless while capped), then opened by `gc_set_shape`:
 /// the opened root is sunk back in, so the spout's channel runs only into

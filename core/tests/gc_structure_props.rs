@@ -30,7 +30,8 @@
 //! relation and two parts); the refusal rate is printed and bounded.
 //! `PROPTEST_CASES` (default 100) sets the number of cases per example of
 //! the relation tests, `GC_TOPOLOGY_CASES` (default 20) those of the
-//! topology tests.
+//! topology tests; `GC_TOPOLOGY_FULL=1` meshes those at the examples' own
+//! resolution (slower).
 
 mod gc_props;
 
@@ -230,7 +231,7 @@ fn evaluated(
 
 fn run_case(ex: usize, seeds: &[Seed], topo: bool, stats: &mut Stats) -> Result<(), TestCaseError> {
     let mut asm = examples()[ex].clone();
-    if topo {
+    if topo && std::env::var_os("GC_TOPOLOGY_FULL").is_none() {
         for p in &mut asm.parts {
             p.gc.resolution = TOPOLOGY_RESOLUTION;
         }

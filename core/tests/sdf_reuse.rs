@@ -63,37 +63,53 @@ fn object_as_component(script: &str, step: f64) -> Result<OpLog, LogError> {
     Ok(log)
 }
 
-#[test]
-#[ignore = "issue 33, not met yet: the chair made a component at 1 cm keeps its genus and legs but 96.3% of its volume (0.68 before the component kept its step)"]
-fn the_chair_made_a_component_keeps_its_volume_legs_and_genus() {
-    let log = object_as_component("chair.jsonl", 0.01).unwrap();
-    let (src, got) = (mesh(&log, 1), mesh(&log, 2));
-    same_shape("chair at 1 cm", &got, &src, 1.0, 0.01);
-    // The legs reach the floor: the box is the chair's within half a step.
-    let ((lo, hi), (lo0, hi0)) = (got.bbox().unwrap(), src.bbox().unwrap());
-    let off = (lo - lo0).abs().max(hi - hi0).max_element();
-    assert!(off < 0.005, "box off by {off}");
+/// `e` is [`SdfError::TooThin`] naming `what` and `step`.
+fn refused_as_too_thin(e: LogError, what: &str, step: &str) {
+    let e = sdf_err(e);
+    assert!(matches!(e, SdfError::TooThin { .. }), "{e}");
+    let text = e.to_string();
+    eprintln!("refused: {text}");
+    assert!(text.contains(what) && text.contains(step), "{text}");
 }
 
 #[test]
-#[ignore = "issue 33, not met yet: the mug at 4 mm keeps genus 1 but 84% of its volume, and is not refused"]
+#[ignore = "issue 33, still open: at 1 cm the chair (1.8 cm slats, 3 cm legs) keeps genus 2 and its legs but 97.6% of its volume (96.3% before the component sat on the lattice), and is not refused"]
+fn the_chair_made_a_component_at_1_cm_keeps_its_volume_or_is_refused() {
+    match object_as_component("chair.jsonl", 0.01) {
+        Ok(log) => same_shape("chair at 1 cm", &mesh(&log, 2), &mesh(&log, 1), 1.0, 0.01),
+        Err(e) => refused_as_too_thin(e, "object #1", "0.01"),
+    }
+}
+
+#[test]
+#[ignore = "12 s in the test profile (over CI's few seconds a test): cargo test -p shapewright --test sdf_reuse -- --ignored the_chair_made_a_component_keeps; passes (99.61%)"]
+fn the_chair_made_a_component_keeps_its_volume_legs_and_genus() {
+    // At the finest step: 99.6% (a thin, many-part object; at 6 mm
+    // 98.99%, at 1 cm 97.56%).
+    let log = object_as_component("chair.jsonl", 0.004).unwrap();
+    let (src, got) = (mesh(&log, 1), mesh(&log, 2));
+    same_shape("chair at 4 mm", &got, &src, 1.0, 0.01);
+    // The legs reach the floor: the box is the chair's within half a step.
+    let ((lo, hi), (lo0, hi0)) = (got.bbox().unwrap(), src.bbox().unwrap());
+    let off = (lo - lo0).abs().max(hi - hi0).max_element();
+    assert!(off < 0.002, "box off by {off}");
+}
+
+#[test]
+#[ignore = "issue 33, still open: the mug at 4 mm (its 4 mm walls one cell thick) keeps genus 1 but 91.4% of its volume (84.2% before the component sat on the lattice), and is not refused"]
 fn the_mug_made_a_component_keeps_its_walls_or_is_refused() {
     // True size: a 4 mm wall is one cell at the finest step; it must
     // either keep genus 1 within 1% or be refused by name, never become
     // a sieve.
     match object_as_component("mug.jsonl", 0.004) {
         Ok(log) => same_shape("mug at 4 mm", &mesh(&log, 2), &mesh(&log, 1), 1.0, 0.01),
-        Err(e) => {
-            let e = sdf_err(e);
-            assert!(matches!(e, SdfError::TooThin { .. }), "{e}");
-            let text = e.to_string();
-            assert!(
-                text.contains("object #1") && text.contains("0.004"),
-                "{text}"
-            );
-        }
+        Err(e) => refused_as_too_thin(e, "object #1", "0.004"),
     }
-    // Two and a half times as large (a 1 cm wall): kept.
+}
+
+#[test]
+fn the_mug_with_walls_of_two_cells_made_a_component_keeps_its_volume() {
+    // Two and a half times as large (a 1 cm wall at 4 mm): 99.8%.
     let mut text = data("mug.jsonl");
     text.push_str(
         r#"{"op":"set_transform","id":1,"transform":{"translate":[0,0,0],"rotate":[0,0,0,1],"scale":[2.5,2.5,2.5]}}"#,
@@ -133,6 +149,23 @@ fn a_copy_of_the_fused_cup_is_the_cup() {
 }
 
 #[test]
+#[ignore = "issue 33, still open: the copy alone, off the lattice, is 98.3% of the cup (it re-extracts the result's mesh, chords and all); the pair is 99.2%"]
+fn a_copy_of_the_fused_cup_alone_keeps_its_volume() {
+    let mut log = run(&data("csg_cup.jsonl"));
+    let one = report(&mesh(&log, 1)).signed_volume;
+    log.apply(op(r#"{"op":"sdf_copy_fused","volume":1,"name":"cup","csg":"union","transform":{"translate":[0.41,0.013,0.0071],"rotate":[0,0,0,1],"scale":[1,1,1]}}"#))
+        .unwrap();
+    log.apply(op(r#"{"op":"sdf_update","volume":1}"#)).unwrap();
+    let copy = report(&mesh(&log, 1)).signed_volume - one;
+    eprintln!("the copy alone: volume ratio {:.4}", copy / one);
+    assert!(
+        (copy / one - 1.0).abs() < 0.01,
+        "copy volume ratio {}",
+        copy / one
+    );
+}
+
+#[test]
 fn the_fused_cup_moved_at_half_scale_keeps_its_shape() {
     // Before, the move resampled at the volume's step: 7 pieces, -42%.
     let mut log = run(&data("csg_cup.jsonl"));
@@ -143,20 +176,19 @@ fn the_fused_cup_moved_at_half_scale_keeps_its_shape() {
 }
 
 #[test]
-#[ignore = "issue 33, not met yet: shrunk to 0.15 (a 2.25 mm wall at the finest step) the cup keeps genus 1 but 61% of its volume, and is not refused"]
 fn a_fused_cup_shrunk_below_the_grid_keeps_its_shape_or_is_refused() {
     let mut log = run(&data("csg_cup.jsonl"));
     log.apply(op(r#"{"op":"sdf_move_fused","volume":1,"transform":{"translate":[0,0,0],"rotate":[0,0,0,1],"scale":[0.5,0.5,0.5]}}"#))
         .unwrap();
-    // A third again (0.15 of the cup) keeps its shape or is refused, and
-    // then the document is unchanged.
+    // A third again (0.15 of the cup, a 2.25 mm wall at the finest step)
+    // keeps its shape or is refused, and then the document is unchanged
+    // (it was kept at 61% of the volume).
     let before = log.document().content_hash();
     let half = mesh(&log, 1);
     match log.apply(op(r#"{"op":"sdf_move_fused","volume":1,"transform":{"translate":[0,0,0],"rotate":[0,0,0,1],"scale":[0.3,0.3,0.3]}}"#)) {
-        Ok(_) => same_shape("cup moved at scale 0.15", &mesh(&log, 1), &half, 0.3, 0.05),
+        Ok(_) => same_shape("cup moved at scale 0.15", &mesh(&log, 1), &half, 0.3, 0.01),
         Err(e) => {
-            let e = sdf_err(e);
-            assert!(matches!(e, SdfError::TooThin { .. }), "{e}");
+            refused_as_too_thin(e, "the moved result", "0.004");
             assert_eq!(log.document().content_hash(), before);
         }
     }

@@ -202,9 +202,12 @@ fn part_cavity(
 
 /// Manifold can leave a few zero-area slivers where surfaces meet almost
 /// tangentially. Each is removed by collapsing its shortest edge (its
-/// neighbours across that edge become degenerate and are dropped); the
-/// cleaned mesh is kept only when it validates as a closed 2-manifold
-/// without degenerate triangles, otherwise the union is returned as is.
+/// neighbours across that edge become degenerate and are dropped); when
+/// that does not give a closed 2-manifold without degenerate triangles
+/// (zero-height caps of coplanar faces merged from two parts, whose
+/// shortest edge is millimetres long), the caps are flipped away
+/// ([`flip_caps`]) and the rest collapsed, then Manifold's own clean-up
+/// is tried ([`snap_slivers`]); otherwise the union is returned as is.
 /// Returns the mesh and whether it is closed, unpinched and of positive
 /// volume (the verdict of [`validate`]'s topology-only report).
 fn collapse_slivers(mesh: TriMesh) -> (TriMesh, bool) {
@@ -229,6 +232,37 @@ fn collapse_slivers(mesh: TriMesh) -> (TriMesh, bool) {
         return (mesh, ok);
     };
     let area_tol = 1e-14 * (hi - lo).length_squared();
+    if let Some(out) = collapse_short_edges(&mesh, area_tol) {
+        return (out, true);
+    }
+    // Flips keep the surface and the mesh closed: whatever follows starts
+    // from the flipped mesh.
+    let mut flipped = mesh.clone();
+    if flip_caps(&mut flipped, area_tol) {
+        if clean(&flipped) {
+            flipped.compute_normals();
+            return (flipped, true);
+        }
+        if let Some(out) = collapse_short_edges(&flipped, area_tol) {
+            return (out, true);
+        }
+        return snap_slivers(flipped, ok);
+    }
+    snap_slivers(mesh, ok)
+}
+
+/// `validate(m).is_closed_manifold()` for a non-empty union, through the
+/// linear check when it judges.
+fn clean(m: &TriMesh) -> bool {
+    match quick_check(m) {
+        Some(q) => !m.triangles.is_empty() && q.degenerate == 0 && q.closed && q.volume > 0.0,
+        None => validate(m, &crate::mesh::ValidationSettings::topology_only()).is_closed_manifold(),
+    }
+}
+
+/// `mesh` with the shortest edge of each triangle of area at most
+/// `area_tol` collapsed, when that leaves it [`clean`].
+fn collapse_short_edges(mesh: &TriMesh, area_tol: f64) -> Option<TriMesh> {
     let mut remap: Vec<u32> = (0..mesh.positions.len() as u32).collect();
     fn root(remap: &mut [u32], mut i: u32) -> u32 {
         while remap[i as usize] != i {
@@ -271,17 +305,109 @@ fn collapse_slivers(mesh: TriMesh) -> (TriMesh, bool) {
         }
     }
     out.compute_normals();
-    // `validate(&out).is_closed_manifold()`, through the linear check when
-    // it judges.
-    let cleaned = match quick_check(&out) {
-        Some(q) => !out.triangles.is_empty() && q.degenerate == 0 && q.closed && q.volume > 0.0,
-        None => validate(&out, &settings).is_closed_manifold(),
+    clean(&out).then_some(out)
+}
+
+/// Passes of [`flip_caps`] at most.
+const FLIP_PASSES: usize = 32;
+
+/// Removes zero-area *caps* (a corner on the opposite edge, all edges
+/// long: Manifold's triangulation of coplanar faces merged from two parts,
+/// as the end caps of a table and its copy slid across) by flipping that
+/// edge: the cap `a b v` (with `v` on `a b`) and its neighbour `b a u`
+/// become `v a u` and `u b v`, which split the neighbour at `v` exactly,
+/// so the surface does not move and the mesh stays a closed 2-manifold
+/// (a flip whose new edge `v u` already exists is skipped). Collapsing
+/// the cap's shortest edge instead moved a vertex by that edge (millimetres)
+/// and was rejected, leaving the slivers. Repeated while it makes
+/// progress (a cap next to a cap, at most [`FLIP_PASSES`] times).
+/// Returns whether anything was flipped.
+fn flip_caps(mesh: &mut TriMesh, area_tol: f64) -> bool {
+    use std::collections::HashMap;
+    let pos = |m: &TriMesh, i: u32| glam::DVec3::from_array(m.positions[i as usize]);
+    let twice_area = |m: &TriMesh, t: [u32; 3]| {
+        let p = t.map(|i| pos(m, i));
+        (p[1] - p[0]).cross(p[2] - p[0]).length()
     };
-    if cleaned {
-        (out, true)
-    } else {
-        snap_slivers(mesh, ok)
+    let mut any = false;
+    for _ in 0..FLIP_PASSES {
+        let mut edges: HashMap<(u32, u32), usize> =
+            HashMap::with_capacity(mesh.triangles.len() * 3);
+        for (k, t) in mesh.triangles.iter().enumerate() {
+            for e in 0..3 {
+                edges.insert((t[e], t[(e + 1) % 3]), k);
+            }
+        }
+        let mut flipped = false;
+        for k in 0..mesh.triangles.len() {
+            let t = mesh.triangles[k];
+            if 0.5 * twice_area(mesh, t) > area_tol {
+                continue;
+            }
+            // The longest edge a -> b, v the corner on it.
+            let len = |e: usize| pos(mesh, t[e]).distance(pos(mesh, t[(e + 1) % 3]));
+            let e = (0..3)
+                .max_by(|&x, &y| len(x).total_cmp(&len(y)))
+                .unwrap_or(0);
+            let (a, b, v) = (t[e], t[(e + 1) % 3], t[(e + 2) % 3]);
+            let (pa, pb, pv) = (pos(mesh, a), pos(mesh, b), pos(mesh, v));
+            let ab = pb - pa;
+            let s = (pv - pa).dot(ab) / ab.length_squared();
+            // A needle (v at an end) is the collapse's; v strictly inside.
+            if !(s > 1e-9 && s < 1.0 - 1e-9) {
+                continue;
+            }
+            let Some(&n) = edges.get(&(b, a)) else {
+                continue;
+            };
+            let nt = mesh.triangles[n];
+            let Some(u) = nt.iter().copied().find(|&x| x != a && x != b) else {
+                continue;
+            };
+            if n == k || u == v || edges.contains_key(&(v, u)) || edges.contains_key(&(u, v)) {
+                continue;
+            }
+            let (t1, t2) = ([v, a, u], [u, b, v]);
+            // A neighbour with area is split at `v`: both halves have area
+            // and face its way. A neighbour that is a sliver too (a strip
+            // of them along one line) is re-cut with a shorter edge `v u`,
+            // so the strip's longest edge shrinks until its slivers meet
+            // triangles with area and are split away.
+            if 0.5 * twice_area(mesh, nt) > area_tol {
+                let normal = |t: [u32; 3]| {
+                    let p = t.map(|i| pos(mesh, i));
+                    (p[1] - p[0]).cross(p[2] - p[0])
+                };
+                let nn = normal(nt);
+                let fine =
+                    |t: [u32; 3]| 0.5 * twice_area(mesh, t) > area_tol && normal(t).dot(nn) > 0.0;
+                if !(fine(t1) && fine(t2)) {
+                    continue;
+                }
+            } else if pos(mesh, u).distance(pv) >= ab.length() {
+                continue;
+            }
+            for (x, y) in [(a, b), (b, v), (v, a), (b, a), (a, u), (u, b)] {
+                edges.remove(&(x, y));
+            }
+            mesh.triangles[k] = t1;
+            mesh.triangles[n] = t2;
+            for (tri, idx) in [(t1, k), (t2, n)] {
+                for e in 0..3 {
+                    edges.insert((tri[e], tri[(e + 1) % 3]), idx);
+                }
+            }
+            if let (Some(&src), true) = (mesh.tri_source.get(n), mesh.tri_source.len() > k) {
+                mesh.tri_source[k] = src;
+            }
+            flipped = true;
+        }
+        any |= flipped;
+        if !flipped {
+            break;
+        }
     }
+    any
 }
 
 /// Slivers the shortest-edge collapse could not remove (coplanar faces of
@@ -398,6 +524,41 @@ mod tests {
     use glam::{DAffine3, DVec3};
 
     use crate::mesh::test_meshes::tetra;
+
+    /// A closed tetrahedron with a zero-height cap `A B M` (M the middle
+    /// of A B) standing for the face split at M: [`flip_caps`] splits the
+    /// other face at M instead, without moving a vertex.
+    #[test]
+    fn a_cap_is_flipped_into_the_face_beside_it() {
+        let p = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.5, 0.0, 0.0],
+        ];
+        let (a, b, c, d, m) = (0, 1, 2, 3, 4);
+        let t = vec![
+            [a, c, b],
+            [a, b, m],
+            [a, m, d],
+            [m, b, d],
+            [a, d, c],
+            [b, c, d],
+        ];
+        let mut mesh = TriMesh::new(p.clone(), t);
+        let before = quick_check(&mesh).expect("judged");
+        assert!(before.closed);
+        assert_eq!(before.degenerate, 1);
+        assert!(flip_caps(&mut mesh, 1e-14));
+        let after = quick_check(&mesh).expect("judged");
+        assert!(after.closed);
+        assert_eq!(after.degenerate, 0);
+        assert!((after.volume - 1.0 / 6.0).abs() < 1e-15);
+        assert_eq!(mesh.positions, p, "no vertex moved");
+        assert_eq!(mesh.triangles[1], [m, a, c]);
+        assert_eq!(mesh.triangles[0], [c, b, m]);
+    }
 
     /// The quick check's verdict and counts are [`validate`]'s.
     fn agrees(m: &TriMesh, what: &str) {

@@ -200,7 +200,7 @@ pub fn mesh_key(mesh: &TriMesh) -> u64 {
 pub fn mesh_step_key(mesh: &TriMesh, step: f64) -> u64 {
     let mut h = ContentHasher::new();
     h.u64(FORMAT_VERSION as u64);
-    h.bytes(b"step");
+    h.bytes(b"step on the lattice");
     h.f64(step);
     h.mesh(mesh);
     h.finish()

@@ -398,7 +398,7 @@ impl SdfComponentFromObject {
         // Steps are in model units; the mesh is in the volume's frame.
         let step = super::reuse::reuse_step(source_step, v.step, 1.0) / scale;
         let (user, back) = super::reuse::component_from_mesh(&local, Some(step), cache)?;
-        let want = super::reuse::topology(&local);
+        let want = super::reuse::shape(&local);
         let mut n = v.clone();
         n.user_components.insert(self.name.clone(), user);
         let o = Operand::new(
@@ -410,7 +410,12 @@ impl SdfComponentFromObject {
         );
         n.placed_with(&o, cache)?;
         if let Some(want) = want {
-            n.check_reuse(&o, want, &format!("object #{}", self.object.0), cache)?;
+            // Topology only: the volume an object loses at this step is
+            // mostly the grid's own chords (a 3 cm sphere at 1 cm keeps
+            // 93.7%), which a volume test cannot tell from walls below two
+            // cells (the mug's at 4 mm, 91.4%). Issue 33 keeps it open.
+            let what = format!("object #{}", self.object.0);
+            n.check_reuse(&o, want, None, &what, cache)?;
         }
         if self.csg.is_some() {
             n = n.with_pending(|p| p.push(o));

@@ -123,6 +123,17 @@ pub fn mesh_to_sdf_banded(
     band: f64,
 ) -> Result<DenseSdf, SdfError> {
     let (dims, origin) = sdf_grid(mesh, step, padding)?;
+    banded_on(mesh, dims, origin, step, band)
+}
+
+/// [`mesh_to_sdf_banded`] on the grid of `dims` samples from `origin`.
+fn banded_on(
+    mesh: &TriMesh,
+    dims: [usize; 3],
+    origin: DVec3,
+    step: f64,
+    band: f64,
+) -> Result<DenseSdf, SdfError> {
     let centre = origin + DVec3::from_array(dims.map(|d| (d - 1) as f64)) * step * 0.5;
     let query = MeshDistance::new(mesh, centre)?;
     let at =
@@ -288,10 +299,18 @@ pub fn component_sdf_at(mesh: &TriMesh, step: f64) -> Result<DenseSdf, SdfError>
         });
     }
     let m = normalize_component(mesh)?;
-    mesh_to_sdf_banded(
-        &m,
-        local,
-        REUSE_PADDING_CELLS * local,
-        REUSE_BAND_CELLS * local,
-    )
+    // On the lattice: the nodes sit at whole multiples of `step` in the
+    // mesh's own frame (normalized: `(p - c) / s`), so a volume whose
+    // lattice is a multiple of `step` in that frame (the object's own
+    // volume, or the target one at twice the reuse step) resamples it at
+    // nodes: exact distances, no trilinear blur of thin walls.
+    let c = (lo + hi) * 0.5;
+    let s = size / COMPONENT_SIZE;
+    let pad = REUSE_PADDING_CELLS * step;
+    let first = ((lo - DVec3::splat(pad)) / step).floor();
+    let last = ((hi + DVec3::splat(pad)) / step).ceil();
+    let n = last - first;
+    let dims = [n.x as usize + 1, n.y as usize + 1, n.z as usize + 1];
+    let origin = (first * step - c) / s;
+    banded_on(&m, dims, origin, local, REUSE_BAND_CELLS * local)
 }

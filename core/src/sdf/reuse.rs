@@ -20,9 +20,22 @@
 //!   ([`super::mesh_sdf::component_sdf_at`]).
 //! - **Checked, or refused.** Before a reused component is accepted it is
 //!   resampled where it goes and extracted on its own; if it does not
-//!   come out with the source's number of pieces and genus (its thinnest
-//!   parts are below about two grid cells at this step), the op is
-//!   refused with [`SdfError::TooThin`], naming both and the step.
+//!   come out with the source's number of pieces and genus, the op is
+//!   refused with [`SdfError::TooThin`], naming both and the step. Its
+//!   volume is not compared (still open in issue 33): what an object
+//!   loses is mostly the grid's own chords (a 3 cm sphere at 1 cm keeps
+//!   93.7%), which a volume test cannot tell from walls below two cells
+//!   (the mug's 4 mm walls at 4 mm, 91.4%); a copy of the fused result
+//!   re-extracts the result's own mesh and inherits its chords (alone,
+//!   the cup's copy off the lattice is 98.3% of the cup). A moved result
+//!   is compared with itself at the old step, so there the volume is
+//!   checked too ([`REUSE_VOLUME_TOL`]).
+//! - **On the lattice.** A component made at the reuse step has its
+//!   nodes at whole multiples of that step in the mesh's frame
+//!   ([`super::mesh_sdf::component_sdf_at`]), so an object reused where it
+//!   is resamples at nodes, exact distances: trilinear resampling of an
+//!   unaligned grid at half the step had cost the chair 2.4% more of its
+//!   volume and the mug 7%.
 //! - [`SdfVolume::with_fused_moved`]: moving the fused result moves every
 //!   fused operand (`T ∘ Tᵢ`) and the grid is rebuilt from the recipe:
 //!   exact for a similarity (the fold of moved, uniformly scaled distance
@@ -31,8 +44,9 @@
 //!   result as a component and scale the copy instead. A shrink by `s`
 //!   resamples at the step the result needs, `step · s` (not below the
 //!   finest allowed step), so the result keeps as many cells across as
-//!   it had; if it still loses a piece or a tunnel (at the finest step),
-//!   the move is refused ([`SdfError::TooThin`]).
+//!   it had; if it still loses a piece, a tunnel or more than 1% of its
+//!   volume (at the finest step), the move is refused
+//!   ([`SdfError::TooThin`]).
 //! - [`SdfVolume::with_fused_copy`]: the fused surface becomes a user
 //!   component of the volume and is queued as a new operand where the
 //!   result is, moved by a transform: the paper's copy, and a result used
@@ -102,11 +116,63 @@ pub fn compose(a: &Transform, b: &Transform) -> Result<Transform, SdfError> {
 /// Genus and number of pieces of a closed mesh (`None` when it is not a
 /// closed 2-manifold).
 pub fn topology(m: &TriMesh) -> Option<(i64, usize)> {
+    shape(m).map(|s| s.topology)
+}
+
+/// What a reused surface must keep: its genus and pieces, and its volume
+/// within [`REUSE_VOLUME_TOL`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shape {
+    /// Genus and number of pieces.
+    pub topology: (i64, usize),
+    /// Enclosed volume (in the units of the mesh it was measured on).
+    pub volume: f64,
+}
+
+impl Shape {
+    /// The same shape scaled by `s` (volume by `s³`).
+    pub fn scaled(self, s: f64) -> Shape {
+        Shape {
+            volume: self.volume * (s * s * s).abs(),
+            ..self
+        }
+    }
+}
+
+/// The [`Shape`] of a closed mesh (`None` when it is not a closed
+/// 2-manifold).
+pub fn shape(m: &TriMesh) -> Option<Shape> {
     let r = validate(m, &Default::default());
-    r.is_closed_manifold()
-        .then_some(())
-        .and(r.genus)
-        .map(|g| (g, r.components))
+    let g = r.is_closed_manifold().then_some(()).and(r.genus)?;
+    Some(Shape {
+        topology: (g, r.components),
+        volume: r.signed_volume,
+    })
+}
+
+/// A moved result may differ from its volume before the move by this
+/// fraction (issue 33: within 1%); more, and its walls are below about two
+/// grid cells: refused.
+pub const REUSE_VOLUME_TOL: f64 = 0.01;
+
+/// `Err` naming `what` and `step` unless `got` is `want`: its topology,
+/// and its volume within `volume_tol` (relative; `None`: not checked).
+fn check_shape(
+    what: &str,
+    step: f64,
+    want: Shape,
+    got: Option<Shape>,
+    volume_tol: Option<f64>,
+) -> Result<(), SdfError> {
+    match got {
+        Some(g)
+            if g.topology == want.topology
+                && volume_tol.is_none_or(|t| (g.volume / want.volume - 1.0).abs() <= t) =>
+        {
+            Ok(())
+        }
+        got => Err(too_thin(what, step, want, got)),
+    }
 }
 
 /// A reused component's grid is this fraction of the step it must keep:
@@ -125,22 +191,21 @@ pub fn reuse_step(source: Option<f64>, volume: f64, scale: f64) -> f64 {
 
 impl SdfVolume {
     /// Refuses a reused operand `o` whose surface, resampled on this
-    /// volume's lattice alone, does not have `want` (genus, pieces): its
+    /// volume's lattice alone, does not have `want`'s genus and pieces, or
+    /// (when `volume_tol` is given) its volume within that fraction: its
     /// thinnest parts fall below the grid. `what` names it in the error.
     pub fn check_reuse(
         &self,
         o: &Operand,
-        want: (i64, usize),
+        want: Shape,
+        volume_tol: Option<f64>,
         what: &str,
         cache: &SdfCache,
     ) -> Result<(), SdfError> {
         let (field, sampled) = self.sampled_with(o, cache)?;
         let exact = ExactField::new(vec![(field, CsgOp::Union)], (sampled.band) as f64);
-        let got = topology(&stitch(&sampled.as_grid().extract_all(Some(&exact))));
-        match got {
-            Some(g) if g == want => Ok(()),
-            got => Err(too_thin(what, self.step, want, got)),
-        }
+        let got = shape(&stitch(&sampled.as_grid().extract_all(Some(&exact))));
+        check_shape(what, self.step, want, got, volume_tol)
     }
 
     /// The volume with its fused result moved by `t` (a similarity): every
@@ -151,7 +216,7 @@ impl SdfVolume {
         if self.fused.is_empty() {
             return Err(SdfError::EmptyResult);
         }
-        let want = topology(&self.evaluate_with(cache)?);
+        let want = shape(&self.evaluate_with(cache)?);
         let mut v = self.without_state();
         for o in &mut v.fused {
             o.transform = compose(t, &o.transform)?;
@@ -160,11 +225,10 @@ impl SdfVolume {
         if s < 1.0 {
             v.step = (self.step * s).clamp(STEP_RANGE[0], self.step);
         }
-        let got = topology(&v.evaluate_with(cache)?);
         if let Some(want) = want {
-            if got != Some(want) {
-                return Err(too_thin("the moved result", v.step, want, got));
-            }
+            let got = shape(&v.evaluate_with(cache)?);
+            let tol = Some(REUSE_VOLUME_TOL);
+            check_shape("the moved result", v.step, want.scaled(s), got, tol)?;
         }
         Ok(v)
     }
@@ -212,22 +276,32 @@ impl SdfVolume {
             csg,
             compose(t, &back)?,
         );
-        if let Some(want) = topology(&mesh) {
-            v.check_reuse(&o, want, "the copy of the result", cache)?;
+        if let Some(want) = shape(&mesh) {
+            let want = want.scaled(t.scale[0]);
+            // Topology only: a copy re-extracts the result's own mesh, whose
+            // chords at the grid step it inherits (the cup's copy alone at
+            // a translation off the lattice is 98.3% of the cup; issue 33
+            // keeps this open). Its volume is not yet a refusal.
+            v.check_reuse(&o, want, None, "the copy of the result", cache)?;
         }
         v.pending.push(o);
         Ok(v)
     }
 }
 
-fn too_thin(what: &str, step: f64, want: (i64, usize), got: Option<(i64, usize)>) -> SdfError {
+fn too_thin(what: &str, step: f64, want: Shape, got: Option<Shape>) -> SdfError {
     SdfError::TooThin {
         what: what.to_owned(),
         step,
-        want_genus: want.0,
-        want_pieces: want.1,
+        want_genus: want.topology.0,
+        want_pieces: want.topology.1,
         got: match got {
-            Some((g, p)) => format!("{p} piece(s) of genus {g}"),
+            Some(g) => format!(
+                "{} piece(s) of genus {} with {:.1}% of its volume",
+                g.topology.1,
+                g.topology.0,
+                100.0 * g.volume / want.volume
+            ),
             None => "no closed surface".into(),
         },
     }

@@ -2,7 +2,8 @@
 //! make them (bends in the spine plane, slides along the parent's
 //! surface), and wider than a careful user: resizes by 0.5 to 2, sections
 //! replaced by any profile kind, children spun about their normal or
-//! turned about their parent's axis, copies turned, slid or mirrored.
+//! turned about their parent's axis, copies turned, slid or mirrored
+//! (a root's copy slid along a world axis, in its own planes).
 
 use glam::{DQuat, DVec3};
 use proptest::prelude::*;
@@ -364,13 +365,13 @@ pub fn make(asm: &GcAssembly, s: &Seed) -> Made {
             }
         }
         _ => {
+            // A root's copy is slid along a world axis by up to half its
+            // spine's size: its faces stay in the planes of the original's
+            // (a table and its copy slid across, the tops' end caps in one
+            // plane; issue 33's degenerate triangles).
+            let slide = DVec3::AXES[pick(s.y, 0, 3)] * (s.x * 0.5 * size);
             let (motion, rotate, translate, target) = child_motion(asm, part, s.x * 0.15 * size, s)
-                .unwrap_or((
-                    Motion::Rigid,
-                    [0.0, 0.0, 0.0, 1.0],
-                    DVec3::ZERO,
-                    DVec3::ZERO,
-                ));
+                .unwrap_or((Motion::Rigid, [0.0, 0.0, 0.0, 1.0], slide, slide));
             Made::Copy(
                 GcCopy {
                     part: id,
