@@ -25,7 +25,7 @@ use super::instance::InstanceCaps;
 use super::{RunConfig, RunReport, XrHostError};
 use crate::gfx::hud::notice_lines;
 use crate::gfx::xr_bridge::{create_vulkan_for_openxr, create_vulkan_session, SwapchainTargets};
-use crate::gfx::{GpuContext, GpuMesh, LineVertex, MeshDraw, Renderer};
+use crate::gfx::{GpuContext, GpuMesh, LineVertex, MeshDraw, Renderer, ViewCamera};
 use crate::render::eye_camera;
 
 const VIEW_TYPE: xr::ViewConfigurationType = xr::ViewConfigurationType::PRIMARY_STEREO;
@@ -82,6 +82,122 @@ struct Stereo {
     swapchain: xr::Swapchain<xr::Vulkan>,
     targets: SwapchainTargets,
     renderer: Renderer,
+}
+
+/// The eyes' cameras from the located views, and the head: midway
+/// between the eyes, with the first eye's orientation.
+fn eye_cameras(views: &[xr::View]) -> (Vec<ViewCamera>, (Vec3, Quat)) {
+    let cams = views
+        .iter()
+        .map(|v| {
+            let p = v.pose.position;
+            let o = v.pose.orientation;
+            eye_camera(
+                Vec3::new(p.x, p.y, p.z),
+                Quat::from_xyzw(o.x, o.y, o.z, o.w).normalize(),
+                [
+                    v.fov.angle_left,
+                    v.fov.angle_right,
+                    v.fov.angle_up,
+                    v.fov.angle_down,
+                ],
+                0.05,
+                100.0,
+            )
+        })
+        .collect();
+    let (a, b) = (views[0].pose, views[1].pose);
+    let o = a.orientation;
+    let head = (
+        Vec3::new(
+            (a.position.x + b.position.x) * 0.5,
+            (a.position.y + b.position.y) * 0.5,
+            (a.position.z + b.position.z) * 0.5,
+        ),
+        Quat::from_xyzw(o.x, o.y, o.z, o.w).normalize(),
+    );
+    (cams, head)
+}
+
+/// The meshes on the GPU: the `--model` file, and the document and drag
+/// preview with the versions they were uploaded at.
+struct GpuScene<'a> {
+    model: &'a Option<(GpuMesh, Mat4)>,
+    doc: &'a mut Option<(u64, GpuMesh)>,
+    preview: &'a mut Option<(u64, GpuMesh)>,
+}
+
+/// Draws both eyes into swapchain image `index`: uploads what changed,
+/// then records and submits one pass.
+fn draw_eyes(
+    stereo: &mut Stereo,
+    gpu: GpuScene<'_>,
+    cams: &[ViewCamera],
+    scene: Option<&crate::gfx::Scene>,
+    lines: &[LineVertex],
+    clear: [f32; 4],
+    index: u32,
+) -> Result<(), crate::gfx::GfxError> {
+    let GpuScene {
+        model,
+        doc: gpu_doc,
+        preview: gpu_preview,
+    } = gpu;
+    stereo.renderer.set_views(cams)?;
+    let lines = if lines.is_empty() {
+        None
+    } else {
+        Some(stereo.renderer.upload_lines(lines)?)
+    };
+    // The document is uploaded again only when it changed; the drag
+    // preview (small, short-lived) every frame.
+    if let Some(s) = scene {
+        if gpu_doc.as_ref().map(|d| d.0) != Some(s.version) {
+            *gpu_doc = None;
+            if let Some(m) = &s.document {
+                *gpu_doc = Some((s.version, stereo.renderer.upload_mesh(m)?));
+            }
+        }
+    }
+    let ui = match scene.filter(|s| !s.ui.is_empty()) {
+        Some(s) => Some(stereo.renderer.upload_lines(&s.ui)?),
+        None => None,
+    };
+    // The preview is uploaded again only when it is another mesh (a drag
+    // that only moves it changes its matrix).
+    if let Some(s) = scene {
+        let want = s.preview.as_ref().map(|_| s.preview_version);
+        if gpu_preview.as_ref().map(|p| p.0) != want {
+            *gpu_preview = None;
+            if let (Some(v), Some(m)) = (want, &s.preview) {
+                *gpu_preview = Some((v, stereo.renderer.upload_mesh(m)?));
+            }
+        }
+    }
+    let mut draws: Vec<MeshDraw> = model
+        .iter()
+        .map(|(m, placement)| MeshDraw {
+            mesh: m,
+            model: *placement,
+            color: [0.55, 0.62, 0.75, 1.0],
+            hidden: None,
+        })
+        .collect();
+    if let Some(s) = scene {
+        draws.extend(crate::render::scene_draws(
+            s,
+            gpu_doc.as_ref().map(|d| &d.1),
+            gpu_preview.as_ref().map(|p| &p.1),
+        ));
+    }
+    let Some(fb) = stereo.targets.framebuffer(index) else {
+        return Ok(());
+    };
+    stereo.renderer.context().submit_and_wait(|_, cmd| {
+        stereo
+            .renderer
+            .record(cmd, fb, clear, &draws, ui.as_ref(), lines.as_ref());
+    })
 }
 
 fn make_stereo(
@@ -278,38 +394,7 @@ impl Graphics for Headset<'_> {
             self.submitted += 1;
             return Ok(());
         }
-        let cams: Vec<_> = views
-            .iter()
-            .map(|v| {
-                let p = v.pose.position;
-                let o = v.pose.orientation;
-                eye_camera(
-                    Vec3::new(p.x, p.y, p.z),
-                    Quat::from_xyzw(o.x, o.y, o.z, o.w).normalize(),
-                    [
-                        v.fov.angle_left,
-                        v.fov.angle_right,
-                        v.fov.angle_up,
-                        v.fov.angle_down,
-                    ],
-                    0.05,
-                    100.0,
-                )
-            })
-            .collect();
-        // The head: midway between the eyes, the first eye's orientation.
-        let head = {
-            let (a, b) = (views[0].pose, views[1].pose);
-            let o = a.orientation;
-            (
-                Vec3::new(
-                    (a.position.x + b.position.x) * 0.5,
-                    (a.position.y + b.position.y) * 0.5,
-                    (a.position.z + b.position.z) * 0.5,
-                ),
-                Quat::from_xyzw(o.x, o.y, o.z, o.w).normalize(),
-            )
-        };
+        let (cams, head) = eye_cameras(&views);
         let index = stereo
             .swapchain
             .acquire_image()
@@ -329,71 +414,17 @@ impl Graphics for Headset<'_> {
             .map(|n| (n.text.clone(), n.warning))
             .collect();
         lines.extend(notice_lines(&messages, head));
-        let gpu_model = &self.gpu_model;
-        let gpu_doc = &mut self.gpu_doc;
-        let gpu_preview = &mut self.gpu_preview;
         let clear = if blend == xr::EnvironmentBlendMode::OPAQUE {
             crate::render::CLEAR
         } else {
             [0.0, 0.0, 0.0, 0.0]
         };
-        let render = (|| -> Result<(), crate::gfx::GfxError> {
-            stereo.renderer.set_views(&cams)?;
-            let lines = if lines.is_empty() {
-                None
-            } else {
-                Some(stereo.renderer.upload_lines(&lines)?)
-            };
-            // The document is uploaded again only when it changed; the
-            // drag preview (small, short-lived) every frame.
-            if let Some(s) = scene {
-                if gpu_doc.as_ref().map(|d| d.0) != Some(s.version) {
-                    *gpu_doc = None;
-                    if let Some(m) = &s.document {
-                        *gpu_doc = Some((s.version, stereo.renderer.upload_mesh(m)?));
-                    }
-                }
-            }
-            let ui = match scene.filter(|s| !s.ui.is_empty()) {
-                Some(s) => Some(stereo.renderer.upload_lines(&s.ui)?),
-                None => None,
-            };
-            // The preview is uploaded again only when it is another mesh
-            // (a drag that only moves it changes its matrix).
-            if let Some(s) = scene {
-                let want = s.preview.as_ref().map(|_| s.preview_version);
-                if gpu_preview.as_ref().map(|p| p.0) != want {
-                    *gpu_preview = None;
-                    if let (Some(v), Some(m)) = (want, &s.preview) {
-                        *gpu_preview = Some((v, stereo.renderer.upload_mesh(m)?));
-                    }
-                }
-            }
-            let mut draws: Vec<MeshDraw> = gpu_model
-                .iter()
-                .map(|(m, placement)| MeshDraw {
-                    mesh: m,
-                    model: *placement,
-                    color: [0.55, 0.62, 0.75, 1.0],
-                    hidden: None,
-                })
-                .collect();
-            if let Some(s) = scene {
-                draws.extend(crate::render::scene_draws(
-                    s,
-                    gpu_doc.as_ref().map(|d| &d.1),
-                    gpu_preview.as_ref().map(|p| &p.1),
-                ));
-            }
-            let Some(fb) = stereo.targets.framebuffer(index) else {
-                return Ok(());
-            };
-            stereo.renderer.context().submit_and_wait(|_, cmd| {
-                stereo
-                    .renderer
-                    .record(cmd, fb, clear, &draws, ui.as_ref(), lines.as_ref());
-            })
-        })();
+        let gpu = GpuScene {
+            model: &self.gpu_model,
+            doc: &mut self.gpu_doc,
+            preview: &mut self.gpu_preview,
+        };
+        let render = draw_eyes(stereo, gpu, &cams, scene, &lines, clear, index);
         stereo
             .swapchain
             .release_image()
