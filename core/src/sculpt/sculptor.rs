@@ -480,8 +480,10 @@ impl Sculptor {
         let tests = self.prevent_folds(&mut moves, &lim);
         // Only a step the fold guard pulled back can make sheets meet
         // (see `super::crossing_guard`).
-        if tests.is_none() {
-            self.prevent_crossings(&mut moves, &lim);
+        // A rigid move it put back joins the region after the others:
+        // `adapt` reads the region in id order.
+        if tests.is_none() && self.prevent_crossings(&mut moves, &lim) {
+            self.region.sort_unstable();
         }
         for &(v, _, _, _) in &moves {
             let x = self.mesh.position(v);
