@@ -21,7 +21,7 @@ use shapewright::print::{ClosedSurfaces, PrintError, PrintSettings, Printable, T
 use shapewright::solid::SolidShape;
 
 mod common;
-use common::{data, run};
+use common::{crossing_sculpt, data, run};
 
 /// Writes the printable mesh as STL, reads it back and checks it with both
 /// checkers; returns the read-back mesh.
@@ -275,24 +275,22 @@ fn an_open_network_beside_a_closed_part_prints_both() {
 }
 
 #[test]
-fn a_folded_sculpt_is_refused_naming_it() {
-    // One drag frame pulls the top of the sphere rigidly straight down
-    // through the bottom: each triangle keeps its shape (the stroke's local
-    // fold guard is satisfied) but the surface passes through itself. Under
-    // `refuse` the stroke is refused at the op (print_setup.rs); under the
-    // `flag` policy (the default) it applies and printing refuses naming
-    // the object.
-    let text = "{\"op\":\"set_self_intersection_policy\",\"policy\":\"flag\"}\n\
-        {\"op\":\"sculpt_create\",\"base\":{\"kind\":\"sphere\",\"radius\":1.0,\"edge_length\":0.1}}\n\
-        {\"op\":\"sculpt_stroke\",\"id\":1,\"settings\":{\"brush\":{\"kind\":\"sphere\",\"radius\":0.3},\"brush_scale\":1.0,\"influence\":0.2,\"falloff\":\"smooth\",\"warp\":{\"kind\":\"drag\"},\"max_edge_rel\":0.5,\"min_edge_rel\":0.1},\"samples\":[\
-        {\"position\":[0,0,1],\"rotation\":[0,0,0,1],\"pressure\":1},\
-        {\"position\":[0,0,-1.6],\"rotation\":[0,0,0,1],\"pressure\":1}]}\n";
-    let log = run(text);
+fn a_crossing_sculpt_is_refused_naming_it() {
+    // A sculpt object whose surface passes through itself (its base mesh
+    // does: no stroke can make one, see common::crossing_sculpt). Under
+    // `refuse` it is refused at the op (print_setup.rs); under the `flag`
+    // policy (the default) it applies and printing refuses naming the
+    // object.
+    let text = format!(
+        "{{\"op\":\"set_self_intersection_policy\",\"policy\":\"flag\"}}\n{}\n",
+        crossing_sculpt()
+    );
+    let log = run(&text);
     let (_, obj) = log.document().objects().next().unwrap();
     let alone = validate(&obj.mesh, &ValidationSettings::default());
     assert!(
         alone.self_intersecting_pairs.unwrap_or(0) > 0,
-        "the stroke did not fold the sphere: {}",
+        "the sculpt does not cross itself: {}",
         alone.problems()
     );
     match print(log.document()) {
@@ -300,9 +298,9 @@ fn a_folded_sculpt_is_refused_naming_it() {
             assert!(e.to_string().contains("#1 sculpt_mesh"), "{e}")
         }
         Err(e) => panic!("expected a self-intersection, got {e}"),
-        Ok(p) => panic!("a folded sculpt printed: {}", p.report.checks.problems()),
+        Ok(p) => panic!("a crossing sculpt printed: {}", p.report.checks.problems()),
     }
-    // Under `refuse`, the folding stroke never gets into the document.
+    // Under `refuse`, the crossing sculpt never gets into the document.
     let refuse = text.replacen("\"flag\"", "\"refuse\"", 1);
     assert_ne!(refuse, text);
     let lines = parse_script(&refuse).unwrap();

@@ -23,7 +23,7 @@ use shapewright::print::{
 };
 
 mod common;
-use common::{data, run};
+use common::{crossing_sculpt, data, run};
 
 fn op(json: &str) -> Op {
     serde_json::from_str(json).unwrap_or_else(|e| panic!("{json}: {e}"))
@@ -289,27 +289,44 @@ fn a_gc_created_bent_through_itself_is_refused() {
     assert!(log.document().is_empty());
 }
 
-/// One drag frame pulls the top of the sphere rigidly straight down through
-/// the bottom: each triangle keeps its shape (the stroke's local fold guard
-/// is satisfied) but the surface passes through itself.
-const FOLDING_STROKE: &str = "{\"op\":\"sculpt_stroke\",\"id\":1,\"settings\":{\"brush\":{\"kind\":\"sphere\",\"radius\":0.3},\"brush_scale\":1.0,\"influence\":0.2,\"falloff\":\"smooth\",\"warp\":{\"kind\":\"drag\"},\"max_edge_rel\":0.5,\"min_edge_rel\":0.1},\"samples\":[\
+/// One drag frame pulls the top of the sphere straight down through the
+/// bottom. Each triangle could keep its shape, but the surface would pass
+/// through itself: until issue 33's crossing guard it did, and `refuse`
+/// refused the stroke.
+const THROUGH_STROKE: &str = "{\"op\":\"sculpt_stroke\",\"id\":1,\"settings\":{\"brush\":{\"kind\":\"sphere\",\"radius\":0.3},\"brush_scale\":1.0,\"influence\":0.2,\"falloff\":\"smooth\",\"warp\":{\"kind\":\"drag\"},\"max_edge_rel\":0.5,\"min_edge_rel\":0.1},\"samples\":[\
     {\"position\":[0,0,1],\"rotation\":[0,0,0,1],\"pressure\":1},\
     {\"position\":[0,0,-1.6],\"rotation\":[0,0,0,1],\"pressure\":1}]}";
 const SPHERE: &str =
     r#"{"op":"sculpt_create","base":{"kind":"sphere","radius":1.0,"edge_length":0.1}}"#;
 
 #[test]
-fn a_folding_sculpt_stroke_is_refused_under_refuse_and_applies_by_default() {
-    // By default (flag) the stroke applies; printing names the object.
-    let mut free = run(SPHERE);
-    free.apply(op(FOLDING_STROKE)).unwrap();
-    assert!(print_document(free.document(), &PrintSettings::default()).is_err());
+fn a_stroke_through_the_sculpt_stops_short_and_a_crossing_sculpt_is_refused_under_refuse() {
+    // The stroke applies under either policy: the sculpt's guards put back
+    // the steps that would make the surface cross, and the result prints.
     let mut log = run(&format!("{REFUSE}\n{SPHERE}"));
     let before = log.document().content_hash();
-    refused_as_folding(log.apply(op(FOLDING_STROKE)), "#1 sculpt_mesh");
+    log.apply(op(THROUGH_STROKE)).unwrap();
+    assert_ne!(
+        log.document().content_hash(),
+        before,
+        "the stroke did something"
+    );
+    let (_, obj) = log.document().objects().next().unwrap();
+    assert!(self_intersections(&obj.mesh).pairs.is_empty());
+    print_document(log.document(), &PrintSettings::default()).unwrap();
+    // A sculpt whose base already crosses itself: refused under `refuse`,
+    // naming it, with the document unchanged; by default (flag) it applies
+    // and printing names it.
+    let crossing = crossing_sculpt();
+    let mut log = run(REFUSE);
+    let before = log.document().content_hash();
+    refused_as_folding(log.apply(op(&crossing)), "#1 sculpt_mesh");
     assert_eq!(log.document().content_hash(), before);
-    // A gentle stroke is not refused.
-    let gentle = FOLDING_STROKE.replace("-1.6", "0.9");
-    log.apply(op(&gentle)).unwrap();
-    assert_ne!(log.document().content_hash(), before);
+    let free = run(&crossing);
+    match print_document(free.document(), &PrintSettings::default()) {
+        Err(e @ PrintError::SelfIntersecting { .. }) => {
+            assert!(e.to_string().contains("#1 sculpt_mesh"), "{e}")
+        }
+        other => panic!("expected a self-intersection naming the sculpt, got {other:?}"),
+    }
 }

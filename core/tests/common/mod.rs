@@ -50,3 +50,45 @@ pub fn slide(
     )))?;
     Ok(target)
 }
+
+/// A `sculpt_create` op whose base is one closed mesh passing through
+/// itself: two 1 m cubes, the second moved by half a cube on every axis.
+/// Each is closed and outward; together they cross in 2 × 6 faces. A
+/// stroke cannot make such a surface (the sculpt's fold and crossing
+/// guards put back the steps that would), so this is how a crossing sculpt
+/// object enters a document to test the print path.
+pub fn crossing_sculpt() -> String {
+    let cube = |o: f64| -> Vec<[f64; 3]> {
+        (0..8)
+            .map(|i| {
+                let b = |k: u32| if i >> k & 1 == 1 { o + 1.0 } else { o };
+                [b(0), b(1), b(2)]
+            })
+            .collect()
+    };
+    // Corner i has x = bit 0, y = bit 1, z = bit 2; faces outward.
+    const FACES: [[u32; 3]; 12] = [
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ];
+    let positions: Vec<[f64; 3]> = cube(0.0).into_iter().chain(cube(0.5)).collect();
+    let triangles: Vec<[u32; 3]> = FACES
+        .iter()
+        .chain(FACES.iter())
+        .enumerate()
+        .map(|(k, t)| if k < 12 { *t } else { t.map(|v| v + 8) })
+        .collect();
+    format!(
+        r#"{{"op":"sculpt_create","base":{{"kind":"mesh","positions":{positions:?},"triangles":{triangles:?}}}}}"#
+    )
+}
