@@ -48,22 +48,10 @@ impl Sculptor {
             any = true;
             // Folds against the vertices put back, until there are none.
             while !changed.is_empty() {
-                let stamp = self.next_face_stamp();
                 let mut folding = Vec::new();
-                for &v in &changed {
-                    let mut faces = Vec::new();
-                    let (mesh, marks) = (&self.mesh, &mut self.face_mark);
-                    mesh.for_each_out(v, |h| {
-                        let f = h.face();
-                        if marks[f.0 as usize] != stamp {
-                            marks[f.0 as usize] = stamp;
-                            faces.push(f);
-                        }
-                    });
-                    for f in faces {
-                        if self.face_folds(f) {
-                            folding.extend(self.mesh.face_verts(f));
-                        }
+                for f in self.faces_around(&changed) {
+                    if self.face_folds(f) {
+                        folding.extend(self.mesh.face_verts(f));
                     }
                 }
                 changed = self.put_back(moves, &mut folding);

@@ -100,18 +100,7 @@ impl Sculptor {
             // same offenders as a pass over every moved vertex: a triangle
             // still folding from before kept its corners, so its corners
             // were pulled back already, or are back where they were.)
-            let stamp = self.next_face_stamp();
-            let mut faces = Vec::new();
-            for &v in &changed {
-                let (mesh, marks) = (&self.mesh, &mut self.face_mark);
-                mesh.for_each_out(v, |h| {
-                    let f = h.face();
-                    if marks[f.0 as usize] != stamp {
-                        marks[f.0 as usize] = stamp;
-                        faces.push(f);
-                    }
-                });
-            }
+            let faces = self.faces_around(&changed);
             let this = &*self;
             let mut bad_verts: Vec<VertId> = par::flat_map_chunks(&faces, |_, chunk, out| {
                 for &f in chunk {
@@ -228,3 +217,22 @@ pub(super) fn folds_after(n: DVec3, m: DVec3, before: impl FnOnce() -> (DVec3, D
 /// Slack on the cosine of a crease that may not sharpen (rounding of a
 /// step halved back to nearly nothing).
 const CREASE_TOLERANCE: f64 = 1e-9;
+
+impl Sculptor {
+    /// The triangles at any of `verts`, each once, in the order met.
+    pub(super) fn faces_around(&mut self, verts: &[VertId]) -> Vec<FaceId> {
+        let stamp = self.next_face_stamp();
+        let mut faces = Vec::new();
+        let (mesh, marks) = (&self.mesh, &mut self.face_mark);
+        for &v in verts {
+            mesh.for_each_out(v, |h| {
+                let f = h.face();
+                if marks[f.0 as usize] != stamp {
+                    marks[f.0 as usize] = stamp;
+                    faces.push(f);
+                }
+            });
+        }
+        faces
+    }
+}
