@@ -279,6 +279,20 @@ impl Sculptor {
             for &w in &touched {
                 self.update_short(w, min2);
             }
+            // A stamped vertex of the stroke outside this frame's region (an
+            // earlier frame reached it) may now have a short edge to a
+            // vertex outside the stroke: only the stroke's side of that
+            // edge can be collapsed, so it joins the candidates.
+            let before = cands.len();
+            for &w in &touched {
+                if self.in_stroke(w) && self.short_mark[w.0 as usize] == fs {
+                    cands.push(w);
+                }
+            }
+            if cands.len() > before {
+                cands.sort_unstable();
+                cands.dedup();
+            }
         }
         self.ring = touched;
         self.collapse_cands = cands;
