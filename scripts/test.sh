@@ -10,6 +10,12 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # each stage prints the space left where the target dir lives.
 if [ "${CI:-}" = "true" ]; then
   export CARGO_INCREMENTAL=0 PIP_NO_CACHE_DIR=1 SW_FUZZ_QUICK_BUILD=1
+  # CI's property tests draw their cases from one fixed seed, so a CI run
+  # is a function of the commit; the cases that ever failed are replayed
+  # first from the proptest-regressions files. New seeds are explored by
+  # scripts/prop_soak.sh (a random seed drawn in CI found the adaptive
+  # collapse gap of 2026-11-28 and stopped a landing).
+  export PROPTEST_RNG_SEED="${PROPTEST_RNG_SEED:-20261129}"
 fi
 # What the tests run is built in cargo's dev profile, the one `cargo test`
 # builds anyway: the host binary the Python, Blender, wine and abuse stages
