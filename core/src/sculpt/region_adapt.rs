@@ -112,16 +112,26 @@ impl Sculptor {
         tests: Option<Vec<(FaceId, bool)>>,
         stats: &mut FrameStats,
     ) {
-        let Limits {
-            max2, min2, lo, hi, ..
-        } = *lim;
-        // Split phase. The region is in ascending id order here, so a
+        // The fold guard's first pass took the split tests when they still
+        // hold (and then marked the region's vertices with short edges).
+        let fused = tests.is_some();
+        self.split_region(lim, tests, stats);
+        self.collapse_region(lim, fused, stats);
+    }
+
+    /// The split phase of [`Self::adapt`]: the region's triangles whose
+    /// longest edge is too long, then the triangles around new vertices.
+    fn split_region(
+        &mut self,
+        lim: &Limits,
+        tests: Option<Vec<(FaceId, bool)>>,
+        stats: &mut FrameStats,
+    ) {
+        let Limits { max2, lo, hi, .. } = *lim;
+        // The region is in ascending id order here, so a
         // triangle first appears (scanning the region's fans in order) at
         // its smallest corner in the region: that corner tests it.
         debug_assert!(self.region.windows(2).all(|w| w[0] < w[1]));
-        // The fold guard's first pass took these tests when they still hold
-        // (and then marked the region's vertices with short edges).
-        let fused = tests.is_some();
         let initial = tests.unwrap_or_else(|| {
             let this = &*self;
             par::flat_map_chunks(&self.region, |_, chunk, out| {
@@ -175,7 +185,13 @@ impl Sculptor {
             }
         }
         self.queue = queue;
-        // Collapse phase: short edges at the region's vertices, by id.
+    }
+
+    /// The collapse phase of [`Self::adapt`]: up to three passes over the
+    /// region's vertices (by id) with an edge shorter than the min length.
+    /// `fused`: the fold guard marked the short edges before the splits.
+    fn collapse_region(&mut self, lim: &Limits, fused: bool, stats: &mut FrameStats) {
+        let Limits { max2, min2, .. } = *lim;
         let mut cands = std::mem::take(&mut self.collapse_cands);
         cands.clear();
         cands.extend_from_slice(&self.region);
