@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 use openxr as xr;
 use shapewright::interact::InputFrame;
 
-use super::actions::{Actions, SessionInput, HAND_PATHS};
+use super::actions::{Actions, ReadInfo, SessionInput, HAND_PATHS};
 use super::events::{end_or_error, Lifecycle, SessionEnd};
 use super::input::{FrameSink, LifecycleEvent, Notice};
 use super::instance::{create_instance, InstanceCaps};
@@ -306,36 +306,14 @@ fn run_session<Gx: Graphics>(
         // 2. Stop when asked: request exit while running, then keep going
         // until the runtime reaches STOPPING/EXITING.
         if !life.exit_requested {
-            if let Some(why) = stop_reason(cfg, report, pacer.as_deref(), start) {
-                match &life.phase {
-                    Some(Phase::Running(r)) => {
-                        xr_try!('tick, "xrRequestExitSession", r.session().request_exit());
-                        life.exit_requested = true;
-                        stop_asked_at = Some(Instant::now());
-                        sink.lifecycle(&LifecycleEvent::ExitRequested(why.clone()));
-                        report.exit_reason = why;
-                    }
-                    _ => {
-                        report.exit_reason = format!("{why} before the session ran");
-                        break SessionEnd::Exit;
-                    }
-                }
+            let asked = ask_to_stop(&mut life, cfg, report, pacer.as_deref(), start, sink);
+            match tick_try!('tick, asked) {
+                StopAsk::No => {}
+                StopAsk::Asked => stop_asked_at = Some(Instant::now()),
+                StopAsk::NeverRan => break SessionEnd::Exit,
             }
         }
-        if session_start.elapsed() > cfg.stall_timeout
-            && !report.reached_focused
-            && life.state == xr::SessionState::IDLE
-        {
-            return Err(XrHostError::GaveUp(format!(
-                "the session did not become READY within {:?}",
-                cfg.stall_timeout
-            )));
-        }
-        if stop_asked_at.is_some_and(|t| t.elapsed() > cfg.stall_timeout) {
-            return Err(XrHostError::GaveUp(
-                "the runtime did not reach EXITING after xrRequestExitSession".into(),
-            ));
-        }
+        check_stalls(cfg, report, life.state, session_start, stop_asked_at)?;
         let Some(Phase::Running(running)) = &life.phase else {
             gfx.idle(cfg);
             continue;
@@ -346,16 +324,7 @@ fn run_session<Gx: Graphics>(
         let based = xr_try!('tick, "locating the base space", input.establish(session, ft.time));
         note_fallbacks(report, input.take_fallbacks());
         if based && report.spaces.base.is_empty() {
-            if let Some((kind, h)) = input.base_kind {
-                report.spaces = SpaceReport {
-                    offered: input.offered_spaces.clone(),
-                    base: serde_json::to_value(kind)
-                        .ok()
-                        .and_then(|v| v.as_str().map(String::from))
-                        .unwrap_or_default(),
-                    floor_offset_m: h,
-                };
-            }
+            note_base_space(report, &input);
         }
         let mut delivered = None;
         // No input after an exit request: a limit means exactly that many
@@ -364,21 +333,7 @@ fn run_session<Gx: Graphics>(
             let t0 = Instant::now();
             // In a paced run, the packet's tag is read before anything else.
             let tag = match pacer.as_deref_mut() {
-                Some(p) => {
-                    if let Err(e) = p.poll() {
-                        return Err(XrHostError::GaveUp(e.to_string()));
-                    }
-                    let (_, views) = xr_try!(
-                        'tick,
-                        "xrLocateViews",
-                        session.locate_views(
-                            xr::ViewConfigurationType::PRIMARY_STEREO,
-                            ft.time,
-                            input.view()
-                        )
-                    );
-                    views.first().and_then(|v| angle_tag(v.fov.angle_up))
-                }
+                Some(p) => tick_try!('tick, paced_tag(p, session, &input, ft.time)),
                 None => None,
             };
             let time_s = ft.time.as_nanos() as f64 * 1e-9;
@@ -390,43 +345,15 @@ fn run_session<Gx: Graphics>(
             };
             if let Some(t) = step_time {
                 frame.time = t;
-                sink.frame(&frame);
-                report.frame_cpu_us.push(t0.elapsed().as_secs_f64() * 1e6);
-                report.frames += 1;
-                let t0 = *first_time.get_or_insert(t);
-                if t > t0 {
-                    report.input_hz = (report.frames - 1) as f64 / (t - t0);
-                }
-                if let Some(p) = pacer.as_deref_mut() {
-                    sink.settle();
-                    let (ops, commands) = sink.progress();
-                    if let Err(e) = p.ack(gfx.frames_submitted(), ops, commands) {
-                        return Err(XrHostError::GaveUp(e.to_string()));
-                    }
-                }
+                let submitted = gfx.frames_submitted();
+                let pacer = pacer.as_deref_mut();
+                deliver(&frame, t0, &mut first_time, report, sink, pacer, submitted)?;
             }
-            for (h, s) in info.hands.iter().enumerate() {
-                if let Some(s) = s {
-                    report.hands_tracked[h] = Some(format!("{s:?}").to_lowercase());
-                }
-            }
-            if frame.controllers.iter().any(Option::is_some)
-                || frame.hands.iter().any(Option::is_some)
-            {
-                report.input_device = true;
-            }
+            note_devices(report, &frame, &info);
             if profiles_dirty {
                 let bound = xr_try!('tick, "xrGetCurrentInteractionProfile", actions.bound_profiles(session));
                 profiles_dirty = false;
-                for (h, p) in bound.iter().enumerate() {
-                    if report.profiles_bound[h] != *p || report.frames <= 1 {
-                        sink.lifecycle(&LifecycleEvent::ProfileBound {
-                            hand: HAND_PATHS[h].into(),
-                            profile: p.clone(),
-                        });
-                    }
-                }
-                report.profiles_bound = bound;
+                note_profiles(report, sink, bound);
             }
             if life.state == xr::SessionState::FOCUSED {
                 focused_frames += 1;
@@ -445,23 +372,13 @@ fn run_session<Gx: Graphics>(
             report.haptics_sent += 1;
         }
         // 5. Draw and submit.
-        let mut notices = sink.notices();
-        if no_input_said {
-            notices.push(Notice {
-                text: "NO CONTROLLER OR HAND: NOTHING CAN DRIVE THE TOOL".into(),
-                warning: true,
-            });
-        }
+        let notices = with_no_input_notice(sink.notices(), no_input_said);
         let overlay = Overlay {
             frame: delivered.as_ref(),
             notices: &notices,
         };
         tick_try!('tick, gfx.end_frame(session, &input, ft, sink, &overlay));
-        let (t0, n0) = *running_since.get_or_insert((Instant::now(), gfx.frames_submitted()));
-        let secs = t0.elapsed().as_secs_f64();
-        if secs > 0.0 {
-            report.display_hz = (gfx.frames_submitted() - n0) as f64 / secs;
-        }
+        note_display_rate(report, &mut running_since, gfx.frames_submitted());
     };
     if report.reached_focused && report.frames > 0 && !report.input_device {
         report
@@ -472,6 +389,184 @@ fn run_session<Gx: Graphics>(
     drop(input);
     drop(life);
     Ok(end)
+}
+
+/// What [`ask_to_stop`] did.
+enum StopAsk {
+    /// Nothing asks the host to stop.
+    No,
+    /// Exit was requested; the loop runs on until STOPPING/EXITING.
+    Asked,
+    /// A stop came before the session ran: the run ends here.
+    NeverRan,
+}
+
+/// Step 2 of the tick: when a signal or a limit says stop, requests exit
+/// from a running session, or ends one that never ran.
+fn ask_to_stop<G: xr::Graphics>(
+    life: &mut Lifecycle<xr::Session<G>>,
+    cfg: &RunConfig,
+    report: &mut RunReport,
+    pacer: Option<&Pacer>,
+    start: Instant,
+    sink: &mut dyn FrameSink,
+) -> Result<StopAsk, TickError> {
+    let Some(why) = stop_reason(cfg, report, pacer, start) else {
+        return Ok(StopAsk::No);
+    };
+    match &life.phase {
+        Some(Phase::Running(r)) => {
+            r.session()
+                .request_exit()
+                .map_err(|e| TickError::Xr("xrRequestExitSession", e))?;
+            life.exit_requested = true;
+            sink.lifecycle(&LifecycleEvent::ExitRequested(why.clone()));
+            report.exit_reason = why;
+            Ok(StopAsk::Asked)
+        }
+        _ => {
+            report.exit_reason = format!("{why} before the session ran");
+            Ok(StopAsk::NeverRan)
+        }
+    }
+}
+
+/// Gives up on a runtime that never makes the session READY, or never
+/// reaches EXITING after an exit request, within the stall timeout.
+fn check_stalls(
+    cfg: &RunConfig,
+    report: &RunReport,
+    state: xr::SessionState,
+    session_start: Instant,
+    stop_asked_at: Option<Instant>,
+) -> Result<(), XrHostError> {
+    if session_start.elapsed() > cfg.stall_timeout
+        && !report.reached_focused
+        && state == xr::SessionState::IDLE
+    {
+        return Err(XrHostError::GaveUp(format!(
+            "the session did not become READY within {:?}",
+            cfg.stall_timeout
+        )));
+    }
+    if stop_asked_at.is_some_and(|t| t.elapsed() > cfg.stall_timeout) {
+        return Err(XrHostError::GaveUp(
+            "the runtime did not reach EXITING after xrRequestExitSession".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Reports the base space the input settled on (once it has one).
+fn note_base_space(report: &mut RunReport, input: &SessionInput) {
+    if let Some((kind, h)) = input.base_kind {
+        report.spaces = SpaceReport {
+            offered: input.offered_spaces.clone(),
+            base: serde_json::to_value(kind)
+                .ok()
+                .and_then(|v| v.as_str().map(String::from))
+                .unwrap_or_default(),
+            floor_offset_m: h,
+        };
+    }
+}
+
+/// In a paced run, polls the pacer and reads the packet's tag, which the
+/// driver encodes in the first view's upward field-of-view angle.
+fn paced_tag<G: xr::Graphics>(
+    pacer: &mut Pacer,
+    session: &xr::Session<G>,
+    input: &SessionInput,
+    time: xr::Time,
+) -> Result<Option<u32>, TickError> {
+    if let Err(e) = pacer.poll() {
+        return Err(XrHostError::GaveUp(e.to_string()).into());
+    }
+    let (_, views) = session
+        .locate_views(
+            xr::ViewConfigurationType::PRIMARY_STEREO,
+            time,
+            input.view(),
+        )
+        .map_err(|e| TickError::Xr("xrLocateViews", e))?;
+    Ok(views.first().and_then(|v| angle_tag(v.fov.angle_up)))
+}
+
+/// Hands the sink one frame of input (stamped with its step time) and
+/// counts it; in a paced run, lets the sink settle and acknowledges the
+/// packet with the progress it made.
+fn deliver(
+    frame: &InputFrame,
+    read_at: Instant,
+    first_time: &mut Option<f64>,
+    report: &mut RunReport,
+    sink: &mut dyn FrameSink,
+    pacer: Option<&mut Pacer>,
+    frames_submitted: u64,
+) -> Result<(), XrHostError> {
+    let t = frame.time;
+    sink.frame(frame);
+    report
+        .frame_cpu_us
+        .push(read_at.elapsed().as_secs_f64() * 1e6);
+    report.frames += 1;
+    let t0 = *first_time.get_or_insert(t);
+    if t > t0 {
+        report.input_hz = (report.frames - 1) as f64 / (t - t0);
+    }
+    if let Some(p) = pacer {
+        sink.settle();
+        let (ops, commands) = sink.progress();
+        p.ack(frames_submitted, ops, commands)
+            .map_err(|e| XrHostError::GaveUp(e.to_string()))?;
+    }
+    Ok(())
+}
+
+/// The sink's notices, and a warning when no device can drive a tool.
+fn with_no_input_notice(mut notices: Vec<Notice>, no_input: bool) -> Vec<Notice> {
+    if no_input {
+        notices.push(Notice {
+            text: "NO CONTROLLER OR HAND: NOTHING CAN DRIVE THE TOOL".into(),
+            warning: true,
+        });
+    }
+    notices
+}
+
+/// Reports the rate frames were submitted at since the session first ran.
+fn note_display_rate(report: &mut RunReport, since: &mut Option<(Instant, u64)>, submitted: u64) {
+    let (t0, n0) = *since.get_or_insert((Instant::now(), submitted));
+    let secs = t0.elapsed().as_secs_f64();
+    if secs > 0.0 {
+        report.display_hz = (submitted - n0) as f64 / secs;
+    }
+}
+
+/// Reports which hands are tracked and whether any device gives input.
+fn note_devices(report: &mut RunReport, frame: &InputFrame, info: &ReadInfo) {
+    for (h, s) in info.hands.iter().enumerate() {
+        if let Some(s) = s {
+            report.hands_tracked[h] = Some(format!("{s:?}").to_lowercase());
+        }
+    }
+    if frame.controllers.iter().any(Option::is_some) || frame.hands.iter().any(Option::is_some) {
+        report.input_device = true;
+    }
+}
+
+/// Tells the sink about each hand whose bound interaction profile changed
+/// (every hand on the first frame) and reports the bound profiles.
+fn note_profiles(report: &mut RunReport, sink: &mut dyn FrameSink, bound: [Option<String>; 2]) {
+    for (h, p) in bound.iter().enumerate() {
+        if report.profiles_bound[h] != *p || report.frames <= 1 {
+            sink.lifecycle(&LifecycleEvent::ProfileBound {
+                hand: HAND_PATHS[h].into(),
+                profile: p.clone(),
+            });
+        }
+    }
+    report.profiles_bound = bound;
 }
 
 /// Logs each rung given up and adds it to the report.
