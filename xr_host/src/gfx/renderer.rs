@@ -167,6 +167,89 @@ fn expand_vertices(mesh: &TriMesh) -> Vec<MeshVertex> {
     out
 }
 
+/// The render pass: one subpass drawing into a colour and a depth
+/// attachment, with `view_count` multiview layers; the colour image is
+/// left in `final_layout`.
+fn render_pass(
+    dev: &ash::Device,
+    color_format: vk::Format,
+    view_count: u32,
+    final_layout: vk::ImageLayout,
+) -> Result<vk::RenderPass, GfxError> {
+    let view_mask = (1u32 << view_count) - 1;
+    let attachments = [
+        vk::AttachmentDescription {
+            format: color_format,
+            samples: vk::SampleCountFlags::TYPE_1,
+            load_op: vk::AttachmentLoadOp::CLEAR,
+            store_op: vk::AttachmentStoreOp::STORE,
+            stencil_load_op: vk::AttachmentLoadOp::DONT_CARE,
+            stencil_store_op: vk::AttachmentStoreOp::DONT_CARE,
+            initial_layout: vk::ImageLayout::UNDEFINED,
+            final_layout,
+            ..Default::default()
+        },
+        vk::AttachmentDescription {
+            format: DEPTH_FORMAT,
+            samples: vk::SampleCountFlags::TYPE_1,
+            load_op: vk::AttachmentLoadOp::CLEAR,
+            store_op: vk::AttachmentStoreOp::DONT_CARE,
+            stencil_load_op: vk::AttachmentLoadOp::DONT_CARE,
+            stencil_store_op: vk::AttachmentStoreOp::DONT_CARE,
+            initial_layout: vk::ImageLayout::UNDEFINED,
+            final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            ..Default::default()
+        },
+    ];
+    let color_ref = [vk::AttachmentReference {
+        attachment: 0,
+        layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+    }];
+    let depth_ref = vk::AttachmentReference {
+        attachment: 1,
+        layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+    };
+    let subpasses = [vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .color_attachments(&color_ref)
+        .depth_stencil_attachment(&depth_ref)];
+    let deps = [
+        vk::SubpassDependency {
+            src_subpass: vk::SUBPASS_EXTERNAL,
+            dst_subpass: 0,
+            src_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS,
+            dst_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS,
+            dst_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            ..Default::default()
+        },
+        vk::SubpassDependency {
+            src_subpass: 0,
+            dst_subpass: vk::SUBPASS_EXTERNAL,
+            src_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
+            dst_stage_mask: vk::PipelineStageFlags::TRANSFER,
+            src_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+            dst_access_mask: vk::AccessFlags::TRANSFER_READ,
+            ..Default::default()
+        },
+    ];
+    let masks = [view_mask];
+    let mut multiview = vk::RenderPassMultiviewCreateInfo::default()
+        .view_masks(&masks)
+        .correlation_masks(&masks);
+    let rp_info = vk::RenderPassCreateInfo::default()
+        .attachments(&attachments)
+        .subpasses(&subpasses)
+        .dependencies(&deps)
+        .push_next(&mut multiview);
+    // SAFETY: live device; all referenced arrays live across the call;
+    // destroyed in Drop.
+    unsafe { dev.create_render_pass(&rp_info, None) }
+        .map_err(|r| GfxError::vk("vkCreateRenderPass", r))
+}
+
 impl Renderer {
     /// A renderer drawing into `color_format` images with `view_count`
     /// layers (1 offscreen, 2 for a stereo headset). `final_layout` is the
@@ -202,129 +285,9 @@ impl Renderer {
             flat_pipeline: vk::Pipeline::null(),
             ubo,
         };
-        let view_mask = (1u32 << view_count) - 1;
-        let attachments = [
-            vk::AttachmentDescription {
-                format: color_format,
-                samples: vk::SampleCountFlags::TYPE_1,
-                load_op: vk::AttachmentLoadOp::CLEAR,
-                store_op: vk::AttachmentStoreOp::STORE,
-                stencil_load_op: vk::AttachmentLoadOp::DONT_CARE,
-                stencil_store_op: vk::AttachmentStoreOp::DONT_CARE,
-                initial_layout: vk::ImageLayout::UNDEFINED,
-                final_layout,
-                ..Default::default()
-            },
-            vk::AttachmentDescription {
-                format: DEPTH_FORMAT,
-                samples: vk::SampleCountFlags::TYPE_1,
-                load_op: vk::AttachmentLoadOp::CLEAR,
-                store_op: vk::AttachmentStoreOp::DONT_CARE,
-                stencil_load_op: vk::AttachmentLoadOp::DONT_CARE,
-                stencil_store_op: vk::AttachmentStoreOp::DONT_CARE,
-                initial_layout: vk::ImageLayout::UNDEFINED,
-                final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-                ..Default::default()
-            },
-        ];
-        let color_ref = [vk::AttachmentReference {
-            attachment: 0,
-            layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-        }];
-        let depth_ref = vk::AttachmentReference {
-            attachment: 1,
-            layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-        };
-        let subpasses = [vk::SubpassDescription::default()
-            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
-            .color_attachments(&color_ref)
-            .depth_stencil_attachment(&depth_ref)];
-        let deps = [
-            vk::SubpassDependency {
-                src_subpass: vk::SUBPASS_EXTERNAL,
-                dst_subpass: 0,
-                src_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-                    | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS,
-                dst_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-                    | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS,
-                dst_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE
-                    | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                ..Default::default()
-            },
-            vk::SubpassDependency {
-                src_subpass: 0,
-                dst_subpass: vk::SUBPASS_EXTERNAL,
-                src_stage_mask: vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-                dst_stage_mask: vk::PipelineStageFlags::TRANSFER,
-                src_access_mask: vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-                dst_access_mask: vk::AccessFlags::TRANSFER_READ,
-                ..Default::default()
-            },
-        ];
-        let masks = [view_mask];
-        let mut multiview = vk::RenderPassMultiviewCreateInfo::default()
-            .view_masks(&masks)
-            .correlation_masks(&masks);
-        let rp_info = vk::RenderPassCreateInfo::default()
-            .attachments(&attachments)
-            .subpasses(&subpasses)
-            .dependencies(&deps)
-            .push_next(&mut multiview);
-        // SAFETY: live device; all referenced arrays live across the call;
-        // destroyed in Drop.
-        this.render_pass = unsafe { dev.create_render_pass(&rp_info, None) }
-            .map_err(|r| GfxError::vk("vkCreateRenderPass", r))?;
-
-        let bindings = [vk::DescriptorSetLayoutBinding::default()
-            .binding(0)
-            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-            .descriptor_count(1)
-            .stage_flags(vk::ShaderStageFlags::VERTEX)];
-        // SAFETY: live device; destroyed in Drop.
-        this.set_layout = unsafe {
-            dev.create_descriptor_set_layout(
-                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
-                None,
-            )
-        }
-        .map_err(|r| GfxError::vk("vkCreateDescriptorSetLayout", r))?;
-        let sizes = [vk::DescriptorPoolSize {
-            ty: vk::DescriptorType::UNIFORM_BUFFER,
-            descriptor_count: 1,
-        }];
-        // SAFETY: live device; destroyed in Drop.
-        this.pool = unsafe {
-            dev.create_descriptor_pool(
-                &vk::DescriptorPoolCreateInfo::default()
-                    .max_sets(1)
-                    .pool_sizes(&sizes),
-                None,
-            )
-        }
-        .map_err(|r| GfxError::vk("vkCreateDescriptorPool", r))?;
+        this.render_pass = render_pass(dev, color_format, view_count, final_layout)?;
+        this.make_descriptors()?;
         let set_layouts = [this.set_layout];
-        // SAFETY: pool and layout are live and the pool has room for one set.
-        this.set = unsafe {
-            dev.allocate_descriptor_sets(
-                &vk::DescriptorSetAllocateInfo::default()
-                    .descriptor_pool(this.pool)
-                    .set_layouts(&set_layouts),
-            )
-        }
-        .map_err(|r| GfxError::vk("vkAllocateDescriptorSets", r))?[0];
-        let buf_info = [vk::DescriptorBufferInfo {
-            buffer: this.ubo.handle(),
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }];
-        let writes = [vk::WriteDescriptorSet::default()
-            .dst_set(this.set)
-            .dst_binding(0)
-            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-            .buffer_info(&buf_info)];
-        // SAFETY: the set and buffer are live; the set is not in use.
-        unsafe { dev.update_descriptor_sets(&writes, &[]) };
-
         let push = [vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
             offset: 0,
@@ -374,6 +337,62 @@ impl Renderer {
             line_stride,
         )?;
         Ok(this)
+    }
+
+    /// The descriptor set layout, pool and set holding the views' uniform
+    /// buffer, the set written once.
+    fn make_descriptors(&mut self) -> Result<(), GfxError> {
+        let bindings = [vk::DescriptorSetLayoutBinding::default()
+            .binding(0)
+            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::VERTEX)];
+        let dev = self.ctx.device();
+        // SAFETY: live device; destroyed in Drop.
+        self.set_layout = unsafe {
+            dev.create_descriptor_set_layout(
+                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
+                None,
+            )
+        }
+        .map_err(|r| GfxError::vk("vkCreateDescriptorSetLayout", r))?;
+        let sizes = [vk::DescriptorPoolSize {
+            ty: vk::DescriptorType::UNIFORM_BUFFER,
+            descriptor_count: 1,
+        }];
+        // SAFETY: live device; destroyed in Drop.
+        self.pool = unsafe {
+            dev.create_descriptor_pool(
+                &vk::DescriptorPoolCreateInfo::default()
+                    .max_sets(1)
+                    .pool_sizes(&sizes),
+                None,
+            )
+        }
+        .map_err(|r| GfxError::vk("vkCreateDescriptorPool", r))?;
+        let set_layouts = [self.set_layout];
+        // SAFETY: pool and layout are live and the pool has room for one set.
+        self.set = unsafe {
+            dev.allocate_descriptor_sets(
+                &vk::DescriptorSetAllocateInfo::default()
+                    .descriptor_pool(self.pool)
+                    .set_layouts(&set_layouts),
+            )
+        }
+        .map_err(|r| GfxError::vk("vkAllocateDescriptorSets", r))?[0];
+        let buf_info = [vk::DescriptorBufferInfo {
+            buffer: self.ubo.handle(),
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }];
+        let writes = [vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(0)
+            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+            .buffer_info(&buf_info)];
+        // SAFETY: the set and buffer are live; the set is not in use.
+        unsafe { dev.update_descriptor_sets(&writes, &[]) };
+        Ok(())
     }
 
     fn pipeline(
