@@ -217,21 +217,11 @@ fn check_version(
     Ok(())
 }
 
-/// Loads from a parsed layer.
-pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<Loaded, LoadError> {
-    let log_path = crate::layout::find_log(data).ok_or(LoadError::NotShapewright)?;
-    let format_version = log_int(data, &log_path, "shapewright:formatVersion")?;
-    check_version(
-        "file format",
-        format_version,
-        OLDEST_FORMAT_VERSION,
-        FORMAT_VERSION,
-    )?;
-    let op_version = log_int(data, &log_path, "shapewright:opFormatVersion")?;
-    check_version("op format", op_version, 1, i64::from(OP_FORMAT_VERSION))?;
-
+/// The log's ops, checked against its `opTypes` and `opCount` when the
+/// file has them (a truncated or hand-edited log is refused, named).
+fn read_ops(data: &dyn AbstractData, log_path: &sdf::Path) -> Result<Vec<Op>, LoadError> {
     let ops_value =
-        attr_value(data, &log_path, "shapewright:ops").ok_or(LoadError::BadAttribute {
+        attr_value(data, log_path, "shapewright:ops").ok_or(LoadError::BadAttribute {
             name: "shapewright:ops",
             problem: "missing".to_owned(),
         })?;
@@ -246,7 +236,7 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
         let op: Op = serde_json::from_str(&json).map_err(|e| bad(e.to_string()))?;
         ops.push(op);
     }
-    if let Some(v) = attr_value(data, &log_path, "shapewright:opTypes") {
+    if let Some(v) = attr_value(data, log_path, "shapewright:opTypes") {
         let types = strings(&v).ok_or_else(|| LoadError::BadAttribute {
             name: "shapewright:opTypes",
             problem: format!("not a token array ({})", type_of(&v)),
@@ -269,7 +259,7 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
             });
         }
     }
-    if let Some(v) = attr_value(data, &log_path, "shapewright:opCount") {
+    if let Some(v) = attr_value(data, log_path, "shapewright:opCount") {
         if as_int(&v) != Some(ops.len() as i64) {
             return Err(LoadError::BadAttribute {
                 name: "shapewright:opCount",
@@ -277,6 +267,23 @@ pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<L
             });
         }
     }
+    Ok(ops)
+}
+
+/// Loads from a parsed layer.
+pub fn load_from_data(data: &dyn AbstractData, options: LoadOptions) -> Result<Loaded, LoadError> {
+    let log_path = crate::layout::find_log(data).ok_or(LoadError::NotShapewright)?;
+    let format_version = log_int(data, &log_path, "shapewright:formatVersion")?;
+    check_version(
+        "file format",
+        format_version,
+        OLDEST_FORMAT_VERSION,
+        FORMAT_VERSION,
+    )?;
+    let op_version = log_int(data, &log_path, "shapewright:opFormatVersion")?;
+    check_version("op format", op_version, 1, i64::from(OP_FORMAT_VERSION))?;
+
+    let ops = read_ops(data, &log_path)?;
     let cursor = log_int(data, &log_path, "shapewright:cursor")?;
     let cursor = usize::try_from(cursor).map_err(|_| LoadError::BadAttribute {
         name: "shapewright:cursor",
