@@ -9,9 +9,9 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::extract::*;
-use super::grid::*;
-use super::mc::*;
+use super::extract::{Piece, SHARED_ID};
+use super::grid::BrickKey;
+use super::mc::BuildKeyHasher;
 use crate::math::DVec3;
 use crate::mesh::TriMesh;
 

@@ -38,6 +38,6 @@ pub use template::{
 };
 
 #[cfg(test)]
-mod tests;
+mod sections_tests;
 #[cfg(test)]
-mod tests_sections;
+mod tests;

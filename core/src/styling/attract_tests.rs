@@ -3,9 +3,9 @@
 
 use super::attract::{AttractParams, Attractor, Target};
 use super::curve::{fit_curve, FitMode, SplineCurve};
+use super::net_tests::edge_samples;
 use super::network::CurveNetwork;
 use super::tests::wavy_samples;
-use super::tests_net::edge_samples;
 use super::tools::CurveSession;
 use super::StylingError;
 use crate::math::fm::DetMath as _;
@@ -160,7 +160,7 @@ fn add(net: &mut CurveNetwork, a: [f64; 3], b: [f64; 3], bow: [f64; 3]) {
 #[test]
 fn network_attractors_keep_junctions_and_check_their_input() {
     let mut net = CurveNetwork::new(8, 6).unwrap();
-    for (a, b, w) in super::tests_net::box_edges(0.1, 0.01) {
+    for (a, b, w) in super::net_tests::box_edges(0.1, 0.01) {
         add(&mut net, a, b, w);
     }
     net.fill_all().unwrap();
@@ -189,7 +189,7 @@ fn network_attractors_keep_junctions_and_check_their_input() {
         moved.z
     );
     assert!(net.junction_gap() < 1e-9, "gap {}", net.junction_gap());
-    assert!(super::tests_ngon::boundary_gap(&net) < 1e-9);
+    assert!(super::ngon_tests::boundary_gap(&net) < 1e-9);
     // Another curve as attractor; a curve cannot attract itself.
     let mut n2 = before.clone();
     n2.attract(

@@ -4,8 +4,8 @@
 
 use super::budget::Budget;
 use super::curve::{fit_curve, fit_curve_within, resample, FitMode};
+use super::ngon_tests::prism;
 use super::tests::wavy_samples;
-use super::tests_ngon::prism;
 use super::tools::{CurveSession, PullParams};
 use super::StylingError;
 use crate::doc::{LogError, Op, OpError, OpLog};

@@ -3,8 +3,8 @@
 
 use super::curve::{fit_curve, FitMode};
 use super::frame::{mirror_in_frame, project_to_drawing_plane, stroke_in_frame, ModelingFrame};
+use super::ngon_tests::{boundary_gap, prism};
 use super::surface::SurfaceWeights;
-use super::tests_ngon::{boundary_gap, prism};
 use super::StylingError;
 use crate::math::fm::DetMath as _;
 use crate::math::{DQuat, DVec3};

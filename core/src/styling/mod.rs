@@ -66,18 +66,18 @@ pub use frame::{stroke_in_held_frame, HeldStroke, ModelingFrame};
 pub use network::{CurveNetwork, Node, Patch, Piece};
 
 #[cfg(test)]
+mod attract_tests;
+#[cfg(test)]
+mod budget_tests;
+#[cfg(test)]
+mod frame_tests;
+#[cfg(test)]
+pub(crate) mod hold_tests;
+#[cfg(test)]
+mod net_tests;
+#[cfg(test)]
+mod ngon_tests;
+#[cfg(test)]
+mod props_tests;
+#[cfg(test)]
 mod tests;
-#[cfg(test)]
-mod tests_attract;
-#[cfg(test)]
-mod tests_budget;
-#[cfg(test)]
-mod tests_frame;
-#[cfg(test)]
-pub(crate) mod tests_hold;
-#[cfg(test)]
-mod tests_net;
-#[cfg(test)]
-mod tests_ngon;
-#[cfg(test)]
-mod tests_props;

@@ -372,7 +372,7 @@ fn surface_sharpen_op_on_quads_and_pentagons() {
         r#"{"op":"curve_network_create","resolution":8,"surface_n":6}"#,
     ))
     .unwrap();
-    let net = super::tests_ngon::prism(5, 0.1, 0.12, 0.01, 8);
+    let net = super::ngon_tests::prism(5, 0.1, 0.12, 0.01, 8);
     // Redraw the prism's curves through the ops (same samples).
     for c in net.curves.iter().flatten() {
         let pts: Vec<[f64; 3]> = c.polyline(13).iter().map(|p| p.to_array()).collect();
@@ -394,7 +394,7 @@ fn surface_sharpen_op_on_quads_and_pentagons() {
         // Pull first, so that the patch is away from its minimal shape:
         // 2 cm along its normal (pulled along itself, a side patch would
         // fold over its boundary once sharpened, and the sharpener stops
-        // before that; see `tests_hold`).
+        // before that; see `hold_tests`).
         let c = net_of(&log).patch_point(k, 0.5, 0.5);
         let m = net_of(&log).patch_mesh(k);
         let p = |i: u32| DVec3::from_array(m.positions[i as usize]);
@@ -436,7 +436,7 @@ fn surface_sharpen_op_on_quads_and_pentagons() {
             sys.energy(d1) > sys.energy(&d0),
             "patch {k}: energy did not rise"
         );
-        assert!(super::tests_ngon::boundary_gap(&after) < 1e-9);
+        assert!(super::ngon_tests::boundary_gap(&after) < 1e-9);
         let m = log.document().objects().next().unwrap().1.mesh.clone();
         assert!(validate(&m, &Default::default()).is_closed_manifold());
     }

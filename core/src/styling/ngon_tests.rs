@@ -3,11 +3,11 @@
 //! mesh closed, and take the surface smoother, sharpener and puller.
 
 use super::curve::{fit_curve, FitMode};
+use super::net_tests::edge_samples;
 use super::network::{CurveNetwork, Piece};
 use super::ngon::MAX_SIDES;
 use super::polygon::NgonDomain;
 use super::surface::SurfaceWeights;
-use super::tests_net::edge_samples;
 use super::StylingError;
 use crate::math::fm::DetMath as _;
 use crate::math::{DVec2, DVec3};

@@ -9,7 +9,7 @@ use proptest::prelude::*;
 
 use super::curve::{fit_curve, FitMode, SplineCurve};
 use super::network::CurveNetwork;
-use super::tests_ngon::{boundary_gap, prism, worst_seam_angle};
+use super::ngon_tests::{boundary_gap, prism, worst_seam_angle};
 use super::tools::{CurveSession, SharpenLimits, SmoothParams};
 use super::StylingError;
 use crate::math::DVec3;

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::identity::*;
+use super::identity::msg_id;
 use crate::doc::Op;
 
 /// Version of the entry format.

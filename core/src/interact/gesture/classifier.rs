@@ -5,8 +5,8 @@
 use crate::math::fm::DetMath as _;
 use serde::{Deserialize, Serialize};
 
-use super::features::*;
-use super::label::*;
+use super::features::HandFeatures;
+use super::label::{Gesture, GestureLabel};
 use crate::interact::input::{HandJoints, Pose};
 
 /// Thresholds and timings of the classifier.

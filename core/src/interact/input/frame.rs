@@ -1,9 +1,9 @@
 //! What the sanitizer hands on: [`HandJoints`], [`Controller`] and
 //! [`Frame`], only usable data and the time step since the last frame.
 
-use super::joints::*;
-use super::pose::*;
-use super::raw::*;
+use super::joints::{Joint, JOINT_COUNT};
+use super::pose::{Hand, Pose};
+use super::raw::ControllerButtons;
 use crate::math::DVec3;
 
 /// A sanitized hand: joint positions of the tracked joints. A joint that

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::pose::*;
+use super::pose::Pose;
 
 /// Number of hand joints in the XR_EXT_hand_tracking layout.
 pub const JOINT_COUNT: usize = 26;

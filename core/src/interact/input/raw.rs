@@ -4,9 +4,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::joints::*;
+use super::joints::HandSample;
 use super::num;
-use super::pose::*;
+use super::pose::Pose;
 
 /// Raw controller buttons and axes, named by the actions of
 /// [`crate::interact::input::bindings`] (hosts fill them through the binding map).

@@ -3,10 +3,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::frame::*;
-use super::joints::*;
-use super::pose::*;
-use super::raw::*;
+use super::frame::{Controller, Frame, HandJoints};
+use super::joints::{HandSample, HandSource, Joint};
+use super::pose::Pose;
+use super::raw::{ControllerButtons, ControllerSample, InputFrame};
 use crate::math::DVec3;
 
 /// Limits of the sanitizer.

@@ -5,7 +5,7 @@
 use crate::doc::{Document, LogError, ObjectId, OpLog, ScriptCommand};
 use crate::math::DVec3;
 
-use super::preview::*;
+use super::preview::Preview;
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::gesture::GestureState;
 use crate::interact::input::{Frame, Pose};

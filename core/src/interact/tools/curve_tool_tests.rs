@@ -661,7 +661,7 @@ fn forced_tools_pull_smooth_and_sharpen_the_pointed_surface() {
 fn one_held_second_of_the_default_sharpener_changes_a_patch_by_centimetres() {
     for fps in [72.0, 120.0] {
         let mut d = crate::interact::testkit::Driver::new(fps, "curve");
-        for op in crate::styling::tests_hold::ngon_ops(6, 0.15, 0.047) {
+        for op in crate::styling::hold_tests::ngon_ops(6, 0.15, 0.047) {
             d.log.apply(op).unwrap();
         }
         let before = net_of(&d.log).patch_mesh(0);

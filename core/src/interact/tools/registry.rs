@@ -1,7 +1,7 @@
 //! The tools by name: [`TOOL_NAMES`] and [`tool_named`], the one registry
 //! both hosts and traces use.
 
-use super::context::*;
+use super::context::Tool;
 use super::{brush_tool, csg_tool, curve_tool, gc_tool, object_tool};
 
 /// The names [`tool_named`] knows: the object tool, the hand-gesture GC

@@ -3,7 +3,7 @@
 
 use crate::doc::{LogError, OpLog, ScriptCommand};
 
-use super::format::*;
+use super::format::{Trace, TraceError};
 use crate::interact::tools::apply_command;
 
 /// The result of replaying a trace.

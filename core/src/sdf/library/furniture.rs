@@ -1,5 +1,9 @@
 //! Furniture families (paper 2 §6.2's chair task and the COSEG chair
 //! parts of its dataset): legs, seats, backs, bases and brackets.
+//!
+//! Long function: `entries` is a table (one entry per component, each a
+//! name and a closure building its shape), not logic; split by family it
+//! would only scatter the catalogue.
 
 use crate::math::fm::DetMath as _;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};

@@ -11,8 +11,8 @@ use crate::sdf::{
     SdfCopyOperand, SdfCreate, SdfSetOperandTransform, SdfSetStep, SdfUpdate,
 };
 
-use super::gestures::*;
-use super::settings::*;
+use super::gestures::{volume, FusedDrag, OperandBoxes, OperandDrag, ScaleGesture, Target};
+use super::settings::{CsgToolSettings, SceneOperate};
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
 use crate::interact::input::Hand;

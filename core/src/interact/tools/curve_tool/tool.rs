@@ -15,8 +15,11 @@ use crate::styling::{
     SurfaceEquilibrium, SurfacePull, SurfaceSharpen, SurfaceSmooth,
 };
 
-use super::modes::*;
-use super::settings::*;
+use super::modes::{
+    attractor_of, read_pen, CurveMode, CurvePreview, CurveTarget, DrawPlane, PatchTarget, Pen,
+    Stroke, SurfaceTool, SURFACE_MARGIN,
+};
+use super::settings::CurveToolSettings;
 use crate::interact::input::Hand;
 use crate::interact::palette::ChoiceGroup;
 use crate::interact::tools::lost_too_long;

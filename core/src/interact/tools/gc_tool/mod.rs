@@ -13,6 +13,8 @@
 //! [`crate::interact::testkit`].
 
 mod create;
+#[cfg(test)]
+mod drawn_tests;
 mod edit;
 mod hand;
 mod settings;
@@ -20,8 +22,6 @@ mod state;
 mod target;
 #[cfg(test)]
 mod tests;
-#[cfg(test)]
-mod tests_drawn;
 mod tool;
 
 pub use settings::GcToolSettings;

@@ -59,7 +59,7 @@ use crate::mesh::TriMesh;
 use super::create::{create_op, replace_op, replace_plane, section_profile, Start};
 use super::edit::{drag_op, end_of, hold_op, pinch_shape, shape_op};
 use super::hand::{HandFilter, HandIn};
-use super::state::*;
+use super::state::{Drag, Hold, PinchState, State, ViewGrab};
 use super::target::{GcTarget, GeoCache};
 use super::GcToolSettings;
 use crate::interact::gesture::bimanual::HandleBar;
