@@ -13,7 +13,10 @@ use shapewright::interact::{self, tool_named, Session, Similarity, TraceError};
 use shapewright::mesh::TriMesh;
 use shapewright_usd::Autosaver;
 
-use super::commit::*;
+use super::commit::{
+    commit_loop, document_mesh, lock, lock_status, people_of, with_normals, Committed, Job,
+    LogGuard, ModelBox, Person, Shared, Status,
+};
 use super::sink::wrap;
 use crate::gfx::text::Font;
 use crate::gfx::{LineVertex, Scene};

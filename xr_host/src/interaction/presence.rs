@@ -6,8 +6,8 @@ use std::time::Duration;
 use shapewright::doc::shared::{colour_for, Presence, PRESENCE_HZ, PRESENCE_STALE_SECS};
 use shapewright::doc::ObjectId;
 
-use super::commit::*;
-use super::frame::*;
+use super::commit::ModelBox;
+use super::frame::Interaction;
 
 impl Interaction {
     /// Sends where this person's head and hands are and what they have

@@ -3,8 +3,8 @@
 
 use shapewright::interact::{self, SanitizerStats};
 
-use super::commit::*;
-use super::frame::*;
+use super::commit::{lock, lock_status};
+use super::frame::Interaction;
 use crate::gfx::Scene;
 use crate::xr::{FrameSink, Haptic, LifecycleEvent, Notice};
 
