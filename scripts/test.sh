@@ -37,6 +37,10 @@ echo "== cargo fmt [at ${SECONDS} s, $(free)]"
 cargo fmt --all -- --check
 echo "== cargo clippy [at ${SECONDS} s, $(free)]"
 cargo clippy --workspace --all-targets -q -- -D warnings
+# The API docs' links resolve (issue 36): a renamed item breaks the build
+# here, not a reader's click.
+echo "== cargo doc [at ${SECONDS} s, $(free)]"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps -q
 # xr: Monado, the real OpenXR runtime xr_host/tests/monado.rs runs the host
 # against (built once into target/monado, cached with the target; then a
 # one-second check).

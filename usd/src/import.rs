@@ -521,7 +521,7 @@ fn short(v: &Value) -> String {
 
 /// The most vertices of a concave polygon that ear clipping (cubic in the
 /// vertex count at worst) triangulates; a larger concave polygon is an
-/// error from [`read_mesh`] (and fanned by [`triangulate`]), so a hostile
+/// error from `read_mesh` (and fanned by `triangulate`), so a hostile
 /// file cannot make the importer run for hours.
 pub const MAX_EAR_CLIP: usize = 1024;
 

@@ -2,7 +2,7 @@
 //! the core's [`PaletteView`]: panel, buttons, labels, hover and pointer),
 //! the active tool and its choices next to the dominant hand, the live
 //! readout of a drag, and refused edits as short red messages that fade.
-//! All of it is flat triangles in world space ([`Scene::ui`]); the layout
+//! All of it is flat triangles in world space ([`Scene::ui`](crate::gfx::Scene::ui)); the layout
 //! and picking are the core's, so this only draws.
 
 use glam::{DVec3, Quat, Vec3};

@@ -170,7 +170,7 @@ fn place(old_child: &Gc, pl: &Placement) -> Gc {
 ///   leave that plane. Either is refused as `coplanar` only when its
 ///   anchor's iso-curve no longer reaches the plane;
 /// - an open end (a spout's root) whose rim would come out of the parent
-///   is sunk back in ([`super::junction`]).
+///   is sunk back in (`assembly::junction`).
 pub fn reattach_descendants(
     old: &GcAssembly,
     new: &mut GcAssembly,

@@ -62,7 +62,7 @@ fn fused_pending(doc: &Document) -> Result<Vec<(u32, TriMesh)>, PrintError> {
     Ok(out)
 }
 
-/// The printable model of `doc`: [`printable`] over [`document_parts`]
+/// The printable model of `doc`: [`printable`](crate::print::printable) over [`document_parts`]
 /// (SDF volumes with their queued operands fused), with the document's
 /// wall thickness ([`Document::print_setup`]) in place of
 /// `settings.wall_thickness`. Hosts write `Printable::mesh` in the format

@@ -518,7 +518,7 @@ pub const CAVITY_GROWTH: f64 = 1e-5;
 /// or `None` for a solid GC. An assembly keeps this space empty (see
 /// [`crate::assembly::union_mesh`]).
 ///
-/// The solid is the inside grown by [`CAVITY_GROWTH`] of the GC's size on
+/// The solid is the inside grown by `CAVITY_GROWTH` of the GC's size on
 /// every side (3 µm on the teapot's body): a part cut by it keeps no face
 /// on this GC's inner wall, and this GC cut by a hollow child's grown
 /// inside keeps none on the child's, so the union never meets coincident

@@ -1,7 +1,7 @@
 //! [`Sculptor`]: a surface under sculpting with its vertex hash grid and
 //! per-frame scratch; one call of [`Sculptor::apply_frame`] is one frame of
 //! paper §4.1 (warp, §4.4) followed by resolution adaptation (§5.3, in
-//! [`super::region_adapt`]).
+//! `sculpt::region_adapt`).
 //!
 //! A frame costs time proportional to the vertices the brush reaches,
 //! never a pass over the whole mesh: the reach is found in the hash grid,
@@ -9,7 +9,7 @@
 //! scratch buffers are kept between frames.
 //!
 //! The read-only passes over the reached vertices run in parallel over
-//! fixed chunks ([`super::par`]): the warp of each vertex, the fold test of
+//! fixed chunks (`sculpt::par`): the warp of each vertex, the fold test of
 //! each changed triangle, the normals of [`Sculptor::sync_render`] and the
 //! split and collapse candidate tests. A triangle is tested by exactly one
 //! of its corners (the smallest id among the corners that qualify), so no

@@ -26,7 +26,7 @@ pub struct StrokeSample {
 
 impl StrokeSample {
     /// The sample's mirror image across `m`: position reflected, the
-    /// brush frame mirrored ([`MirrorPlane::frame`]), same pressure.
+    /// brush frame mirrored ([`MirrorPlane::frame`](crate::math::MirrorPlane::frame)), same pressure.
     pub fn mirrored(&self, m: &crate::math::MirrorPlane) -> Self {
         Self {
             position: m.point(DVec3::from_array(self.position)).to_array(),

@@ -1,5 +1,5 @@
 //! Surface extraction from the sparse grid (paper 2 §5.1, "extract the
-//! zero level set"), brick by brick, into pieces; [`super::assemble`]
+//! zero level set"), brick by brick, into pieces; `sdf::assemble`
 //! stitches the pieces into one mesh. The cell polygons come from
 //! [`super::mc`].
 //!

@@ -38,7 +38,7 @@ pub enum Brick {
 }
 
 /// The samples of a dense brick and, computed once when it is made, the
-/// signs that extraction asks about (see [`Brick::region_signs`]).
+/// signs that extraction asks about (see `Brick::region_signs`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DenseBrick {
     values: Vec<f32>,

@@ -25,7 +25,7 @@
 //! so distances to the attractor shrink by `1 - c` per frame (the tests
 //! check this to rounding).
 //!
-//! The curve attractor of [40] maps parameters linearly between the two
+//! The curve attractor of \[40\] maps parameters linearly between the two
 //! curves; we take each quadrature point's nearest point on the other
 //! curve instead (recomputed every frame), so that a local attraction pulls
 //! towards the nearest part of the other curve, whatever the two curves'

@@ -35,7 +35,7 @@
 //!   stops the same way.
 //!
 //! The patch's mesh is evaluated once at activation as base points plus
-//! displacement coefficients ([`PatchSampler`]), so a frame costs a sparse
+//! displacement coefficients (`PatchSampler`), so a frame costs a sparse
 //! product, not a re-evaluation of the (transfinite) base surface.
 
 use crate::math::fm::DetMath as _;

@@ -304,7 +304,7 @@ pub(super) fn commit_loop(
 }
 
 /// The log, read after every pending commit finished (see
-/// [`Interaction::log`]).
+/// [`Interaction::log`](super::Interaction::log)).
 pub struct LogGuard<'a>(pub(super) MutexGuard<'a, Shared>);
 
 impl Deref for LogGuard<'_> {

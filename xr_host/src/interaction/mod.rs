@@ -1,11 +1,11 @@
 //! The interaction step both frame loops (headset, headless) and `replay`
-//! run: one raw [`interact::InputFrame`] in, a
+//! run: one raw [`shapewright::interact::InputFrame`] in, a
 //! [`shapewright::interact::Session`] stepped against the latest document,
-//! and the [`Scene`] (document mesh, drag preview, rays and sketch)
+//! and the [`Scene`](crate::gfx::Scene) (document mesh, drag preview, rays and sketch)
 //! brought up to date for the renderer.
 //!
 //! **Commits run off the frame.** A command the tool produces is handed
-//! to a commit thread that owns the [`OpLog`]: applying an op re-evaluates
+//! to a commit thread that owns the [`OpLog`](shapewright::doc::OpLog): applying an op re-evaluates
 //! its object (a generalized-cylinder assembly re-unites all its parts,
 //! 70 to 160 ms for the teapot), which would drop several 90 Hz frames.
 //! The frame keeps stepping against the last committed document and
@@ -13,9 +13,9 @@
 //! commands are applied strictly in the order they were produced.
 //! [`Interaction::flush`] waits for every pending commit: `replay` calls it
 //! after each frame, so the tool sees exactly what the core's
-//! [`interact::replay`] shows it, and the result is bit-identical.
+//! [`shapewright::interact::replay`] shows it, and the result is bit-identical.
 //!
-//! Persistence: an optional [`Autosaver`] on the commit thread saves the
+//! Persistence: an optional [`Autosaver`](shapewright_usd::Autosaver) on the commit thread saves the
 //! log as USD (with its history, so `run --open` continues it and undo
 //! works) every N changes or T seconds, and [`Interaction::save_now`] is
 //! called on session loss, instance loss and exit; it saves after every
@@ -37,7 +37,7 @@
 //! commit lands (the hands holding a button in the frame that produced
 //! it, else both), and a tick when a ray starts pointing at something.
 //!
-//! Tools come from [`interact::tool_named`], so every tool the core
+//! Tools come from [`shapewright::interact::tool_named`], so every tool the core
 //! registers is available to `--tool` without a list here.
 
 mod commit;

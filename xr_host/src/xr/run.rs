@@ -33,9 +33,9 @@ pub struct RunConfig {
     /// Set (by a signal handler) to ask the session to end: the loop calls
     /// xrRequestExitSession and runs the normal STOPPING/EXITING path.
     pub stop: Option<Arc<AtomicBool>>,
-    /// Pace the run by a client listening at this loopback address ([`pace`]).
+    /// Pace the run by a client listening at this loopback address ([`pace`](super::pace)).
     pub pace: Option<std::net::SocketAddr>,
-    /// Behave as an OpenXR 1.0 application (see [`instance`]).
+    /// Behave as an OpenXR 1.0 application (see [`instance`](super::instance)).
     pub openxr_1_0: bool,
 }
 

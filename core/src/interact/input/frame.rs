@@ -36,7 +36,7 @@ pub struct Controller {
     pub aim: Option<Pose>,
     /// Buttons and axes.
     pub buttons: Option<ControllerButtons>,
-    /// The grip moved faster than [`SanitizerSettings::max_speed`] since the
+    /// The grip moved faster than [`SanitizerSettings::max_speed`](super::SanitizerSettings::max_speed) since the
     /// last accepted sample: a locomotion teleport or a tracking glitch.
     /// Tools must not treat the jump as hand motion.
     pub teleported: bool,

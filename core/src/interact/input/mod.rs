@@ -23,7 +23,7 @@
 //! `XR_EXT_hand_tracking`. When a hand sample and valid controller buttons
 //! arrive together, the buttons are the user's intent, so the sanitizer
 //! drops the hand and tools that read hands make one from the buttons
-//! ([`crate::interact::gesture::controller_hand`]), unless the runtime said the joints come
+//! ([`crate::interact::controller_hand`]), unless the runtime said the joints come
 //! from optical tracking ([`HandSource::Optical`], from
 //! `XR_EXT_hand_tracking_data_source`).
 //!

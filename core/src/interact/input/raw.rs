@@ -9,7 +9,7 @@ use super::num;
 use super::pose::Pose;
 
 /// Raw controller buttons and axes, named by the actions of
-/// [`crate::interact::input::bindings`] (hosts fill them through the binding map).
+/// `interact::input::bindings` (hosts fill them through the binding map).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct ControllerButtons {
@@ -66,7 +66,7 @@ pub struct ControllerSample {
 }
 
 /// Everything a host reads in one frame. Any part may be missing or
-/// invalid; the [`Sanitizer`] decides what is usable.
+/// invalid; the [`Sanitizer`](super::Sanitizer) decides what is usable.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct InputFrame {
     /// Predicted display time in seconds; must increase from frame to frame.

@@ -40,7 +40,7 @@ pub trait Tool {
     fn preview(&self) -> &Preview;
     /// Whether the tool reads tracked hands (their gestures): then a hand
     /// the runtime does not track is made from its controller
-    /// ([`crate::interact::gesture::controller_hand`]).
+    /// ([`crate::interact::controller_hand`]).
     fn uses_hands(&self) -> bool {
         false
     }

@@ -5,7 +5,7 @@
 //!
 //! Tools see the document read-only through a [`ToolContext`]; the
 //! [`crate::interact::Session`] applies their commands to the log. Commands are the
-//! doc module's [`ScriptCommand`], so a session's output is an op script.
+//! doc module's [`ScriptCommand`](crate::doc::ScriptCommand), so a session's output is an op script.
 
 pub(crate) mod brush_tool;
 pub(crate) mod csg_tool;

@@ -15,7 +15,7 @@ use crate::interact::gesture::bimanual::HandleBar;
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::input::{Hand, Pose};
 
-/// GC-specific preview state (part of [`Preview`]).
+/// GC-specific preview state (part of [`Preview`](crate::interact::Preview)).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct GcPreview {
     /// The state machine's state (`idle`, `placed`, `sketch_section`, ...).
