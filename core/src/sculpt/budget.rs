@@ -60,10 +60,14 @@
 //! which also runs each op kind at the limit and compares.
 //!
 //! The estimate assumes the reached surface is not crumpled; a backstop
-//! holds it to its word: the stroke counts the units it does (the vertices
-//! its frames look at and the triangles they add), and once they reach
-//! what the time left after the fixed costs allows, it stops with
-//! [`SculptError::TooSlow`]. The face limit backs the size the same way:
+//! holds it to its word: the stroke counts the work it does (the vertices
+//! its frames look at and the triangles they add, [`DONE_UNITS`] each, and
+//! the triangles the crossing guard searches, [`GUARD_UNITS`] each: on a
+//! surface crumpled under the brush that search is most of the time), and
+//! once the count reaches what the time left after the fixed costs
+//! allows, it stops with [`SculptError::TooSlow`]. Measured 2026-11-29:
+//! drags that ran 7.6-20 s CPU before the guard was counted now stop at
+//! 6.9-10.6 s CPU (4.5-6.5 s wall), with the document as it was. The face limit backs the size the same way:
 //! refinement stops once the stroke has added [`MAX_STROKE_NEW_TRIANGLES`]
 //! faces or the mesh has [`MAX_TRIANGLES`], and the stroke fails with
 //! [`SculptError::OverBudget`] naming the count where it stopped. Both
@@ -99,11 +103,25 @@ pub const GRID_SECONDS: f64 = 1.5e-6;
 /// Seconds per unit of frame work (a vertex looked at, a triangle
 /// refined).
 pub const UNIT_SECONDS: f64 = 0.35e-6;
+/// Units of estimated work one unit the backstop counts (a vertex a
+/// frame looked at, or half an edge split) stands for: the estimate
+/// over-counts the vertices a frame looks at, the count does not, so a
+/// counted unit costs more (0.46-0.79 µs CPU measured, 2026-11-29).
+pub const DONE_UNITS: f64 = 2.0;
+/// Units of estimated work per triangle the crossing guard searches. It
+/// builds a bounding-volume tree over the triangles near the frame's
+/// moves and tests the pairs that overlap, in frames the fold guard
+/// pulled back: a surface crumpled under the brush costs this every
+/// frame, which the estimate from the parameters cannot see, so the
+/// backstop counts it (2.3-4.5 µs CPU per triangle measured by
+/// `calibrate`, 2026-11-29: a drag estimated at 2.9 s ran 7.6 s, one
+/// estimated at 7.7 s ran 17.4 s).
+pub const GUARD_UNITS: f64 = 11.0;
 /// Seconds per frame, whatever it reaches.
 pub const FRAME_SECONDS: f64 = 20e-6;
 /// Seconds per vertex of a base mesh `sculpt_create` builds (mesh,
 /// half-edge structure and its checks, the document's mesh and hash).
-pub const CREATE_VERTEX_SECONDS: f64 = 2.0e-6;
+pub const CREATE_VERTEX_SECONDS: f64 = 4.8e-6;
 /// The cells a reach meets hold about this many times the vertices of the
 /// ball (the ball's share of the cube of cells around it is π/6, the
 /// cells that the sphere crosses bring part of it back).
@@ -365,6 +383,12 @@ fn path_cost(
         cost.frames += 1.0;
     }
     Ok(())
+}
+
+/// The units of work a frame did, as the backstop counts them (see
+/// [`DONE_UNITS`], [`GUARD_UNITS`]).
+pub fn frame_units(s: &super::sculptor::FrameStats) -> f64 {
+    DONE_UNITS * (s.visited + 2 * s.splits) as f64 + GUARD_UNITS * s.guard_faces as f64
 }
 
 /// The error of a stroke stopped by the hard face limit: the mesh had

@@ -36,11 +36,17 @@ use crate::mesh::{self_intersections, TriMesh};
 
 impl Sculptor {
     /// Puts back the moves that make the surface cross itself (see the
-    /// module doc); returns whether it put any back.
-    pub(super) fn prevent_crossings(&mut self, moves: &mut [Move], lim: &Limits) -> bool {
+    /// module doc); returns whether it put any back. Adds the triangles
+    /// it searched to `searched` (the stroke's work count).
+    pub(super) fn prevent_crossings(
+        &mut self,
+        moves: &mut [Move],
+        lim: &Limits,
+        searched: &mut usize,
+    ) -> bool {
         let mut any = false;
         loop {
-            let mut bad = self.crossing_corners(lim);
+            let mut bad = self.crossing_corners(lim, searched);
             let mut changed = self.put_back(moves, &mut bad);
             if changed.is_empty() {
                 return any;
@@ -61,7 +67,7 @@ impl Sculptor {
 
     /// The corners, moved this frame, of the triangles near the frame's
     /// moves that cross another triangle (sorted, deduplicated).
-    fn crossing_corners(&mut self, lim: &Limits) -> Vec<VertId> {
+    fn crossing_corners(&mut self, lim: &Limits, searched: &mut usize) -> Vec<VertId> {
         let mut near = Vec::new();
         self.grid
             .query(lim.lo, lim.hi, &mut near, &mut self.cand_scratch);
@@ -82,6 +88,7 @@ impl Sculptor {
                 });
             }
         }
+        *searched += faces.len();
         let mut local: HashMap<u32, u32> = HashMap::new();
         let mut sub = TriMesh::default();
         for &f in &faces {

@@ -79,6 +79,10 @@ pub struct FrameStats {
     pub splits: usize,
     /// Edges collapsed.
     pub collapses: usize,
+    /// Triangles the crossing guard searched (each search over the
+    /// triangles near the frame's moves counts them all; see
+    /// [`super::budget::GUARD_UNITS`]).
+    pub guard_faces: usize,
 }
 
 impl std::ops::AddAssign for FrameStats {
@@ -87,6 +91,7 @@ impl std::ops::AddAssign for FrameStats {
         self.moved += o.moved;
         self.splits += o.splits;
         self.collapses += o.collapses;
+        self.guard_faces += o.guard_faces;
     }
 }
 
@@ -482,7 +487,7 @@ impl Sculptor {
         // (see `super::crossing_guard`).
         // A rigid move it put back joins the region after the others:
         // `adapt` reads the region in id order.
-        if tests.is_none() && self.prevent_crossings(&mut moves, &lim) {
+        if tests.is_none() && self.prevent_crossings(&mut moves, &lim, &mut stats.guard_faces) {
             self.region.sort_unstable();
         }
         for &(v, _, _, _) in &moves {

@@ -276,7 +276,7 @@ pub(super) fn run_costed(
             };
             let s = f.frame(sculptor, pose, pressure);
             done += 1;
-            units += (s.visited + 2 * s.splits) as f64;
+            units += super::budget::frame_units(&s);
             if sculptor.over_budget() {
                 return Err(super::budget::too_many_faces(sculptor.stopped_at(), limit));
             }
