@@ -2,7 +2,7 @@
 # Explores new property-test cases: runs the core's tests (its property
 # tests among them) ROUNDS times, each with a fresh random proptest seed,
 # and stops at the first failure, printing the seed that reproduces it:
-#   bash scripts/prop_soak.sh [ROUNDS]          (default 5, ~2 min a round)
+#   bash scripts/prop_soak.sh [ROUNDS]          (default 5; ~7 min a round on 2 cores)
 #   PROPTEST_RNG_SEED=<seed> cargo test -p shapewright   (replays one)
 # CI runs the same tests with one fixed seed (scripts/test.sh); a failure
 # found here goes into the test's proptest-regressions file (proptest

@@ -67,7 +67,8 @@
 //! once the count reaches what the time left after the fixed costs
 //! allows, it stops with [`SculptError::TooSlow`]. Measured 2026-11-29:
 //! drags that ran 7.6-20 s CPU before the guard was counted now stop at
-//! 6.9-10.6 s CPU (4.5-6.5 s wall), with the document as it was. The face limit backs the size the same way:
+//! 6.9-10.6 s CPU (4.5-6.5 s wall), with the document as it was.
+//! The face limit backs the size the same way:
 //! refinement stops once the stroke has added [`MAX_STROKE_NEW_TRIANGLES`]
 //! faces or the mesh has [`MAX_TRIANGLES`], and the stroke fails with
 //! [`SculptError::OverBudget`] naming the count where it stopped. Both

@@ -128,9 +128,9 @@ impl Sculptor {
         stats: &mut FrameStats,
     ) {
         let Limits { max2, lo, hi, .. } = *lim;
-        // The region is in ascending id order here, so a
-        // triangle first appears (scanning the region's fans in order) at
-        // its smallest corner in the region: that corner tests it.
+        // The region is in ascending id order here, so a triangle first
+        // appears (scanning the region's fans in order) at its smallest
+        // corner in the region: that corner tests it.
         debug_assert!(self.region.windows(2).all(|w| w[0] < w[1]));
         let initial = tests.unwrap_or_else(|| {
             let this = &*self;
