@@ -49,6 +49,14 @@ export WINEPREFIX="$work/prefix" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree=;mshtm
 if [ ! -f "$WINEPREFIX/system.reg" ]; then
   wineboot -i >/dev/null 2>&1
 fi
+# wineboot leaves the prefix's wineserver and desktop (explorer.exe) running
+# for a while, and that desktop chose its display driver with no DISPLAY:
+# the null one. Wine processes take the running desktop's driver, so tests
+# started before it exits find no Vulkan (vkCreateInstance fails with
+# VK_ERROR_INITIALIZATION_FAILED; CI of 2026-11-29). They start with no
+# wine process left, and their desktop starts under xvfb-run's display.
+wineserver -k >/dev/null 2>&1 || true
+wineserver -w
 # A running wineserver of this prefix is shared by the runs; stop it at exit.
 trap 'wineserver -k >/dev/null 2>&1 || true' EXIT
 
