@@ -29,13 +29,16 @@
 pub mod gesture;
 pub mod input;
 #[cfg(test)]
-mod modeler_op_tests;
+pub(crate) mod modeler_op_tests;
 #[cfg(test)]
-mod modeler_tests;
+pub(crate) mod modeler_tests;
 pub mod palette;
 pub mod palette_draw;
 mod presence;
-pub mod reach;
+// The headset reach table is a test of the tools (issue 36: test-only
+// code out of the shipped library); read it in reach.rs.
+#[cfg(test)]
+pub(crate) mod reach;
 mod session;
 pub mod snap;
 #[cfg(any(test, feature = "testkit"))]

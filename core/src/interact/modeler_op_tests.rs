@@ -99,7 +99,7 @@ fn stroke(d: &mut Driver, from: DVec3, path: &[DVec3]) {
 /// Paper 4 §4.4: "explode" pushes the surface away from a brush inside
 /// the sphere (its volume grows), "collapse" pulls it in (it shrinks).
 #[test]
-fn explode_and_collapse_presets_grow_and_shrink_the_sculpt() {
+pub(crate) fn explode_and_collapse_presets_grow_and_shrink_the_sculpt() {
     let mut d = Driver::new(72.0, "object");
     let id = sculpt_sphere(&mut d);
     let volume = |d: &Driver| object(&d.log, id).mesh.signed_volume();
@@ -219,7 +219,7 @@ fn centre(mesh: &crate::mesh::TriMesh) -> DVec3 {
 /// "Grab moves: fused result", then a grab on the cup and a 5 cm move:
 /// one `sdf_move_fused`, and the cup's surface moved 5 cm.
 #[test]
-fn a_grab_moves_the_fused_result_as_such() {
+pub(crate) fn a_grab_moves_the_fused_result_as_such() {
     let mut d = Driver::new(72.0, "csg");
     load(&mut d, "csg_cup.jsonl");
     let (id, _) = volume_of(&d);
@@ -264,7 +264,7 @@ fn a_grab_moves_the_fused_result_as_such() {
 /// applies, the component becomes the active one, and SceneOperate then
 /// places it.
 #[test]
-fn any_object_becomes_the_active_csg_component() {
+pub(crate) fn any_object_becomes_the_active_csg_component() {
     let mut d = Driver::new(72.0, "csg");
     load(&mut d, "csg_cup.jsonl");
     d.log
@@ -341,7 +341,7 @@ fn relations_of(
 /// longer recorded), and "Resolution: fine" re-meshes every part of the
 /// mug finer (one `gc_set_resolution` per part).
 #[test]
-fn gc_relations_are_released_and_resolution_set_from_the_palette() {
+pub(crate) fn gc_relations_are_released_and_resolution_set_from_the_palette() {
     let mut d = Driver::new(72.0, "gc");
     load(&mut d, "mug.jsonl");
     let (id, _) = d.log.document().objects().next().unwrap();
@@ -409,7 +409,7 @@ fn gc_relations_are_released_and_resolution_set_from_the_palette() {
 /// "Wall" and "Overlaps" set the document's print settings; the palette
 /// then shows them as the active options.
 #[test]
-fn print_settings_are_set_from_the_palette() {
+pub(crate) fn print_settings_are_set_from_the_palette() {
     use crate::print::SelfIntersectionPolicy;
     let mut d = Driver::new(72.0, "object");
     pick(&mut d, "Wall", "3 mm");

@@ -12,7 +12,7 @@ use crate::interact::{replay, Hand, Pose, TOOL_NAMES};
 use crate::math::{DQuat, DVec3};
 
 #[test]
-fn the_palette_reaches_every_tool_and_every_choice() {
+pub(crate) fn the_palette_reaches_every_tool_and_every_choice() {
     let mut d = Driver::new(72.0, "object");
     // A volume, so the CSG grid-step choice has something to set.
     d.log
@@ -394,7 +394,7 @@ fn a_tracked_hand_picks_from_afar_by_pinching() {
 /// The CSG tool's "Fused result: copy beside" is `sdf_copy_fused` on the
 /// volume, with a fresh component name each time; it applies.
 #[test]
-fn the_fused_result_is_copied_from_the_palette() {
+pub(crate) fn the_fused_result_is_copied_from_the_palette() {
     use crate::doc::OpLog;
     use crate::interact::tools::Tool;
     let text = std::fs::read_to_string(
@@ -423,7 +423,8 @@ fn the_fused_result_is_copied_from_the_palette() {
             unreachable!()
         };
         assert_eq!(c.edit.name, format!("result {k}"));
-        log.apply(op).unwrap();
+        // As a host applies what a tool chose.
+        crate::interact::apply_command(&mut log, &ScriptCommand::Op(op)).unwrap();
     }
     let (_, obj) = log.document().objects().next().unwrap();
     let crate::doc::ObjectKind::SdfVolume(v) = &obj.kind else {
@@ -438,7 +439,7 @@ fn the_fused_result_is_copied_from_the_palette() {
 /// `curve_draw_in_frame` with the frame at every sample; it applies, and
 /// the network has moved with the hand.
 #[test]
-fn strokes_drawn_in_the_left_hands_frame_move_with_it() {
+pub(crate) fn strokes_drawn_in_the_left_hands_frame_move_with_it() {
     use crate::doc::OpLog;
     use crate::interact::testkit::Puppet;
     use crate::interact::tools::{apply_command, Tool};

@@ -80,7 +80,7 @@ fn grab_operand(p: &mut Puppet) {
 }
 
 #[test]
-fn csg_drag_is_one_op_with_nan_frames_ignored() {
+pub(crate) fn csg_drag_is_one_op_with_nan_frames_ignored() {
     let mut log = csg_log();
     let mut p = Puppet::new(72.0);
     grab_operand(&mut p);
@@ -155,7 +155,7 @@ fn csg_tracking_lost_during_a_drag_leaves_the_document_unchanged() {
 }
 
 #[test]
-fn csg_two_hand_scale_is_clamped_and_per_axis() {
+pub(crate) fn csg_two_hand_scale_is_clamped_and_per_axis() {
     let mut log = csg_log();
     let mut p = Puppet::new(72.0);
     grab_operand(&mut p);
@@ -184,7 +184,7 @@ fn csg_two_hand_scale_is_clamped_and_per_axis() {
 }
 
 #[test]
-fn csg_select_copy_delete_update_and_undo() {
+pub(crate) fn csg_select_copy_delete_update_and_undo() {
     let mut log = csg_log();
     let mut p = Puppet::new(72.0);
     p.controller(R, at(0.02, 0.0, 0.3))
@@ -227,6 +227,50 @@ fn csg_select_copy_delete_update_and_undo() {
         (r.signed_volume - exact).abs() / exact < 0.1,
         "{}",
         r.signed_volume
+    );
+}
+
+/// With no SDF volume in the document, SceneOperate (A) first creates one,
+/// then a second A places the active component in it.
+#[test]
+pub(crate) fn a_with_no_volume_creates_one_then_places_the_component() {
+    let mut log = OpLog::new();
+    let mut p = Puppet::new(72.0);
+    p.controller(R, at(0.0, 0.0, 0.3))
+        .controller(L, at(-0.3, 0.0, 0.3))
+        .wait(0.1)
+        .click(R, Button::Primary)
+        .click(R, Button::Primary);
+    let (cmds, _) = drive(Box::new(CsgTool::default()), &mut log, &p);
+    assert_eq!(
+        crate::interact::testkit::ctl_traces::names(&cmds),
+        ["sdf_create", "sdf_add_operand"]
+    );
+    let ObjectKind::SdfVolume(v) = &log.document().get(ObjectId(1)).unwrap().kind else {
+        panic!("no volume")
+    };
+    assert_eq!(v.pending.len(), 1);
+}
+
+/// With no sculpt in the document, A makes the sphere to sculpt.
+#[test]
+pub(crate) fn a_with_no_sculpt_creates_a_sphere() {
+    let mut log = OpLog::new();
+    let mut p = Puppet::new(72.0);
+    p.controller(R, at(0.0, 0.0, 0.3))
+        .controller(L, at(-0.3, 0.0, 0.3))
+        .wait(0.1)
+        .click(R, Button::Primary);
+    let (cmds, _) = drive(Box::new(BrushTool::default()), &mut log, &p);
+    assert_eq!(
+        crate::interact::testkit::ctl_traces::names(&cmds),
+        ["sculpt_create"]
+    );
+    let obj = log.document().get(ObjectId(1)).unwrap();
+    assert!(
+        matches!(obj.kind, ObjectKind::SculptMesh(_)),
+        "{}",
+        obj.kind.name()
     );
 }
 

@@ -174,7 +174,7 @@ fn checked_in_trace() -> Trace {
 }
 
 #[test]
-fn curve_network_trace_replays_to_a_closed_styled_model() {
+pub(crate) fn curve_network_trace_replays_to_a_closed_styled_model() {
     let trace = checked_in_trace();
     let r = replay(&trace).unwrap();
     assert!(r.rejected.is_empty(), "{:?}", r.rejected);
@@ -337,7 +337,7 @@ fn pointer_pose_chooses_the_table1_tool_in_the_preview() {
 }
 
 #[test]
-fn held_tools_emit_one_op_with_their_path() {
+pub(crate) fn held_tools_emit_one_op_with_their_path() {
     let mut p = with_line();
     // Smoother (3 cm off, along), sharpener (3 cm off, across), puller
     // (1 cm off, across, lifted 3 cm).
@@ -381,7 +381,7 @@ fn held_tools_emit_one_op_with_their_path() {
 }
 
 #[test]
-fn symmetry_plane_mirrors_the_stroke_and_drawing_plane_flattens_it() {
+pub(crate) fn symmetry_plane_mirrors_the_stroke_and_drawing_plane_flattens_it() {
     // Symmetry about x = 0 (left hand at the origin aiming along +x,
     // trigger held): a stroke on the right gets a mirrored twin.
     let mut p = Puppet::new(90.0);
@@ -435,7 +435,7 @@ fn symmetry_plane_mirrors_the_stroke_and_drawing_plane_flattens_it() {
 }
 
 #[test]
-fn fill_delete_undo_redo() {
+pub(crate) fn fill_delete_undo_redo() {
     let mut p = with_line();
     // Delete the line (pointing at it), undo, redo, undo.
     p.move_to(R, pen(v(0.0, 0.0, 0.11), v(0.0, 0.0, -1.0)), 0.2)
@@ -582,7 +582,7 @@ fn press_down(
 }
 
 #[test]
-fn forced_tools_pull_smooth_and_sharpen_the_pointed_surface() {
+pub(crate) fn forced_tools_pull_smooth_and_sharpen_the_pointed_surface() {
     let mut d = driver_on_box(true);
     let (k, c0) = top_patch(net_of(&d.log));
     let disp = |log: &OpLog| {
@@ -692,7 +692,7 @@ fn one_held_second_of_the_default_sharpener_changes_a_patch_by_centimetres() {
 }
 
 #[test]
-fn attract_draws_the_pointed_curve_towards_the_left_hands_point() {
+pub(crate) fn attract_draws_the_pointed_curve_towards_the_left_hands_point() {
     let mut d = driver_on_box(false);
     let curve = |log: &OpLog| net_of(log).curve(1).unwrap().clone();
     // Curve 1 is the bottom's +x edge; its middle, pointed at.
@@ -738,7 +738,7 @@ fn attract_draws_the_pointed_curve_towards_the_left_hands_point() {
 }
 
 #[test]
-fn a_pointed_loop_is_filled_alone() {
+pub(crate) fn a_pointed_loop_is_filled_alone() {
     let mut d = driver_on_box(false);
     assert!(net_of(&d.log).patches.is_empty());
     d.pick_choice(2, 1).unwrap();

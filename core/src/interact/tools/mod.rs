@@ -10,7 +10,7 @@
 pub(crate) mod brush_tool;
 pub(crate) mod csg_tool;
 #[cfg(test)]
-mod ctl_tool_tests;
+pub(crate) mod ctl_tool_tests;
 pub(crate) mod curve_tool;
 #[cfg(test)]
 pub(crate) mod curve_tool_tests;
@@ -18,12 +18,14 @@ pub(crate) mod gc_tool;
 pub(crate) mod object_tool;
 pub(crate) mod pick;
 #[cfg(test)]
-mod tool_tests;
+pub(crate) mod tool_tests;
 
 mod context;
 mod preview;
 mod registry;
 
+#[cfg(test)]
+pub(crate) use context::applied;
 pub use context::{apply_command, Tool, ToolContext};
 pub(crate) use context::{lost_too_long, object_label};
 pub use preview::{

@@ -80,7 +80,7 @@ fn set_transform(c: &ScriptCommand) -> &SetTransform {
 }
 
 #[test]
-fn grab_move_rotate_emits_one_op_per_release() {
+pub(crate) fn grab_move_rotate_emits_one_op_per_release() {
     let mut p = with_box();
     p.set(R, Button::Grab, true)
         .move_to(R, at(0.2, 1.1, 0.3), 0.5)
@@ -160,7 +160,7 @@ fn scale_ratio_clamps_at_four() {
 }
 
 #[test]
-fn select_copy_delete_undo_redo() {
+pub(crate) fn select_copy_delete_undo_redo() {
     let mut p = with_box();
     p.click(R, Button::Select)
         .click(R, Button::Primary)

@@ -63,6 +63,41 @@ fn a_diagonal_ellipse_makes_a_diagonal_part() {
     );
 }
 
+/// POINT in empty space, a section, then a spine, with no assembly in the
+/// document (the mug's body, as its trace draws it): a new assembly
+/// (`gc_create`) whose first section is the drawn circle.
+#[test]
+pub(crate) fn a_section_then_a_spine_in_empty_space_make_a_new_assembly() {
+    let mut r = rig();
+    let sec = loop_points(
+        DVec3::new(0.0, 0.0, 0.02),
+        DVec3::X,
+        DVec3::Y,
+        0.042,
+        0.042,
+        28,
+    );
+    let spine = path(&[DVec3::ZERO, DVec3::new(0.0, 0.0, 0.1)], 14);
+    create(
+        &mut r,
+        DVec3::ZERO,
+        DVec3::new(0.05, -0.2, 0.25),
+        &sec,
+        &spine,
+    );
+    let run = run(&[], &r);
+    assert_eq!(run.rejected, 0);
+    let [Op::GcCreate(c)] = ops(&run)[..] else {
+        panic!("expected one gc_create, got {:?}", ops(&run));
+    };
+    assert!(
+        matches!(c.0.sections[0].profile, Profile::Circle { .. }),
+        "{:?}",
+        c.0.sections[0].profile
+    );
+    assert_eq!(super::tests::assembly(&run.log, 1).parts.len(), 1);
+}
+
 /// A rectangle drawn turned by 30 degrees on a section replaces it turned
 /// by 30 degrees.
 #[test]

@@ -14,14 +14,14 @@
 
 mod create;
 #[cfg(test)]
-mod drawn_tests;
+pub(crate) mod drawn_tests;
 mod edit;
 mod hand;
 mod settings;
 mod state;
 mod target;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 mod tool;
 
 pub use settings::GcToolSettings;

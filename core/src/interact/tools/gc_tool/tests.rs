@@ -101,7 +101,7 @@ fn edit_of(run: &Run) -> crate::assembly::PartEdit {
 const A: f64 = -50.0;
 
 #[test]
-fn fist_on_a_section_resizes_shifts_or_twists_by_the_motion_component() {
+pub(crate) fn fist_on_a_section_resizes_shifts_or_twists_by_the_motion_component() {
     use crate::assembly::PartEdit;
     let at = ring(0.05, A, 0.08);
     let from = outward(A, 0.2, 0.08);
@@ -157,7 +157,7 @@ fn fist_on_a_key_point_bends_within_the_spine_plane() {
 }
 
 #[test]
-fn point_on_the_surface_sketches_a_child_section_and_spine() {
+pub(crate) fn point_on_the_surface_sketches_a_child_section_and_spine() {
     let mut r = rig();
     let o = DVec3::new(0.05, 0.0, 0.06);
     let sec = loop_points(o + DVec3::X * 0.06, DVec3::Y, DVec3::Z, 0.012, 0.012, 24);
@@ -185,7 +185,7 @@ fn point_on_the_surface_sketches_a_child_section_and_spine() {
 }
 
 #[test]
-fn point_on_a_section_replaces_it_by_a_sketch() {
+pub(crate) fn point_on_a_section_replaces_it_by_a_sketch() {
     let mut r = rig();
     let at = ring(0.05, A, 0.04);
     // A square loop around the section's plane.
@@ -207,7 +207,7 @@ fn point_on_a_section_replaces_it_by_a_sketch() {
 }
 
 #[test]
-fn point_on_a_key_point_replaces_the_spine_by_a_sketch() {
+pub(crate) fn point_on_a_key_point_replaces_the_spine_by_a_sketch() {
     let mut r = rig();
     let key = DVec3::new(0.0, 0.0, 0.08);
     let spine = path(
@@ -242,7 +242,7 @@ fn point_on_a_key_point_replaces_the_spine_by_a_sketch() {
 }
 
 #[test]
-fn an_open_hold_on_a_section_deletes_it() {
+pub(crate) fn an_open_hold_on_a_section_deletes_it() {
     let mut r = rig();
     r.aim(ring(0.05, A, 0.04), outward(A, 0.2, 0.08), 0.3)
         .wait(4.5);
@@ -251,7 +251,7 @@ fn an_open_hold_on_a_section_deletes_it() {
 }
 
 #[test]
-fn an_open_hold_on_the_surface_inserts_a_section_once() {
+pub(crate) fn an_open_hold_on_the_surface_inserts_a_section_once() {
     // Aimed level: a ray from above would pass within the X-ray pick
     // radius of the key point at z = 8 cm and pick it instead.
     let mut r = rig();
@@ -271,7 +271,7 @@ fn an_open_hold_on_the_surface_inserts_a_section_once() {
 }
 
 #[test]
-fn a_static_fist_for_three_seconds_instances_the_part_then_moves_the_copy() {
+pub(crate) fn a_static_fist_for_three_seconds_instances_the_part_then_moves_the_copy() {
     let mut r = rig();
     let at = ring(0.05, A, 0.1);
     r.select(at, outward(A, 0.2, 0.0), GestureLabel::Fist)
@@ -334,7 +334,7 @@ fn instancing_a_child_copies_it_unmirrored_unless_mirror_is_chosen() {
 }
 
 #[test]
-fn pinch_on_an_end_section_sets_the_shape_type() {
+pub(crate) fn pinch_on_an_end_section_sets_the_shape_type() {
     let mut r = rig();
     r.pinch(ring(0.05, A, 0.118), outward(A, 0.2, 0.08));
     let run = run(&[body()], &r);
