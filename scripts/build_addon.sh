@@ -21,6 +21,8 @@
 #   cold release build of the core, 9 min on 2 cores). Its tag is what
 #   maturin's audit finds for this machine's glibc (manylinux_2_34 on Debian 12), not the manylinux_2_28 the shipped
 #   wheel carries; the staged manifest names it. scripts/test.sh sets it.
+# SHAPEWRIGHT_TEST_PROFILE also builds the windows-x64 wheel, in that
+#   profile, sharing the core build_windows.sh cross-built for the wine tests.
 # SHAPEWRIGHT_ADDON_LINK_CHECK="macos-arm64 ..." builds those platforms'
 #   wheels in the `link-check` profile (unoptimized, same link): CI checks
 #   their tags, exports and load commands but cannot run them.
@@ -82,7 +84,11 @@ for p in "${platforms[@]}"; do
     maturin build --profile "${SHAPEWRIGHT_TEST_PROFILE:-release}" -q -m blender_addon/native/Cargo.toml -o "$wheels_dir"
   else
     profile=(--release)
-    if [[ " ${SHAPEWRIGHT_ADDON_LINK_CHECK:-} " == *" $p "* ]]; then
+    if [[ "$p" == windows-x64 && -n "${SHAPEWRIGHT_TEST_PROFILE:-}" ]]; then
+      # In tests, the profile the Windows host was built in
+      # (build_windows.sh): the two share the cross-built core.
+      profile=(--profile "$SHAPEWRIGHT_TEST_PROFILE")
+    elif [[ " ${SHAPEWRIGHT_ADDON_LINK_CHECK:-} " == *" $p "* ]]; then
       # Its own target dir: test.sh builds it in the background while
       # pytest builds the linux wheel, and two maturins in one target dir
       # race on its staging folder (target/maturin).

@@ -32,46 +32,84 @@ export SHAPEWRIGHT_ADDON_HOST=1
 source "$root/scripts/setup.sh"
 cd "$root"
 free() { df -Ph "${CARGO_TARGET_DIR:-$root}" | awk 'NR==2 {print $4 " free"}'; }
+# Stage times, printed again at exit, pass or fail: CI shows only the end of
+# the log, and a failed run is the one whose times matter most.
+stages=("0 setup")
+stage() {
+  stages+=("$SECONDS $1")
+  echo "== $1 [at ${SECONDS} s, $(free)]"
+}
+# Background builds: `bg NAME LOG CMD...` runs CMD at low priority in its own
+# process group and ends LOG with its time; `wait_bg NAME` waits for it (the
+# wait is a stage time of its own in the summary) and shows LOG on failure.
+declare -A bg_pid bg_log
+bg() {
+  local name=$1 log=$2
+  shift 2
+  setsid nice -n 10 bash -c 's=$SECONDS; "$@"; rc=$?; echo "bg $0: $((SECONDS - s)) s, exit $rc"; exit $rc' \
+    "$name" "$@" >"$log" 2>&1 &
+  bg_pid[$name]=$!
+  bg_log[$name]=$log
+}
+wait_bg() {
+  local t=$SECONDS
+  if ! wait "${bg_pid[$1]}"; then
+    cat "${bg_log[$1]}"
+    echo "test: the background build '$1' failed" >&2
+    exit 1
+  fi
+  echo "test: waited $((SECONDS - t)) s for '$1'"
+}
+summary() {
+  local rc=$? prev=0 name=setup t s
+  set +e
+  for s in "${bg_pid[@]}"; do kill -- -"$s" 2>/dev/null; done
+  echo "== stage times (exit $rc after ${SECONDS} s; load $(cut -d' ' -f1-3 /proc/loadavg)):"
+  for s in "${stages[@]:1}"; do
+    t=${s%% *}
+    echo "   $name: $((t - prev)) s"
+    prev=$t name=${s#* }
+  done
+  echo "   $name: $((SECONDS - prev)) s (to exit)"
+  for s in "${!bg_log[@]}"; do
+    grep -h '^bg ' "${bg_log[$s]}" | sed 's/^/   /' || echo "   bg $s: unfinished"
+  done
+}
+trap summary EXIT
 
-echo "== cargo fmt [at ${SECONDS} s, $(free)]"
+stage "cargo fmt"
 cargo fmt --all -- --check
-echo "== cargo clippy [at ${SECONDS} s, $(free)]"
+stage "cargo clippy"
 cargo clippy --workspace --all-targets -q -- -D warnings
 # The API docs' links resolve (issue 36): a renamed item breaks the build
 # here, not a reader's click.
-echo "== cargo doc [at ${SECONDS} s, $(free)]"
+stage "cargo doc"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps -q
 # xr: Monado, the real OpenXR runtime xr_host/tests/monado.rs runs the host
 # against (built once into target/monado, cached with the target; then a
 # one-second check).
-echo "== monado [at ${SECONDS} s, $(free)]"
+stage "monado"
 SHAPEWRIGHT_MONADO_MANIFEST="$(bash scripts/monado.sh)"
 export SHAPEWRIGHT_MONADO_MANIFEST
 # The fuzz targets (a sanitizer-coverage build of the core, in their own
 # target dir) build in the background at low priority while the tests run:
 # test binaries, pytest and wine leave a core idle much of the time, and
 # this build was 7 of CI's 71 minutes when it ran alone.
-fuzz_log="$(mktemp)"
-SW_FUZZ_BUILD_ONLY=1 setsid nice -n 10 bash scripts/fuzz.sh >"$fuzz_log" 2>&1 &
-fuzz_build=$!
+bg fuzz "$(mktemp)" env SW_FUZZ_BUILD_ONLY=1 bash scripts/fuzz.sh
 # The same for the macOS wheel the extension stage checks (a zig cross
 # build in the link-check profile, 3.5 min cold; its own target dirs, so no
 # cargo lock is shared with the foreground).
-mac_log="$(mktemp)" mac_wheels="$(mktemp -d)"
-SHAPEWRIGHT_ADDON_LINK_CHECK=macos-arm64 SHAPEWRIGHT_ADDON_WHEELS_ONLY="$mac_wheels" \
-  setsid nice -n 10 bash scripts/build_addon.sh macos-arm64 >"$mac_log" 2>&1 &
-mac_build=$!
-# And the Windows host (release, as shipped) the wine stage runs: nothing in
-# the foreground builds in target/release any more, so no lock is shared.
-win_log="$(mktemp)"
-setsid nice -n 10 bash scripts/build_windows.sh >"$win_log" 2>&1 &
-win_build=$!
-trap 'kill -- -"$fuzz_build" -"$mac_build" -"$win_build" 2>/dev/null || true' EXIT
-echo "== cargo test [at ${SECONDS} s, $(free)]"
+mac_wheels="$(mktemp -d)"
+bg macos "$(mktemp)" env SHAPEWRIGHT_ADDON_LINK_CHECK=macos-arm64 SHAPEWRIGHT_ADDON_WHEELS_ONLY="$mac_wheels" \
+  bash scripts/build_addon.sh macos-arm64
+# And the Windows host the wine stage runs (dev profile, as the Linux host
+# it is compared with; its own target triple's dir, so no lock is shared).
+bg windows "$(mktemp)" bash scripts/build_windows.sh
+stage "cargo test"
 cargo test --workspace -q
-echo "== ruff [at ${SECONDS} s, $(free)]"
+stage "ruff"
 .venv/bin/ruff check scripts tests blender_addon
-echo "== pytest [at ${SECONDS} s, $(free)]"
+stage "pytest"
 host="${CARGO_TARGET_DIR:-$root/target}/debug/shapewright-xr"
 # `cargo test` above built the usd_tool example the USD tests drive.
 USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q tests/python tests/usd tests/blender
@@ -79,48 +117,36 @@ USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q te
 # against this build. CI compares the mug script and trace, the schema,
 # import, paths, the no-runtime message and crash-safe saves; every
 # fixture and the Android check of the core: bash scripts/test_windows.sh.
-echo "== windows [at ${SECONDS} s, $(free)]"
-if ! wait "$win_build"; then
-  cat "$win_log"
-  echo "test: the Windows host did not build" >&2
-  exit 1
-fi
+stage "windows"
+wait_bg windows
 if [ "${CI:-}" = "true" ]; then
   SHAPEWRIGHT_ANDROID_CHECK=0 bash scripts/test_windows.sh \
     -k "not scripts_apply and not traces_replay or mug"
 else
   bash scripts/test_windows.sh
 fi
-echo "== abuse sweep (quick subset; the full sweep is run by hand) [at ${SECONDS} s, $(free)]"
+stage "abuse sweep (quick subset; the full sweep is run by hand)"
 .venv/bin/python scripts/abuse_sweep.py --quick --bin "$host"
 # blender (issue 20): the extension in the newest bpy too (5.2.3, Python
 # 3.13, own venv): a smoke scenario with the zip the pytest run built.
-echo "== blender newest [at ${SECONDS} s, $(free)]"
+stage "blender newest"
 bash scripts/blender_newest.sh
 # release (issue 32): the extension's wheels, one per operating system.
 # The pytest run above built linux-x64 (this only repackages it);
-# windows-x64 is cross-built with mingw and shares the core the Windows
-# host was built with; macos-arm64 is cross-built with zig in the
+# windows-x64 is cross-built with mingw in the dev profile and shares the
+# core the Windows host was built with; macos-arm64 is cross-built with zig in the
 # link-check profile (unoptimized: nothing here can run it, and its tags,
 # exports, load commands and signature are what is checked). Then every
 # wheel's tags, exports and imports, every zip (Blender's validate) and the
 # repository index are checked. Every platform, optimized, as shipped:
 # scripts/release.sh, by hand.
-echo "== extension wheels: linux-x64 windows-x64 macos-arm64 [at ${SECONDS} s, $(free)]"
-if ! wait "$mac_build"; then
-  cat "$mac_log"
-  echo "test: the macOS wheel did not build" >&2
-  exit 1
-fi
+stage "extension wheels: linux-x64 windows-x64 macos-arm64"
+wait_bg macos
 SHAPEWRIGHT_ADDON_LINK_CHECK=macos-arm64 bash scripts/build_addon.sh linux-x64 windows-x64 macos-arm64 >/dev/null
 .venv/bin/python -m pytest -q -p no:cacheprovider tests/release
 # io: every reader fuzzed for a fixed budget over its seed corpus (issue 22);
 # long runs: bash scripts/fuzz.sh 1800 (see fuzz/README.md).
-echo "== fuzz [at ${SECONDS} s, $(free)]"
-if ! wait "$fuzz_build"; then
-  cat "$fuzz_log"
-  echo "test: the fuzz targets did not build" >&2
-  exit 1
-fi
+stage "fuzz"
+wait_bg fuzz
 bash scripts/fuzz.sh "${SHAPEWRIGHT_FUZZ_SECONDS:-20}"
-echo "== done [at ${SECONDS} s, $(free)]"
+stage "done"

@@ -3,7 +3,7 @@
 # core's Android check:
 #   bash scripts/test_windows.sh [pytest args...]
 # 1. cross-builds shapewright-xr.exe (scripts/build_windows.sh) and the
-#    Linux binary (release, or dev with SHAPEWRIGHT_TEST_PROFILE=dev);
+#    Linux binary, both in release, or both in dev with SHAPEWRIGHT_TEST_PROFILE=dev;
 # 2. builds the wine-only ProcessPrng shim (tests/windows/processprng_shim.c:
 #    wine 8 lacks bcryptprimitives.dll, which Rust's std imports; never
 #    shipped) and puts it beside copies of the exes in target/wine-test/;
