@@ -388,8 +388,12 @@ def other_rows(ex: Path, quick: bool) -> list[dict]:
         )
     else:
         # Issue 37: validation (its exact self-intersection search included)
-        # no slower than manifold3d's import check.
-        found += [dict(r, goal="<= 1.0x") for r in print_bench.run(5, bin_path=str(ex / "print_validate"))]
+        # no slower than manifold3d's import check; print.py's other rows
+        # (the whole print path, the edit-time fold check) have no peer.
+        found += [
+            dict(r, goal="<= 1.0x") if r["workload"].startswith("printable validation") else r
+            for r in print_bench.run(5, bin_path=str(ex / "print_validate"))
+        ]
     for r in found:
         out.append(
             row(
