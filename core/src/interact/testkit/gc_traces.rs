@@ -287,8 +287,9 @@ pub fn mug_controller_trace() -> Trace {
     mug(Rig::with_controller(ModelPlacement::desk()))
 }
 
-fn mug(mut r: Rig) -> Trace {
-    // Body: start on the desk, circle r = 4.2 cm, spine 10 cm up.
+/// The mug's body, drawn in empty space: start on the desk, a circle of
+/// r = 4.2 cm, a spine 10 cm up.
+pub(crate) fn mug_body(r: &mut Rig) {
     let sec = loop_points(
         DVec3::new(0.0, 0.0, 0.02),
         DVec3::X,
@@ -298,13 +299,11 @@ fn mug(mut r: Rig) -> Trace {
         28,
     );
     let spine = path(&[DVec3::ZERO, DVec3::new(0.0, 0.0, 0.1)], 14);
-    create(
-        &mut r,
-        DVec3::ZERO,
-        DVec3::new(0.05, -0.2, 0.25),
-        &sec,
-        &spine,
-    );
+    create(r, DVec3::ZERO, DVec3::new(0.05, -0.2, 0.25), &sec, &spine);
+}
+
+fn mug(mut r: Rig) -> Trace {
+    mug_body(&mut r);
     // Flare the rim by 6 mm (radial FIST on the top section; drags under
     // the tool's 4 mm minimum are no edit).
     let a = -50.0;

@@ -7,7 +7,9 @@
 use crate::doc::{Op, OpLog};
 use crate::gc::Profile;
 use crate::interact::gesture::GestureLabel;
-use crate::interact::testkit::gc_traces::{create, loop_points, outward, path, ring, Rig};
+use crate::interact::testkit::gc_traces::{
+    create, loop_points, mug_body, outward, path, ring, Rig,
+};
 use crate::interact::trace::ModelPlacement;
 use crate::math::fm::DetMath as _;
 use crate::math::DVec3;
@@ -69,22 +71,7 @@ fn a_diagonal_ellipse_makes_a_diagonal_part() {
 #[test]
 pub(crate) fn a_section_then_a_spine_in_empty_space_make_a_new_assembly() {
     let mut r = rig();
-    let sec = loop_points(
-        DVec3::new(0.0, 0.0, 0.02),
-        DVec3::X,
-        DVec3::Y,
-        0.042,
-        0.042,
-        28,
-    );
-    let spine = path(&[DVec3::ZERO, DVec3::new(0.0, 0.0, 0.1)], 14);
-    create(
-        &mut r,
-        DVec3::ZERO,
-        DVec3::new(0.05, -0.2, 0.25),
-        &sec,
-        &spine,
-    );
+    mug_body(&mut r);
     let run = run(&[], &r);
     assert_eq!(run.rejected, 0);
     let [Op::GcCreate(c)] = ops(&run)[..] else {
