@@ -10,7 +10,7 @@
 #   bash build.sh [BUILD_DIR]        default: $XDG_CACHE_HOME/monado (~/.cache/monado)
 #
 # A second run with the same BUILD_DIR only checks (about a second).
-# Build time on 2 cores: about 3-4 minutes. Needs root for apt-get (or sudo).
+# Build time on 2 cores: 56 s measured (2026-11-29), once the packages are in. Needs root for apt-get (or sudo).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 tarball="$(ls "$here"/monado-src-*.tar.xz | tail -n 1)"
