@@ -230,22 +230,27 @@ pub(crate) fn csg_select_copy_delete_update_and_undo() {
     );
 }
 
-/// With no SDF volume in the document, SceneOperate (A) first creates one,
-/// then a second A places the active component in it.
-#[test]
-pub(crate) fn a_with_no_volume_creates_one_then_places_the_component() {
+/// `presses` clicks of A by the right controller, with `tool`, on an empty
+/// document: the commands' names and the log.
+fn presses_of_a(tool: Box<dyn Tool>, presses: usize) -> (Vec<String>, OpLog) {
     let mut log = OpLog::new();
     let mut p = Puppet::new(72.0);
     p.controller(R, at(0.0, 0.0, 0.3))
         .controller(L, at(-0.3, 0.0, 0.3))
-        .wait(0.1)
-        .click(R, Button::Primary)
-        .click(R, Button::Primary);
-    let (cmds, _) = drive(Box::new(CsgTool::default()), &mut log, &p);
-    assert_eq!(
-        crate::interact::testkit::ctl_traces::names(&cmds),
-        ["sdf_create", "sdf_add_operand"]
-    );
+        .wait(0.1);
+    for _ in 0..presses {
+        p.click(R, Button::Primary);
+    }
+    let (cmds, _) = drive(tool, &mut log, &p);
+    (crate::interact::testkit::ctl_traces::names(&cmds), log)
+}
+
+/// With no SDF volume in the document, SceneOperate (A) first creates one,
+/// then a second A places the active component in it.
+#[test]
+pub(crate) fn a_with_no_volume_creates_one_then_places_the_component() {
+    let (names, log) = presses_of_a(Box::new(CsgTool::default()), 2);
+    assert_eq!(names, ["sdf_create", "sdf_add_operand"]);
     let ObjectKind::SdfVolume(v) = &log.document().get(ObjectId(1)).unwrap().kind else {
         panic!("no volume")
     };
@@ -255,17 +260,8 @@ pub(crate) fn a_with_no_volume_creates_one_then_places_the_component() {
 /// With no sculpt in the document, A makes the sphere to sculpt.
 #[test]
 pub(crate) fn a_with_no_sculpt_creates_a_sphere() {
-    let mut log = OpLog::new();
-    let mut p = Puppet::new(72.0);
-    p.controller(R, at(0.0, 0.0, 0.3))
-        .controller(L, at(-0.3, 0.0, 0.3))
-        .wait(0.1)
-        .click(R, Button::Primary);
-    let (cmds, _) = drive(Box::new(BrushTool::default()), &mut log, &p);
-    assert_eq!(
-        crate::interact::testkit::ctl_traces::names(&cmds),
-        ["sculpt_create"]
-    );
+    let (names, log) = presses_of_a(Box::new(BrushTool::default()), 1);
+    assert_eq!(names, ["sculpt_create"]);
     let obj = log.document().get(ObjectId(1)).unwrap();
     assert!(
         matches!(obj.kind, ObjectKind::SculptMesh(_)),
