@@ -1,4 +1,4 @@
-"""The core's op schema (`shapewright.op_schema_json()`, declared once in
+"""The core's op schema (`shapewright.op_schema()`, a dict, declared once in
 `core/src/doc/ops/`) read for Blender: field docs, units (`x-unit`: `m`,
 `rad`), ranges (`minimum`, `maximum`, `exclusiveMinimum`) and defaults.
 

@@ -10,7 +10,7 @@ from pathlib import Path
 import bpy
 from helpers import add, addon, assert_synced, core_session, last_op, step, sw_objects
 
-# The op schema (`shapewright.op_schema_json()`, issue 15) against the
+# The op schema (`shapewright.op_schema()`, issue 15) against the
 # add-on's op table. Ops the add-on emits from hand-written operators, by
 # the operator that emits them:
 HAND_WRITTEN_OPS = {
