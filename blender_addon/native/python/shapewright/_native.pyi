@@ -1,7 +1,7 @@
-"""Type stubs of the native module (Rust, pyo3). Kept true by
-`tests/python/test_native_stub.py`: every class, method, property and
-function here exists in the module with these parameters, and nothing
-else does."""
+"""Type stubs of the native module (Rust, pyo3). Kept true by the
+`native_stub` scenario of `tests/blender/sc_border.py`: every class,
+method, property and function here exists in the module with these
+parameters, and nothing else does."""
 
 from os import PathLike
 from typing import Any
