@@ -10,7 +10,13 @@ out) and checks:
 - no function over 150 lines, unless its module doc names it in a line
   `Long function: `name``;
 - unit tests split out of a module live in `tests.rs` or `<topic>_tests.rs`
-  (one naming convention; `tests_<topic>.rs` was the other).
+  (one naming convention; `tests_<topic>.rs` was the other);
+- a `mod.rs` (test folders' too) holds module declarations (`mod x;`,
+  `pub mod x;`, `pub(crate) mod x;`, with their `#[cfg(..)]`/`#[path]`
+  attributes), `use`/`pub use` re-exports, inner attributes (`#![..]`) and
+  comments, nothing else: the content lives in a file named for it, so a
+  type or trait is found by file name. `TABLES` names the one exception;
+  `KNOWN_CONTENT_MOD_RS` is a ratchet like test_layering.py's `KNOWN`.
 
 Function length is read from rustfmt's layout: a `fn` line and the next
 line holding only its indentation and `}`.
@@ -25,6 +31,13 @@ ROOT = Path(__file__).resolve().parents[2]
 CRATES = ("core/src", "xr_host/src", "net/src", "usd/src", "atomic/src", "blender_addon/native/src")
 MAX_FILE = 800
 MAX_FN = 150
+# A mod.rs may hold this table by name: every op declared once (the enum,
+# names, kinds and dispatch from one line per op), which cannot be split.
+TABLES = {"core/src/doc/ops/mod.rs": re.compile(r"macro_rules!\s*ops\b|ops!\s*\{")}
+# mod.rs files that hold content today -> the move that empties each (issue
+# 36). None since issue 36 moved the content out (interact/input/ was 984
+# lines); the test fails on a new one, and on a listed one that is gone.
+KNOWN_CONTENT_MOD_RS: dict[str, str] = {}
 FN = re.compile(r"^(\s*)(?:pub(?:\([^)]*\))?\s+)?(?:(?:const|async|unsafe|extern \"C\")\s+)*fn\s+(\w+)")
 CFG_TEST_INLINE = re.compile(r"^#\[cfg\(test\)\]\s*$")
 
@@ -84,6 +97,123 @@ def findings(root: Path) -> list[str]:
     return bad
 
 
+CHAR = re.compile(r"'(?:\\u\{[0-9a-fA-F]+\}|\\.|[^\\'\n])'")
+RAW = re.compile(r'b?r(#*)"')
+OPEN, CLOSE = "([{", ")]}"
+VIS = r"(?:pub(?:\s*\([^)]*\))?\s+)?"
+DECLARATION = re.compile(VIS + r"(?:mod\s+\w+\s*;|use\b)")
+
+
+def code_only(text: str) -> str:
+    """`text` with comments and the insides of string and char literals
+    blanked (newlines kept, so line numbers hold)."""
+
+    def blank(s: str) -> str:
+        return re.sub(r"[^\n]", " ", s)
+
+    out, i, n = [], 0, len(text)
+    while i < n:
+        if text.startswith("//", i):
+            j = text.find("\n", i)
+            j = n if j < 0 else j
+            out.append(blank(text[i:j]))
+            i = j
+        elif text.startswith("/*", i):
+            depth, j = 1, i + 2
+            while j < n and depth:
+                step = 1 if text[j : j + 2] not in ("/*", "*/") else 2
+                depth += {"/*": 1, "*/": -1}.get(text[j : j + 2], 0)
+                j += step
+            out.append(blank(text[i:j]))
+            i = j
+        elif (m := RAW.match(text, i)) and (i == 0 or not (text[i - 1].isalnum() or text[i - 1] == "_")):
+            close = '"' + m.group(1)
+            end = text.find(close, m.end())
+            end = n if end < 0 else end
+            out.append(m.group(0) + blank(text[m.end() : end]) + text[end : end + len(close)])
+            i = end + len(close)
+        elif text[i] == '"':
+            j = i + 1
+            while j < n and text[j] != '"':
+                j += 2 if text[j] == "\\" else 1
+            out.append('"' + blank(text[i + 1 : j]) + '"')
+            i = j + 1
+        elif text[i] == "'" and (m := CHAR.match(text, i)):
+            out.append("' '")
+            i = m.end()
+        else:
+            out.append(text[i])
+            i += 1
+    return "".join(out)
+
+
+def item_end(code: str, i: int, braces_end: bool) -> int:
+    """The end of the item starting at `i`: its `;` at depth 0, or (when
+    `braces_end`) the `}` closing its first top-level `{`."""
+    depth = 0
+    for j in range(i, len(code)):
+        if code[j] in OPEN:
+            depth += 1
+        elif code[j] in CLOSE:
+            depth -= 1
+            if depth == 0 and code[j] == "}" and braces_end:
+                return j + 1
+        elif code[j] == ";" and depth == 0:
+            return j + 1
+    return len(code)
+
+
+def bracket_end(code: str, i: int) -> int:
+    """The index after the `]` closing the attribute `#[` or `#![` at `i`."""
+    depth = 0
+    for k in range(code.index("[", i), len(code)):
+        depth += (code[k] in OPEN) - (code[k] in CLOSE)
+        if depth == 0:
+            return k + 1
+    return len(code)
+
+
+def mod_rs_content(text: str, table: re.Pattern[str] | None = None) -> list[tuple[int, int, str]]:
+    """(first line, line count, first line's text) of each item of a
+    `mod.rs` that is not a module declaration, a `use`, an inner attribute
+    or a comment (`table` aside). An outer attribute goes with the item it
+    is on: `#[cfg(test)] mod tests;` is a declaration, `#[cfg(test)] mod
+    tests { .. }` and `#[derive(..)] struct` are content."""
+    code = code_only(text)
+    src = text.split("\n")
+    out = []
+    i, attrs = 0, None
+    while True:
+        while i < len(code) and code[i].isspace():
+            i += 1
+        if i >= len(code):
+            return out
+        if code.startswith("#", i):
+            if attrs is None and not code.startswith("#!", i):
+                attrs = i
+            i = bracket_end(code, i)
+            continue
+        start = i if attrs is None else attrs
+        declaration = DECLARATION.match(code, i)
+        end = item_end(code, i, braces_end=not declaration)
+        if not (declaration or (table and table.match(code, i))):
+            line = code.count("\n", 0, start) + 1
+            out.append((line, code.count("\n", start, end) + 1, src[line - 1].strip()))
+        i, attrs = end, None
+
+
+def content_mod_rs(root: Path) -> dict[str, list[str]]:
+    """mod.rs path -> its items that are content."""
+    out = {}
+    for crate in CRATES:
+        for f in sorted((root / crate).rglob("mod.rs")):
+            rel = f.relative_to(root).as_posix()
+            items = mod_rs_content(f.read_text(encoding="utf-8"), TABLES.get(rel))
+            if items:
+                out[rel] = [f"{rel}:{line}: `{text}` ({n} lines)" for line, n, text in items]
+    return out
+
+
 def test_one_idea_per_file():
     bad = findings(ROOT)
     assert not bad, "\n".join(bad)
@@ -103,3 +233,79 @@ def test_the_reader_sees_a_long_function_and_a_stray_test_name(tmp_path):
         "core/src/long.rs: fn long is 152 lines (over 150)",
         "core/src/tests_topic.rs: test files are named `<topic>_tests.rs`",
     ], bad
+
+
+def test_a_mod_rs_declares_and_re_exports():
+    found = content_mod_rs(ROOT)
+    new = [item for rel, items in found.items() if rel not in KNOWN_CONTENT_MOD_RS for item in items]
+    gone = sorted(rel for rel in KNOWN_CONTENT_MOD_RS if rel not in found)
+    assert not new, "content in a mod.rs (move it into a file named for it):\n" + "\n".join(new)
+    assert not gone, f"emptied, so delete from KNOWN_CONTENT_MOD_RS in {__file__}: {gone}"
+
+
+def test_the_reader_sees_content_in_a_mod_rs(tmp_path):
+    """The check itself can fail: items other than declarations, re-exports
+    and the named table are caught; comments and strings do not fool it."""
+    clean = """//! A folder.
+#![allow(clippy::module_inception)]
+
+/// The part.
+#[cfg(test)]
+#[path = "x{.rs"]
+pub(crate) mod part; // fn not_an_item() {}
+pub mod other;
+/* struct Hidden; */
+pub use part::{Part, deep::{A, B}};
+use other as _;
+"""
+    content = """mod part;
+pub use part::Part;
+
+#[derive(Debug)]
+pub struct Sanitizer {
+    seen: u32,
+}
+
+const BRACE: char = '}';
+fn open() -> &'static str { "{" }
+
+#[cfg(test)]
+mod tests {
+    fn a() {}
+}
+"""
+    table = """mod apply;
+
+macro_rules! ops {
+    ($($name:literal => $v:ident,)*) => { pub enum Op { $($v,)* } };
+}
+
+ops! {
+    "add_solid" => AddSolid,
+}
+
+pub fn helper() {}
+"""
+    for rel, text in [
+        ("core/src/clean/mod.rs", clean),
+        ("xr_host/src/content/mod.rs", content),
+        ("core/src/doc/ops/mod.rs", table),
+        ("core/src/ops_elsewhere/mod.rs", table),
+    ]:
+        (tmp_path / rel).parent.mkdir(parents=True)
+        (tmp_path / rel).write_text(text)
+    found = content_mod_rs(tmp_path)
+    assert found == {
+        "core/src/doc/ops/mod.rs": ["core/src/doc/ops/mod.rs:11: `pub fn helper() {}` (1 lines)"],
+        "core/src/ops_elsewhere/mod.rs": [
+            "core/src/ops_elsewhere/mod.rs:3: `macro_rules! ops {` (3 lines)",
+            "core/src/ops_elsewhere/mod.rs:7: `ops! {` (3 lines)",
+            "core/src/ops_elsewhere/mod.rs:11: `pub fn helper() {}` (1 lines)",
+        ],
+        "xr_host/src/content/mod.rs": [
+            "xr_host/src/content/mod.rs:4: `#[derive(Debug)]` (4 lines)",
+            "xr_host/src/content/mod.rs:9: `const BRACE: char = '}';` (1 lines)",
+            'xr_host/src/content/mod.rs:10: `fn open() -> &\'static str { "{" }` (1 lines)',
+            "xr_host/src/content/mod.rs:12: `#[cfg(test)]` (4 lines)",
+        ],
+    }, found
