@@ -27,6 +27,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from rustsrc import code_only
+
 ROOT = Path(__file__).resolve().parents[2]
 CRATES = ("core/src", "xr_host/src", "net/src", "usd/src", "atomic/src", "blender_addon/native/src")
 MAX_FILE = 800
@@ -97,54 +99,9 @@ def findings(root: Path) -> list[str]:
     return bad
 
 
-CHAR = re.compile(r"'(?:\\u\{[0-9a-fA-F]+\}|\\.|[^\\'\n])'")
-RAW = re.compile(r'b?r(#*)"')
 OPEN, CLOSE = "([{", ")]}"
 VIS = r"(?:pub(?:\s*\([^)]*\))?\s+)?"
 DECLARATION = re.compile(VIS + r"(?:mod\s+\w+\s*;|use\b)")
-
-
-def code_only(text: str) -> str:
-    """`text` with comments and the insides of string and char literals
-    blanked (newlines kept, so line numbers hold)."""
-
-    def blank(s: str) -> str:
-        return re.sub(r"[^\n]", " ", s)
-
-    out, i, n = [], 0, len(text)
-    while i < n:
-        if text.startswith("//", i):
-            j = text.find("\n", i)
-            j = n if j < 0 else j
-            out.append(blank(text[i:j]))
-            i = j
-        elif text.startswith("/*", i):
-            depth, j = 1, i + 2
-            while j < n and depth:
-                step = 1 if text[j : j + 2] not in ("/*", "*/") else 2
-                depth += {"/*": 1, "*/": -1}.get(text[j : j + 2], 0)
-                j += step
-            out.append(blank(text[i:j]))
-            i = j
-        elif (m := RAW.match(text, i)) and (i == 0 or not (text[i - 1].isalnum() or text[i - 1] == "_")):
-            close = '"' + m.group(1)
-            end = text.find(close, m.end())
-            end = n if end < 0 else end
-            out.append(m.group(0) + blank(text[m.end() : end]) + text[end : end + len(close)])
-            i = end + len(close)
-        elif text[i] == '"':
-            j = i + 1
-            while j < n and text[j] != '"':
-                j += 2 if text[j] == "\\" else 1
-            out.append('"' + blank(text[i + 1 : j]) + '"')
-            i = j + 1
-        elif text[i] == "'" and (m := CHAR.match(text, i)):
-            out.append("' '")
-            i = m.end()
-        else:
-            out.append(text[i])
-            i += 1
-    return "".join(out)
 
 
 def item_end(code: str, i: int, braces_end: bool) -> int:
