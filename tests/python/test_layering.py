@@ -62,11 +62,6 @@ KNOWN_FOLDER_CIRCLES: dict[tuple[str, str], str] = {
     # log.rs holds a SharedLog (OpLog::from_shared); shared/ builds on OpLog.
     ("doc/log", "doc/shared"): "to be removed by moving OpLog's shared-session side (its SharedLog "
     "field, from_shared and the routing of edits) out of log.rs into doc/shared/ (issue 36)",
-    # input/ctl_input.rs names tools' Ray and ToolContext; every tool names input.
-    ("interact/input", "interact/tools"): "to be removed by moving input/ctl_input.rs into "
-    "interact/tools/ (issue 36)",
-    # snap.rs names tools::pick; object_tool.rs names snap.
-    ("interact/snap", "interact/tools"): "to be removed by moving snap.rs into interact/tools/ (issue 36)",
     # preview.rs's Preview holds CurvePreview; curve_tool names Preview.
     ("interact/tools/curve_tool", "interact/tools/preview"): "to be removed by moving CurvePreview "
     "(and the target types it holds) out of curve_tool/modes.rs to the preview side (issue 36)",

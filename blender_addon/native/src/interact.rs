@@ -8,9 +8,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use shapewright::doc::ScriptCommand;
 use shapewright::interact::{
-    apply_command, tool_named, ActionMap, Hand, PaletteAction, PaletteDraw as CoreDraw,
-    PaletteLabel as CoreLabel, PaletteView as CorePalette, Preview, Session as Driver, Similarity,
-    TRACE_FORMAT, TRACE_VERSION,
+    tool_named, ActionMap, Hand, PaletteAction, PaletteDraw as CoreDraw, PaletteLabel as CoreLabel,
+    PaletteView as CorePalette, Preview, Session as Driver, Similarity, TRACE_FORMAT,
+    TRACE_VERSION,
 };
 use shapewright::math::DQuat;
 
@@ -74,7 +74,7 @@ impl InputSession {
             return Ok(None);
         };
         let at = doc.log.cursor();
-        let refused = apply_command(&mut doc.log, &cmd).err();
+        let refused = doc.log.apply_command(&cmd).err();
         doc.changed(at);
         let out = match &cmd {
             ScriptCommand::Op(op) => into_py(py, op)?,

@@ -52,6 +52,8 @@ pub use printable::{
     document_names, document_parts, document_size, print_document, print_document_scaled,
     print_document_with, print_status, PrintScale, ScaledPrint, FIT_RETRIES,
 };
+#[cfg(test)]
+pub(crate) use script::applied;
 pub use script::{
     parse_script, run_script, run_script_with, ScriptCommand, ScriptError, ScriptErrorKind,
     ScriptLine, OP_FORMAT_VERSION,

@@ -158,16 +158,50 @@ pub fn run_script_with(
     mut progress: impl FnMut(usize, usize),
 ) -> Result<(), ScriptError> {
     for (k, l) in lines.iter().enumerate() {
-        let result = match &l.command {
-            ScriptCommand::Op(op) => log.apply(op.clone()).map(|_| ()),
-            ScriptCommand::Undo => log.undo(),
-            ScriptCommand::Redo => log.redo(),
-        };
-        result.map_err(|e| ScriptError {
+        log.apply_command(&l.command).map_err(|e| ScriptError {
             line: l.line,
             kind: e.into(),
         })?;
         progress(k + 1, lines.len());
     }
     Ok(())
+}
+
+impl OpLog {
+    /// Applies one command: an op ([`OpLog::apply`]), an undo or a redo.
+    /// Scripts, traces, the tools' sessions and both hosts apply commands
+    /// through this one method.
+    pub fn apply_command(&mut self, cmd: &ScriptCommand) -> Result<(), LogError> {
+        match cmd {
+            ScriptCommand::Op(op) => {
+                self.apply(op.clone())?;
+                #[cfg(test)]
+                applied::record(op.name());
+                Ok(())
+            }
+            ScriptCommand::Undo => self.undo(),
+            ScriptCommand::Redo => self.redo(),
+        }
+    }
+}
+
+/// The ops a test got into a log through [`OpLog::apply_command`], per
+/// test thread: the headset reach table's test runs the test each row
+/// names and asks whether that row's op was among them.
+#[cfg(test)]
+pub(crate) mod applied {
+    use std::cell::RefCell;
+
+    thread_local! {
+        static OPS: RefCell<Vec<&'static str>> = const { RefCell::new(Vec::new()) };
+    }
+
+    pub(crate) fn record(op: &'static str) {
+        OPS.with(|o| o.borrow_mut().push(op));
+    }
+
+    /// The ops applied on this thread since the last call.
+    pub(crate) fn take() -> Vec<&'static str> {
+        OPS.with(|o| std::mem::take(&mut *o.borrow_mut()))
+    }
 }

@@ -40,7 +40,6 @@ mod presence;
 #[cfg(test)]
 pub(crate) mod reach;
 mod session;
-pub mod snap;
 #[cfg(any(test, feature = "testkit"))]
 pub mod testkit;
 pub mod tools;
@@ -77,8 +76,8 @@ pub use tools::gc_tool::{GcPreview, GcTarget, GcTool, GcToolSettings};
 pub use tools::object_tool::{ObjectTool, ObjectToolSettings};
 pub use tools::pick::{pick, ray_mesh, ray_triangle, Hit, Ray};
 pub use tools::{
-    apply_command, tool_named, BrushPreview, CsgPreview, MovingPreview, OperandPreview, Preview,
-    PreviewRay, Tool, ToolContext, ToolPreview, UnknownTool, TOOL_NAMES,
+    tool_named, BrushPreview, CsgPreview, MovingPreview, OperandPreview, Preview, PreviewRay, Tool,
+    ToolContext, ToolPreview, UnknownTool, TOOL_NAMES,
 };
 pub use trace::{
     replay, ModelPlacement, Replay, Trace, TraceError, TraceHeader, TRACE_FORMAT, TRACE_VERSION,

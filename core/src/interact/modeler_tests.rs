@@ -424,7 +424,7 @@ pub(crate) fn the_fused_result_is_copied_from_the_palette() {
         };
         assert_eq!(c.edit.name, format!("result {k}"));
         // As a host applies what a tool chose.
-        crate::interact::apply_command(&mut log, &ScriptCommand::Op(op)).unwrap();
+        log.apply_command(&ScriptCommand::Op(op)).unwrap();
     }
     let (_, obj) = log.document().objects().next().unwrap();
     let crate::doc::ObjectKind::SdfVolume(v) = &obj.kind else {
@@ -442,7 +442,7 @@ pub(crate) fn the_fused_result_is_copied_from_the_palette() {
 pub(crate) fn strokes_drawn_in_the_left_hands_frame_move_with_it() {
     use crate::doc::OpLog;
     use crate::interact::testkit::Puppet;
-    use crate::interact::tools::{apply_command, Tool};
+    use crate::interact::tools::Tool;
     use crate::interact::{CurveNetworkTool, ModelPlacement, Session};
 
     let mut tool = CurveNetworkTool::default();
@@ -489,7 +489,7 @@ pub(crate) fn strokes_drawn_in_the_left_hands_frame_move_with_it() {
     let mut cmds = Vec::new();
     for f in p.frames() {
         if let Some(c) = s.step(f, log.document()) {
-            apply_command(&mut log, &c).unwrap();
+            log.apply_command(&c).unwrap();
             cmds.push(c);
         }
     }

@@ -82,7 +82,7 @@ pub enum PaletteAction {
     Grid,
     /// Cycle the angle step ([`ANGLE_STEPS`]).
     Angle,
-    /// Toggle snapping to other objects ([`crate::interact::snap`]).
+    /// Toggle snapping to other objects ([`crate::interact::tools::snap`]).
     Objects,
     /// Cycle the mirror plane: off, across x, y, z (through the active
     /// tool's object), at the off hand, off ([`MirrorMode`]).
@@ -105,7 +105,7 @@ pub struct Snap {
     /// Rotation step in degrees (0: off).
     pub angle: f64,
     /// Snap to other objects' centres, axes and surfaces
-    /// ([`crate::interact::snap::snap_to_objects`]).
+    /// ([`crate::interact::tools::snap::snap_to_objects`]).
     pub objects: bool,
     /// Mirror symmetry: strokes (sculpt, curves) are mirrored across this
     /// plane (document space), placed through the palette.

@@ -195,8 +195,9 @@ pub const HEADSET_REACH: &[Reach] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::doc::applied;
     use crate::doc::OP_NAMES;
-    use crate::interact::{tools::applied, TOOL_NAMES};
+    use crate::interact::TOOL_NAMES;
 
     #[test]
     fn every_op_has_exactly_one_row_in_table_order() {
@@ -206,7 +207,7 @@ mod tests {
 
     /// Each row a tool emits is run: the test it names drives the tool's
     /// gesture through a session or the tool, and the row's op must be
-    /// among those that reached the log through `apply_command` (an op
+    /// among those that reached the log through `OpLog::apply_command` (an op
     /// the test applied by hand does not count).
     #[test]
     fn each_row_s_test_gets_its_op_into_the_log_through_the_tool() {

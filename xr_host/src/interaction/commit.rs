@@ -8,7 +8,6 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use shapewright::doc::{Document, ObjectId, OpLog, ScriptCommand};
-use shapewright::interact::apply_command;
 use shapewright::mesh::TriMesh;
 use shapewright_usd::Autosaver;
 
@@ -230,7 +229,7 @@ pub(super) fn commit_loop(
                 let t0 = Instant::now();
                 let mut guard = lock(&shared);
                 let s = &mut *guard;
-                let (doc, mesh, error) = match apply_command(&mut s.log, &cmd) {
+                let (doc, mesh, error) = match s.log.apply_command(&cmd) {
                     Ok(()) => {
                         if let Some(a) = &mut s.autosave {
                             let r = a.changed(&s.log).map(usize::from);

@@ -32,7 +32,6 @@
 //! numbers are written exactly as before (shortest round-trip form).
 
 pub(crate) mod bindings;
-pub(crate) mod ctl_input;
 
 mod frame;
 mod joints;

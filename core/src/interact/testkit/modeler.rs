@@ -11,7 +11,7 @@ use super::{Button, Puppet};
 use crate::interact::input::{Hand, Pose};
 use crate::interact::palette::{PaletteAction, PaletteItem, PaletteView};
 use crate::interact::session::Session;
-use crate::interact::tools::{apply_command, TOOL_NAMES};
+use crate::interact::tools::TOOL_NAMES;
 use crate::interact::trace::{ModelPlacement, Trace, TraceHeader, TRACE_FORMAT, TRACE_VERSION};
 
 const R: Hand = Hand::Right;
@@ -67,7 +67,7 @@ impl Driver {
         let frames = &self.puppet.frames()[self.fed..];
         for f in frames {
             if let Some(cmd) = self.session.step(f, self.log.document()) {
-                if let Err(e) = apply_command(&mut self.log, &cmd) {
+                if let Err(e) = self.log.apply_command(&cmd) {
                     self.rejected.push(format!("{}: {e}", cmd.name()));
                 }
                 self.commands.push(cmd);

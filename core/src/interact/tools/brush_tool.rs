@@ -44,9 +44,9 @@ use crate::sculpt::{
 
 use crate::interact::gesture::bimanual::{ModelFrame, OrientGrab};
 use crate::interact::gesture::similarity::Similarity;
-use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
 use crate::interact::input::{Hand, Pose};
 use crate::interact::palette::ChoiceGroup;
+use crate::interact::tools::ctl_input::{cycle, remember, CtlInput, Flick};
 use crate::interact::tools::lost_too_long;
 use crate::interact::tools::{object_label, BrushPreview, Preview, Tool, ToolContext};
 

@@ -2,7 +2,7 @@
 //! frame, and the helpers every tool shares (applying a command, giving up a
 //! lost gesture, naming an object in the palette).
 
-use crate::doc::{Document, LogError, ObjectId, OpLog, ScriptCommand};
+use crate::doc::{Document, ObjectId, ScriptCommand};
 use crate::math::DVec3;
 
 use super::preview::Preview;
@@ -82,20 +82,6 @@ pub(crate) fn lost_too_long(lost_since: &mut Option<f64>, now: f64, grace: f64) 
     now - *lost_since.get_or_insert(now) > grace
 }
 
-/// Applies a command to the log.
-pub fn apply_command(log: &mut OpLog, cmd: &ScriptCommand) -> Result<(), LogError> {
-    match cmd {
-        ScriptCommand::Op(op) => {
-            log.apply(op.clone())?;
-            #[cfg(test)]
-            applied::record(op.name());
-            Ok(())
-        }
-        ScriptCommand::Undo => log.undo(),
-        ScriptCommand::Redo => log.redo(),
-    }
-}
-
 // The tool registry: every tool a host or a trace can name, in one place.
 
 /// How the palette names a document object: its name, else its kind and
@@ -105,26 +91,5 @@ pub(crate) fn object_label(id: ObjectId, obj: &crate::doc::Object) -> String {
         format!("{} #{}", obj.kind.name(), id.0)
     } else {
         obj.name.clone()
-    }
-}
-
-/// The ops a test's tools got into a log through [`apply_command`], per
-/// test thread: the headset reach table's test runs the test each row names
-/// and asks whether that row's op was among them.
-#[cfg(test)]
-pub(crate) mod applied {
-    use std::cell::RefCell;
-
-    thread_local! {
-        static OPS: RefCell<Vec<&'static str>> = const { RefCell::new(Vec::new()) };
-    }
-
-    pub(crate) fn record(op: &'static str) {
-        OPS.with(|o| o.borrow_mut().push(op));
-    }
-
-    /// The ops applied on this thread since the last call.
-    pub(crate) fn take() -> Vec<&'static str> {
-        OPS.with(|o| std::mem::take(&mut *o.borrow_mut()))
     }
 }

@@ -12,8 +12,8 @@ use crate::solid::SolidShape;
 
 use crate::interact::testkit::{Button, Puppet};
 use crate::interact::{
-    apply_command, BrushTool, BrushToolSettings, CsgTool, Hand, ModelPlacement, Pose, Preview,
-    Session, Similarity, Tool,
+    BrushTool, BrushToolSettings, CsgTool, Hand, ModelPlacement, Pose, Preview, Session,
+    Similarity, Tool,
 };
 
 const R: Hand = Hand::Right;
@@ -28,7 +28,7 @@ fn drive(tool: Box<dyn Tool>, log: &mut OpLog, p: &Puppet) -> (Vec<ScriptCommand
     let mut previews = Vec::new();
     for f in &trace.frames {
         if let Some(c) = s.step(f, log.document()) {
-            apply_command(log, &c).unwrap();
+            log.apply_command(&c).unwrap();
             cmds.push(c);
         }
         previews.push(s.preview().clone());
@@ -412,7 +412,7 @@ fn brush_orienting_hand_turns_and_scales_model_and_brush() {
     let mut out = Vec::new();
     for f in &q.trace(ModelPlacement::desk(), "").frames {
         if let Some(c) = s.step(f, log.document()) {
-            apply_command(&mut log, &c).unwrap();
+            log.apply_command(&c).unwrap();
             out.push(c);
         }
     }

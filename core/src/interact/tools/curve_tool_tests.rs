@@ -12,8 +12,7 @@ use crate::styling::CurveNetwork;
 
 use crate::interact::testkit::{Button, Puppet};
 use crate::interact::{
-    apply_command, replay, CurveMode, CurveNetworkTool, Hand, ModelPlacement, Pose, Session,
-    Similarity, Trace,
+    replay, CurveMode, CurveNetworkTool, Hand, ModelPlacement, Pose, Session, Similarity, Trace,
 };
 
 const R: Hand = Hand::Right;
@@ -245,7 +244,7 @@ pub(crate) fn curve_network_trace_replays_to_a_closed_styled_model() {
             }
             other => other.clone(),
         };
-        apply_command(&mut log, &c).unwrap();
+        log.apply_command(&c).unwrap();
     }
     assert_eq!(log.document().content_hash(), doc.content_hash());
 }
@@ -260,7 +259,7 @@ fn run(p: &Puppet, mut check: impl FnMut(&Session)) -> (Vec<ScriptCommand>, OpLo
     let mut out = Vec::new();
     for f in &t.frames {
         if let Some(c) = s.step(f, log.document()) {
-            apply_command(&mut log, &c).unwrap();
+            log.apply_command(&c).unwrap();
             out.push(c);
         }
         check(&s);
@@ -545,7 +544,7 @@ fn driver_on_box(fill: bool) -> crate::interact::testkit::Driver {
         let filling = matches!(c, ScriptCommand::Op(Op::CurveFillAuto(_)))
             || matches!(c, ScriptCommand::Undo | ScriptCommand::Redo);
         if fill || !filling {
-            apply_command(&mut d.log, c).unwrap();
+            d.log.apply_command(c).unwrap();
         }
     }
     d

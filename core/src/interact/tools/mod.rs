@@ -9,6 +9,7 @@
 
 pub(crate) mod brush_tool;
 pub(crate) mod csg_tool;
+pub(crate) mod ctl_input;
 #[cfg(test)]
 pub(crate) mod ctl_tool_tests;
 pub(crate) mod curve_tool;
@@ -17,6 +18,7 @@ pub(crate) mod curve_tool_tests;
 pub(crate) mod gc_tool;
 pub(crate) mod object_tool;
 pub(crate) mod pick;
+pub mod snap;
 #[cfg(test)]
 pub(crate) mod tool_tests;
 
@@ -24,10 +26,8 @@ mod context;
 mod preview;
 mod registry;
 
-#[cfg(test)]
-pub(crate) use context::applied;
-pub use context::{apply_command, Tool, ToolContext};
 pub(crate) use context::{lost_too_long, object_label};
+pub use context::{Tool, ToolContext};
 pub use preview::{
     BrushPreview, CsgPreview, MovingPreview, OperandPreview, Preview, PreviewRay, ToolPreview,
 };

@@ -61,9 +61,9 @@ use crate::interact::gesture::similarity::Similarity;
 use crate::interact::gesture::Gesture;
 use crate::interact::input::{Hand, Joint, Pose};
 use crate::interact::palette::{ChoiceGroup, Snap};
-use crate::interact::snap::{snap_to_objects, ObjectSnap};
 use crate::interact::tools::lost_too_long;
 use crate::interact::tools::pick::{pick, Ray};
+use crate::interact::tools::snap::{snap_to_objects, ObjectSnap};
 use crate::interact::tools::{MovingPreview, Preview, PreviewRay, Tool, ToolContext, ToolPreview};
 
 /// Settings of the object tool.
@@ -462,7 +462,7 @@ impl ObjectTool {
 /// rotation to the angle step (relative to where the drag began), the
 /// position to the model-space grid, then (with "Snap to objects") onto
 /// another object's centre, surface or axis line
-/// ([`crate::interact::snap`]), which wins over the grid.
+/// ([`crate::interact::tools::snap`]), which wins over the grid.
 fn snapped(cx: &ToolContext, drag: &Drag) -> (Transform, Similarity, Option<ObjectSnap>) {
     let mut motion = cx.model.conjugate(&drag.current);
     motion.rotate = cx.snap.rotate(motion.rotate);

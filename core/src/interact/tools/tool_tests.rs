@@ -11,8 +11,7 @@ use crate::solid::SolidShape;
 
 use crate::interact::testkit::{Button, Puppet};
 use crate::interact::{
-    apply_command, replay, GestureLabel, Hand, ModelPlacement, ObjectTool, Pose, Session,
-    Similarity, Trace,
+    replay, GestureLabel, Hand, ModelPlacement, ObjectTool, Pose, Session, Similarity, Trace,
 };
 
 const R: Hand = Hand::Right;
@@ -41,7 +40,7 @@ fn run_on(log: &mut OpLog, trace: &Trace) -> Vec<ScriptCommand> {
     let mut out = Vec::new();
     for f in &trace.frames {
         if let Some(c) = s.step(f, log.document()) {
-            apply_command(log, &c).unwrap();
+            log.apply_command(&c).unwrap();
             out.push(c);
         }
     }
@@ -343,7 +342,7 @@ fn preview_follows_the_drag_without_touching_the_document() {
     let mut s = Session::new(Box::new(ObjectTool::default()), Similarity::IDENTITY);
     for f in &trace.frames {
         if let Some(c) = s.step(f, log.document()) {
-            apply_command(&mut log, &c).unwrap();
+            log.apply_command(&c).unwrap();
         }
     }
     let m = s.preview().moving.clone().unwrap();

@@ -4,7 +4,6 @@
 use crate::doc::{LogError, OpLog, ScriptCommand};
 
 use super::format::{Trace, TraceError};
-use crate::interact::tools::apply_command;
 
 /// The result of replaying a trace.
 #[derive(Debug)]
@@ -31,7 +30,7 @@ pub fn replay(trace: &Trace) -> Result<Replay, TraceError> {
     let mut saves = Vec::new();
     for frame in &trace.frames {
         if let Some(cmd) = session.step(frame, log.document()) {
-            if let Err(e) = apply_command(&mut log, &cmd) {
+            if let Err(e) = log.apply_command(&cmd) {
                 rejected.push((commands.len(), e));
             }
             commands.push(cmd);

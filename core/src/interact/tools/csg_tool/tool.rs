@@ -14,9 +14,9 @@ use crate::sdf::{
 use super::gestures::{volume, FusedDrag, OperandBoxes, OperandDrag, ScaleGesture, Target};
 use super::settings::{CsgToolSettings, SceneOperate};
 use crate::interact::gesture::similarity::Similarity;
-use crate::interact::input::ctl_input::{cycle, remember, CtlInput, Flick};
 use crate::interact::input::Hand;
 use crate::interact::palette::ChoiceGroup;
+use crate::interact::tools::ctl_input::{cycle, remember, CtlInput, Flick};
 use crate::interact::tools::lost_too_long;
 use crate::interact::tools::pick::{pick, Ray};
 use crate::interact::tools::{

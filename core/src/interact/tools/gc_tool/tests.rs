@@ -14,7 +14,7 @@ use crate::interact::input::{Hand, InputFrame, Joint, Pose};
 use crate::interact::session::Session;
 use crate::interact::testkit::gc_traces::{create, loop_points, outward, path, ring, Rig};
 use crate::interact::testkit::{mug_trace, teapot_trace};
-use crate::interact::tools::{apply_command, Tool};
+use crate::interact::tools::Tool;
 use crate::interact::trace::{replay, ModelPlacement, Trace};
 
 /// A cylinder r = 5 cm, 12 cm tall, 4 sections at z = 0, 4, 8, 12 cm.
@@ -56,7 +56,7 @@ fn run_tool(tool: GcTool, start: &[Op], frames: &[InputFrame]) -> Run {
     let mut rejected = 0;
     for f in frames {
         if let Some(c) = session.step(f, log.document()) {
-            if apply_command(&mut log, &c).is_err() {
+            if log.apply_command(&c).is_err() {
                 rejected += 1;
             }
             commands.push(c);

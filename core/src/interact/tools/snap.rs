@@ -1,7 +1,7 @@
 //! Snapping a dragged object to the other objects of the document (issue
 //! 19, "precision"): to their centres, to the axis lines through their
 //! centres, and onto their surfaces. Per drag, after the grid and angle
-//! snapping of [`super::palette::Snap`]; the result says what it snapped
+//! snapping of [`crate::interact::palette::Snap`]; the result says what it snapped
 //! to, so the readout can show it.
 //!
 //! Choices (what a user placing parts on a desk expects; Open Blocks and
@@ -24,7 +24,7 @@
 use crate::doc::{Document, ObjectId};
 use crate::math::DVec3;
 
-use super::tools::pick::{ray_mesh, Ray};
+use super::pick::{ray_mesh, Ray};
 
 /// How close (model metres) a dragged object must come to snap.
 pub const SNAP_TOLERANCE: f64 = 0.02;

@@ -2,9 +2,9 @@
 //! [`crate::interact::BrushTool`]): one hand's buttons and poses per frame, press
 //! edges, and stick flicks (undo / redo, cycling a list).
 
+use super::pick::Ray;
+use super::ToolContext;
 use crate::interact::input::{Hand, Pose};
-use crate::interact::tools::pick::Ray;
-use crate::interact::tools::ToolContext;
 
 /// One controller's input this frame (all released when absent).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
