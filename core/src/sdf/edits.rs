@@ -396,6 +396,8 @@ impl SdfComponentFromObject {
             (m, s)
         };
         // Steps are in model units; the mesh is in the volume's frame.
+        let what = format!("object #{}", self.object.0);
+        super::reuse::check_walls(&local, v.step / scale, &what)?;
         let step = super::reuse::reuse_step(source_step, v.step, 1.0) / scale;
         let (user, back) = super::reuse::component_from_mesh(&local, Some(step), cache)?;
         let want = super::reuse::shape(&local);
@@ -410,11 +412,10 @@ impl SdfComponentFromObject {
         );
         n.placed_with(&o, cache)?;
         if let Some(want) = want {
-            // Topology only: the volume an object loses at this step is
-            // mostly the grid's own chords (a 3 cm sphere at 1 cm keeps
-            // 93.7%), which a volume test cannot tell from walls below two
-            // cells (the mug's at 4 mm, 91.4%). Issue 33 keeps it open.
-            let what = format!("object #{}", self.object.0);
+            // Topology here; walls below two cells were refused above
+            // (`check_walls`). The volume is not compared: what an object
+            // with thick walls loses is the grid's own chords (a 3 cm
+            // sphere at 1 cm keeps 93.7%).
             n.check_reuse(&o, want, None, &what, cache)?;
         }
         if self.csg.is_some() {

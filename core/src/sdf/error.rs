@@ -90,6 +90,20 @@ pub enum SdfError {
         /// What the grid gave.
         got: String,
     },
+    /// A reused object's walls are thinner than two grid cells over more
+    /// than [`super::reuse::THIN_AREA_TOL`] of its surface: sampled at
+    /// this step it would lose them, or much of its volume.
+    #[error("{what} has walls thinner than {wall} m (two grid cells) over {percent:.1}% of its surface at the grid step {step} m, which the grid would thin or lose; use a finer step (sdf_set_step, down to 0.004) or make it larger")]
+    ThinWalls {
+        /// What was reused (`object #3`).
+        what: String,
+        /// The volume's grid step.
+        step: f64,
+        /// The thinnest wall the step keeps (two cells).
+        wall: f64,
+        /// How much of the surface lies on thinner walls, in percent.
+        percent: f64,
+    },
     /// `sdf_update` with no pending operand.
     #[error("nothing to update: the volume has no pending operands")]
     NothingPending,

@@ -207,6 +207,20 @@ impl MeshDistance {
         Ok(Self { tri, centre })
     }
 
+    /// How far the ray from `origin` along unit `dir` goes before it
+    /// meets the surface (within `max`), or `None`.
+    pub fn ray_hit(&self, origin: DVec3, dir: DVec3, max: f64) -> Option<f64> {
+        use parry3d::query::{Ray, RayCast};
+        let o = origin - self.centre;
+        let ray = Ray::new(
+            parry3d::math::Vector::new(o.x as f32, o.y as f32, o.z as f32),
+            parry3d::math::Vector::new(dir.x as f32, dir.y as f32, dir.z as f32),
+        );
+        self.tri
+            .cast_local_ray(&ray, max as f32, false)
+            .map(f64::from)
+    }
+
     /// The signed distance at `p` (negative inside).
     pub fn signed_distance(&self, p: DVec3) -> f64 {
         use parry3d::query::PointQuery;
