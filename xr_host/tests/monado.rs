@@ -1,6 +1,6 @@
 //! The real host binary against Monado, the open-source OpenXR runtime
 //! (issue 16): its `remote` system (an HMD and two Index controllers fed
-//! by the project's own client, `shapewright_xr::xr::remote`) and its
+//! by the project's own client, `tests/support/remote.rs`) and its
 //! `simulated` system (an HMD alone, hand tracking offered but not
 //! supported), in both modes (headless and Vulkan on lavapipe with the null
 //! compositor), and runs under the OpenXR core validation layer (as a 1.0
@@ -19,17 +19,20 @@
 //! exactly the ops and content hash that `replay` gives for that trace,
 //! and the same op sequence as for the fixture itself.
 
+#[path = "support/remote.rs"]
+mod remote;
+
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpListener};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use remote::{expected_frame, unrepresentable, RemoteClient};
 use shapewright::doc::Op;
 use shapewright::interact::{replay, Trace};
 use shapewright_usd::{load_file, LoadOptions};
 use shapewright_xr::xr::pace::Ack;
-use shapewright_xr::xr::remote::{expected_frame, unrepresentable, RemoteClient};
 use shapewright_xr::xr::{LifecycleEvent, RunReport};
 
 /// The Monado manifest, or None (skip) when it is not built outside CI.

@@ -21,7 +21,6 @@ pub mod instance;
 pub mod lifecycle;
 pub mod pace;
 pub mod platform;
-pub mod remote;
 pub mod spaces;
 
 pub use headless::run_headless;

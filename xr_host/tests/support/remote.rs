@@ -1,5 +1,7 @@
 //! A client for Monado's `remote` driver: the project's own test client,
-//! which plays recorded input through a real OpenXR runtime.
+//! which plays recorded input through a real OpenXR runtime. Test-only
+//! (issue 36): it lives with the tests that use it (`tests/monado.rs`),
+//! not in the shipped host.
 //!
 //! Monado's remote driver (`src/xrt/drivers/remote/`) is an HMD and two
 //! Valve Index controllers fed over TCP (port 4242 by default, open once
@@ -12,7 +14,7 @@
 //! What the runtime makes of a packet: the head centre is the HEAD pose;
 //! with `per_view_data_valid` the two views' poses and fields of view come
 //! from the packet as they are (the pacing tag rides on the left eye's
-//! `angle_up`, see [`super::pace`]); each controller's one pose is both
+//! `angle_up`, see `shapewright_xr::xr::pace`); each controller's one pose is both
 //! its grip and its aim pose; `active` false makes every input of that
 //! controller inactive and its poses invalid; the finger curls drive
 //! simulated, controller-derived hand joints when `hand_tracking_active`.
@@ -33,14 +35,12 @@ use std::time::{Duration, Instant};
 use shapewright::interact::{ControllerSample, InputFrame, Pose};
 use shapewright::math::{DQuat, DVec3};
 
-use super::pace::tag_angle;
+use shapewright_xr::xr::pace::tag_angle;
 
 /// `R_HEADER_VALUE`: the bytes "mndrmt3\0" as a little-endian u64.
 pub const HEADER: [u8; 8] = *b"mndrmt3\0";
 /// `sizeof(struct r_remote_data)`.
 pub const PACKET_SIZE: usize = 376;
-/// The remote driver's default port.
-pub const DEFAULT_PORT: u16 = 4242;
 
 /// What went wrong talking to the hub.
 #[derive(Debug, thiserror::Error)]
@@ -91,7 +91,7 @@ impl RPose {
     }
 
     /// Widened exactly to the core's f64 pose.
-    pub fn to_pose(&self) -> Pose {
+    pub fn to_pose(self) -> Pose {
         Pose::new(
             DVec3::from_array(self.position.map(f64::from)),
             DQuat::from_array(self.orientation.map(f64::from)),
@@ -310,7 +310,7 @@ impl RController {
 
 impl Packet {
     /// The layout's bytes.
-    pub fn to_bytes(&self) -> [u8; PACKET_SIZE] {
+    pub fn to_bytes(self) -> [u8; PACKET_SIZE] {
         let mut w = W(Vec::with_capacity(PACKET_SIZE));
         w.0.extend_from_slice(&HEADER);
         let views = self.head.views.unwrap_or(
@@ -495,8 +495,6 @@ pub fn expected_frame(frame: &InputFrame) -> InputFrame {
 /// A connection to the remote hub.
 pub struct RemoteClient {
     stream: TcpStream,
-    /// The hub's reset state, as it sent it on connect.
-    pub reset: Packet,
     /// Packets sent.
     pub sent: u64,
 }
@@ -524,14 +522,11 @@ impl RemoteClient {
         stream.set_read_timeout(Some(timeout))?;
         let mut buf = [0u8; PACKET_SIZE];
         stream.read_exact(&mut buf)?;
-        let reset = Packet::from_bytes(&buf)?;
+        // The hub's reset state, then its latest: read as the handshake.
+        Packet::from_bytes(&buf)?;
         stream.read_exact(&mut buf)?;
         Packet::from_bytes(&buf)?;
-        Ok(Self {
-            stream,
-            reset,
-            sent: 0,
-        })
+        Ok(Self { stream, sent: 0 })
     }
 
     /// Sends one packet.
@@ -541,7 +536,7 @@ impl RemoteClient {
         Ok(())
     }
 
-    /// Sends trace frame `frame` paced as step `seq` (see [`super::pace`]):
+    /// Sends trace frame `frame` paced as step `seq` (see `shapewright_xr::xr::pace`):
     /// twice, tagged `2 seq + 1` and `2 seq + 2`.
     pub fn send_paced(&mut self, frame: &InputFrame, seq: u32) -> Result<(), RemoteError> {
         self.send(&Packet::from_frame(frame, 2 * seq + 1))?;
@@ -552,8 +547,8 @@ impl RemoteClient {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::xr::pace::angle_tag;
     use shapewright::interact::ControllerButtons;
+    use shapewright_xr::xr::pace::angle_tag;
 
     fn frame() -> InputFrame {
         let grip = Pose::new(
