@@ -11,6 +11,7 @@
 #![forbid(unsafe_code)]
 
 pub mod assembly;
+pub mod budget;
 pub mod doc;
 pub mod gc;
 pub mod hash;

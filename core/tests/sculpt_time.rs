@@ -17,6 +17,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use glam::{DQuat, DVec3};
+use shapewright::budget::OverBudget;
 use shapewright::doc::{Create, Edit, LogError, ObjectId, ObjectKind, Op, OpError, OpLog};
 use shapewright::math::MirrorPlane;
 use shapewright::sculpt::base::geodesic_sphere;
@@ -178,9 +179,11 @@ fn refused_at_once(name: &str, mut log: OpLog, op: Op) {
         LogError::Op(OpError::Sculpt(SculptError::TooSlow { seconds, limit, .. })) => {
             assert!(*seconds > *limit && *limit == MAX_SECONDS, "{name}: {e}");
         }
-        LogError::Op(OpError::Sculpt(SculptError::OverBudget {
-            estimate, limit, ..
-        })) => assert!(*estimate > *limit, "{name}: {e}"),
+        LogError::Op(OpError::Sculpt(SculptError::OverBudget(OverBudget {
+            estimate,
+            limit,
+            ..
+        }))) => assert!(*estimate > *limit, "{name}: {e}"),
         _ => panic!("{name}: {e}"),
     }
     assert!(cpu < 1.0 * BUILD_FACTOR, "{name}: refused after {cpu:.2} s");

@@ -35,6 +35,7 @@
 use crate::nurbs::NurbsCurve;
 
 use super::{GcError, Resolution};
+use crate::budget::OverBudget;
 
 /// Most key sections one GC may have (see the module doc).
 pub const MAX_SECTIONS: usize = 256;
@@ -44,12 +45,7 @@ pub const MAX_SKIN_FLOPS: f64 = 2e9;
 pub const MAX_GRID_POINTS: f64 = (1u64 << 20) as f64;
 
 fn over(parameter: &'static str, what: &'static str, estimate: f64, limit: f64) -> GcError {
-    GcError::OverBudget {
-        parameter,
-        what,
-        estimate,
-        limit,
-    }
+    OverBudget::new(parameter, what, estimate, limit).into()
 }
 
 /// Checks the section count alone (before any profile is built).

@@ -111,17 +111,8 @@ pub enum GcError {
     },
     /// The GC would take more memory or work than the budget allows
     /// ([`super::budget`]): reduce the parameter named.
-    #[error("{parameter}: {what} would be {estimate:e}, over the limit of {limit:e}")]
-    OverBudget {
-        /// The op parameter that sized the request.
-        parameter: &'static str,
-        /// What was estimated.
-        what: &'static str,
-        /// The estimate.
-        estimate: f64,
-        /// The limit.
-        limit: f64,
-    },
+    #[error(transparent)]
+    OverBudget(#[from] crate::budget::OverBudget),
     /// A NURBS construction failed.
     #[error(transparent)]
     Nurbs(#[from] NurbsError),

@@ -140,12 +140,7 @@ fn triangle_area(max_len: f64) -> f64 {
 }
 
 fn over(field: String, what: &'static str, estimate: f64, limit: f64) -> SculptError {
-    SculptError::OverBudget {
-        field,
-        what,
-        estimate,
-        limit,
-    }
+    crate::budget::OverBudget::new(field, what, estimate, limit).into()
 }
 
 /// What a stroke is estimated to cost before it runs (see the module doc).

@@ -91,17 +91,8 @@ pub enum SculptError {
     },
     /// A stroke would take more memory or work than the budget allows
     /// ([`super::budget`]): reduce or fix the parameter named.
-    #[error("{field}: {what} would be {}, over the limit of {}", number(.estimate), number(.limit))]
-    OverBudget {
-        /// The parameter that sized the request.
-        field: String,
-        /// What was estimated.
-        what: &'static str,
-        /// The estimate (may be infinite).
-        estimate: f64,
-        /// The limit.
-        limit: f64,
-    },
+    #[error(transparent)]
+    OverBudget(#[from] crate::budget::OverBudget),
     /// A sculpt op would take longer than one may on this machine
     /// ([`super::budget::MAX_SECONDS`]): estimated before it runs, or (for
     /// a stroke whose surface made it do more than estimated) measured by
@@ -128,18 +119,4 @@ pub enum SculptError {
     /// The stroke's mirror plane is not a plane.
     #[error(transparent)]
     Mirror(#[from] crate::math::MirrorError),
-}
-
-/// A count or estimate for a message: whole numbers as they are (the
-/// exponent form rounded 4,000,130 and 4,001,280 to digits that read the
-/// wrong way round), others to four significant digits.
-fn number(x: &f64) -> String {
-    let x = *x;
-    if x.is_finite() && x.fract() == 0.0 && x.abs() < 1e15 {
-        format!("{x:.0}")
-    } else if x.is_finite() {
-        format!("{x:.4e}")
-    } else {
-        format!("{x}")
-    }
 }

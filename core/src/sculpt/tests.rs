@@ -793,7 +793,7 @@ fn absurd_sizes_are_refused_or_handled_without_panics() {
     let before = sc.mesh().to_trimesh();
     assert!(matches!(
         run_stroke(&mut sc, &shape, &s, 1.0, &[(pose, 0.5)]),
-        Err(SculptError::OverBudget { ref field, .. }) if field == "max_edge_rel"
+        Err(SculptError::OverBudget(crate::budget::OverBudget { ref parameter, .. })) if parameter == "max_edge_rel"
     ));
     assert_eq!(sc.mesh().to_trimesh(), before);
     assert_closed(sc.mesh());

@@ -27,6 +27,7 @@
 //! limit, nor far above it.
 
 use super::SdfError;
+use crate::budget::OverBudget;
 
 /// No accepted SDF op should run longer than this on this machine
 /// (issue 37).
@@ -93,10 +94,10 @@ impl Work {
     pub fn check(&self, what: &str) -> Result<(), SdfError> {
         let bytes = self.held_bytes();
         if bytes.is_nan() || bytes > MEMORY_BUDGET_BYTES as f64 {
-            return Err(SdfError::OverBudget {
-                needed_mib: mib_ceil(bytes),
-                budget_mib: (MEMORY_BUDGET_BYTES >> 20) as u64,
-            });
+            return Err(SdfError::OverBudget(grid_memory(
+                mib_ceil(bytes),
+                (MEMORY_BUDGET_BYTES >> 20) as u64,
+            )));
         }
         let seconds = self.seconds();
         if seconds.is_nan() || seconds > TIME_LIMIT_SECONDS {
@@ -108,6 +109,17 @@ impl Work {
         }
         Ok(())
     }
+}
+
+/// The grid would need `needed_mib` MiB, over `budget_mib`: refused as
+/// the `step`'s (a larger step, or the operand scaled down, needs less).
+pub fn grid_memory(needed_mib: u64, budget_mib: u64) -> OverBudget {
+    OverBudget::new(
+        "step",
+        "the grid's memory in MiB (use a larger step or scale the operand down)",
+        needed_mib as f64,
+        budget_mib as f64,
+    )
 }
 
 /// `bytes` in MiB, rounded up (so a need over the budget never reads as

@@ -45,13 +45,10 @@ pub enum SdfError {
     #[error("component mesh is not a closed oriented 2-manifold: {0}")]
     BadMesh(String),
     /// The grid would exceed the memory budget ([`super::budget`]).
-    #[error("the grid would need about {needed_mib} MiB, over the {budget_mib} MiB budget; scale the operand down or use a larger step")]
-    OverBudget {
-        /// Estimated need.
-        needed_mib: u64,
-        /// The budget.
-        budget_mib: u64,
-    },
+    /// Its parameter is `step` (a larger step, or the operand scaled
+    /// down, needs less).
+    #[error(transparent)]
+    OverBudget(#[from] crate::budget::OverBudget),
     /// The op would take longer than the time limit ([`super::budget`]).
     #[error("{what} would take about {seconds:.1} s on this machine, over the {limit} s limit; use a larger step, or fewer or smaller operands")]
     TooSlow {

@@ -101,10 +101,10 @@ fn sdf_grid(mesh: &TriMesh, step: f64, padding: f64) -> Result<([usize; 3], DVec
     let dims = [n.x as usize + 1, n.y as usize + 1, n.z as usize + 1];
     let total = dims[0].saturating_mul(dims[1]).saturating_mul(dims[2]);
     if total > MAX_SAMPLES {
-        return Err(SdfError::OverBudget {
-            needed_mib: super::budget::mib_ceil(total as f64 * 4.0),
-            budget_mib: ((MAX_SAMPLES * 4) >> 20) as u64,
-        });
+        return Err(SdfError::OverBudget(super::budget::grid_memory(
+            super::budget::mib_ceil(total as f64 * 4.0),
+            ((MAX_SAMPLES * 4) >> 20) as u64,
+        )));
     }
     // Centre the grid on the box so both sides get the same padding.
     let extra = (n * step - (hi - lo)) * 0.5;
@@ -307,10 +307,10 @@ pub fn component_sdf_at(mesh: &TriMesh, step: f64) -> Result<DenseSdf, SdfError>
     };
     work.check("the component's SDF")?;
     if samples > MAX_SAMPLES as f64 {
-        return Err(SdfError::OverBudget {
-            needed_mib: super::budget::mib_ceil(samples * 4.0),
-            budget_mib: ((MAX_SAMPLES * 4) >> 20) as u64,
-        });
+        return Err(SdfError::OverBudget(super::budget::grid_memory(
+            super::budget::mib_ceil(samples * 4.0),
+            ((MAX_SAMPLES * 4) >> 20) as u64,
+        )));
     }
     let m = normalize_component(mesh)?;
     // On the lattice: the nodes sit at whole multiples of `step` in the

@@ -320,10 +320,10 @@ impl SdfVolume {
         let bricks = brick_count_in_box(self.step, lo, hi);
         let budget = (MEMORY_BUDGET_BYTES / (BRICK_LEN * 4)) as f64;
         if bricks.is_nan() || bricks > budget {
-            return Err(SdfError::OverBudget {
-                needed_mib: super::budget::mib_ceil(bricks * BRICK_BYTES),
-                budget_mib: (MEMORY_BUDGET_BYTES >> 20) as u64,
-            });
+            return Err(SdfError::OverBudget(super::budget::grid_memory(
+                super::budget::mib_ceil(bricks * BRICK_BYTES),
+                (MEMORY_BUDGET_BYTES >> 20) as u64,
+            )));
         }
         self.operand_work(&f).check("fusing this operand")?;
         Ok(f)
@@ -613,10 +613,10 @@ impl SdfVolume {
 fn check_budget(grid: &SparseGrid) -> Result<(), SdfError> {
     let b = grid.dense_bytes();
     if b > MEMORY_BUDGET_BYTES {
-        return Err(SdfError::OverBudget {
-            needed_mib: super::budget::mib_ceil(b as f64),
-            budget_mib: (MEMORY_BUDGET_BYTES >> 20) as u64,
-        });
+        return Err(SdfError::OverBudget(super::budget::grid_memory(
+            super::budget::mib_ceil(b as f64),
+            (MEMORY_BUDGET_BYTES >> 20) as u64,
+        )));
     }
     Ok(())
 }

@@ -56,12 +56,7 @@ impl Default for Budget {
 }
 
 fn over(parameter: &'static str, what: &'static str, estimate: f64, limit: f64) -> StylingError {
-    StylingError::OverBudget {
-        parameter,
-        what,
-        estimate,
-        limit,
-    }
+    crate::budget::OverBudget::new(parameter, what, estimate, limit).into()
 }
 
 impl Budget {

@@ -11,14 +11,14 @@ use super::StylingError;
 use crate::doc::{LogError, Op, OpError, OpLog};
 use crate::math::DVec3;
 
-fn over(e: &StylingError) -> Option<(&'static str, f64, f64)> {
+fn over(e: &StylingError) -> Option<(&str, f64, f64)> {
     match e {
-        StylingError::OverBudget {
+        StylingError::OverBudget(crate::budget::OverBudget {
             parameter,
             estimate,
             limit,
             ..
-        } => Some((parameter, *estimate, *limit)),
+        }) => Some((parameter, *estimate, *limit)),
         _ => None,
     }
 }

@@ -250,12 +250,12 @@ pub fn resample(points: &[DVec3], h: f64, max_points: usize) -> Result<Vec<DVec3
     let total = cum[cum.len() - 1];
     let estimate = resample_count(total, h);
     if !(estimate <= max_points as f64) {
-        return Err(StylingError::OverBudget {
-            parameter: "resample",
-            what: "the number of points to fit (stroke length / spacing + 1)",
+        return Err(StylingError::OverBudget(crate::budget::OverBudget::new(
+            "resample",
+            "the number of points to fit (stroke length / spacing + 1)",
             estimate,
-            limit: max_points as f64,
-        });
+            max_points as f64,
+        )));
     }
     // Exact: `estimate` is a whole number no larger than `max_points`.
     let count = estimate as usize;

@@ -46,17 +46,8 @@ pub enum StylingError {
     DegenerateJunctions(usize),
     /// An input asks for more memory or work than the budget allows
     /// ([`super::budget::Budget`]): reduce the parameter named.
-    #[error("{parameter}: {what} would be {estimate:e}, over the limit of {limit:e}")]
-    OverBudget {
-        /// The op parameter that sized the request.
-        parameter: &'static str,
-        /// What was estimated.
-        what: &'static str,
-        /// The estimate (may be infinite).
-        estimate: f64,
-        /// The budget's limit.
-        limit: f64,
-    },
+    #[error(transparent)]
+    OverBudget(#[from] crate::budget::OverBudget),
     /// The sparse solver failed.
     #[error("solver: {0}")]
     Solver(String),

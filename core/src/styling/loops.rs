@@ -144,12 +144,12 @@ impl CurveNetwork {
                     }
                     work += 1;
                     if work > budget.max_loop_search {
-                        return Err(StylingError::OverBudget {
-                            parameter: "curve network",
-                            what: "partial loops searched",
-                            estimate: work as f64,
-                            limit: budget.max_loop_search as f64,
-                        });
+                        return Err(StylingError::OverBudget(crate::budget::OverBudget::new(
+                            "curve network",
+                            "partial loops searched",
+                            work as f64,
+                            budget.max_loop_search as f64,
+                        )));
                     }
                     let mut ids2 = ids.clone();
                     ids2.push(e);

@@ -357,10 +357,7 @@ fn bad_input_gets_typed_errors_and_changes_nothing() {
                 if field == "transform.translate[0]" => {}
             ("zero scale", Err(crate::doc::LogError::Op(OpError::Sdf(SdfError::Transform(_))))) => {
             }
-            (
-                "budget",
-                Err(crate::doc::LogError::Op(OpError::Sdf(SdfError::OverBudget { .. }))),
-            ) => {}
+            ("budget", Err(crate::doc::LogError::Op(OpError::Sdf(SdfError::OverBudget(_))))) => {}
             (w, e) => panic!("{w}: {e:?}"),
         }
     }

@@ -1,0 +1,73 @@
+//! [`OverBudget`]: the one refusal every geometry module gives when an
+//! input would take more memory or work than a budget allows. It was
+//! written four times (gc, sculpt, styling, sdf) with three field sets
+//! and three number formats (issue 36); each module's error now wraps
+//! this one, and each module keeps its own limits (`gc::budget`,
+//! `sculpt::budget`, `styling::budget`, `sdf::budget`).
+
+use thiserror::Error;
+
+/// An input asks for more memory or work than a budget allows: reduce or
+/// fix the parameter named.
+#[derive(Clone, Debug, PartialEq, Error)]
+#[error("{parameter}: {what} would be {}, over the limit of {}", number(*.estimate), number(*.limit))]
+pub struct OverBudget {
+    /// The op parameter that sized the request (`sections`,
+    /// `warp.delta`, `step`).
+    pub parameter: String,
+    /// What was estimated.
+    pub what: &'static str,
+    /// The estimate (may be infinite or NaN: an input of infinite size).
+    pub estimate: f64,
+    /// The limit.
+    pub limit: f64,
+}
+
+impl OverBudget {
+    /// `parameter` would make `what` `estimate`, over `limit`.
+    pub fn new(
+        parameter: impl Into<String>,
+        what: &'static str,
+        estimate: f64,
+        limit: f64,
+    ) -> Self {
+        Self {
+            parameter: parameter.into(),
+            what,
+            estimate,
+            limit,
+        }
+    }
+}
+
+/// A count or estimate for a message: whole numbers as they are (the
+/// exponent form rounded 4,000,130 and 4,001,280 to digits that read the
+/// wrong way round), others to five significant digits.
+fn number(x: f64) -> String {
+    if x.is_finite() && x.fract() == 0.0 && x.abs() < 1e15 {
+        format!("{x:.0}")
+    } else if x.is_finite() {
+        format!("{x:.4e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_message_names_the_parameter_and_both_numbers() {
+        let e = OverBudget::new("sections", "the number of key sections", 300.0, 256.0);
+        assert_eq!(
+            e.to_string(),
+            "sections: the number of key sections would be 300, over the limit of 256"
+        );
+        let e = OverBudget::new("warp.delta", "the work", 3.939124e6 + 0.5, f64::INFINITY);
+        assert_eq!(
+            e.to_string(),
+            "warp.delta: the work would be 3.9391e6, over the limit of inf"
+        );
+    }
+}
