@@ -1,4 +1,5 @@
-//! The stable id of a document object.
+//! The stable id of a document object, and the one macro for typed
+//! indices into the lists an op names ([`index_type!`]).
 //!
 //! It lives below every module (not in `doc`) because a few geometry values
 //! carry a reference to another object that the document resolves before
@@ -33,3 +34,40 @@ impl std::fmt::Display for ObjectId {
         write!(f, "#{}", self.0)
     }
 }
+
+/// A typed index into a list an op names (a part, a key section, a
+/// pending operand, a curve, a patch): a `usize` newtype serialized as a
+/// plain number, whose schema says what it indexes (`x-ref`) for the
+/// hosts' forms. One macro for every such index (issue 36).
+macro_rules! index_type {
+    ($(#[$doc:meta])* $name:ident, $xref:literal, $desc:literal) => {
+        $(#[$doc])*
+        #[derive(
+            Clone,
+            Copy,
+            Debug,
+            Default,
+            PartialEq,
+            Eq,
+            Hash,
+            PartialOrd,
+            Ord,
+            ::serde::Serialize,
+            ::serde::Deserialize,
+        )]
+        #[serde(transparent)]
+        pub struct $name(pub usize);
+
+        impl ::schemars::JsonSchema for $name {
+            fn schema_name() -> std::borrow::Cow<'static, str> {
+                stringify!($name).into()
+            }
+            fn json_schema(_: &mut ::schemars::SchemaGenerator) -> ::schemars::Schema {
+                ::schemars::json_schema!({
+                    "type": "integer", "minimum": 0, "x-ref": $xref, "description": $desc
+                })
+            }
+        }
+    };
+}
+pub(crate) use index_type;

@@ -8,46 +8,23 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::{fit_spine, Gc, GcAssembly, GcError, KeySection, Profile, Resolution, ShapeType};
+use crate::id::index_type;
 
-/// The index of a part in its assembly (parents come before children).
-/// Serialized as a plain number.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
-)]
-#[serde(transparent)]
-pub struct PartId(pub usize);
+index_type!(
+    /// The index of a part in its assembly (parents come before children).
+    /// Serialized as a plain number.
+    PartId,
+    "part",
+    "A part of the assembly, by index (0 is the first part created)."
+);
 
-impl JsonSchema for PartId {
-    fn schema_name() -> std::borrow::Cow<'static, str> {
-        "PartId".into()
-    }
-    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
-        schemars::json_schema!({
-            "type": "integer", "minimum": 0, "x-ref": "part",
-            "description": "A part of the assembly, by index (0 is the first part created)."
-        })
-    }
-}
-
-/// The index of a key section along a GC's spine (0 is the first).
-/// Serialized as a plain number.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
-)]
-#[serde(transparent)]
-pub struct SectionIndex(pub usize);
-
-impl JsonSchema for SectionIndex {
-    fn schema_name() -> std::borrow::Cow<'static, str> {
-        "SectionIndex".into()
-    }
-    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
-        schemars::json_schema!({
-            "type": "integer", "minimum": 0, "x-ref": "section",
-            "description": "A key section, by index along the spine (0 is the first)."
-        })
-    }
-}
+index_type!(
+    /// The index of a key section along a GC's spine (0 is the first).
+    /// Serialized as a plain number.
+    SectionIndex,
+    "section",
+    "A key section, by index along the spine (0 is the first)."
+);
 
 fn default_scale() -> f64 {
     1.0

@@ -28,29 +28,18 @@ use super::csg::CsgOp;
 use super::placement::ScaleAxis;
 use super::volume::{check_step, default_cache, Component, Operand, SdfVolume, UserMesh};
 use super::SdfError;
+use crate::id::index_type;
 use crate::id::ObjectId;
 use crate::math::{DAffine3, DVec3, Transform};
 use crate::mesh::{validate, TriMesh};
 
-/// The index of a pending operand in its volume's queue. Serialized as a
-/// plain number.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
-)]
-#[serde(transparent)]
-pub struct OperandIndex(pub usize);
-
-impl JsonSchema for OperandIndex {
-    fn schema_name() -> std::borrow::Cow<'static, str> {
-        "OperandIndex".into()
-    }
-    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
-        schemars::json_schema!({
-            "type": "integer", "minimum": 0, "x-ref": "operand",
-            "description": "A pending CSG operand, by its index in the volume's queue."
-        })
-    }
-}
+index_type!(
+    /// The index of a pending operand in its volume's queue. Serialized as a
+    /// plain number.
+    OperandIndex,
+    "operand",
+    "A pending CSG operand, by its index in the volume's queue."
+);
 
 /// Create an empty SDF volume.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]

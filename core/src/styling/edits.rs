@@ -22,27 +22,7 @@ use super::surface_hold::{hold_equilibrium, hold_pull, EquilibriumHold};
 use super::tools::{check_path, CurveSession, PullParams, SharpenLimits, SmoothParams, StopReason};
 use super::StylingError;
 
-macro_rules! index_type {
-    ($(#[$doc:meta])* $name:ident, $xref:literal, $desc:literal) => {
-        $(#[$doc])*
-        #[derive(
-            Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
-        )]
-        #[serde(transparent)]
-        pub struct $name(pub usize);
-
-        impl JsonSchema for $name {
-            fn schema_name() -> std::borrow::Cow<'static, str> {
-                stringify!($name).into()
-            }
-            fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
-                schemars::json_schema!({
-                    "type": "integer", "minimum": 0, "x-ref": $xref, "description": $desc
-                })
-            }
-        }
-    };
-}
+use crate::id::index_type;
 
 index_type!(
     /// A curve of a network, by index in creation order. Serialized as a
