@@ -10,11 +10,11 @@
 //! - creating a child on its parent's surface at a picked point, sketched
 //!   in the plane spanned by the parent's surface normal `n` and spine
 //!   tangent `t` (spine plane normal `n x t`), its end free (a spout) or
-//!   landing on the parent (a handle) ([`edit::GcAddChild`]);
+//!   landing on the parent (a handle) ([`edits::GcAddChild`]);
 //! - copying a part with its descendants, rigidly or mirrored about the
-//!   parent's spine plane ([`edit::GcCopy`]);
+//!   parent's spine plane ([`edits::GcCopy`]);
 //! - rigid transforms of a part whose descendants stay attached
-//!   ([`edit::GcTransformPart`]);
+//!   ([`edits::GcTransformPart`]);
 //! - automatic detection of connectivity, coplanarity, concentricity and
 //!   symmetry ([`detect_relations`]);
 //! - relations recorded as parts are added ([`RecordedRelations`]:
@@ -55,14 +55,14 @@ mod rigid;
 mod structure;
 mod union;
 
-pub mod edit;
+pub mod edits;
 
 pub use crate::gc::{Anchor, Attachment, RecordedRelations};
 pub use anchor::{
     anchor_frame, anchor_frame_in_plane, project_near, project_to_surface, Projection,
 };
 pub use cache::{CacheStats, UnionCache};
-pub use edit::{ChildEnd, GcAddChild, GcCopy, GcEditPart, GcTransformPart, PartEdit};
+pub use edits::{ChildEnd, GcAddChild, GcCopy, GcEditPart, GcTransformPart, PartEdit};
 pub use error::AssemblyError;
 pub use junction::{BURY_MARGIN, MAX_SINK, RIM_SAMPLES};
 pub use propagate::{descendants_bfs, reattach_descendants};

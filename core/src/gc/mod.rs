@@ -25,12 +25,12 @@
 mod assembly;
 mod attachment;
 pub mod budget;
-mod edit;
 pub mod edits;
 mod error;
 mod mesh;
 mod model;
 mod relations;
+mod reshape;
 mod section;
 
 pub use assembly::{GcAssembly, GcPart};

@@ -1,6 +1,6 @@
 //! The generalized-cylinder ops (paper 1): `gc_create` and the part edits
 //! of [`crate::gc::edits`], and the assembly edits of
-//! [`crate::assembly::edit`], applied to a document's [`GcAssembly`].
+//! [`crate::assembly::edits`], applied to a document's [`GcAssembly`].
 //! Every part edit goes through the one structure-aware path
 //! ([`crate::assembly::propagate_edit`]: symmetry group, then descendants
 //! breadth-first, then the recorded relations are checked).
