@@ -46,8 +46,9 @@ TICK = 0.05
 # reads it when Join is pressed).
 CREDENTIALS_ENV = "SHAPEWRIGHT_SESSION_CREDENTIALS"
 PEOPLE = "Shapewright people"
-# Blender sends its presence at most this often (seconds).
-PRESENCE_EVERY = 1.0 / 30.0
+# Blender sends its presence at most this often (seconds): the core's
+# rate, the headset host's too.
+PRESENCE_EVERY = 1.0 / sw.PRESENCE_HZ
 
 _last_presence = 0.0
 # What the last pumps said, per scene (shown in the panel).

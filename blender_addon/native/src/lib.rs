@@ -75,6 +75,9 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(doc::op_names, m)?)?;
     m.add_function(wrap_pyfunction!(doc::op_schema, m)?)?;
     m.add("OP_FORMAT_VERSION", shapewright::doc::OP_FORMAT_VERSION)?;
+    // How often a host sends its presence: the core's rate, one number for
+    // both hosts (issue 36).
+    m.add("PRESENCE_HZ", shapewright::doc::shared::PRESENCE_HZ)?;
     error::register(m)?;
     Ok(())
 }

@@ -16,6 +16,7 @@ import numpy as np
 
 from ._native import (
     OP_FORMAT_VERSION,
+    PRESENCE_HZ,
     Autosaver,
     Controller,
     ExportJob,
@@ -56,6 +57,7 @@ from ._native import (
 
 __all__ = [
     "OP_FORMAT_VERSION",
+    "PRESENCE_HZ",
     "Autosaver",
     "Controller",
     "ExportJob",

@@ -7,6 +7,7 @@ from os import PathLike
 from typing import Any
 
 OP_FORMAT_VERSION: int
+PRESENCE_HZ: float
 
 class ShapewrightError(ValueError): ...
 class OpRejected(ShapewrightError): ...
