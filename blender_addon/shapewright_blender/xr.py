@@ -20,7 +20,6 @@ recorded trace converted into this event stream.
 
 from __future__ import annotations
 
-import math
 import time
 
 import bpy
@@ -35,22 +34,9 @@ HANDS = ("/user/hand/left", "/user/hand/right")
 FLOAT_ACTIONS = ("select", "grab")
 STICK = {"stick_x": 0, "stick_y": 1}
 BUTTON_ACTIONS = ("primary", "secondary", "menu")
-# Blender world (Z up) to OpenXR stage (Y up): a rotation of -90 degrees
-# about X, as `ModelPlacement::desk` uses; the model sits at the origin.
-_H = math.sqrt(0.5)
-STAGE_FROM_BLENDER = (-_H, 0.0, 0.0, _H)  # x, y, z, w
-PLACEMENT = sw.Placement(rotate=STAGE_FROM_BLENDER)
-
-
-def _qmul(a, b):
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return (
-        aw * bx + ax * bw + ay * bz - az * by,
-        aw * by - ax * bz + ay * bw + az * bx,
-        aw * bz + ax * by - ay * bx + az * bw,
-        aw * bw - ax * bx - ay * by - az * bz,
-    )
+# Blender's world is the model's (Z up), at the stage's origin; the core
+# turns it into the OpenXR stage (Y up), as the headset host does.
+PLACEMENT = sw.Placement.z_up_in_stage()
 
 
 def _mpu() -> float:
@@ -60,18 +46,15 @@ def _mpu() -> float:
 def to_stage(location, rotation_wxyz) -> sw.Pose:
     """A Blender world pose (scene units) as a stage-space pose (metres)."""
     k = _mpu()
-    x, y, z = (float(c) * k for c in location)
     w, qx, qy, qz = (float(c) for c in rotation_wxyz)
-    return sw.Pose((x, z, -y), _qmul(STAGE_FROM_BLENDER, (qx, qy, qz, w)))
+    return sw.Pose.from_z_up(tuple(float(c) * k for c in location), (qx, qy, qz, w))
 
 
 def from_stage(pose: sw.Pose) -> tuple[tuple, tuple]:
     """The inverse of `to_stage`: (location, rotation wxyz) in Blender."""
     k = 1.0 / _mpu()
-    x, y, z = (c * k for c in pose.p)
-    inv = (-STAGE_FROM_BLENDER[0], 0.0, 0.0, STAGE_FROM_BLENDER[3])
-    qx, qy, qz, w = _qmul(inv, tuple(pose.q))
-    return (x, -z, y), (w, qx, qy, qz)
+    p, (qx, qy, qz, w) = pose.to_z_up()
+    return tuple(c * k for c in p), (w, qx, qy, qz)
 
 
 def hand_index(user_path: str) -> int:

@@ -6,7 +6,7 @@
 //! unit is not the metre passes its metres per unit).
 
 use pyo3::prelude::*;
-use shapewright::interact::Pose as CorePose;
+use shapewright::interact::{Pose as CorePose, STAGE_FROM_Z_UP};
 use shapewright::math::{DMat4, DQuat, DVec3, Transform};
 
 use crate::error::ParseError;
@@ -49,6 +49,18 @@ impl Placement {
             translate,
             rotate,
             scale,
+        })
+    }
+
+    /// A Z-up model where the Z-up world is, in the Y-up stage: the
+    /// stage's origin, [`STAGE_FROM_Z_UP`], scale 1 (Blender's VR session,
+    /// whose world is the model's).
+    #[staticmethod]
+    fn z_up_in_stage() -> Self {
+        Self(Transform {
+            translate: [0.0; 3],
+            rotate: STAGE_FROM_Z_UP.to_array(),
+            scale: [1.0; 3],
         })
     }
 
@@ -181,6 +193,23 @@ impl Pose {
     #[getter]
     fn q(&self) -> [f64; 4] {
         self.0.orientation.to_array()
+    }
+
+    /// The stage pose of a pose in a Z-up world (Blender's), position in
+    /// metres, orientation `(x, y, z, w)`.
+    #[staticmethod]
+    fn from_z_up(p: [f64; 3], q: [f64; 4]) -> Self {
+        Self(CorePose::from_z_up(
+            DVec3::from_array(p),
+            DQuat::from_array(q),
+        ))
+    }
+
+    /// This stage pose in a Z-up world: `(position, (x, y, z, w))`.
+    #[pyo3(name = "to_z_up")]
+    fn z_up(&self) -> ([f64; 3], [f64; 4]) {
+        let (p, q) = self.0.to_z_up();
+        (p.to_array(), q.to_array())
     }
 
     /// A point given in this pose's frame, in the frame the pose is in.

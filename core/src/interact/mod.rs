@@ -61,7 +61,7 @@ pub use input::bindings::{
 pub use input::{
     Controller, ControllerButtons, ControllerSample, Frame, Hand, HandJoints, HandSample,
     HandSource, InputFrame, Joint, JointSample, Pose, Sanitizer, SanitizerSettings, SanitizerStats,
-    JOINT_COUNT,
+    JOINT_COUNT, STAGE_FROM_Z_UP,
 };
 pub use palette::{ChoiceGroup, PaletteAction, PaletteItem, PaletteView, Snap};
 pub use palette_draw::{PaletteDraw, PaletteLabel, PaletteQuad, PaletteRole};

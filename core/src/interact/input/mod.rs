@@ -44,6 +44,6 @@ mod tests;
 
 pub use frame::{Controller, Frame, HandJoints};
 pub use joints::{HandSample, HandSource, Joint, JointSample, JOINT_COUNT};
-pub use pose::{Hand, Pose};
+pub use pose::{Hand, Pose, STAGE_FROM_Z_UP};
 pub use raw::{ControllerButtons, ControllerSample, InputFrame};
 pub use sanitizer::{Sanitizer, SanitizerSettings, SanitizerStats};

@@ -112,4 +112,57 @@ impl Pose {
             orientation: q,
         }
     }
+
+    /// The stage pose of a pose given in a Z-up world (Blender's, and the
+    /// model's own axes), position in metres: `(x, y, z)` becomes
+    /// `(x, z, -y)` and the orientation is turned by [`STAGE_FROM_Z_UP`].
+    /// Both hosts' conversion, written once (issue 36).
+    pub fn from_z_up(position: DVec3, orientation: DQuat) -> Pose {
+        Pose {
+            position: DVec3::new(position.x, position.z, -position.y),
+            orientation: STAGE_FROM_Z_UP * orientation,
+        }
+    }
+
+    /// The inverse of [`Pose::from_z_up`]: this stage pose's position and
+    /// orientation in the Z-up world.
+    pub fn to_z_up(&self) -> (DVec3, DQuat) {
+        let p = self.position;
+        (
+            DVec3::new(p.x, -p.z, p.y),
+            STAGE_FROM_Z_UP.conjugate() * self.orientation,
+        )
+    }
+}
+
+/// The rotation from a Z-up world to the Y-up OpenXR stage: a quarter
+/// turn about `x` (`-90°`), written exactly (no sine or cosine, so the
+/// same bits on every platform).
+pub const STAGE_FROM_Z_UP: DQuat = DQuat::from_xyzw(
+    -std::f64::consts::FRAC_1_SQRT_2,
+    0.0,
+    0.0,
+    std::f64::consts::FRAC_1_SQRT_2,
+);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn z_up_poses_reach_the_stage_and_come_back() {
+        // Blender's +Z (up) is the stage's +Y, its +Y (away) the stage's -Z.
+        let up = Pose::from_z_up(DVec3::new(0.0, 0.0, 1.5), DQuat::IDENTITY);
+        assert!((up.position - DVec3::new(0.0, 1.5, 0.0)).length() < 1e-15);
+        let away = Pose::from_z_up(DVec3::Y, DQuat::IDENTITY);
+        assert!((away.position - DVec3::NEG_Z).length() < 1e-15);
+        // The orientation turns as the positions do.
+        assert!((up.orientation * DVec3::Z - DVec3::Y).length() < 1e-15);
+        let (p, q) = (DVec3::new(0.3, -1.2, 0.8), DQuat::from_rotation_y(0.7));
+        let (p2, q2) = Pose::from_z_up(p, q).to_z_up();
+        assert!(
+            (p2 - p).length() < 1e-15 && q2.abs_diff_eq(q, 1e-15),
+            "{p2} {q2}"
+        );
+    }
 }
