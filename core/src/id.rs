@@ -1,5 +1,5 @@
 //! The stable id of a document object, and the one macro for typed
-//! indices into the lists an op names ([`index_type!`]).
+//! indices into the lists an op names (`index_type!`).
 //!
 //! It lives below every module (not in `doc`) because a few geometry values
 //! carry a reference to another object that the document resolves before
