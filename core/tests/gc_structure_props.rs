@@ -437,12 +437,14 @@ fn chair_random_edits_keep_topology() {
 }
 
 /// Found by a random seed in a CI-like run (2026-11-28): after the mug
-/// body's section was replaced by a sketched loop, an unmirrored, unturned
-/// copy of the handle landed 0.4 mm off its source's anchor coordinates
-/// ("copy: start 0.000415 off the source's anchor coordinates"): the
-/// handle, coplanar with the body, is placed by the frame kept in the
-/// body's plane, and the copy read it in the plain anchor frame, which
-/// the new profile tilts (issue 33; `assembly::edit::slide`).
+/// body's section was replaced by a sketched loop, an unturned copy of the
+/// handle, dropped 9e-6 m off the body's plane, looked 0.4 mm off its
+/// source ("copy: start 0.000415 off the source's anchor coordinates").
+/// The core was right and the check was not: the source, coplanar with
+/// the body, was read in the frame kept in the body's plane and the copy,
+/// off the plane, in the plain anchor frame, which the new profile tilts
+/// against the first. Both are now read in the copy's kind of frame
+/// (`gc_props::checks`, issue 33).
 #[test]
 fn mug_handle_copied_after_a_body_edit_sits_where_its_source_sits() {
     let seeds = [

@@ -9,12 +9,11 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::junction::bury_part;
-use super::relations::spine_size;
-use super::structure::{end_radius, RelationKind, RELATION_TOLERANCE};
+use super::structure::{end_radius, RelationKind};
 use super::{
-    anchor_frame, anchor_frame_in_plane, check_relations, descendants_bfs, ensure_recorded,
-    mirror_gc, mirror_plane, project_to_surface, propagate_edit, reattach_descendants,
-    record_new_part, reflect, symmetry_twins, transform_gc, Anchor, AssemblyError, Attachment,
+    anchor_frame, check_relations, descendants_bfs, ensure_recorded, mirror_gc, mirror_plane,
+    project_to_surface, propagate_edit, reattach_descendants, record_new_part, reflect,
+    symmetry_twins, transform_gc, Anchor, AssemblyError, Attachment,
 };
 use crate::gc::{
     build_gc, Gc, GcAssembly, GcError, GcPart, PartId, Resolution, SectionIndex, SectionSpec,
@@ -326,7 +325,7 @@ impl GcCopy {
         }
         // Now move the copy as a transform would (its descendants follow).
         let placed = asm.clone();
-        let (gc, attach) = slide(&placed, base, part, &r, self.tolerance)?;
+        let (gc, attach) = slide(&placed, base, &r, self.tolerance)?;
         asm.parts[base].gc = gc;
         asm.parts[base].attach = attach;
         bury_part(&placed, asm, base, false)?;
@@ -353,19 +352,9 @@ impl GcCopy {
 /// it already moved the anchor, and the frame carries the part with it
 /// (a handle turned half a turn about a mug's axis is the turned handle,
 /// not turned twice into the body).
-///
-/// A part recorded coplanar with its parent (`like`'s relation: the part
-/// itself, or the source of a copy) is read in the frame the core places
-/// it by, the one kept in the parent's spine plane
-/// ([`anchor_frame_in_plane`]), and lands in that frame again when its
-/// slid anchor is still in the plane (snapped onto it). Read in the plain
-/// anchor frame instead, a part on a parent whose section was replaced by
-/// another profile kind (the two frames then differ) was copied 0.4 mm
-/// off its source's place (issue 33).
 fn slide(
     asm: &GcAssembly,
     i: usize,
-    like: usize,
     m: &DAffine3,
     tolerance: f64,
 ) -> Result<(Gc, Option<Attachment>), AssemblyError> {
@@ -375,20 +364,10 @@ fn slide(
     };
     let pg = &asm.parts[p].gc;
     let surf = pg.surface()?;
-    let plane = asm
-        .relations
-        .as_ref()
-        .is_some_and(|r| r.coplanar.contains(&(like.min(p), like.max(p))))
-        .then(|| mirror_plane(pg));
-    let frames = Frames {
-        parent: pg,
-        surf: &surf,
-        plane,
-        tolerance: RELATION_TOLERANCE * spine_size(pg),
-    };
     let p0 = surf.point(att.start.u, att.start.v);
-    let f_old = frames.at(att.start)?;
-    let (start, f_new) = frames.landing(project_moved(&surf, p0, m, tolerance)?)?;
+    let start = project_moved(&surf, p0, m, tolerance)?;
+    let f_old = anchor_frame(pg, &surf, att.start)?;
+    let f_new = anchor_frame(pg, &surf, start)?;
     let motion = f_new * own_turn(&f_old, &f_new, m) * f_old.inverse();
     let mut gc = transform_gc(&src.gc, &motion);
     let end = match att.end {
@@ -404,64 +383,19 @@ fn slide(
                     parts: (i, p),
                 });
             }
-            let local = frames.at(e)?.inverse().transform_point3(e_old);
-            let (end, f_end) = frames.landing(proj.anchor)?;
-            let target = f_end.transform_point3(local);
+            let local = anchor_frame(pg, &surf, e)?
+                .inverse()
+                .transform_point3(e_old);
+            let target = anchor_frame(pg, &surf, proj.anchor)?.transform_point3(local);
             let s = gc.spine.curve.point(a);
             let e_r = motion.transform_point3(e_old);
             let sim = super::propagate::similarity_about(s, e_r - s, target - s);
             gc = transform_gc(&gc, &sim);
-            Some(end)
+            Some(proj.anchor)
         }
     };
     gc.validate()?;
     Ok((gc, Some(Attachment { start, end })))
-}
-
-/// The frames a slid child is read and placed in ([`slide`]): the plain
-/// anchor frame, or for a child coplanar with its parent (`plane`) the
-/// frame kept in that plane wherever the anchor is in it (to
-/// `tolerance`).
-struct Frames<'a> {
-    parent: &'a Gc,
-    surf: &'a NurbsSurface,
-    plane: Option<(DVec3, DVec3)>,
-    tolerance: f64,
-}
-
-impl Frames<'_> {
-    /// The in-plane frame at `at` when it is in the plane, snapped onto it
-    /// (`snap`) or kept where it is.
-    fn in_plane(&self, at: Anchor, snap: bool) -> Option<(Anchor, DAffine3)> {
-        let (o, n) = self.plane?;
-        let offset = (self.surf.point(at.u, at.v) - o).dot(n);
-        if !(offset.abs() <= self.tolerance) {
-            return None;
-        }
-        anchor_frame_in_plane(
-            self.parent,
-            self.surf,
-            at,
-            (o, n),
-            if snap { 0.0 } else { offset },
-        )
-    }
-
-    /// The frame the child sitting at `at` is read in.
-    fn at(&self, at: Anchor) -> Result<DAffine3, AssemblyError> {
-        match self.in_plane(at, false) {
-            Some((_, f)) => Ok(f),
-            None => anchor_frame(self.parent, self.surf, at),
-        }
-    }
-
-    /// Where a child slid to `at` lands, and the frame it is placed in.
-    fn landing(&self, at: Anchor) -> Result<(Anchor, DAffine3), AssemblyError> {
-        match self.in_plane(at, true) {
-            Some(x) => Ok(x),
-            None => Ok((at, anchor_frame(self.parent, self.surf, at)?)),
-        }
-    }
 }
 
 /// The part of `m`'s rotation a child anchored at frame `f_old` (moved
@@ -551,7 +485,7 @@ impl GcTransformPart {
             moved.extend(twins.iter().map(|&t| (t, mr)));
         }
         for &(i, m) in &moved {
-            let (gc, attach) = slide(&old, i, i, &m, self.tolerance)?;
+            let (gc, attach) = slide(&old, i, &m, self.tolerance)?;
             asm.parts[i].gc = gc;
             asm.parts[i].attach = attach;
             bury_part(&old, asm, i, false)?;

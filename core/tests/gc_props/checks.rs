@@ -49,14 +49,24 @@ pub type Local = (DVec3, Option<DVec3>);
 /// frame kept in the parent's spine plane (where the core places it).
 pub fn local_ends(asm: &GcAssembly, c: usize) -> Option<Local> {
     let p = asm.parts[c].parent?;
+    local_ends_in(asm, c, coplanar_with_parent(asm, c, p))
+}
+
+/// True when child `c` is recorded coplanar with its parent `p`.
+fn coplanar_with_parent(asm: &GcAssembly, c: usize, p: usize) -> bool {
+    asm.relations
+        .as_ref()
+        .is_some_and(|r| r.coplanar.contains(&(p.min(c), p.max(c))))
+}
+
+/// [`local_ends`] in the frame kept in the parent's plane (`coplanar`) or
+/// in the plain anchor frame, whatever `c`'s relations.
+fn local_ends_in(asm: &GcAssembly, c: usize, coplanar: bool) -> Option<Local> {
+    let p = asm.parts[c].parent?;
     let att = asm.parts[c].attach?;
     let parent = &asm.parts[p].gc;
     let surf = parent.surface().expect("parent surface");
     let (s, e) = ends(&asm.parts[c].gc);
-    let coplanar = asm
-        .relations
-        .as_ref()
-        .is_some_and(|r| r.coplanar.contains(&(p.min(c), p.max(c))));
     let frame = |a: Anchor| {
         if coplanar {
             let o = spine_controls(parent)[0];
@@ -459,8 +469,17 @@ pub fn check_effect(before: &GcAssembly, after: &GcAssembly, m: &Made) -> Result
             if !e.mirror {
                 // placed where dropped: the source's anchor coordinates at
                 // the slid anchor, turned by the spin (an open end may be
-                // sunk in further)
-                let (a, b) = (local_ends(before, *src), local_ends(after, k));
+                // sunk in further). Both read in one kind of frame, the
+                // copy's: a copy that left its parent's plane sits on the
+                // surface as its source does, in the plain anchor frame,
+                // even when the source is held in that plane (issue 33:
+                // read in-plane for the source and plain for the copy, a
+                // handle after the body's section became a sketched loop
+                // looked 0.4 mm off).
+                let kept = after.parts[k]
+                    .parent
+                    .is_some_and(|p| coplanar_with_parent(after, k, p));
+                let (a, b) = (local_ends_in(before, *src, kept), local_ends(after, k));
                 if let (Some(a), Some(b)) = (a, b) {
                     let g = &after.parts[k].gc;
                     let spin = match motion {
