@@ -10,7 +10,7 @@ use thiserror::Error;
 /// An input asks for more memory or work than a budget allows: reduce or
 /// fix the parameter named.
 #[derive(Clone, Debug, PartialEq, Error)]
-#[error("{parameter}: {what} would be {}, over the limit of {}", number(*.estimate), number(*.limit))]
+#[error("{parameter}: {what} would be {}, over the limit of {}", numbers(*.estimate, *.limit).0, numbers(*.estimate, *.limit).1)]
 pub struct OverBudget {
     /// The op parameter that sized the request (`sections`,
     /// `warp.delta`, `step`).
@@ -40,17 +40,22 @@ impl OverBudget {
     }
 }
 
-/// A count or estimate for a message: whole numbers as they are (the
-/// exponent form rounded 4,000,130 and 4,001,280 to digits that read the
-/// wrong way round), others to five significant digits.
-fn number(x: f64) -> String {
-    if x.is_finite() && x.fract() == 0.0 && x.abs() < 1e15 {
-        format!("{x:.0}")
-    } else if x.is_finite() {
-        format!("{x:.4e}")
-    } else {
-        format!("{x}")
-    }
+/// An estimate and its limit for a message, in one form: whole numbers as
+/// they are when both are whole (the exponent form rounded 4,000,130 and
+/// 4,001,280 to digits that read the wrong way round), else both to five
+/// significant digits, so "2.1347e9" never stands beside "2000000000".
+fn numbers(estimate: f64, limit: f64) -> (String, String) {
+    let whole = |x: f64| x.is_finite() && x.fract() == 0.0 && x.abs() < 1e15;
+    let one = |x: f64| {
+        if whole(estimate) && whole(limit) {
+            format!("{x:.0}")
+        } else if x.is_finite() {
+            format!("{x:.4e}")
+        } else {
+            format!("{x}")
+        }
+    };
+    (one(estimate), one(limit))
 }
 
 #[cfg(test)]
@@ -68,6 +73,11 @@ mod tests {
         assert_eq!(
             e.to_string(),
             "warp.delta: the work would be 3.9391e6, over the limit of inf"
+        );
+        let e = OverBudget::new("sections", "the skin's flops", 2.1347e9 + 0.25, 2e9);
+        assert_eq!(
+            e.to_string(),
+            "sections: the skin's flops would be 2.1347e9, over the limit of 2.0000e9"
         );
     }
 }

@@ -63,14 +63,19 @@ fn object_as_component(script: &str, step: f64) -> Result<OpLog, LogError> {
     Ok(log)
 }
 
-/// `e` is [`SdfError::TooThin`] or [`SdfError::ThinWalls`] naming `what`
-/// and `step`.
+/// `e` is [`SdfError::TooThin`] naming `what` and `step`.
 fn refused_as_too_thin(e: LogError, what: &str, step: &str) {
     let e = sdf_err(e);
-    assert!(
-        matches!(e, SdfError::TooThin { .. } | SdfError::ThinWalls { .. }),
-        "{e}"
-    );
+    assert!(matches!(e, SdfError::TooThin { .. }), "{e}");
+    let text = e.to_string();
+    eprintln!("refused: {text}");
+    assert!(text.contains(what) && text.contains(step), "{text}");
+}
+
+/// `e` is [`SdfError::ThinWalls`] naming `what` and `step` (model units).
+fn refused_for_thin_walls(e: LogError, what: &str, step: &str) {
+    let e = sdf_err(e);
+    assert!(matches!(e, SdfError::ThinWalls { .. }), "{e}");
     let text = e.to_string();
     eprintln!("refused: {text}");
     assert!(text.contains(what) && text.contains(step), "{text}");
@@ -83,7 +88,7 @@ fn refused_as_too_thin(e: LogError, what: &str, step: &str) {
 fn the_chair_made_a_component_at_1_cm_keeps_its_volume_or_is_refused() {
     match object_as_component("chair.jsonl", 0.01) {
         Ok(log) => same_shape("chair at 1 cm", &mesh(&log, 2), &mesh(&log, 1), 1.0, 0.01),
-        Err(e) => refused_as_too_thin(e, "object #1", "0.01"),
+        Err(e) => refused_for_thin_walls(e, "object #1", "0.01"),
     }
 }
 
@@ -111,7 +116,7 @@ fn the_mug_made_a_component_keeps_its_walls_or_is_refused() {
     // a sieve.
     match object_as_component("mug.jsonl", 0.004) {
         Ok(log) => same_shape("mug at 4 mm", &mesh(&log, 2), &mesh(&log, 1), 1.0, 0.01),
-        Err(e) => refused_as_too_thin(e, "object #1", "0.004"),
+        Err(e) => refused_for_thin_walls(e, "object #1", "0.004"),
     }
 }
 

@@ -386,9 +386,11 @@ impl SdfComponentFromObject {
         };
         // Steps are in model units; the mesh is in the volume's frame.
         let what = format!("object #{}", self.object.0);
-        super::reuse::check_walls(&local, v.step / scale, &what)?;
         let step = super::reuse::reuse_step(source_step, v.step, 1.0) / scale;
+        // The component's budget first (and its mesh checked closed), then
+        // its walls.
         let (user, back) = super::reuse::component_from_mesh(&local, Some(step), cache)?;
+        super::reuse::check_walls(&local, v.step, scale, &what)?;
         let want = super::reuse::shape(&local);
         let mut n = v.clone();
         n.user_components.insert(self.name.clone(), user);

@@ -190,6 +190,12 @@ impl MeshDistance {
     /// point before going to parry's `f32` (keeps digits near the mesh).
     pub fn new(mesh: &TriMesh, centre: DVec3) -> Result<Self, SdfError> {
         check_mesh(mesh)?;
+        Self::of_checked(mesh, centre)
+    }
+
+    /// [`MeshDistance::new`] for a mesh the caller has already checked
+    /// closed and oriented (no second validation of a large mesh).
+    pub(crate) fn of_checked(mesh: &TriMesh, centre: DVec3) -> Result<Self, SdfError> {
         let verts: Vec<parry3d::math::Vector> = mesh
             .positions
             .iter()

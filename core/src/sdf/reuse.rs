@@ -20,12 +20,12 @@
 //!   ([`super::mesh_sdf::component_sdf_at`]).
 //! - **Checked, or refused.** A document object whose walls are thinner
 //!   than two cells of the volume's step over more than
-//!   [`THIN_AREA_TOL`] of its surface is refused first
-//!   ([`SdfError::ThinWalls`], [`check_walls`]: the thickness is measured
-//!   from each face inward to the other side, by ray; the chair's 1.8 cm
-//!   slats at 1 cm, 11% of its surface, and the mug's 4 mm walls at 4 mm,
-//!   91%, had kept 97.6% and 91.4% of their volume and were accepted).
-//!   Then a reused component is resampled where it goes and extracted on
+//!   [`THIN_AREA_TOL`] of its surface is refused, once its budget is
+//!   checked ([`SdfError::ThinWalls`], [`check_walls`]: the thickness is
+//!   measured from each face inward to the other side, by ray; the
+//!   chair's 1.8 cm slats at 1 cm, 11.6% of its surface, and the mug's
+//!   4 mm walls at 4 mm, 90.8%, had kept 97.6% and 91.4% of their volume
+//!   and were accepted). Then a reused component is resampled where it goes and extracted on
 //!   its own; if it does not come out with the source's number of pieces
 //!   and genus, the op is refused with [`SdfError::TooThin`], naming both
 //!   and the step. Its volume is not compared: what an object with walls
@@ -191,42 +191,62 @@ pub const THIN_AREA_TOL: f64 = 0.02;
 /// mug's 4 mm walls at 4 mm kept 91.4%).
 pub const MIN_WALL_CELLS: f64 = 2.0;
 
-/// At most this many triangles are measured (every `k`-th, weighted by
-/// area): the share of thin walls is a statistic, not a per-face answer.
+/// At most this many triangles are measured (drawn by a fixed hash of
+/// their index, so a mesh's regular ring order cannot line the samples up
+/// with one angle), weighted by area: the share of thin walls is a
+/// statistic, not a per-face answer.
 const WALL_SAMPLES: usize = 20_000;
 
-/// The share of `mesh`'s surface area (closed, oriented) lying on walls
-/// thinner than `below`: from each measured triangle's centroid, the
-/// distance along the inward normal to the surface on the other side.
+/// The `j`-th triangle measured of `n` (splitmix64 of `j`, modulo `n`).
+fn sample_index(j: usize, n: usize) -> usize {
+    let mut z = (j as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    ((z ^ (z >> 31)) % n as u64) as usize
+}
+
+/// The share of `mesh`'s surface area (closed and oriented, checked by
+/// the caller) lying on walls thinner than `below`: from each measured
+/// triangle's centroid, the distance along the inward normal to the
+/// surface on the other side (parry's BVH, in `f32`: the same bits on
+/// every platform, IEEE arithmetic without fused operations).
 pub fn thin_share(mesh: &TriMesh, below: f64) -> Result<f64, SdfError> {
     let (lo, hi) = mesh.bbox().ok_or(SdfError::EmptyResult)?;
-    let dist = super::mesh_sdf::MeshDistance::new(mesh, (lo + hi) * 0.5)?;
+    let dist = super::mesh_sdf::MeshDistance::of_checked(mesh, (lo + hi) * 0.5)?;
     // Off the surface by a hair, so the ray does not meet its own face.
     let eps = 1e-6 * (hi - lo).max_element();
-    let stride = mesh.triangles.len().div_ceil(WALL_SAMPLES).max(1);
+    let n = mesh.triangles.len();
+    let count = n.min(WALL_SAMPLES);
     let (mut thin, mut all) = (0.0, 0.0);
-    for i in (0..mesh.triangles.len()).step_by(stride) {
+    for j in 0..count {
+        let i = if n <= WALL_SAMPLES {
+            j
+        } else {
+            sample_index(j, n)
+        };
         let [a, b, c] = mesh.corners(i);
-        let n = (b - a).cross(c - a);
-        let area = 0.5 * n.length();
-        let Some(n) = n.try_normalize() else {
+        let nrm = (b - a).cross(c - a);
+        let area = 0.5 * nrm.length();
+        let Some(nrm) = nrm.try_normalize() else {
             continue;
         };
-        let o = (a + b + c) / 3.0 - n * eps;
+        let o = (a + b + c) / 3.0 - nrm * eps;
         all += area;
-        if dist.ray_hit(o, -n, below).is_some() {
+        if dist.ray_hit(o, -nrm, below).is_some() {
             thin += area;
         }
     }
     Ok(if all > 0.0 { thin / all } else { 0.0 })
 }
 
-/// Refuses reusing `mesh` (named `what`) in a grid of step `step` when
-/// more than [`THIN_AREA_TOL`] of its surface lies on walls thinner than
-/// [`MIN_WALL_CELLS`] cells.
-pub fn check_walls(mesh: &TriMesh, step: f64, what: &str) -> Result<(), SdfError> {
+/// Refuses reusing `mesh` (named `what`, in a frame of `scale` model
+/// units per unit, closed and oriented) in a volume of grid step `step`
+/// (model units) when more than [`THIN_AREA_TOL`] of its surface lies on
+/// walls thinner than [`MIN_WALL_CELLS`] cells. The refusal states the
+/// step and the wall in model units, as `sdf_set_step` takes them.
+pub fn check_walls(mesh: &TriMesh, step: f64, scale: f64, what: &str) -> Result<(), SdfError> {
     let wall = MIN_WALL_CELLS * step;
-    let share = thin_share(mesh, wall)?;
+    let share = thin_share(mesh, wall / scale)?;
     if share > THIN_AREA_TOL {
         return Err(SdfError::ThinWalls {
             what: what.to_owned(),
@@ -374,4 +394,53 @@ fn too_thin(what: &str, step: f64, want: Shape, got: Option<Shape>) -> SdfError 
 /// before the op lands).
 pub fn affine(t: &Transform) -> Result<DAffine3, SdfError> {
     Ok(t.to_affine()?)
+}
+
+#[cfg(test)]
+mod wall_tests {
+    use super::*;
+    use crate::solid::{tessellate, SolidShape};
+
+    fn slab(thick: f64) -> TriMesh {
+        tessellate(
+            &SolidShape::Box {
+                size: [0.2, 0.2, thick],
+            },
+            8,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn a_slab_is_thin_below_its_thickness_and_not_above() {
+        // Top and bottom, 2 x 0.04 m², against sides of 4 x 0.2 x 0.01.
+        let m = slab(0.01);
+        assert_eq!(thin_share(&m, 0.008).unwrap(), 0.0);
+        let share = thin_share(&m, 0.012).unwrap();
+        assert!((share - 0.08 / 0.088).abs() < 1e-9, "{share}");
+    }
+
+    #[test]
+    fn walls_are_refused_under_two_cells_naming_the_step_in_model_units() {
+        let m = slab(0.01);
+        assert!(check_walls(&m, 0.004, 1.0, "object #1").is_ok());
+        let e = check_walls(&m, 0.006, 1.0, "object #1").unwrap_err();
+        assert!(
+            matches!(e, SdfError::ThinWalls { step, wall, .. } if step == 0.006 && wall == 0.012),
+            "{e}"
+        );
+        // The slab in the frame of a volume placed at scale 2 (its frame's
+        // unit is 2 model units): half as thick in the frame, as thick in
+        // the model, and judged and named in the model's units.
+        let half = TriMesh::new(
+            m.positions.iter().map(|p| p.map(|x| x * 0.5)).collect(),
+            m.triangles.clone(),
+        );
+        assert!(check_walls(&half, 0.004, 2.0, "object #1").is_ok());
+        let e = check_walls(&half, 0.006, 2.0, "object #1").unwrap_err();
+        assert!(
+            e.to_string().contains("0.012 m") && e.to_string().contains("0.006 m"),
+            "{e}"
+        );
+    }
 }
