@@ -63,22 +63,22 @@ fn object_as_component(script: &str, step: f64) -> Result<OpLog, LogError> {
     Ok(log)
 }
 
-/// `e` is [`SdfError::TooThin`] naming `what` and `step`.
-fn refused_as_too_thin(e: LogError, what: &str, step: &str) {
+/// `e` is the SDF refusal `want` accepts (`TooThin`, `ThinWalls`), naming
+/// `what` and `step`.
+fn refused(e: LogError, want: fn(&SdfError) -> bool, what: &str, step: &str) {
     let e = sdf_err(e);
-    assert!(matches!(e, SdfError::TooThin { .. }), "{e}");
+    assert!(want(&e), "{e}");
     let text = e.to_string();
     eprintln!("refused: {text}");
     assert!(text.contains(what) && text.contains(step), "{text}");
 }
 
-/// `e` is [`SdfError::ThinWalls`] naming `what` and `step` (model units).
-fn refused_for_thin_walls(e: LogError, what: &str, step: &str) {
-    let e = sdf_err(e);
-    assert!(matches!(e, SdfError::ThinWalls { .. }), "{e}");
-    let text = e.to_string();
-    eprintln!("refused: {text}");
-    assert!(text.contains(what) && text.contains(step), "{text}");
+fn too_thin(e: &SdfError) -> bool {
+    matches!(e, SdfError::TooThin { .. })
+}
+
+fn thin_walls(e: &SdfError) -> bool {
+    matches!(e, SdfError::ThinWalls { .. })
 }
 
 /// At 1 cm the chair (1.8 cm slats, 3 cm legs) kept genus 2 and its legs
@@ -88,7 +88,7 @@ fn refused_for_thin_walls(e: LogError, what: &str, step: &str) {
 fn the_chair_made_a_component_at_1_cm_keeps_its_volume_or_is_refused() {
     match object_as_component("chair.jsonl", 0.01) {
         Ok(log) => same_shape("chair at 1 cm", &mesh(&log, 2), &mesh(&log, 1), 1.0, 0.01),
-        Err(e) => refused_for_thin_walls(e, "object #1", "0.01"),
+        Err(e) => refused(e, thin_walls, "object #1", "0.01"),
     }
 }
 
@@ -116,7 +116,7 @@ fn the_mug_made_a_component_keeps_its_walls_or_is_refused() {
     // a sieve.
     match object_as_component("mug.jsonl", 0.004) {
         Ok(log) => same_shape("mug at 4 mm", &mesh(&log, 2), &mesh(&log, 1), 1.0, 0.01),
-        Err(e) => refused_for_thin_walls(e, "object #1", "0.004"),
+        Err(e) => refused(e, thin_walls, "object #1", "0.004"),
     }
 }
 
@@ -201,7 +201,7 @@ fn a_fused_cup_shrunk_below_the_grid_keeps_its_shape_or_is_refused() {
     match log.apply(op(r#"{"op":"sdf_move_fused","volume":1,"transform":{"translate":[0,0,0],"rotate":[0,0,0,1],"scale":[0.3,0.3,0.3]}}"#)) {
         Ok(_) => same_shape("cup moved at scale 0.15", &mesh(&log, 1), &half, 0.3, 0.01),
         Err(e) => {
-            refused_as_too_thin(e, "the moved result", "0.004");
+            refused(e, too_thin, "the moved result", "0.004");
             assert_eq!(log.document().content_hash(), before);
         }
     }
