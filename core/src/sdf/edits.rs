@@ -28,8 +28,7 @@ use super::csg::CsgOp;
 use super::placement::ScaleAxis;
 use super::volume::{check_step, default_cache, Component, Operand, SdfVolume, UserMesh};
 use super::SdfError;
-use crate::id::index_type;
-use crate::id::ObjectId;
+use crate::id::{index_type, ObjectId};
 use crate::math::{DAffine3, DVec3, Transform};
 use crate::mesh::{validate, TriMesh};
 

@@ -25,15 +25,15 @@
 //!   measured from each face inward to the other side, by ray; the
 //!   chair's 1.8 cm slats at 1 cm, 11.6% of its surface, and the mug's
 //!   4 mm walls at 4 mm, 90.8%, had kept 97.6% and 91.4% of their volume
-//!   and were accepted). Then a reused component is resampled where it goes and extracted on
-//!   its own; if it does not come out with the source's number of pieces
-//!   and genus, the op is refused with [`SdfError::TooThin`], naming both
-//!   and the step. Its volume is not compared: what an object with walls
-//!   of two cells or more loses is the grid's own chords (a 3 cm sphere
-//!   at 1 cm keeps 93.7%, as any grid at that step would); a copy of the
-//!   fused result re-extracts the result's own mesh and inherits its
-//!   chords (alone,
-//!   the cup's copy off the lattice is 98.3% of the cup). A moved result
+//!   and were accepted). Then a reused component is resampled where it
+//!   goes and extracted on its own; if it does not come out with the
+//!   source's number of pieces and genus, the op is refused with
+//!   [`SdfError::TooThin`], naming both and the step. Its volume is not
+//!   compared: what an object with walls of two cells or more loses is
+//!   the grid's own chords (a 3 cm sphere at 1 cm keeps 93.7%, as any
+//!   grid at that step would); a copy of the fused result re-extracts the
+//!   result's own mesh and inherits its chords (alone, the cup's copy off
+//!   the lattice is 98.3% of the cup). A moved result
 //!   is compared with itself at the old step, so there the volume is
 //!   checked too ([`REUSE_VOLUME_TOL`]).
 //! - **On the lattice.** A component made at the reuse step has its
