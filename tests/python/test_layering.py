@@ -62,12 +62,6 @@ KNOWN_FOLDER_CIRCLES: dict[tuple[str, str], str] = {
     # log.rs holds a SharedLog (OpLog::from_shared); shared/ builds on OpLog.
     ("doc/log", "doc/shared"): "to be removed by moving OpLog's shared-session side (its SharedLog "
     "field, from_shared and the routing of edits) out of log.rs into doc/shared/ (issue 36)",
-    # preview.rs's Preview holds CurvePreview; curve_tool names Preview.
-    ("interact/tools/curve_tool", "interact/tools/preview"): "to be removed by moving CurvePreview "
-    "(and the target types it holds) out of curve_tool/modes.rs to the preview side (issue 36)",
-    # preview.rs's Preview holds GcPreview; gc_tool names Preview.
-    ("interact/tools/gc_tool", "interact/tools/preview"): "to be removed by moving GcPreview (and "
-    "GcTarget) out of gc_tool/state.rs to the preview side (issue 36)",
 }
 
 Module = tuple[str, ...]

@@ -61,8 +61,9 @@ mod modes;
 mod settings;
 mod tool;
 
-pub use modes::{
-    CurveMode, CurvePreview, CurveTarget, DrawPlane, PatchTarget, SurfaceTool, SURFACE_MARGIN,
+pub use super::preview::{
+    CurveMode, CurvePreview, CurveTarget, DrawPlane, PatchTarget, SurfaceTool,
 };
+pub use modes::SURFACE_MARGIN;
 pub use settings::CurveToolSettings;
 pub use tool::CurveNetworkTool;

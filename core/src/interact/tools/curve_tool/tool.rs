@@ -15,11 +15,9 @@ use crate::styling::{
     SurfaceEquilibrium, SurfacePull, SurfaceSharpen, SurfaceSmooth,
 };
 
-use super::modes::{
-    attractor_of, read_pen, CurveMode, CurvePreview, CurveTarget, DrawPlane, PatchTarget, Pen,
-    Stroke, SurfaceTool, SURFACE_MARGIN,
-};
+use super::modes::{attractor_of, read_pen, Pen, Stroke, SURFACE_MARGIN};
 use super::settings::CurveToolSettings;
+use super::{CurveMode, CurvePreview, CurveTarget, DrawPlane, PatchTarget, SurfaceTool};
 use crate::interact::input::Hand;
 use crate::interact::palette::ChoiceGroup;
 use crate::interact::tools::lost_too_long;

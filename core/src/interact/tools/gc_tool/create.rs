@@ -33,7 +33,8 @@ use crate::gc::{
 use crate::math::DVec3;
 use crate::sketch::{match_section_stroke, spine_points, DrawnSection, SketchPlane};
 
-use super::target::{GcTarget, GeoCache};
+use super::target::GeoCache;
+use super::GcTarget;
 use super::GcToolSettings;
 
 /// Where a new part starts.

@@ -29,7 +29,8 @@ use crate::gc::{
 };
 use crate::math::DVec3;
 
-use super::target::{GcTarget, GeoCache};
+use super::target::GeoCache;
+use super::GcTarget;
 use super::GcToolSettings;
 
 /// The op a FIST drag of `target` by `d` (model space) becomes.

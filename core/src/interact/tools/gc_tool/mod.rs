@@ -24,9 +24,8 @@ mod target;
 pub(crate) mod tests;
 mod tool;
 
+pub use super::preview::{GcPreview, GcTarget};
 pub use settings::GcToolSettings;
-pub use state::GcPreview;
-pub use target::GcTarget;
 pub use tool::GcTool;
 #[cfg(test)]
 pub(crate) use tool::RESOLUTIONS;

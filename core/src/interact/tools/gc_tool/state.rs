@@ -1,40 +1,16 @@
 //! The GC tool's state between frames: the Figure 10 state it is in and
-//! the gesture each state carries (a drag, a pinch, a view grab, a hold),
-//! and [`GcPreview`], what it shows.
+//! the gesture each state carries (a drag, a pinch, a view grab, a hold).
+//! What it shows, `GcPreview`, lives on the preview side.
 
-use std::sync::Arc;
-
-use crate::gc::{Profile, ShapeType};
+use crate::gc::ShapeType;
 use crate::math::DVec3;
-use crate::mesh::TriMesh;
 use crate::sketch::{DrawnSection, SketchPlane};
 
 use super::create::Start;
-use super::target::GcTarget;
+use super::GcTarget;
 use crate::interact::gesture::bimanual::HandleBar;
 use crate::interact::gesture::similarity::Similarity;
 use crate::interact::input::{Hand, Pose};
-
-/// GC-specific preview state (part of [`Preview`](crate::interact::Preview)).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct GcPreview {
-    /// The state machine's state (`idle`, `placed`, `sketch_section`, ...).
-    pub mode: &'static str,
-    /// The element under the ray (or being edited).
-    pub target: Option<GcTarget>,
-    /// Progress of a 3 s hold in `[0, 1]`.
-    pub hold: f64,
-    /// The sketch plane (origin, normal; model space) while sketching.
-    pub plane: Option<(DVec3, DVec3)>,
-    /// The matched section of a part being created.
-    pub profile: Option<Profile>,
-    /// The edited part as it would be if the gesture ended now (model
-    /// space, preview resolution).
-    pub mesh: Option<Arc<TriMesh>>,
-    /// The whole-shape view transform on top of the session's placement
-    /// (world to world), when not the identity.
-    pub view: Option<Similarity>,
-}
 
 #[derive(Clone, Debug)]
 pub(super) enum State {

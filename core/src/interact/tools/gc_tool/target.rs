@@ -25,118 +25,14 @@
 
 use std::collections::BTreeMap;
 
-use serde::{Deserialize, Serialize};
-
 use crate::assembly::project_to_surface;
 use crate::doc::{Document, ObjectId, ObjectKind};
 use crate::gc::GcAssembly;
 use crate::math::{DVec3, Frame};
 use crate::nurbs::NurbsSurface;
 
-use super::GcToolSettings;
+use super::{GcTarget, GcToolSettings};
 use crate::interact::tools::pick::{pick, Ray};
-
-/// What a ray selects (model space).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum GcTarget {
-    /// A spine key point (the centre of key section `section`).
-    KeyPoint {
-        /// The assembly object.
-        id: ObjectId,
-        /// The part.
-        part: usize,
-        /// The section whose centre it is.
-        section: usize,
-        /// The key point.
-        point: DVec3,
-    },
-    /// A key section (curve), hit at `point`.
-    Section {
-        /// The assembly object.
-        id: ObjectId,
-        /// The part.
-        part: usize,
-        /// The section.
-        section: usize,
-        /// The hit point.
-        point: DVec3,
-    },
-    /// The side surface of a part, away from its key sections.
-    Surface {
-        /// The assembly object.
-        id: ObjectId,
-        /// The part.
-        part: usize,
-        /// The point on the exact surface nearest the hit.
-        point: DVec3,
-        /// Its spine parameter.
-        v: f64,
-    },
-    /// Nothing: a point in empty space.
-    Empty {
-        /// The point.
-        point: DVec3,
-    },
-}
-
-impl GcTarget {
-    /// The selected point.
-    pub fn point(&self) -> DVec3 {
-        match *self {
-            Self::KeyPoint { point, .. }
-            | Self::Section { point, .. }
-            | Self::Surface { point, .. }
-            | Self::Empty { point } => point,
-        }
-    }
-
-    /// The object and part, if a part is selected.
-    pub fn part(&self) -> Option<(ObjectId, usize)> {
-        match *self {
-            Self::KeyPoint { id, part, .. }
-            | Self::Section { id, part, .. }
-            | Self::Surface { id, part, .. } => Some((id, part)),
-            Self::Empty { .. } => None,
-        }
-    }
-
-    /// Same element (ignoring where exactly it was hit).
-    pub fn same_element(&self, other: &GcTarget) -> bool {
-        match (self, other) {
-            (
-                Self::KeyPoint {
-                    id, part, section, ..
-                },
-                Self::KeyPoint {
-                    id: i2,
-                    part: p2,
-                    section: s2,
-                    ..
-                },
-            )
-            | (
-                Self::Section {
-                    id, part, section, ..
-                },
-                Self::Section {
-                    id: i2,
-                    part: p2,
-                    section: s2,
-                    ..
-                },
-            ) => id == i2 && part == p2 && section == s2,
-            (
-                Self::Surface { id, part, .. },
-                Self::Surface {
-                    id: i2, part: p2, ..
-                },
-            ) => id == i2 && part == p2,
-            (Self::Empty { .. }, Self::Empty { .. }) => true,
-            _ => false,
-        }
-    }
-}
 
 /// Cached geometry of one part.
 #[derive(Clone, Debug)]

@@ -60,7 +60,8 @@ use super::create::{create_op, replace_op, replace_plane, section_profile, Start
 use super::edit::{drag_op, end_of, hold_op, pinch_shape, shape_op};
 use super::hand::{HandFilter, HandIn};
 use super::state::{Drag, Hold, PinchState, State, ViewGrab};
-use super::target::{GcTarget, GeoCache};
+use super::target::GeoCache;
+use super::GcTarget;
 use super::GcToolSettings;
 use crate::interact::gesture::bimanual::HandleBar;
 use crate::interact::gesture::similarity::Similarity;

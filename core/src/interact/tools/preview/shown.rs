@@ -8,6 +8,7 @@ use crate::math::{DAffine3, DVec3, Transform};
 use crate::mesh::TriMesh;
 use crate::solid::SolidShape;
 
+use super::{CurvePreview, GcPreview};
 use crate::interact::gesture::similarity::Similarity;
 
 /// A ray to draw (world space).
@@ -73,11 +74,11 @@ pub enum ToolPreview {
     /// The CSG tool's pending operands.
     Csg(CsgPreview),
     /// The curve tool: selected tool, pointed curve point, planes.
-    Curve(crate::interact::tools::curve_tool::CurvePreview),
+    Curve(CurvePreview),
     /// The sculpt brush (world space), while a controller holds it.
     Brush(Option<BrushPreview>),
     /// The generalized-cylinder tool's state.
-    Gc(crate::interact::tools::gc_tool::GcPreview),
+    Gc(GcPreview),
 }
 
 /// The CSG tool's pending SDF operands to show.
@@ -143,14 +144,9 @@ macro_rules! tool_preview {
 impl Preview {
     tool_preview!(placing, placing_mut, Placing, Option<SolidShape>);
     tool_preview!(csg, csg_mut, Csg, CsgPreview);
-    tool_preview!(
-        curve,
-        curve_mut,
-        Curve,
-        crate::interact::tools::curve_tool::CurvePreview
-    );
+    tool_preview!(curve, curve_mut, Curve, CurvePreview);
     tool_preview!(brush, brush_mut, Brush, Option<BrushPreview>);
-    tool_preview!(gc, gc_mut, Gc, crate::interact::tools::gc_tool::GcPreview);
+    tool_preview!(gc, gc_mut, Gc, GcPreview);
 
     /// The mesh to draw for the object being dragged (model space), its
     /// document mesh moved by the drag: by the motion, or, when the new
