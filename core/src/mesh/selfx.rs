@@ -14,8 +14,10 @@
 //!   point sets meet outside their shared vertices; touching counts (a
 //!   vertex resting on another sheet is a zero-thickness contact that a
 //!   slicer cannot print either). The predicates are exact for coordinates
-//!   whose products do not overflow, so the verdict is the same for the
-//!   same bits on every machine and thread count. Coordinates beyond
+//!   whose products neither overflow nor underflow (Shewchuk's predicates
+//!   assume both; the float filter in front of them allows for underflow,
+//!   [`O3_ABS`]), so the verdict is the same for the same bits on every
+//!   machine and thread count. Coordinates beyond
 //!   [`MAX_EXACT_COORDINATE`] are not judged (the caller reports them as out
 //!   of range first).
 //! - **Shared vertices by position**, not index: vertices with identical
@@ -121,7 +123,7 @@ fn canonical_vertices(pos: &[[f64; 3]]) -> Vec<u32> {
     canon
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Aabb {
     lo: DVec3,
     hi: DVec3,
@@ -162,7 +164,7 @@ impl Aabb {
 
 /// A node, in preorder: an inner node `n` has `count == 0` and children
 /// `n + 1` and `first`; a leaf holds `order[first..first + count]`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Node {
     bounds: Aabb,
     first: u32,
@@ -348,8 +350,9 @@ impl Ctx {
         // Everything the pair tests read, in the BVH's order: a leaf's
         // triangles and its neighbours' are then near in memory (fetching
         // corners through the index buffer at random bound the search).
-        // About 170 bytes a triangle while the search runs (the BVH with
-        // them).
+        // With the BVH, about 170 bytes a triangle while the search runs
+        // on a fine mesh, 190 on a coarse one (130 before issue 37's
+        // change), beside the topology's 80 when `validate` runs both.
         let corners: Vec<[DVec3; 3]> = bvh
             .order
             .par_iter()
@@ -398,8 +401,7 @@ impl Ctx {
         if !a.bounds.overlaps(&b.bounds) {
             return Vec::new();
         }
-        if bvh.size[m as usize] + bvh.size[n as usize] <= SEQUENTIAL || (a.count > 0 && b.count > 0)
-        {
+        if bvh.size[m as usize] + bvh.size[n as usize] <= SEQUENTIAL {
             let mut out = Vec::new();
             self.between(m, n, &mut out);
             return out;
@@ -455,10 +457,21 @@ impl Ctx {
 
     /// Tests the triangles at positions `i` and `j` of the BVH's order.
     #[inline]
+    /// The pair is judged with the lower original index first, whatever
+    /// the order the walk met them in: a verdict then depends on the mesh
+    /// alone, not on the tree (a collinear case's float test of where a
+    /// corner lies along the shared edge is not symmetric).
     fn test(&self, i: usize, j: usize, out: &mut Vec<(u32, u32)>) {
-        if self.boxes[i].overlaps(&self.boxes[j]) && self.pair_intersects(i, j) {
+        if self.boxes[i].overlaps(&self.boxes[j]) {
             let (a, b) = (self.bvh.order[i], self.bvh.order[j]);
-            out.push((a.min(b), a.max(b)));
+            let hit = if a < b {
+                self.pair_intersects(i, j)
+            } else {
+                self.pair_intersects(j, i)
+            };
+            if hit {
+                out.push((a.min(b), a.max(b)));
+            }
         }
     }
 
@@ -535,9 +548,16 @@ fn sign(x: f64) -> i8 {
 /// §4.3; the `robust` crate's `o3derrboundA`).
 const O3_ERR: f64 = (7.0 + 56.0 * (f64::EPSILON / 2.0)) * (f64::EPSILON / 2.0);
 
-/// Below this permanent the bound above could fail by underflow (it
-/// assumes none, as Shewchuk's does); such tests go to the exact path.
-const O3_TINY: f64 = 1e-250;
+/// What underflow can add to that bound, which assumes none (as
+/// Shewchuk's does). A 2×2 product of the plane's edge vectors that
+/// underflows is off by up to 2⁻¹⁰⁷⁵ absolutely, not relatively, and is
+/// then multiplied by a component of `q − a`, up to 2·[`MAX_EXACT_COORDINATE`]:
+/// six such products add at most 6 · 2⁻¹⁰⁷⁵ · 2e90 ≈ 3e-233, and the
+/// later products' own underflow far less. A value within this of zero
+/// goes to the adaptive predicate (the review of issue 37's change found
+/// the plane (0, 2⁻⁵⁴⁰, 0), (1, 0, 0.75·2⁻⁵³⁵) through the origin and the
+/// point (2²⁸⁰, 0, 2⁻²⁵⁶), whose sign a relative bound alone gets wrong).
+const O3_ABS: f64 = 1e-220;
 
 /// A triangle's plane, set up once per pair so that each side test is a
 /// dot product: the sign of `orient3d(a, b, c, q)`, exact.
@@ -547,7 +567,7 @@ const O3_TINY: f64 = 1e-250;
 /// proved for (three differences of inputs, the 2×2 minors of two of them,
 /// each times a component of the third, summed), so [`O3_ERR`] times its
 /// permanent bounds its rounding error as it bounds `orient3d`'s first
-/// stage. Only a test the float value cannot settle (a point on or within
+/// stage, and [`O3_ABS`] what underflow adds. Only a test the float value cannot settle (a point on or within
 /// rounding of the plane) runs the adaptive predicate; on a printable
 /// mesh that is almost none (issue 37: `orient3d`'s call, with its cross
 /// product recomputed for every point, was a quarter of the search).
@@ -584,14 +604,12 @@ impl Plane {
         let w = q - self.t[0];
         let det = w.x * self.n.x + w.y * self.n.y + w.z * self.n.z;
         let perm = w.x.abs() * self.m.x + w.y.abs() * self.m.y + w.z.abs() * self.m.z;
-        let bound = O3_ERR * perm;
-        if perm > O3_TINY {
-            if det > bound {
-                return -1;
-            }
-            if -det > bound {
-                return 1;
-            }
+        let bound = O3_ERR * perm + O3_ABS;
+        if det > bound {
+            return -1;
+        }
+        if -det > bound {
+            return 1;
         }
         sign(o3(self.t[0], self.t[1], self.t[2], q))
     }
@@ -1000,14 +1018,69 @@ mod tests {
             every.sort_unstable();
             assert!(!every.is_empty(), "{name}");
             for threads in [1, 2] {
-                let found = rayon::ThreadPoolBuilder::new()
+                let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
                     .build()
-                    .unwrap()
-                    .install(|| self_intersections(&m));
+                    .unwrap();
+                // Not deduplicated: a pair met twice would show.
+                let mut walked = pool.install(|| ctx.within_par(0));
+                walked.sort_unstable();
+                assert_eq!(walked, every, "{name} on {threads} threads");
+                let found = pool.install(|| self_intersections(&m));
                 assert_eq!(found.pairs, every, "{name} on {threads} threads");
             }
         }
+    }
+
+    /// Above [`PARALLEL_BUILD`] triangles the BVH's halves build in
+    /// parallel into fixed ranges: the tree is the same on one thread and
+    /// two, and the parallel walk finds what one thread's walk finds.
+    #[test]
+    fn a_big_tree_is_the_same_on_one_and_two_threads() {
+        let mut m = sphere(1.0, 96);
+        let mut other = sphere(0.8, 96);
+        other.transform(&DAffine3::from_translation(DVec3::new(0.7, 0.2, 0.1)));
+        m.append(&other);
+        assert!(m.triangles.len() > PARALLEL_BUILD, "{}", m.triangles.len());
+        let on = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    let ctx = Ctx::new(&m);
+                    let mut walked = ctx.within_par(0);
+                    walked.sort_unstable();
+                    (ctx, walked)
+                })
+        };
+        let ((one, walked_one), (two, walked_two)) = (on(1), on(2));
+        assert_eq!(one.bvh.order, two.bvh.order);
+        assert_eq!(one.bvh.size, two.bvh.size);
+        assert_eq!(one.bvh.nodes, two.bvh.nodes);
+        let mut sequential = Vec::new();
+        one.within(0, &mut sequential);
+        sequential.sort_unstable();
+        assert!(!sequential.is_empty());
+        assert_eq!(walked_one, sequential);
+        assert_eq!(walked_two, sequential);
+    }
+
+    /// Found by the review of issue 37's change: a 2×2 product of the
+    /// plane's edges underflows while the point is far away, and the
+    /// relative bound alone trusted a float value of the wrong sign.
+    #[test]
+    fn an_underflowing_plane_is_judged_exactly() {
+        let p2 = |e: i32| f64::from_bits(((1023 + e) as u64) << 52);
+        let a = DVec3::ZERO;
+        let b = DVec3::new(0.0, p2(-540), 0.0);
+        let c = DVec3::new(1.0, 0.0, 0.75 * p2(-535));
+        let q = DVec3::new(p2(280), 0.0, p2(-256));
+        // −1.2e-240 in exact rational arithmetic; the float value of the
+        // same expression is +2.4e-240 (one product of the plane's edges
+        // rounds to zero).
+        assert_eq!(sign(o3(a, b, c, q)), -1, "orient3d's own sign");
+        assert_eq!(Plane::of([a, b, c]).side(q), -1);
     }
 
     proptest::proptest! {
@@ -1021,9 +1094,12 @@ mod tests {
             t in -2.0f64..2.0,
             lift in proptest::prop_oneof![proptest::strategy::Just(0.0), -1e-15f64..1e-15, -1.0f64..1.0],
             scale_exp in -20i32..20,
+            far in proptest::prop_oneof![proptest::strategy::Just(0.0), -1.0f64..1.0],
         ) {
             let k = f64::from_bits(((1023 + scale_exp) as u64) << 52); // 2^scale_exp
-            let c = corners.map(|x| x * k);
+            // Away from the origin (up to 2^20 times the triangle's size),
+            // so the differences `b − a`, `q − a` round too.
+            let c = corners.map(|x| x * k + far * k * 1048576.0);
             let (a, b, cc) = (
                 DVec3::new(c[0], c[1], c[2]),
                 DVec3::new(c[3], c[4], c[5]),

@@ -18,11 +18,11 @@ pub struct DrawPlane {
 }
 
 impl DrawPlane {
-    pub(crate) fn project(&self, p: DVec3) -> DVec3 {
+    pub(in crate::interact::tools) fn project(&self, p: DVec3) -> DVec3 {
         p - self.normal * (p - self.origin).dot(self.normal)
     }
 
-    pub(crate) fn mirror(&self, p: DVec3) -> DVec3 {
+    pub(in crate::interact::tools) fn mirror(&self, p: DVec3) -> DVec3 {
         crate::math::reflect(p, self.origin, self.normal)
     }
 }
