@@ -808,6 +808,25 @@ mod tests {
         tessellate(&SolidShape::Sphere { radius: r }, seg).unwrap()
     }
 
+    /// A unit sphere and a sphere of radius `r` centred at `at`, in one
+    /// buffer.
+    fn two_spheres(seg: u32, r: f64, at: [f64; 3]) -> TriMesh {
+        let mut m = sphere(1.0, seg);
+        let mut other = sphere(r, seg);
+        other.transform(&DAffine3::from_translation(DVec3::from_array(at)));
+        m.append(&other);
+        m
+    }
+
+    /// `f` run on a pool of `threads` threads.
+    fn on_threads<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(f)
+    }
+
     #[test]
     fn closed_solids_do_not_intersect_themselves() {
         for m in [
@@ -857,10 +876,7 @@ mod tests {
 
     #[test]
     fn two_overlapping_spheres_in_one_buffer_intersect() {
-        let mut m = sphere(1.0, 32);
-        let mut other = sphere(1.0, 32);
-        other.transform(&DAffine3::from_translation(DVec3::new(1.0, 0.0, 0.0)));
-        m.append(&other);
+        let m = two_spheres(32, 1.0, [1.0, 0.0, 0.0]);
         let s = self_intersections(&m);
         assert!(s.checked);
         assert!(!s.pairs.is_empty());
@@ -994,10 +1010,7 @@ mod tests {
     /// triangles to split the walk into parallel tasks.
     #[test]
     fn the_tree_walk_meets_every_pair_once() {
-        let mut spheres = sphere(1.0, 40);
-        let mut other = sphere(0.8, 40);
-        other.transform(&DAffine3::from_translation(DVec3::new(0.7, 0.2, 0.1)));
-        spheres.append(&other);
+        let spheres = two_spheres(40, 0.8, [0.7, 0.2, 0.1]);
         for (name, m) in [
             ("soup", soup(2600, 40, 7)),
             ("coarse soup", soup(600, 6, 11)),
@@ -1018,15 +1031,11 @@ mod tests {
             every.sort_unstable();
             assert!(!every.is_empty(), "{name}");
             for threads in [1, 2] {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .unwrap();
                 // Not deduplicated: a pair met twice would show.
-                let mut walked = pool.install(|| ctx.within_par(0));
+                let mut walked = on_threads(threads, || ctx.within_par(0));
                 walked.sort_unstable();
                 assert_eq!(walked, every, "{name} on {threads} threads");
-                let found = pool.install(|| self_intersections(&m));
+                let found = on_threads(threads, || self_intersections(&m));
                 assert_eq!(found.pairs, every, "{name} on {threads} threads");
             }
         }
@@ -1037,22 +1046,15 @@ mod tests {
     /// two, and the parallel walk finds what one thread's walk finds.
     #[test]
     fn a_big_tree_is_the_same_on_one_and_two_threads() {
-        let mut m = sphere(1.0, 96);
-        let mut other = sphere(0.8, 96);
-        other.transform(&DAffine3::from_translation(DVec3::new(0.7, 0.2, 0.1)));
-        m.append(&other);
+        let m = two_spheres(96, 0.8, [0.7, 0.2, 0.1]);
         assert!(m.triangles.len() > PARALLEL_BUILD, "{}", m.triangles.len());
         let on = |threads| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| {
-                    let ctx = Ctx::new(&m);
-                    let mut walked = ctx.within_par(0);
-                    walked.sort_unstable();
-                    (ctx, walked)
-                })
+            on_threads(threads, || {
+                let ctx = Ctx::new(&m);
+                let mut walked = ctx.within_par(0);
+                walked.sort_unstable();
+                (ctx, walked)
+            })
         };
         let ((one, walked_one), (two, walked_two)) = (on(1), on(2));
         assert_eq!(one.bvh.order, two.bvh.order);
@@ -1119,17 +1121,8 @@ mod tests {
 
     #[test]
     fn same_result_on_one_and_two_threads() {
-        let mut m = sphere(1.0, 40);
-        let mut other = sphere(0.7, 40);
-        other.transform(&DAffine3::from_translation(DVec3::new(0.9, 0.3, 0.1)));
-        m.append(&other);
-        let run = |threads| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| self_intersections(&m))
-        };
+        let m = two_spheres(40, 0.7, [0.9, 0.3, 0.1]);
+        let run = |threads| on_threads(threads, || self_intersections(&m));
         let (a, b) = (run(1), run(2));
         assert!(!a.pairs.is_empty());
         assert_eq!(a, b);
