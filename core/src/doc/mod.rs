@@ -2,7 +2,8 @@
 //!
 //! A [`Document`] holds objects keyed by stable [`ObjectId`]s. It changes
 //! only through [`Op`] values applied by an [`OpLog`], which owns undo, redo,
-//! the cursor, checkpoints and replay. Every op is declared once, in
+//! the cursor, checkpoints and replay ([`LinearLog`] for one person, a
+//! [`shared`] session for several). Every op is declared once, in
 //! [`ops`]; [`schema`] describes them all for the hosts. Scripts of ops are
 //! JSON lines ([`parse_script`]).
 //!
@@ -29,6 +30,7 @@
 
 mod document;
 mod error;
+mod linear;
 mod log;
 mod object;
 pub mod ops;
@@ -42,7 +44,8 @@ pub use crate::hash::ContentHasher;
 pub use crate::id::ObjectId;
 pub use document::Document;
 pub use error::{LogError, OpError};
-pub use log::{CheckpointPolicy, OpLog};
+pub use linear::{CheckpointPolicy, LinearLog};
+pub use log::OpLog;
 pub use object::{KindOf, Object, ObjectKind, Solid};
 pub use ops::{
     AddSolid, Apply, Create, Delete, Duplicate, Edit, EditCx, EditSolid, ObjectCreate, ObjectEdit,

@@ -8,7 +8,7 @@ use std::collections::VecDeque;
 use super::replica::EntryError;
 use super::{valid_author, Body, Entry, Notice, NoticeKind, Replica, ENTRY_VERSION};
 use super::{MAX_ENTRY_BYTES, MAX_PARTICIPANTS};
-use crate::doc::{Document, LogError, Op, OpError, OpLog, OpOutcome};
+use crate::doc::{Document, LinearLog, LogError, Op, OpError, OpOutcome};
 
 /// Entries between snapshots unless set otherwise.
 pub const DEFAULT_SNAPSHOT_EVERY: u64 = 1000;
@@ -106,7 +106,8 @@ pub enum Published {
 }
 
 /// One participant's shared session: what their host applies edits to
-/// instead of an [`OpLog`].
+/// instead of a [`LinearLog`] (through [`crate::doc::OpLog`], which routes to
+/// either).
 #[derive(Clone, Debug)]
 pub struct SharedLog {
     me: String,
@@ -586,10 +587,10 @@ impl SharedLog {
     /// pending ones included), cursor at the end: what a shared session
     /// saves, and what opens in Blender. No replay: the document is taken
     /// as it is.
-    pub fn linear_log(&self) -> Result<OpLog, LogError> {
+    pub fn linear_log(&self) -> Result<LinearLog, LogError> {
         let view = self.view();
         let ops = view.linear_ops();
         let n = ops.len();
-        OpLog::from_snapshot(ops, n, view.document().clone())
+        LinearLog::from_snapshot(ops, n, view.document().clone())
     }
 }

@@ -18,7 +18,7 @@
 //! author is told ([`Notice`]); a redo of the undone op brings both back.
 //! So one person's undo never takes back another person's work. Undo near
 //! the head replays only from the nearest checkpoint before the undone op
-//! (checkpoints as in [`super::OpLog`]), never from the empty document.
+//! (checkpoints as in [`super::LinearLog`]), never from the empty document.
 //!
 //! **Ids that do not collide.** The n-th participant to join gets id range
 //! n (ids `n << 24 + 1 ..`, n from 1 to [`MAX_PARTICIPANTS`]); a
@@ -39,7 +39,7 @@
 //! their author with the op's own error, never published.
 //!
 //! **Saving.** [`SharedLog::linear_log`] flattens the document into an
-//! ordinary [`super::OpLog`] (the ops in effect, each creation preceded by
+//! ordinary [`super::LinearLog`] (the ops in effect, each creation preceded by
 //! its `reserve_ids`), which replays to the same bits: a shared model saves
 //! as USD and opens in Blender with its history, like any other.
 //!

@@ -10,8 +10,8 @@ use serde::{Deserialize, Serialize};
 use super::MAX_PARTICIPANTS;
 use super::{apply_op, id_from_token, id_range, subject_token, valid_author};
 use super::{Body, Entry, ENTRY_VERSION, MAX_ENTRY_BYTES};
-use crate::doc::log::thinned;
-use crate::doc::{CheckpointPolicy, Document, Op, OpError, OpLog, OpOutcome, ReserveIds};
+use crate::doc::linear::thinned;
+use crate::doc::{CheckpointPolicy, Document, LinearLog, Op, OpError, OpOutcome, ReserveIds};
 
 mod snapshot;
 pub use snapshot::SNAPSHOT_FORMAT;
@@ -436,7 +436,7 @@ impl Replica {
                         refused("a seed must be the session's first op entry".into()),
                     );
                 }
-                let mut log = OpLog::new();
+                let mut log = LinearLog::new();
                 for op in ops {
                     if let Err(err) = log.apply(op.clone()) {
                         return refuse(

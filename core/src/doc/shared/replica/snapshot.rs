@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{Checkpoint, Effect, OpRec, Participant, Replica};
 use crate::doc::shared::{valid_author, ENTRY_VERSION, MAX_PARTICIPANTS};
-use crate::doc::{Document, Op, OpLog};
+use crate::doc::{Document, LinearLog, Op};
 
 /// The format name of a replica snapshot.
 pub const SNAPSHOT_FORMAT: &str = "shapewright-replica";
@@ -95,7 +95,7 @@ impl Replica {
         }
         r.participants = s.participants;
         r.redo = s.redo;
-        let mut base = OpLog::new();
+        let mut base = LinearLog::new();
         for op in &s.seed {
             base.apply(op.clone())
                 .map_err(|e| format!("snapshot's seed does not replay: {e}"))?;
