@@ -18,7 +18,8 @@
 #   own toolchain (no zig, no --target) in SHAPEWRIGHT_TEST_PROFILE
 #   (release when unset; test.sh sets dev), so it shares the compiled
 #   dependencies with the host and the tests (about 90 s instead of a
-#   cold release build of the core, 9 min on 2 cores). Its tag is what
+#   cold release build of the core, 9 min on 2 cores), and in dev, with
+#   the `testkit` feature, the compiled core too. Its tag is what
 #   maturin's audit finds for this machine's glibc (manylinux_2_34 on Debian 12), not the manylinux_2_28 the shipped
 #   wheel carries; the staged manifest names it. scripts/test.sh sets it.
 # SHAPEWRIGHT_TEST_PROFILE also builds the windows-x64 wheel, in that
@@ -81,7 +82,13 @@ for p in "${platforms[@]}"; do
   targets+=("--target" "$t")
   echo "build_addon: wheel for $p ($t)" >&2
   if [[ "$p" == linux-x64 && "${SHAPEWRIGHT_ADDON_HOST:-}" == 1 ]]; then
-    maturin build --profile "${SHAPEWRIGHT_TEST_PROFILE:-release}" -q -m blender_addon/native/Cargo.toml -o "$wheels_dir"
+    # In the dev profile of scripts/test.sh, with the features `cargo test
+    # --workspace` built the core with (native/Cargo.toml's `testkit`), so
+    # the core is linked from that build, not compiled again.
+    features=()
+    [ "${SHAPEWRIGHT_TEST_PROFILE:-}" = dev ] && features=(--features testkit)
+    maturin build --profile "${SHAPEWRIGHT_TEST_PROFILE:-release}" "${features[@]}" -q \
+      -m blender_addon/native/Cargo.toml -o "$wheels_dir"
   else
     profile=(--release)
     if [[ "$p" == windows-x64 && -n "${SHAPEWRIGHT_TEST_PROFILE:-}" ]]; then

@@ -20,8 +20,21 @@ cd "$root"
 trace="${1:-tests/data/teapot.trace.jsonl}"
 name="$(basename "$trace" .trace.jsonl)"
 mkdir -p out
-cargo build --release -q -p shapewright-xr
-bin="${CARGO_TARGET_DIR:-target}/release/shapewright-xr"
+# A user gets the release build. Under scripts/test.sh
+# (SHAPEWRIGHT_TEST_PROFILE=dev) the demo test runs the host that
+# `cargo test --workspace` has just built in cargo's dev profile, as every
+# other test does (tests/conftest.py: dependencies optimized, the same
+# bits), instead of a second, optimized build of the whole core: that
+# cold release build, from this test, was 9 to 10 minutes of CI's run.
+# scripts/release.sh builds the release host it ships.
+profile="${SHAPEWRIGHT_TEST_PROFILE:-release}"
+[ "$profile" = dev ] && dir=debug || dir="$profile"
+bin="${CARGO_TARGET_DIR:-target}/$dir/shapewright-xr"
+# dev: build only when it is missing; built alone, the host's features
+# differ from the workspace's, and the core would compile again.
+if [ "$profile" != dev ] || [ ! -x "$bin" ]; then
+    cargo build --profile "$profile" -q -p shapewright-xr
+fi
 "$bin" replay "$trace" --out "out/$name.usda" --stl "out/$name.stl" --png "out/$name.png"
 echo
 "$bin" info "out/$name.usda"
