@@ -32,7 +32,9 @@ profile="${SHAPEWRIGHT_TEST_PROFILE:-release}"
 [ "$profile" = dev ] && dir=debug || dir="$profile"
 bin="${CARGO_TARGET_DIR:-target}/$dir/shapewright-xr"
 # dev: build only when it is missing; built alone, the host's features
-# differ from the workspace's, and the core would compile again.
+# differ from the workspace's, and the core would compile again. So with
+# SHAPEWRIGHT_TEST_PROFILE=dev set by hand, run `cargo test --workspace`
+# first, or the demo runs an older dev host (as tests/conftest.py does).
 if [ "$profile" != dev ] || [ ! -x "$bin" ]; then
     cargo build --profile "$profile" -q -p shapewright-xr
 fi

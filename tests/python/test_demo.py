@@ -16,9 +16,12 @@ def run(cmd: list, cwd: Path) -> subprocess.CompletedProcess:
 
 
 def test_readme_demo_command(root: Path, host_bin: Path) -> None:
-    """`bash scripts/demo.sh`, exactly as the README gives it: the
-    hand-gesture teapot trace replayed by the host to the three files, then
-    the lamp made in one modeler session, with the headset view."""
+    """`bash scripts/demo.sh`, the README's command: the hand-gesture
+    teapot trace replayed by the host to the three files, then the lamp
+    made in one modeler session, with the headset view. Under
+    scripts/test.sh (SHAPEWRIGHT_TEST_PROFILE=dev) it runs the dev host
+    `cargo test` built instead of making the release build a user gets;
+    that build is the one `cargo build --profile release` line."""
     r = run(["bash", "scripts/demo.sh"], root)
     assert r.returncode == 0, r.stdout + r.stderr
     out = r.stdout

@@ -17,7 +17,8 @@ from. Three rules:
   `shapewright_usd`, `shapewright_atomic`: core does no I/O), in code or in
   its Cargo.toml;
 - no import circle between two sibling modules of one folder, at any depth
-  (`interact/input` and `interact/tools`, `doc/log` and `doc/shared`), when
+  (`interact/input` and `interact/tools`, or `doc/log` and `doc/shared` before
+  the single-user history moved to `doc/linear.rs`), when
   at least one of the two is a folder; sibling files of one folder may name
   each other.
 
