@@ -10,7 +10,8 @@ use openxr_sys as sys;
 use sys::Handle as _;
 
 use crate::api_instance::inst;
-use crate::api_session::{all_valid, sess, session_of, tracked, untracked, world_pose};
+use crate::api_session::{sess, session_of};
+use crate::api_spaces::{all_valid, tracked, untracked, world_pose};
 use crate::script::{pose, FrameStats, Script};
 use crate::state::{InstanceData, SessionData, SpaceKind, SwapchainData, VulkanState};
 use crate::{done, input, output, with_rt};
@@ -835,7 +836,7 @@ pub(crate) unsafe extern "system" fn locate_views(
                 .get(&info.space.into_raw())
                 .ok_or(sys::Result::ERROR_HANDLE_INVALID)?;
             let frame = session_of(i).synced.clone().unwrap_or(current);
-            crate::api_session::settle_local_origin(i, &frame);
+            crate::api_spaces::settle_local_origin(i, &frame);
             let head = crate::state::SpaceInfo {
                 session: session.into_raw(),
                 kind: SpaceKind::Reference(sys::ReferenceSpaceType::VIEW),

@@ -15,8 +15,11 @@
 
 #![allow(clippy::missing_safety_doc)]
 
+mod api_actions;
+mod api_hands;
 mod api_instance;
 mod api_session;
+mod api_spaces;
 mod api_vulkan;
 pub mod script;
 mod state;
@@ -149,8 +152,11 @@ macro_rules! table {
 }
 
 fn lookup(name: &str, exts: &[String]) -> Option<sys::pfn::VoidFunction> {
+    use api_actions as a;
+    use api_hands as h;
     use api_instance as i;
     use api_session as s;
+    use api_spaces as sp;
     use api_vulkan as v;
     let ext = |e: &str| exts.iter().any(|x| x == e);
     if name.contains("Timespec") && !ext("XR_KHR_convert_timespec_time") {
@@ -198,19 +204,19 @@ fn lookup(name: &str, exts: &[String]) -> Option<sys::pfn::VoidFunction> {
         "xrBeginSession" => s::begin_session,
         "xrEndSession" => s::end_session,
         "xrRequestExitSession" => s::request_exit_session,
-        "xrAttachSessionActionSets" => s::attach_session_action_sets,
-        "xrSyncActions" => s::sync_actions,
-        "xrGetActionStateBoolean" => s::get_action_state_boolean,
-        "xrGetActionStateFloat" => s::get_action_state_float,
-        "xrGetActionStatePose" => s::get_action_state_pose,
-        "xrEnumerateReferenceSpaces" => s::enumerate_reference_spaces,
-        "xrCreateReferenceSpace" => s::create_reference_space,
-        "xrCreateActionSpace" => s::create_action_space,
-        "xrDestroySpace" => s::destroy_space,
-        "xrLocateSpace" => s::locate_space,
-        "xrCreateHandTrackerEXT" => s::create_hand_tracker,
-        "xrDestroyHandTrackerEXT" => s::destroy_hand_tracker,
-        "xrLocateHandJointsEXT" => s::locate_hand_joints,
+        "xrAttachSessionActionSets" => a::attach_session_action_sets,
+        "xrSyncActions" => a::sync_actions,
+        "xrGetActionStateBoolean" => a::get_action_state_boolean,
+        "xrGetActionStateFloat" => a::get_action_state_float,
+        "xrGetActionStatePose" => a::get_action_state_pose,
+        "xrEnumerateReferenceSpaces" => sp::enumerate_reference_spaces,
+        "xrCreateReferenceSpace" => sp::create_reference_space,
+        "xrCreateActionSpace" => sp::create_action_space,
+        "xrDestroySpace" => sp::destroy_space,
+        "xrLocateSpace" => sp::locate_space,
+        "xrCreateHandTrackerEXT" => h::create_hand_tracker,
+        "xrDestroyHandTrackerEXT" => h::destroy_hand_tracker,
+        "xrLocateHandJointsEXT" => h::locate_hand_joints,
         "xrGetVulkanGraphicsRequirements2KHR" => v::get_vulkan_graphics_requirements2,
         "xrCreateVulkanInstanceKHR" => v::create_vulkan_instance,
         "xrGetVulkanGraphicsDevice2KHR" => v::get_vulkan_graphics_device2,
@@ -229,8 +235,8 @@ fn lookup(name: &str, exts: &[String]) -> Option<sys::pfn::VoidFunction> {
         "xrBeginFrame" => v::begin_frame,
         "xrEndFrame" => v::end_frame,
         "xrLocateViews" => v::locate_views,
-        "xrGetCurrentInteractionProfile" => s::get_current_interaction_profile,
-        "xrApplyHapticFeedback" => s::apply_haptic_feedback,
+        "xrGetCurrentInteractionProfile" => a::get_current_interaction_profile,
+        "xrApplyHapticFeedback" => a::apply_haptic_feedback,
     )
 }
 
