@@ -199,10 +199,10 @@ pub(crate) unsafe extern "system" fn destroy_session(session: sys::Session) -> s
             return sys::Result::ERROR_HANDLE_INVALID;
         }
         if let Some(s) = &i.session {
-            crate::api_vulkan::write_stats(&rt.script, s);
+            crate::api_frame::write_stats(&rt.script, s);
         }
         let i = rt.instance.as_mut().expect("checked above");
-        crate::api_vulkan::destroy_swapchains(i, session.into_raw());
+        crate::api_swapchain::destroy_swapchains(i, session.into_raw());
         i.session = None;
         i.spaces.retain(|_, s| s.session != session.into_raw());
         i.trackers.retain(|_, t| t.0 != session.into_raw());

@@ -16,10 +16,12 @@
 #![allow(clippy::missing_safety_doc)]
 
 mod api_actions;
+mod api_frame;
 mod api_hands;
 mod api_instance;
 mod api_session;
 mod api_spaces;
+mod api_swapchain;
 mod api_vulkan;
 pub mod script;
 mod state;
@@ -153,10 +155,12 @@ macro_rules! table {
 
 fn lookup(name: &str, exts: &[String]) -> Option<sys::pfn::VoidFunction> {
     use api_actions as a;
+    use api_frame as f;
     use api_hands as h;
     use api_instance as i;
     use api_session as s;
     use api_spaces as sp;
+    use api_swapchain as sc;
     use api_vulkan as v;
     let ext = |e: &str| exts.iter().any(|x| x == e);
     if name.contains("Timespec") && !ext("XR_KHR_convert_timespec_time") {
@@ -221,20 +225,20 @@ fn lookup(name: &str, exts: &[String]) -> Option<sys::pfn::VoidFunction> {
         "xrCreateVulkanInstanceKHR" => v::create_vulkan_instance,
         "xrGetVulkanGraphicsDevice2KHR" => v::get_vulkan_graphics_device2,
         "xrCreateVulkanDeviceKHR" => v::create_vulkan_device,
-        "xrEnumerateViewConfigurations" => v::enumerate_view_configurations,
-        "xrEnumerateViewConfigurationViews" => v::enumerate_view_configuration_views,
-        "xrEnumerateEnvironmentBlendModes" => v::enumerate_environment_blend_modes,
-        "xrEnumerateSwapchainFormats" => v::enumerate_swapchain_formats,
-        "xrCreateSwapchain" => v::create_swapchain,
-        "xrDestroySwapchain" => v::destroy_swapchain,
-        "xrEnumerateSwapchainImages" => v::enumerate_swapchain_images,
-        "xrAcquireSwapchainImage" => v::acquire_swapchain_image,
-        "xrWaitSwapchainImage" => v::wait_swapchain_image,
-        "xrReleaseSwapchainImage" => v::release_swapchain_image,
-        "xrWaitFrame" => v::wait_frame,
-        "xrBeginFrame" => v::begin_frame,
-        "xrEndFrame" => v::end_frame,
-        "xrLocateViews" => v::locate_views,
+        "xrEnumerateViewConfigurations" => sc::enumerate_view_configurations,
+        "xrEnumerateViewConfigurationViews" => sc::enumerate_view_configuration_views,
+        "xrEnumerateEnvironmentBlendModes" => sc::enumerate_environment_blend_modes,
+        "xrEnumerateSwapchainFormats" => sc::enumerate_swapchain_formats,
+        "xrCreateSwapchain" => sc::create_swapchain,
+        "xrDestroySwapchain" => sc::destroy_swapchain,
+        "xrEnumerateSwapchainImages" => sc::enumerate_swapchain_images,
+        "xrAcquireSwapchainImage" => sc::acquire_swapchain_image,
+        "xrWaitSwapchainImage" => sc::wait_swapchain_image,
+        "xrReleaseSwapchainImage" => sc::release_swapchain_image,
+        "xrWaitFrame" => f::wait_frame,
+        "xrBeginFrame" => f::begin_frame,
+        "xrEndFrame" => f::end_frame,
+        "xrLocateViews" => f::locate_views,
         "xrGetCurrentInteractionProfile" => a::get_current_interaction_profile,
         "xrApplyHapticFeedback" => a::apply_haptic_feedback,
     )
