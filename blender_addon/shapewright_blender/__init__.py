@@ -13,16 +13,16 @@ document with its history (`usd_hook.py`).
 Modules: props (scene settings), history (one undo), adopt (Blender's
 edits), sync (core to Blender), persist (files, autosave), checks (the
 printable verdict), notify (status-bar messages), units, run / forms /
-current / op_table / op_build / ops_* (operators), operators (their
-registration), menus, panels, sketch, xr and draw (VR), shared (shared
-sessions), usd_hook, render.
+current / op_table (Blender's text for the core's op forms) / ops_*
+(operators), operators (their registration), menus, panels, sketch, xr
+and draw (VR), shared (shared sessions), usd_hook, render.
 """
 
 from __future__ import annotations
 
 # Reloaded in dependency order (F3 > Reload Scripts).
 _ORDER = (
-    "units", "props", "notify", "sync", "history", "adopt", "persist", "checks", "schema", "op_build",
+    "units", "props", "notify", "sync", "history", "adopt", "persist", "checks", "schema",
     "op_table", "current", "run", "forms", "ops_object", "ops_history", "ops_export", "operators", "draw",
     "shared", "sketch", "xr", "menus", "panels", "usd_hook",
 )  # fmt: skip
@@ -42,7 +42,6 @@ else:
         history,
         menus,
         notify,
-        op_build,
         op_table,
         operators,
         ops_export,
@@ -86,7 +85,6 @@ __all__ = [
     "forms",
     "history",
     "notify",
-    "op_build",
     "op_table",
     "ops_export",
     "ops_history",

@@ -1,17 +1,17 @@
 """What an edit's form starts from: the object's current values, so an
 operator run without typing anything changes nothing ("Mesh Resolution"
 used to drop a GC from 12,480 triangles to 40; "Set Placement" sent an
-object to the origin). Each entry reads the current values of one op's
-fields from the core (`Session.object_params`, `Session.object_transform`)
-and gives them as the form shows them (the scene's units, Euler
-rotations); only the properties a caller did not set are filled.
+object to the origin). The core says which ops start from current values
+and what they are (`Session.form_current`: `core/src/interact/forms/`);
+this file only shows them as the form does (the scene's units, Euler
+rotations), filling the properties a caller did not set.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 from . import history, run, units
+
+TARGETS = ("id", "volume")
 
 
 def _euler(rotate) -> tuple[float, float, float]:
@@ -22,56 +22,19 @@ def _euler(rotate) -> tuple[float, float, float]:
     return (e.x, e.y, e.z)
 
 
-def _placement(scene, s, oid, _operator) -> dict:
-    t = s.object_transform(oid)
-    return {
-        "transform_translate": tuple(units.to_units(scene, list(t.translate))),
-        "transform_rotate": _euler(t.rotate),
-        "transform_scale": tuple(t.scale),
-    }
+def _at(values: dict, path: tuple[str, ...]):
+    for k in path:
+        if not isinstance(values, dict) or k not in values:
+            return None
+        values = values[k]
+    return values
 
 
-def _part(s, oid, operator) -> dict:
-    parts = s.object_params(oid).get("parts", [])
-    k = getattr(operator, "part", 0)
-    return parts[k]["gc"] if 0 <= k < len(parts) else {}
-
-
-def _resolution(scene, s, oid, operator) -> dict:
-    r = _part(s, oid, operator).get("resolution", {})
-    return {f"resolution_{k}": v for k, v in r.items()}
-
-
-def _shape_type(scene, s, oid, operator) -> dict:
-    shape = _part(s, oid, operator).get("shape", {})
-    out = {"shape_type": shape.get("type")}
-    if "thickness" in shape:
-        out["thickness"] = units.to_units(scene, shape["thickness"])
-    if "closed_end" in shape:
-        out["closed_end"] = shape["closed_end"]
-    return {k: v for k, v in out.items() if v is not None}
-
-
-def _step(scene, s, oid, _operator) -> dict:
-    step = s.object_params(oid).get("step")
-    return {} if step is None else {"step": units.to_units(scene, step)}
-
-
-CURRENT: dict[str, Callable] = {
-    "set_transform": _placement,
-    "gc_set_resolution": _resolution,
-    "gc_set_shape": _shape_type,
-    "sdf_set_step": _step,
-}
-TARGETS = ("id", "volume")
-
-
-def fill(operator, context, op: str, _fields=None) -> None:
+def fill(operator, context, op: str, fields_) -> None:
     """Sets the properties of `operator` the caller did not set to the
-    target object's current values (see the module doc)."""
-    read = CURRENT.get(op)
-    if read is None:
-        return
+    target object's current values (see the module doc). `fields_`: the
+    operator's properties (`schema.GenField`s; a typed form's are named
+    as its fields)."""
     props = operator.properties
     target = next((t for t in TARGETS if t in props.bl_rna.properties), None)
     oid = getattr(operator, target) if target else -1
@@ -82,6 +45,16 @@ def fill(operator, context, op: str, _fields=None) -> None:
     s = history.session(context.scene)
     if oid not in s.object_ids():
         return
-    for name, value in read(context.scene, s, oid, operator).items():
-        if name in props.bl_rna.properties and not props.is_property_set(name):
-            setattr(operator, name, value)
+    values = s.form_current(op, oid, getattr(operator, "part", 0))
+    if not values:
+        return
+    scene = context.scene
+    for g in fields_:
+        v = _at(values, g.path)
+        if v is None or g.prop not in props.bl_rna.properties or props.is_property_set(g.prop):
+            continue
+        if g.kind == "rotation":
+            v = _euler(v)
+        elif g.info.unit == "m":
+            v = units.to_units(scene, v)
+        setattr(operator, g.prop, tuple(v) if isinstance(v, list) else v)

@@ -406,7 +406,7 @@ def op_values(operator, spec: op_table.OpSpec, context) -> dict:
 def _typed_execute(self, context):
     spec = op_table.BY_OP[self.op_name]
     try:
-        current.fill(self, context, spec.op, None)
+        current.fill(self, context, spec.op, [g for _f, g in spec_fields(spec)])
         defaults = {
             g.prop: g.default
             for f, g in spec_fields(spec)

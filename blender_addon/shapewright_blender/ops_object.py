@@ -2,7 +2,8 @@
 amounts, copy and remove (for scripts and the sidebar; Blender's own
 Shift-D and X do the same, `adopt.py`), run an op script, apply any op.
 
-Each builds ops (plain dicts) and hands them to `history` through
+Each has the core build its ops from form values (`shapewright.build_form`:
+no op wire shapes here) and hands them to `history` through
 `run.run_op`; refusals are reported with the core's message. Lengths are
 in the scene's units (`units.py`), rotations Euler in its angle unit.
 """
@@ -61,9 +62,14 @@ class _ShapeProps:
         options=SKIP,
     )
 
-    def shape_dict(self, scene) -> dict:
-        """The core's shape of the form (`SolidShape::from_sizes`)."""
-        return sw.solid_shape(self.shape, tuple(units.to_metres(scene, units.snap32(list(self.dimensions)))))
+    def solid_values(self, scene) -> dict:
+        """The solid's form values (the core's `add_solid` / `edit_solid`
+        forms), lengths in metres."""
+        return {
+            "shape": self.shape,
+            "dimensions": units.to_metres(scene, units.snap32(list(self.dimensions))),
+            "segments": self.segments,
+        }
 
 
 class SHAPEWRIGHT_OT_add_solid(_ShapeProps, bpy.types.Operator):
@@ -99,16 +105,12 @@ class SHAPEWRIGHT_OT_add_solid(_ShapeProps, bpy.types.Operator):
         units.fill_defaults(self, scene, {"dimensions": DEFAULT_DIMENSIONS})
         loc = scene.cursor.location if self.use_cursor else self.location
         try:
-            op = {
-                "op": "add_solid",
-                "shape": self.shape_dict(scene),
-                "segments": self.segments,
-                "transform": {
-                    "translate": units.to_metres(scene, units.snap32(list(loc))),
-                    "rotate": _quat(self.rotation),
-                    "scale": [1.0, 1.0, 1.0],
-                },
+            values = {
+                **self.solid_values(scene),
+                "location": units.to_metres(scene, units.snap32(list(loc))),
+                "rotation": _quat(self.rotation),
             }
+            (op,) = sw.build_form("add_solid", values)
         except sw.ShapewrightError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
@@ -130,16 +132,16 @@ class SHAPEWRIGHT_OT_edit_solid(_ShapeProps, bpy.types.Operator):
     def execute(self, context):
         scene = context.scene
         oid = run.active_id(context)
-        params = history.session(scene).object_params(oid)
+        now = history.session(scene).form_current("edit_solid", oid)
         props = self.properties
         if not props.is_property_set("shape"):
-            self.shape = params["shape"]["kind"]
+            self.shape = now["shape"]
         if not props.is_property_set("dimensions"):
-            self.dimensions = units.to_units(scene, sw.solid_dimensions(params["shape"]))
+            self.dimensions = units.to_units(scene, now["dimensions"])
         if not props.is_property_set("segments"):
-            self.segments = params["segments"]
+            self.segments = now["segments"]
         try:
-            op = {"op": "edit_solid", "id": oid, "shape": self.shape_dict(scene), "segments": self.segments}
+            (op,) = sw.build_form("edit_solid", {"id": oid, **self.solid_values(scene)})
         except sw.ShapewrightError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
@@ -174,12 +176,16 @@ class SHAPEWRIGHT_OT_move(bpy.types.Operator):
         return bool(run.selected_ids(context))
 
     def execute(self, context):
-        t = {
-            "translate": units.to_metres(context.scene, units.snap32(list(self.offset))),
-            "rotate": _quat(self.rotation),
+        by = {
+            "offset": units.to_metres(context.scene, units.snap32(list(self.offset))),
+            "rotation": _quat(self.rotation),
             "scale": list(self.scale),
         }
-        ops = [{"op": "transform_by", "id": oid, "transform": t} for oid in run.selected_ids(context)]
+        try:
+            ops = [sw.build_form("transform_by", {"id": i, **by})[0] for i in run.selected_ids(context)]
+        except sw.ShapewrightError as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
         return run.run_op(self, context, ops)
 
 
@@ -196,7 +202,8 @@ class SHAPEWRIGHT_OT_duplicate(bpy.types.Operator):
         return bool(run.selected_ids(context))
 
     def execute(self, context):
-        return run.run_op(self, context, [{"op": "duplicate", "id": i} for i in run.selected_ids(context)])
+        ops = [sw.build_form("duplicate", {"id": i})[0] for i in run.selected_ids(context)]
+        return run.run_op(self, context, ops)
 
 
 class SHAPEWRIGHT_OT_delete(bpy.types.Operator):
@@ -212,7 +219,8 @@ class SHAPEWRIGHT_OT_delete(bpy.types.Operator):
         return bool(run.selected_ids(context))
 
     def execute(self, context):
-        return run.run_op(self, context, [{"op": "delete", "id": i} for i in run.selected_ids(context)])
+        ops = [sw.build_form("delete", {"id": i})[0] for i in run.selected_ids(context)]
+        return run.run_op(self, context, ops)
 
 
 class SHAPEWRIGHT_OT_run_script(bpy.types.Operator):

@@ -154,17 +154,8 @@ fn walk(obj: &Bound<'_, PyAny>, path: &mut String, depth: usize, loose: bool) ->
     )))
 }
 
-/// A Python value as a typed core value `T`, the serde error naming what
-/// was wrong.
-pub(crate) fn from_py<T: serde::de::DeserializeOwned>(
-    obj: &Bound<'_, PyAny>,
-    what: &str,
-) -> PyResult<T> {
-    let value = to_value(obj)?;
-    serde_json::from_value(value).map_err(|e| ParseError::new_err(format!("{what}: {e}")))
-}
-
-/// [`from_py`] with non-finite numbers kept (see [`lenient`]).
+/// A Python value as a typed core value `T` (the serde error naming
+/// what was wrong), non-finite numbers kept (see [`lenient`]).
 pub(crate) fn from_py_lenient<T: serde::de::DeserializeOwned>(
     obj: &Bound<'_, PyAny>,
     what: &str,

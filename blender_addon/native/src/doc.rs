@@ -14,6 +14,7 @@ use std::sync::Mutex;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use shapewright::doc::{parse_script, run_script, ObjectId, Op, OpLog, ScriptCommand, OP_NAMES};
+use shapewright::interact::forms::current;
 use shapewright::mesh::validate;
 use shapewright_net::Link;
 
@@ -281,6 +282,24 @@ impl Session {
     fn object_params<'py>(&self, py: Python<'py>, id: u32) -> PyResult<Bound<'py, PyAny>> {
         let obj = self.log.document().get(ObjectId(id)).map_err(op_err)?;
         into_py(py, &obj.kind)
+    }
+
+    /// The values op `op`'s form starts from on object `id` (part `part`
+    /// of an assembly): the object's current ones (see
+    /// `shapewright::interact::forms::current`); empty when it has none.
+    #[pyo3(signature = (op, id, part=0))]
+    fn form_current<'py>(
+        &self,
+        py: Python<'py>,
+        op: &str,
+        id: u32,
+        part: i64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        // A negative part is no part (a form's own range check refuses it).
+        let values = usize::try_from(part)
+            .map(|k| current(op, self.log.document(), ObjectId(id), k))
+            .unwrap_or_default();
+        crate::convert::to_py(py, &serde_json::Value::Object(values))
     }
 
     /// Where an object is: the transform its placement ops change (a

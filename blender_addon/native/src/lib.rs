@@ -15,6 +15,7 @@ mod autosave;
 mod convert;
 mod doc;
 mod error;
+mod forms;
 mod input;
 mod interact;
 mod jobs;
@@ -25,7 +26,6 @@ mod parametric;
 mod placement;
 mod sdf;
 mod shared;
-mod sketch;
 mod solid;
 mod usd;
 
@@ -63,17 +63,12 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(usd::usd_text, m)?)?;
     m.add_function(wrap_pyfunction!(sdf::library_names, m)?)?;
     m.add_function(wrap_pyfunction!(solid::solid_kinds, m)?)?;
-    m.add_function(wrap_pyfunction!(solid::solid_shape, m)?)?;
-    m.add_function(wrap_pyfunction!(solid::solid_dimensions, m)?)?;
     m.add_function(wrap_pyfunction!(parametric::parametric_parts, m)?)?;
-    m.add_function(wrap_pyfunction!(sketch::sketch_spine, m)?)?;
-    m.add_function(wrap_pyfunction!(sketch::child_from_stroke, m)?)?;
-    m.add_function(wrap_pyfunction!(sketch::replace_spine_from_stroke, m)?)?;
-    m.add_function(wrap_pyfunction!(sketch::match_section, m)?)?;
-    m.add_function(wrap_pyfunction!(sketch::profile_radius, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::validate_buffers, m)?)?;
     m.add_function(wrap_pyfunction!(doc::op_names, m)?)?;
     m.add_function(wrap_pyfunction!(doc::op_schema, m)?)?;
+    m.add_function(wrap_pyfunction!(forms::op_forms, m)?)?;
+    m.add_function(wrap_pyfunction!(forms::build_form, m)?)?;
     m.add("OP_FORMAT_VERSION", shapewright::doc::OP_FORMAT_VERSION)?;
     // How often a host sends its presence: the core's rate, one number for
     // both hosts (issue 36).

@@ -17,6 +17,8 @@
 //!   [`TOOL_NAMES`]), ray picking and one module per tool: object, the
 //!   paper-1 GC tool, the paper-2 CSG, paper-3 curve and paper-4 brush tools.
 //! - [`trace`]: recorded input traces and their replay.
+//! - [`forms`]: ops as flat forms for a desktop host (fields, defaults as
+//!   data, values to ops through the same sketch pipeline).
 //! - `session`: one frame through the stages (sanitize, classify, run the
 //!   active tool); a modeler session holds every tool and the off hand's
 //!   [`palette`] that switches them.
@@ -26,6 +28,7 @@
 //! The geometry systems' tools (generalized cylinders, SDF CSG, curve
 //! styling, sculpting) plug in as further [`Tool`]s.
 
+pub mod forms;
 pub mod gesture;
 pub mod input;
 #[cfg(test)]
