@@ -198,20 +198,34 @@ def _pose(scene, location, rotation) -> sw.Pose:
     return sw.Pose(p, (float(q[1]), float(q[2]), float(q[3]), float(q[0])))
 
 
+def presence(scene: bpy.types.Scene) -> sw.Presence:
+    """This person's presence: in Blender's VR session, the core's input
+    session's last frame (head and both hands in model space, as the
+    headset host sends); else the viewer's head alone, if there is one.
+    The active Shapewright object is the selection."""
+    from . import xr
+
+    obj = bpy.context.view_layer.objects.active if bpy.context.view_layer else None
+    selected = int(obj[sync.ID_PROP]) if obj is not None and sync.ID_PROP in obj else None
+    d = xr.current_driver()
+    p = d.input.presence(selected) if d is not None else None
+    if p is not None:
+        return p
+    head = None
+    state = getattr(bpy.context.window_manager, "xr_session_state", None)
+    if state is not None:
+        head = _pose(scene, state.viewer_pose_location, state.viewer_pose_rotation)
+    return sw.Presence(head=head, selected=selected)
+
+
 def _send_presence(scene: bpy.types.Scene, s: sw.Session) -> None:
     global _last_presence
     now = time.monotonic()
     if now - _last_presence < PRESENCE_EVERY:
         return
     _last_presence = now
-    head = None
-    xr = getattr(bpy.context.window_manager, "xr_session_state", None)
-    if xr is not None:
-        head = _pose(scene, xr.viewer_pose_location, xr.viewer_pose_rotation)
-    obj = bpy.context.view_layer.objects.active if bpy.context.view_layer else None
-    selected = int(obj[sync.ID_PROP]) if obj is not None and sync.ID_PROP in obj else None
     try:
-        s.send_presence(sw.Presence(head=head, selected=selected))
+        s.send_presence(presence(scene))
     except sw.ShapewrightError as e:
         print(f"Shapewright: presence not sent: {e}")
 

@@ -195,6 +195,11 @@ def driver(scene: bpy.types.Scene) -> XrDriver:
     return _driver
 
 
+def current_driver() -> XrDriver | None:
+    """The running VR driver, if Blender's VR session started one."""
+    return _driver
+
+
 def reset() -> None:
     global _driver, _running
     _driver, _running = None, False

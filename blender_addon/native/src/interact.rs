@@ -19,6 +19,7 @@ use crate::doc::Session;
 use crate::error::{log_err, ParseError};
 use crate::input::InputFrame;
 use crate::placement::{Placement, Pose};
+use crate::shared::Presence;
 
 /// The per-frame input driver of one tool.
 #[pyclass(module = "shapewright._native", unsendable)]
@@ -82,6 +83,14 @@ impl InputSession {
             ScriptCommand::Redo => into_py(py, &serde_json::json!({"op": "redo"}))?,
         };
         Ok(Some((out, refused.map(|e| log_err(e).to_string()))))
+    }
+
+    /// This person's presence from the last frame fed (head and hands in
+    /// model space, `shapewright::interact::Session::presence`), with
+    /// `selected`; `None` before the first frame.
+    #[pyo3(signature = (selected=None))]
+    fn presence(&self, selected: Option<u32>) -> Option<Presence> {
+        self.0.presence(selected).map(Presence)
     }
 
     /// A modeler driver: every tool, `start` active, the palette on the

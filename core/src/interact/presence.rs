@@ -1,7 +1,9 @@
 //! This person's presence in a shared session, built once for both hosts:
 //! [`Presence::from_frame`] (head and hands of a sanitized frame, in model
-//! space, and the selection) and [`PresencePose::from_pose`] (one
-//! model-space pose as presence carries it). The presence message itself
+//! space, and the selection), `Session::presence` (the same from an input
+//! session's last frame and model placement) and
+//! [`PresencePose::from_pose`] (one model-space pose as presence carries
+//! it). The presence message itself
 //! is [`crate::doc::shared`]'s; building it from input lives here, above
 //! both (the document never names `interact`).
 
@@ -43,6 +45,20 @@ impl Presence {
             selected,
             ..Presence::empty()
         }
+    }
+}
+
+impl crate::interact::Session {
+    /// This person's presence from the last frame the session accepted
+    /// ([`Presence::from_frame`], through the inverse of the model's
+    /// placement), with the host's selection; `None` before the first
+    /// frame. Both hosts send it (the headset host at [`PRESENCE_HZ`],
+    /// Blender's VR session when it runs the core's input session).
+    ///
+    /// [`PRESENCE_HZ`]: crate::doc::shared::PRESENCE_HZ
+    pub fn presence(&self, selected: Option<u32>) -> Option<Presence> {
+        let f = self.last_frame()?;
+        Some(Presence::from_frame(f, &self.model().inverse(), selected))
     }
 }
 
@@ -98,5 +114,38 @@ mod tests {
         };
         let q = Presence::from_frame(&empty, &Similarity::IDENTITY, None);
         assert_eq!(q, Presence::empty());
+    }
+}
+
+#[cfg(test)]
+mod session_tests {
+    use crate::doc::Document;
+    use crate::interact::gesture::similarity::Similarity;
+    use crate::interact::input::{InputFrame, Pose};
+    use crate::interact::{tool_named, Session};
+    use crate::math::{DQuat, DVec3};
+
+    #[test]
+    fn a_session_sends_its_last_frame_in_model_space() {
+        let model = Similarity {
+            translate: DVec3::new(0.0, 0.0, -1.0),
+            rotate: DQuat::IDENTITY,
+            scale: 2.0,
+        };
+        let mut s = Session::new(tool_named("object").unwrap(), model);
+        assert_eq!(s.presence(None), None, "no frame yet: nothing to send");
+        let doc = Document::default();
+        for k in 0..3 {
+            let frame = InputFrame {
+                time: f64::from(k) / 72.0,
+                head: Some(Pose::new(DVec3::new(0.0, 1.6, 0.0), DQuat::IDENTITY)),
+                hands: [None, None],
+                controllers: [None, None],
+            };
+            s.step(&frame, &doc);
+        }
+        let p = s.presence(Some(3)).unwrap();
+        assert_eq!(p.head.unwrap().p, [0.0, 0.8, 0.5]);
+        assert_eq!(p.selected, Some(3));
     }
 }

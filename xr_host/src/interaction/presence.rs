@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use shapewright::doc::shared::{colour_for, Presence, PRESENCE_HZ, PRESENCE_STALE_SECS};
+use shapewright::doc::shared::{colour_for, PRESENCE_HZ, PRESENCE_STALE_SECS};
 use shapewright::doc::ObjectId;
 
 use super::commit::ModelBox;
@@ -24,12 +24,10 @@ impl Interaction {
             return;
         }
         self.presence_sent = f.time;
-        let to_model = self.session.model().inverse();
-        channel.send(&Presence::from_frame(
-            f,
-            &to_model,
-            self.session.preview().selected.map(|id| id.0),
-        ));
+        let selected = self.session.preview().selected.map(|id| id.0);
+        if let Some(p) = self.session.presence(selected) {
+            channel.send(&p);
+        }
     }
 
     /// The other participants heard from lately, placed in this person's
