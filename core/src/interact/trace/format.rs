@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::math::{DQuat, DVec3};
 
 use crate::interact::gesture::similarity::Similarity;
-use crate::interact::input::InputFrame;
+use crate::interact::input::{InputFrame, STAGE_FROM_Z_UP};
 use crate::interact::session::Session;
 use crate::interact::tools::{tool_named, UnknownTool};
 
@@ -48,7 +48,10 @@ impl ModelPlacement {
     pub fn desk() -> ModelPlacement {
         ModelPlacement {
             translate: [0.0, 0.8, -0.5],
-            rotate: DQuat::from_rotation_x(-std::f64::consts::FRAC_PI_2).to_array(),
+            // The exact quarter turn, not `from_rotation_x(-π/2)`: its
+            // sine and cosine come from the platform's libm (glam), one
+            // ulp off here, so a session's ops could differ by platform.
+            rotate: STAGE_FROM_Z_UP.to_array(),
             scale: 1.0,
         }
     }
