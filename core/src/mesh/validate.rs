@@ -292,23 +292,14 @@ fn topology(mesh: &TriMesh, settings: &ValidationSettings) -> ValidationReport {
         }
     }
     edges.par_sort_unstable();
-    let mut i = 0;
-    while i < edges.len() {
-        let mut j = i;
-        let mut fwd = 0;
-        while j < edges.len() && edges[j].0 == edges[i].0 && edges[j].1 == edges[i].1 {
-            fwd += edges[j].2 as usize;
-            j += 1;
-        }
-        let count = j - i;
+    for (run, fwd) in edge_runs(&edges, |e| *e) {
         r.edge_count += 1;
-        match count {
+        match run.len() {
             1 => r.boundary_edges += 1,
             2 if fwd != 1 => r.misoriented_edges += 1,
             2 => {}
             _ => r.non_manifold_edges += 1,
         }
-        i = j;
     }
 
     r.non_manifold_vertices = count_pinched_vertices(n, &tris);
@@ -318,6 +309,32 @@ fn topology(mesh: &TriMesh, settings: &ValidationSettings) -> ValidationReport {
         r.genus = Some((2 * r.components as i64 - r.euler_characteristic) / 2);
     }
     r
+}
+
+/// The runs of one undirected edge in `edges` sorted by its `(min, max)`
+/// vertices (`key`: min, max, and whether the half-edge goes from min to
+/// max): each run's range and how many of its half-edges go forward. The
+/// report and [`problem_triangles`] both read edges through it, so they
+/// agree on which edges are boundary, misoriented or non-manifold.
+fn edge_runs<'a, T>(
+    edges: &'a [T],
+    key: impl Fn(&T) -> (u32, u32, bool) + 'a,
+) -> impl Iterator<Item = (std::ops::Range<usize>, usize)> + 'a {
+    let mut i = 0;
+    std::iter::from_fn(move || {
+        let (a, b, _) = key(edges.get(i)?);
+        let (mut j, mut fwd) = (i, 0);
+        while let Some((x, y, f)) = edges.get(j).map(&key) {
+            if (x, y) != (a, b) {
+                break;
+            }
+            fwd += usize::from(f);
+            j += 1;
+        }
+        let run = i..j;
+        i = j;
+        Some((run, fwd))
+    })
 }
 
 /// Indices of the triangles that make `report` fail: non-finite or out of
@@ -362,20 +379,12 @@ pub fn problem_triangles(mesh: &TriMesh, report: &ValidationReport) -> Vec<u32> 
         }
     }
     edges.par_sort_unstable();
-    let mut i = 0;
-    while i < edges.len() {
-        let mut j = i;
-        let mut fwd = 0;
-        while j < edges.len() && edges[j].0 == edges[i].0 && edges[j].1 == edges[i].1 {
-            fwd += edges[j].2 as usize;
-            j += 1;
-        }
-        if j - i != 2 || fwd != 1 {
-            for e in &edges[i..j] {
+    for (run, fwd) in edge_runs(&edges, |e| (e.0, e.1, e.2)) {
+        if run.len() != 2 || fwd != 1 {
+            for e in &edges[run] {
                 bad[e.3] = true;
             }
         }
-        i = j;
     }
     if report.non_manifold_vertices > 0 {
         let pinched = pinched_vertices(n, &tris);

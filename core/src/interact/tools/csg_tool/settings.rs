@@ -1,6 +1,7 @@
 //! The CSG tool's choices and settings: [`SceneOperate`] (paper 2 §4.2),
 //! [`CsgToolSettings`] and the component menu ([`MENU_LIBRARY`]).
 
+use crate::sdf::library::STARTER_NAMES;
 use crate::sdf::volume::DEFAULT_STEP;
 use crate::sdf::Component;
 use crate::solid::SolidShape;
@@ -56,25 +57,11 @@ pub struct CsgToolSettings {
 }
 
 /// The library components on the tool's menu after its primitives, in
-/// menu order: listed here, so a component added to the library never
-/// shifts the menu (a test checks every name is in the library).
-pub const MENU_LIBRARY: &[&str] = &[
-    "chair_seat",
-    "chair_back",
-    "chair_leg",
-    "chair_leg_square",
-    "chair_armrest",
-    "chair_crossbar",
-    "cup_body",
-    "cup_hollow",
-    "cup_handle",
-    "cup_saucer",
-    "cup_rim",
-    "blob",
-    "bean",
-    "mushroom",
-    "snowman",
-];
+/// menu order: the library's starter components after its seven
+/// primitive solids (`STARTER_NAMES`, whose order is fixed: models and
+/// traces name them), so a component added to the library never shifts
+/// the menu.
+pub const MENU_LIBRARY: &[&str] = STARTER_NAMES.split_at(7).1;
 
 impl Default for CsgToolSettings {
     fn default() -> Self {
