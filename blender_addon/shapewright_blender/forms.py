@@ -2,9 +2,9 @@
 core's op schema (`schema.py`), and their values turned into ops.
 
 Two kinds of operator share this:
-- typed operators (`typed_operator`), one per op of the op table
-  (`op_table.py`): a Blender-shaped form (templates, sketches,
-  placements) that its build function turns into the op;
+- typed operators (`typed_operator`), one per core form Blender gives
+  a label (`op_table.py`): a form (templates, sketches, placements)
+  that the core builds into the op (`shapewright.build_form`);
 - generic operators (`generic_operator`), one for every other op of the
   schema: the op's fields flattened into typed properties
   (`schema.fields`), so a new core op gets an operator with no add-on
@@ -406,7 +406,8 @@ def op_values(operator, spec: op_table.OpSpec, context) -> dict:
 def _typed_execute(self, context):
     spec = op_table.BY_OP[self.op_name]
     try:
-        current.fill(self, context, spec.op, [g for _f, g in spec_fields(spec)])
+        # A struct's members are named relative to it: not current values.
+        current.fill(self, context, spec.op, [g for f, g in spec_fields(spec) if f.kind != "struct"])
         defaults = {
             g.prop: g.default
             for f, g in spec_fields(spec)

@@ -162,8 +162,13 @@ UI: dict[str, tuple[str, str, str]] = {
 
 
 def _built(op: str, values: dict, s=None) -> dict | list[dict]:
-    """The core's op (or ops, applied as one step) of form `op`."""
-    ops = sw.build_form(op, values, s)
+    """The core's op (or ops, applied as one step) of form `op`; a refusal
+    names the operator ("Fill Loop: ...")."""
+    try:
+        ops = sw.build_form(op, values, s)
+    except sw.ShapewrightError as e:
+        label = UI[op][0] if op in UI else op
+        raise type(e)(f"{label}: {e}") from e
     return ops[0] if len(ops) == 1 else ops
 
 
@@ -174,6 +179,13 @@ def _with_mesh(op: str, values: dict, s=None) -> dict | list[dict]:
     name, positions, triangles = sync.world_triangles(values["mesh"])
     mesh = {"name": name, "positions": positions, "triangles": triangles}
     return _built(op, {**values, "mesh": mesh}, s)
+
+
+def form_of(op: str) -> dict[str, dict]:
+    """The core's form of `op`, its fields by name (the hand-written
+    operators' defaults and help, `ops_object.py`)."""
+    form = next(f for f in sw.op_forms() if f["op"] == op)
+    return {f["name"]: f for f in form["fields"]}
 
 
 def _field(f: dict) -> Field:

@@ -18,12 +18,15 @@ import shapewright as sw
 from bpy.props import BoolProperty, EnumProperty, FloatVectorProperty, IntProperty, StringProperty
 from mathutils import Euler
 
-from . import history, run, schema, units
+from . import history, op_table, run, schema, units
 
 SKIP = {"SKIP_SAVE"}
 PREFIX = "Shapewright: "
 SHAPES = tuple((k, k.capitalize(), f"A parametric {k}") for k in sw.solid_kinds())
-DEFAULT_DIMENSIONS = (0.1, 0.1, 0.1)  # metres: a 10 cm solid
+# The core's form of a solid: its defaults (a 10 cm sphere, 64 segments)
+# and help.
+SOLID_FORM = op_table.form_of("add_solid")
+DEFAULT_DIMENSIONS = tuple(SOLID_FORM["dimensions"]["default"])  # metres
 
 
 def _quat(euler) -> list[float]:
@@ -38,16 +41,13 @@ class _ShapeProps:
     shape: EnumProperty(
         name="Shape",
         items=SHAPES,
-        default="sphere",
+        default=SOLID_FORM["shape"]["default"],
         description=schema.info(("@SolidShape", "kind")).doc or "The solid's shape",
         options=SKIP,
     )
     dimensions: FloatVectorProperty(
         name="Dimensions",
-        description=(
-            "The solid's size along its x, y and z (its bounding box): a round shape's diameter is x; "
-            "a cylinder's, cone's or capsule's height z; a torus's tube diameter z"
-        ),
+        description=SOLID_FORM["dimensions"]["doc"],
         default=DEFAULT_DIMENSIONS,
         subtype="XYZ_LENGTH",
         unit="LENGTH",
@@ -56,7 +56,7 @@ class _ShapeProps:
     segments: IntProperty(
         name="Segments",
         description=schema.info(("add_solid", "segments")).tooltip("Segments around curved solids"),
-        default=64,
+        default=SOLID_FORM["segments"]["default"],
         soft_min=8,
         soft_max=1024,
         options=SKIP,

@@ -196,8 +196,10 @@ def driver(scene: bpy.types.Scene) -> XrDriver:
 
 
 def current_driver() -> XrDriver | None:
-    """The running VR driver, if Blender's VR session started one."""
-    return _driver
+    """The VR driver while it runs (the modal feeding it ends with the VR
+    session or Esc): after that its last frame is stale, and presence
+    must not keep showing it."""
+    return _driver if _running else None
 
 
 def reset() -> None:

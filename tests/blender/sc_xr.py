@@ -195,18 +195,20 @@ def scenario_xr_lamp_session(work: Path) -> None:
     # `Session::presence`, as the headset host sends): head and both
     # controllers' grips in model space, which is Blender's world.
     shared = addon().shared
-    xr._driver = d
+    xr._driver, xr._running = d, True
     p = shared.presence(bpy.context.scene)
     assert np.allclose(p.head.p, (0.0, 0.0, 1.6), atol=1e-6), p.head.p
     left, right = p.hands
     assert left is not None and right is not None, p
     assert np.allclose(left.p, (-0.25, 0.3, 1.05), atol=1e-6), left.p
     assert np.allclose(right.p, (0.2, 0.3, 1.1), atol=1e-6), right.p
-    # Outside the VR session: no driver, nothing tracked (headless Blender
-    # has no viewer pose either).
-    xr.reset()
-    p = shared.presence(bpy.context.scene)
-    assert p.head is None and p.hands == (None, None), p
+    # The VR session ended (the driver's modal stopped) or was never
+    # started: its last frame is stale and not sent; headless Blender has
+    # no viewer pose either, so nothing tracked.
+    for stop in (lambda: setattr(xr, "_running", False), xr.reset):
+        stop()
+        p = shared.presence(bpy.context.scene)
+        assert p.head is None and p.hands == (None, None), p
 
 
 def scenario_xr_gc_trace(work: Path) -> None:

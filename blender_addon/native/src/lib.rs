@@ -3,7 +3,7 @@
 //! model): each file mirrors one core module or one idea of the border,
 //! core types cross as `#[pyclass]` newtypes (`Placement`, `Pose`,
 //! `InputFrame`, `Presence`, `PaletteView`) or as Python dicts and lists
-//! depythonized in Rust (`convert.rs`: ops, shapes, trace lines; numbers
+//! depythonized in Rust (`convert.rs`: ops, form values, trace lines; numbers
 //! checked on the way in), never as JSON text; errors convert in
 //! `error.rs`; heavy work runs with the GIL released, long work on
 //! threads of its own (`jobs.rs`, `autosave.rs`); no geometry is computed

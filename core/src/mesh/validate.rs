@@ -314,8 +314,8 @@ fn topology(mesh: &TriMesh, settings: &ValidationSettings) -> ValidationReport {
 /// The runs of one undirected edge in `edges` sorted by its `(min, max)`
 /// vertices (`key`: min, max, and whether the half-edge goes from min to
 /// max): each run's range and how many of its half-edges go forward. The
-/// report and [`problem_triangles`] both read edges through it, so they
-/// agree on which edges are boundary, misoriented or non-manifold.
+/// report and [`problem_triangles`] group edges through it alike (over
+/// the triangles each keeps).
 fn edge_runs<'a, T>(
     edges: &'a [T],
     key: impl Fn(&T) -> (u32, u32, bool) + 'a,

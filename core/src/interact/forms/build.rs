@@ -388,10 +388,17 @@ fn pieces(v: &Values) -> Result<Value, FormError> {
         if chunk.is_empty() {
             continue;
         }
+        // Digits only ("+1" is not a node number).
         let nums: Vec<u64> = chunk
             .split_whitespace()
-            .map(|n| n.parse::<u64>())
-            .collect::<Result<_, _>>()
+            .map(|n| {
+                if n.bytes().all(|b| b.is_ascii_digit()) {
+                    n.parse::<u64>().ok()
+                } else {
+                    None
+                }
+            })
+            .collect::<Option<_>>()
             .unwrap_or_default();
         if nums.len() != 3 || chunk.split_whitespace().count() != 3 {
             return Err(v.refused(format!(
@@ -601,7 +608,7 @@ pub fn build(
         .map(|o| {
             serde_json::from_value::<Op>(o).map_err(|e| FormError::NotAnOp {
                 op: form.op,
-                why: e.to_string(),
+                why: format!("{}: {e}", form.op),
             })
         })
         .collect()

@@ -244,7 +244,7 @@ fn bad_values_are_refused_by_field_not_panicked_on() {
     );
 
     let mut v = defaults(form("curve_fill_loop"), 1);
-    for bad in ["0 0", "0 0 1, a b c", "0 -1 2", "1 2 3 4"] {
+    for bad in ["0 0", "0 0 1, a b c", "0 -1 2", "0 +1 2", "1 2 3 4"] {
         v.insert("pieces".into(), json!(bad));
         let e = build("curve_fill_loop", &v, None).unwrap_err();
         assert!(e.to_string().contains("three whole numbers"), "{bad}: {e}");
@@ -269,6 +269,16 @@ fn bad_values_are_refused_by_field_not_panicked_on() {
         build("no_such_op", &v, None),
         Err(FormError::Unknown(_))
     ));
+
+    // A value of the wrong type for the op: refused, saying the op and
+    // the value (serde's message: an internally tagged op loses the
+    // field's path; a host's form checks ranges by field name first).
+    let mut v = defaults(form("gc_bend"), 1);
+    v.insert("section".into(), json!(-1));
+    let e = build("gc_bend", &v, None).unwrap_err();
+    assert!(matches!(e, FormError::NotAnOp { .. }), "{e}");
+    let text = e.to_string();
+    assert!(text.starts_with("gc_bend: ") && text.contains("-1"), "{e}");
 }
 
 #[test]

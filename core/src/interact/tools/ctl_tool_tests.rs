@@ -444,7 +444,16 @@ fn tools_are_named_in_traces() {
 
 #[test]
 fn csg_menu_lists_library_components_by_name() {
-    // The menu names its library entries explicitly: each must exist, once.
+    // The menu's library entries are the starters after their seven
+    // primitive solids: those must be the solid kinds, and the rest the
+    // 15 chair, cup and organic parts, each existing, once.
+    let kinds: std::collections::BTreeSet<&str> = crate::solid::SOLID_KINDS.into_iter().collect();
+    let first: std::collections::BTreeSet<&str> = crate::sdf::library::STARTER_NAMES[..7]
+        .iter()
+        .copied()
+        .collect();
+    assert_eq!(first, kinds);
+    assert_eq!(super::csg_tool::MENU_LIBRARY.len(), 15);
     let mut seen = std::collections::BTreeSet::new();
     for name in super::csg_tool::MENU_LIBRARY {
         assert!(
