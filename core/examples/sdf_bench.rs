@@ -33,7 +33,7 @@ use fast_surface_nets::{surface_nets, SurfaceNetsBuffer};
 use shapewright::sdf::csg::fuse_sampled;
 use shapewright::sdf::features::ExactField;
 use shapewright::sdf::grid::{Brick, SparseGrid, BRICK};
-use shapewright::sdf::placement::LocalField;
+use shapewright::sdf::placement::{LocalField, PlacedField};
 use shapewright::sdf::sample::sample_operand;
 use shapewright::sdf::volume::stitch;
 use shapewright::sdf::{Operand, SdfCache, SdfVolume};
@@ -217,14 +217,7 @@ fn table1(a: &Args, cache: &SdfCache, one: &rayon::ThreadPool) {
                     .map(|o| Arc::new(v.placed_with(o, cache).expect("operand")))
                     .collect()
             };
-            let exact = ExactField::new(
-                placed
-                    .iter()
-                    .cloned()
-                    .zip(ops.iter().map(|o| o.csg))
-                    .collect(),
-                band as f64,
-            );
+            let exact = exact_field(&placed, &ops, band);
             let (mut ts, mut tf, mut te) = (Vec::new(), Vec::new(), Vec::new());
             let mut last = None;
             for _ in 0..a.reps {
@@ -451,14 +444,7 @@ fn phase(a: &Args, cache: &SdfCache, workload: &str, phase: &str) {
         .iter()
         .map(|o| Arc::new(v.placed_with(o, cache).expect("operand")))
         .collect();
-    let exact = ExactField::new(
-        placed
-            .iter()
-            .cloned()
-            .zip(ops.iter().map(|o| o.csg))
-            .collect(),
-        band as f64,
-    );
+    let exact = exact_field(&placed, &ops, band);
     let sampled: Vec<_> = placed
         .iter()
         .map(|p| sample_operand(p, step, band))
@@ -547,4 +533,17 @@ fn main() {
     if a.full {
         full(&a, &one);
     }
+}
+
+/// The exact CSG field of placed operands with their operations, within
+/// `band` of the surface.
+fn exact_field(placed: &[Arc<PlacedField>], ops: &[Operand], band: f32) -> ExactField {
+    ExactField::new(
+        placed
+            .iter()
+            .cloned()
+            .zip(ops.iter().map(|o| o.csg))
+            .collect(),
+        band as f64,
+    )
 }

@@ -19,7 +19,6 @@ use shapewright::gc::{GcAssembly, Profile, Resolution, ShapeType};
 use shapewright::gc::{PartId, SectionIndex, SectionSpec};
 use shapewright::math::fm::DetMath as _;
 use shapewright::mesh::validate;
-use shapewright::nurbs::euclidean;
 
 fn run(name: &str) -> OpLog {
     let path = format!("{}/../tests/data/{name}.jsonl", env!("CARGO_MANIFEST_DIR"));
@@ -85,20 +84,9 @@ fn teapot_relations_are_detected() {
     assert!(rel.concentric.is_empty(), "{rel:?}");
 }
 
-fn controls(asm: &GcAssembly, i: usize) -> Vec<DVec3> {
-    asm.parts[i]
-        .gc
-        .spine
-        .curve
-        .control
-        .iter()
-        .map(|h| euclidean(*h))
-        .collect()
-}
-
 fn assert_mirror_twins(asm: &GcAssembly, a: usize, b: usize) {
     let (o, n) = mirror_plane(&asm.parts[0].gc);
-    let (ca, cb) = (controls(asm, a), controls(asm, b));
+    let (ca, cb) = (common::spine(asm, a), common::spine(asm, b));
     assert_eq!(ca.len(), cb.len());
     for (p, q) in ca.iter().zip(&cb) {
         let d = reflect(*p, o, n).distance(*q);

@@ -113,17 +113,6 @@ fn the_headset_resize_of_the_body_keeps_the_teapot_whole() {
     assert_eq!((r.genus, r.components), (Some(2), 1));
 }
 
-fn spine(asm: &GcAssembly, part: usize) -> Vec<DVec3> {
-    asm.parts[part]
-        .gc
-        .spine
-        .curve
-        .control
-        .iter()
-        .map(|h| euclidean(*h))
-        .collect()
-}
-
 /// The smallest distance of a part's spine from the line through `o`
 /// along the unit vector `axis`.
 fn nearest_to_line(asm: &GcAssembly, part: usize, o: DVec3, axis: DVec3) -> f64 {
@@ -155,7 +144,11 @@ fn assert_turned(
     what: &str,
 ) {
     let (was, now) = (&base.parts[src], &asm.parts[k]);
-    for (j, (p, r)) in spine(base, src).iter().zip(spine(asm, k)).enumerate() {
+    for (j, (p, r)) in common::spine(base, src)
+        .iter()
+        .zip(common::spine(asm, k))
+        .enumerate()
+    {
         let want = about.transform_point3(*p);
         let d = want.distance(r);
         assert!(
@@ -370,7 +363,7 @@ fn off_plane(asm: &GcAssembly, part: usize, plane_of: usize) -> f64 {
     let g = &asm.parts[plane_of].gc;
     let n = g.spine.plane_normal.normalize();
     let o = euclidean(g.spine.curve.control[0]);
-    spine(asm, part)
+    common::spine(asm, part)
         .iter()
         .map(|p| (*p - o).dot(n).abs())
         .fold(0.0, f64::max)

@@ -255,13 +255,7 @@ fn a_dishonest_editor_changes_nothing_anyone_sees() {
     let now = check_converged_with(&url, as_ana.clone(), &[&ana, &bob]);
     assert_eq!(now, before);
     for p in [&ana, &bob] {
-        let reasons: Vec<&str> = p
-            .log
-            .confirmed()
-            .skipped()
-            .iter()
-            .map(|s| s.reason.as_str())
-            .collect();
+        let reasons = skipped_reasons(&p.log);
         assert_eq!(reasons.len(), 4, "{reasons:?}");
         assert!(
             reasons[..3]

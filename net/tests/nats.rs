@@ -314,13 +314,7 @@ fn hostile_messages_are_skipped_identically_by_every_replica() {
     settle(&mut [&mut a, &mut b], Duration::from_secs(30));
     for p in [&a, &b] {
         assert_eq!(p.log.document().content_hash(), before);
-        let reasons: Vec<&str> = p
-            .log
-            .confirmed()
-            .skipped()
-            .iter()
-            .map(|s| s.reason.as_str())
-            .collect();
+        let reasons = skipped_reasons(&p.log);
         assert_eq!(reasons.len(), 5, "{reasons:?}");
         assert!(reasons[0].contains("not an entry"));
         assert!(reasons[1].contains("larger than"));

@@ -74,20 +74,14 @@ def run(bin_path=None, reps=5):
         rust_us = float(res[res.index("ns_per_ray") + 1]) / 1e3
         rust_t = np.loadtxt(hits)
         tris = read_stl(stl)
-    g = np.arange(32 * 32)
-    origins = np.stack(
-        [-0.2 + 1.3 * (g % 32) / 31.0, -0.2 + 1.3 * (g // 32) / 31.0, np.full(g.shape, 2.0)], axis=1
-    )
-    d = np.array([0.0, 0.0, -1.0])
+    origins, d = ray_grid()
     ts = []
     for _ in range(reps):
         start = time.perf_counter()
         np_t = pick_numpy(tris, origins, d)
         ts.append((time.perf_counter() - start) * 1e6 / len(origins))
     q = statistics.quantiles(ts, n=4, method="inclusive") if len(ts) > 1 else [ts[0]] * 3
-    agree = bool(
-        np.all((rust_t < 0) == (np_t < 0)) and np.allclose(rust_t[rust_t >= 0], np_t[np_t >= 0], atol=1e-5)
-    )
+    agree = hits_agree(rust_t, np_t)
     return [
         {
             "workload": f"ray pick, {len(tris)} tris, {len(origins)} rays (per ray)",
@@ -104,6 +98,22 @@ def run(bin_path=None, reps=5):
     ]
 
 
+def ray_grid():
+    """The 32 x 32 rays straight down onto the scene: origins, direction."""
+    g = np.arange(32 * 32)
+    origins = np.stack(
+        [-0.2 + 1.3 * (g % 32) / 31.0, -0.2 + 1.3 * (g // 32) / 31.0, np.full(g.shape, 2.0)], axis=1
+    )
+    return origins, np.array([0.0, 0.0, -1.0])
+
+
+def hits_agree(rust_t, np_t) -> bool:
+    """Both hit the same rays, at the same distances (1e-5)."""
+    return bool(
+        np.all((rust_t < 0) == (np_t < 0)) and np.allclose(rust_t[rust_t >= 0], np_t[np_t >= 0], atol=1e-5)
+    )
+
+
 def main():
     target = os.environ.get("CARGO_TARGET_DIR", str(ROOT / "target"))
     subprocess.run(
@@ -118,17 +128,11 @@ def main():
         rust_ns = float(res[res.index("ns_per_ray") + 1])
         rust_t = np.loadtxt(hits)
         tris = read_stl(stl)
-        g = np.arange(32 * 32)
-        origins = np.stack(
-            [-0.2 + 1.3 * (g % 32) / 31.0, -0.2 + 1.3 * (g // 32) / 31.0, np.full(g.shape, 2.0)], axis=1
-        )
-        d = np.array([0.0, 0.0, -1.0])
+        origins, d = ray_grid()
         start = time.perf_counter()
         np_t = pick_numpy(tris, origins, d)
         np_ns = (time.perf_counter() - start) * 1e9 / len(origins)
-    agree = np.all((rust_t < 0) == (np_t < 0)) and np.allclose(
-        rust_t[rust_t >= 0], np_t[np_t >= 0], atol=1e-5
-    )
+    agree = hits_agree(rust_t, np_t)
     print(
         f"scene: {len(tris)} triangles, {len(origins)} rays, {int((rust_t >= 0).sum())} hits, hits agree: {agree}"
     )

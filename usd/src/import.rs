@@ -198,15 +198,12 @@ fn import_flat(
     push(&mut stack, &root, &Ok(DMat4::IDENTITY), 0);
     let mut found = Vec::new();
     while let Some((path, parent_world, depth)) = stack.pop() {
-        if depth > crate::limits::MAX_PRIM_DEPTH {
-            return Err(crate::limits::TooDeep {
-                what: "prim hierarchy",
-                depth,
-                place: path.as_str().chars().take(200).collect(),
-                limit: crate::limits::MAX_PRIM_DEPTH,
-            }
-            .into());
-        }
+        crate::limits::check_prim_depth(
+            "prim hierarchy",
+            path.as_str(),
+            depth,
+            crate::limits::MAX_PRIM_DEPTH,
+        )?;
         if ARC_FIELDS.iter().any(|k| field(&path, k).is_some()) {
             return Ok(None);
         }
@@ -299,15 +296,12 @@ fn walk(stage: &Stage) -> Result<Vec<MeshVisit>, ImportError> {
     push_children(&mut stack, &root, &Ok(DMat4::IDENTITY), 0)?;
     let mut out = Vec::new();
     while let Some((path, parent_world, depth)) = stack.pop() {
-        if depth > crate::limits::MAX_COMPOSED_DEPTH {
-            return Err(crate::limits::TooDeep {
-                what: "prim hierarchy of a file with composition arcs",
-                depth,
-                place: path.as_str().chars().take(200).collect(),
-                limit: crate::limits::MAX_COMPOSED_DEPTH,
-            }
-            .into());
-        }
+        crate::limits::check_prim_depth(
+            "prim hierarchy of a file with composition arcs",
+            path.as_str(),
+            depth,
+            crate::limits::MAX_COMPOSED_DEPTH,
+        )?;
         let prim = stage.prim(path.clone());
         // `over` and unspecified prims are not defined, `class` prims are
         // abstract: neither they nor anything below them is in the region.

@@ -40,24 +40,50 @@ pub fn find_log(data: &dyn AbstractData) -> Option<sdf::Path> {
     if data.has_spec(&direct) {
         return Some(direct);
     }
-    let mut queue: VecDeque<sdf::Path> = VecDeque::from([root]);
+    let mut found = None;
+    breadth_first(data, |c, name| {
+        if name == LOG_PRIM {
+            found = Some(c.clone());
+            Visit::Stop
+        } else {
+            Visit::Descend
+        }
+    });
+    found
+}
+
+/// What a breadth-first search does with a prim it reaches.
+enum Visit {
+    /// Ends the search.
+    Stop,
+    /// Searches the prim's children too.
+    Descend,
+    /// Goes on without its children.
+    Skip,
+}
+
+/// Visits the prims below the root breadth-first, at most
+/// [`MAX_PRIMS_SEARCHED`] of them (a hostile file is not searched to its
+/// end): `visit(prim, name)` says how to go on.
+fn breadth_first(data: &dyn AbstractData, mut visit: impl FnMut(&sdf::Path, &str) -> Visit) {
+    let mut queue: VecDeque<sdf::Path> = VecDeque::from([sdf::Path::abs_root()]);
     let mut seen = 0usize;
     while let Some(p) = queue.pop_front() {
         for name in children(data, &p) {
             seen += 1;
             if seen > MAX_PRIMS_SEARCHED {
-                return None;
+                return;
             }
             let Ok(c) = p.append_path(name.as_str()) else {
                 continue;
             };
-            if name == LOG_PRIM {
-                return Some(c);
+            match visit(&c, name.as_str()) {
+                Visit::Stop => return,
+                Visit::Descend => queue.push_back(c),
+                Visit::Skip => {}
             }
-            queue.push_back(c);
         }
     }
-    None
 }
 
 fn object_id(data: &dyn AbstractData, prim: &sdf::Path) -> Option<Option<ObjectId>> {
@@ -88,23 +114,13 @@ pub fn object_prims(data: &dyn AbstractData) -> ObjectPrims {
             return out;
         }
     }
-    let mut queue: VecDeque<sdf::Path> = VecDeque::from([root]);
-    let mut seen = 0usize;
-    while let Some(p) = queue.pop_front() {
-        for name in children(data, &p) {
-            seen += 1;
-            if seen > MAX_PRIMS_SEARCHED {
-                return out;
-            }
-            let Ok(c) = p.append_path(name.as_str()) else {
-                continue;
-            };
-            match object_id(data, &c) {
-                Some(id) => add(&mut out, c, id),
-                None => queue.push_back(c),
-            }
+    breadth_first(data, |c, _| match object_id(data, c) {
+        Some(id) => {
+            add(&mut out, c.clone(), id);
+            Visit::Skip
         }
-    }
+        None => Visit::Descend,
+    });
     out
 }
 

@@ -62,6 +62,25 @@ pub struct TooDeep {
     pub limit: usize,
 }
 
+/// Refuses a prim at `depth` (below `path`) deeper than `limit`: one
+/// check for every walk over a prim hierarchy.
+pub fn check_prim_depth(
+    what: &'static str,
+    path: &str,
+    depth: usize,
+    limit: usize,
+) -> Result<(), TooDeep> {
+    if depth > limit {
+        return Err(TooDeep {
+            what,
+            depth,
+            place: path.chars().take(200).collect(),
+            limit,
+        });
+    }
+    Ok(())
+}
+
 /// Refuses usda text whose brackets nest deeper than [`MAX_NESTING`].
 pub fn check_usda_nesting(text: &str) -> Result<(), TooDeep> {
     check_nesting_limit(text, MAX_NESTING)

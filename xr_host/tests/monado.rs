@@ -19,6 +19,8 @@
 //! exactly the ops and content hash that `replay` gives for that trace,
 //! and the same op sequence as for the fixture itself.
 
+#[path = "support/record.rs"]
+mod record;
 #[path = "support/remote.rs"]
 mod remote;
 
@@ -188,13 +190,6 @@ impl Drop for Rig {
     }
 }
 
-#[derive(serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-enum Line {
-    Frame(Box<shapewright::interact::InputFrame>),
-    Lifecycle(LifecycleEvent),
-}
-
 /// The record's frames and events; panics on a line cut short.
 fn records(p: &Path) -> (Vec<shapewright::interact::InputFrame>, Vec<LifecycleEvent>) {
     let text = std::fs::read_to_string(p).unwrap_or_default();
@@ -202,16 +197,7 @@ fn records(p: &Path) -> (Vec<shapewright::interact::InputFrame>, Vec<LifecycleEv
         text.is_empty() || text.ends_with('\n'),
         "record cut mid-line"
     );
-    let mut frames = Vec::new();
-    let mut events = Vec::new();
-    for l in text.lines() {
-        match serde_json::from_str::<Line>(l).unwrap_or_else(|e| panic!("bad record line {l}: {e}"))
-        {
-            Line::Frame(f) => frames.push(*f),
-            Line::Lifecycle(e) => events.push(e),
-        }
-    }
-    (frames, events)
+    record::parse(&text)
 }
 
 fn wait(child: &mut Child, timeout: Duration) -> Option<i32> {

@@ -3,6 +3,9 @@
 //! manifest in `XR_RUNTIME_JSON`. Each test runs the `shapewright-xr`
 //! binary as a child process, so the environment is per test.
 
+#[path = "support/record.rs"]
+mod record;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -44,13 +47,6 @@ struct Run {
     frames: Vec<InputFrame>,
     events: Vec<LifecycleEvent>,
     report: Option<RunReport>,
-}
-
-#[derive(serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-enum Line {
-    Frame(Box<InputFrame>),
-    Lifecycle(LifecycleEvent),
 }
 
 fn run_host(name: &str, script: &Script, args: &[&str]) -> Run {
@@ -149,17 +145,7 @@ fn run_host_mode(
 }
 
 fn read_record(p: &Path) -> (Vec<InputFrame>, Vec<LifecycleEvent>) {
-    let text = std::fs::read_to_string(p).unwrap_or_default();
-    let mut frames = Vec::new();
-    let mut events = Vec::new();
-    for l in text.lines() {
-        match serde_json::from_str::<Line>(l).unwrap_or_else(|e| panic!("bad record line {l}: {e}"))
-        {
-            Line::Frame(f) => frames.push(*f),
-            Line::Lifecycle(e) => events.push(e),
-        }
-    }
-    (frames, events)
+    record::parse(&std::fs::read_to_string(p).unwrap_or_default())
 }
 
 fn states(r: &Run) -> Vec<String> {

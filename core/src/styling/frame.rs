@@ -162,15 +162,7 @@ pub fn project_to_drawing_plane(
     samples: &[[f64; 3]],
     frame: &ModelingFrame,
 ) -> Result<Vec<[f64; 3]>, StylingError> {
-    let m = frame.affine()?;
-    let inv = m.inverse();
-    Ok(samples
-        .iter()
-        .map(|s| {
-            let l = inv.transform_point3(DVec3::from_array(*s));
-            m.transform_point3(l.with_z(0.0)).to_array()
-        })
-        .collect())
+    in_frame(samples, frame, |l| l.with_z(0.0))
 }
 
 /// Samples (model space) mirrored across the frame's symmetry plane
@@ -179,13 +171,22 @@ pub fn mirror_in_frame(
     samples: &[[f64; 3]],
     frame: &ModelingFrame,
 ) -> Result<Vec<[f64; 3]>, StylingError> {
+    in_frame(samples, frame, |l| DVec3::new(-l.x, l.y, l.z))
+}
+
+/// Samples (model space) changed by `local` in the frame's coordinates.
+fn in_frame(
+    samples: &[[f64; 3]],
+    frame: &ModelingFrame,
+    local: impl Fn(DVec3) -> DVec3,
+) -> Result<Vec<[f64; 3]>, StylingError> {
     let m = frame.affine()?;
     let inv = m.inverse();
     Ok(samples
         .iter()
         .map(|s| {
-            let l = inv.transform_point3(DVec3::from_array(*s));
-            m.transform_point3(DVec3::new(-l.x, l.y, l.z)).to_array()
+            m.transform_point3(local(inv.transform_point3(DVec3::from_array(*s))))
+                .to_array()
         })
         .collect())
 }

@@ -8,8 +8,8 @@ use std::path::Path;
 use glam::DVec3;
 use shapewright::assembly::{project_to_surface, GcTransformPart};
 use shapewright::doc::{parse_script, run_script, Edit, LogError, ObjectId, Op, OpLog};
-use shapewright::gc::PartId;
-use shapewright::nurbs::NurbsSurface;
+use shapewright::gc::{GcAssembly, PartId};
+use shapewright::nurbs::{euclidean, NurbsSurface};
 
 /// The text of `tests/data/NAME`.
 pub fn data(name: &str) -> String {
@@ -91,4 +91,16 @@ pub fn crossing_sculpt() -> String {
     format!(
         r#"{{"op":"sculpt_create","base":{{"kind":"mesh","positions":{positions:?},"triangles":{triangles:?}}}}}"#
     )
+}
+
+/// The spine control points of part `part`, in Euclidean coordinates.
+pub fn spine(asm: &GcAssembly, part: usize) -> Vec<DVec3> {
+    asm.parts[part]
+        .gc
+        .spine
+        .curve
+        .control
+        .iter()
+        .map(|h| euclidean(*h))
+        .collect()
 }

@@ -260,3 +260,13 @@ fn pipe(mut from: TcpStream, mut to: TcpStream) {
         let _ = to.shutdown(Shutdown::Both);
     });
 }
+
+/// Why each entry `log`'s confirmed replica skipped was skipped, in the
+/// order of [`shapewright::doc::shared::Replica::skipped`].
+pub fn skipped_reasons(log: &SharedLog) -> Vec<&str> {
+    log.confirmed()
+        .skipped()
+        .iter()
+        .map(|s| s.reason.as_str())
+        .collect()
+}

@@ -97,18 +97,12 @@ impl GpuContext {
             }
         }
         let (_, pdev, family) = best.ok_or(GfxError::NoDevice)?;
-        let priorities = [1.0f32];
-        let queues = [vk::DeviceQueueCreateInfo::default()
-            .queue_family_index(family)
-            .queue_priorities(&priorities)];
-        let mut multiview = vk::PhysicalDeviceMultiviewFeatures::default().multiview(true);
-        let dinfo = vk::DeviceCreateInfo::default()
-            .queue_create_infos(&queues)
-            .push_next(&mut multiview);
-        // SAFETY: `pdev` belongs to `instance`; `dinfo` and its chain live
-        // across the call.
-        let device = unsafe { instance.create_device(pdev, &dinfo, None) }
-            .map_err(|r| GfxError::vk("vkCreateDevice", r))?;
+        let device = with_device_info(family, |dinfo| {
+            // SAFETY: `pdev` belongs to `instance`; `dinfo` and its chain
+            // live across the call.
+            unsafe { instance.create_device(pdev, dinfo, None) }
+        })
+        .map_err(|r| GfxError::vk("vkCreateDevice", r))?;
         let instance = guard.release();
         // SAFETY: `instance` and `device` were created above and are handed
         // over to the context, which destroys them exactly once.
@@ -214,6 +208,21 @@ impl GpuContext {
             .ok_or(GfxError::NoMemoryType)
     }
 
+    /// Memory for `req` of a type with all of `flags` (the caller binds it
+    /// and frees it with the resource it backs).
+    pub fn allocate(
+        &self,
+        req: vk::MemoryRequirements,
+        flags: vk::MemoryPropertyFlags,
+    ) -> Result<vk::DeviceMemory, GfxError> {
+        let alloc = vk::MemoryAllocateInfo::default()
+            .allocation_size(req.size)
+            .memory_type_index(self.memory_type(req.memory_type_bits, flags)?);
+        // SAFETY: live device, valid allocation info.
+        unsafe { self.device.allocate_memory(&alloc, None) }
+            .map_err(|r| GfxError::vk("vkAllocateMemory", r))
+    }
+
     /// Records commands with `record` into a fresh primary command buffer,
     /// submits it and waits for it to finish.
     pub fn submit_and_wait(
@@ -297,4 +306,23 @@ impl Drop for InstanceGuard {
             unsafe { i.destroy_instance(None) };
         }
     }
+}
+
+/// The device both paths create (this module's, and the one OpenXR
+/// creates for a headset session): one queue of the graphics `family`
+/// and multiview, which [`GpuContext::from_raw_parts`] relies on. The
+/// info and its chain live across `create`.
+pub(crate) fn with_device_info<R>(
+    family: u32,
+    create: impl FnOnce(&vk::DeviceCreateInfo<'_>) -> R,
+) -> R {
+    let priorities = [1.0f32];
+    let queues = [vk::DeviceQueueCreateInfo::default()
+        .queue_family_index(family)
+        .queue_priorities(&priorities)];
+    let mut multiview = vk::PhysicalDeviceMultiviewFeatures::default().multiview(true);
+    let dinfo = vk::DeviceCreateInfo::default()
+        .queue_create_infos(&queues)
+        .push_next(&mut multiview);
+    create(&dinfo)
 }

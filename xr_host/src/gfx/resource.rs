@@ -35,18 +35,10 @@ impl HostBuffer {
             .map_err(|r| GfxError::vk("vkCreateBuffer", r))?;
         // SAFETY: `buffer` was created on `dev`.
         let req = unsafe { dev.get_buffer_memory_requirements(buffer) };
-        let mem_type = ctx.memory_type(
-            req.memory_type_bits,
+        let memory = ctx.allocate(
+            req,
             vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT,
         );
-        let memory = mem_type.and_then(|t| {
-            let alloc = vk::MemoryAllocateInfo::default()
-                .allocation_size(req.size)
-                .memory_type_index(t);
-            // SAFETY: live device, valid allocation info.
-            unsafe { dev.allocate_memory(&alloc, None) }
-                .map_err(|r| GfxError::vk("vkAllocateMemory", r))
-        });
         let memory = match memory {
             Ok(m) => m,
             Err(e) => {
@@ -181,17 +173,7 @@ impl LayeredImage {
             .map_err(|r| GfxError::vk("vkCreateImage", r))?;
         // SAFETY: `image` was created on `dev`.
         let req = unsafe { dev.get_image_memory_requirements(image) };
-        let memory = ctx
-            .memory_type(req.memory_type_bits, vk::MemoryPropertyFlags::DEVICE_LOCAL)
-            .and_then(|t| {
-                let alloc = vk::MemoryAllocateInfo::default()
-                    .allocation_size(req.size)
-                    .memory_type_index(t);
-                // SAFETY: live device, valid allocation info.
-                unsafe { dev.allocate_memory(&alloc, None) }
-                    .map_err(|r| GfxError::vk("vkAllocateMemory", r))
-            });
-        let memory = match memory {
+        let memory = match ctx.allocate(req, vk::MemoryPropertyFlags::DEVICE_LOCAL) {
             Ok(m) => m,
             Err(e) => {
                 // SAFETY: unused image.

@@ -24,7 +24,7 @@ use std::sync::Arc;
 use ash::vk;
 use ash::vk::Handle as _;
 
-use super::context::{graphics_queue_family, load_entry, VK_API_VERSION};
+use super::context::{graphics_queue_family, load_entry, with_device_info, VK_API_VERSION};
 use super::renderer::{Framebuffer, Renderer, DEPTH_FORMAT};
 use super::resource::{array_view, LayeredImage};
 use super::{GfxError, GpuContext};
@@ -90,26 +90,20 @@ pub fn create_vulkan_for_openxr(
     let family = graphics_queue_family(&vk_instance, pdev)
         .ok_or(GfxError::NoDevice)
         .map_err(destroy_instance)?;
-    let priorities = [1.0f32];
-    let queues = [vk::DeviceQueueCreateInfo::default()
-        .queue_family_index(family)
-        .queue_priorities(&priorities)];
-    let mut multiview = vk::PhysicalDeviceMultiviewFeatures::default().multiview(true);
-    let dinfo = vk::DeviceCreateInfo::default()
-        .queue_create_infos(&queues)
-        .push_next(&mut multiview);
-    // SAFETY: as for the instance; `pdev` is the runtime's choice on it.
-    let raw_device = unsafe {
-        instance.create_vulkan_device(
-            system,
-            std::mem::transmute::<
-                vk::PFN_vkGetInstanceProcAddr,
-                xr::sys::platform::VkGetInstanceProcAddr,
-            >(entry.static_fn().get_instance_proc_addr),
-            pdev.as_raw() as _,
-            &dinfo as *const _ as *const _,
-        )
-    }
+    let raw_device = with_device_info(family, |dinfo| {
+        // SAFETY: as for the instance; `pdev` is the runtime's choice on it.
+        unsafe {
+            instance.create_vulkan_device(
+                system,
+                std::mem::transmute::<
+                    vk::PFN_vkGetInstanceProcAddr,
+                    xr::sys::platform::VkGetInstanceProcAddr,
+                >(entry.static_fn().get_instance_proc_addr),
+                pdev.as_raw() as _,
+                dinfo as *const _ as *const _,
+            )
+        }
+    })
     .map_err(|r| destroy_instance(xr_err("xrCreateVulkanDeviceKHR", r)))?
     .map_err(|r| {
         destroy_instance(GfxError::vk(

@@ -209,11 +209,22 @@ fn touch() -> String {
 impl Default for Script {
     fn default() -> Self {
         Self {
+            profile: touch(),
+            ..Self::base()
+        }
+    }
+}
+
+impl Script {
+    /// The defaults with no interaction profile (a `const` the runtime's
+    /// static state starts from; [`Default`] adds the Touch profile).
+    pub const fn base() -> Self {
+        Self {
             hand_tracking: true,
             vulkan: false,
             stats_path: None,
             capture_path: None,
-            profile: touch(),
+            profile: String::new(),
             keyframes: Vec::new(),
             faults: Vec::new(),
             refuse_creates: 0,
@@ -225,9 +236,7 @@ impl Default for Script {
             refuse: Refusals::NONE,
         }
     }
-}
 
-impl Script {
     /// The keyframe in force at `step` (the last with `at <= step`).
     pub fn at(&self, step: u64) -> Keyframe {
         self.keyframes

@@ -126,22 +126,7 @@ pub struct Runtime {
 impl Runtime {
     pub const fn new() -> Self {
         Self {
-            script: Script {
-                hand_tracking: true,
-                vulkan: false,
-                stats_path: None,
-                capture_path: None,
-                profile: String::new(),
-                keyframes: Vec::new(),
-                faults: Vec::new(),
-                refuse_creates: 0,
-                step_ns: None,
-                local_floor: true,
-                stage: true,
-                hands_supported: true,
-                hand_source: None,
-                refuse: crate::script::Refusals::NONE,
-            },
+            script: Script::base(),
             next_handle: 1,
             instance: None,
             step: 0,

@@ -171,6 +171,19 @@ fn delete(id: ObjectId) -> Op {
     op(&format!(r#"{{"op":"delete","id":{}}}"#, id.0))
 }
 
+/// The bytes of a version-[`ENTRY_VERSION`] entry on base 0 (also used
+/// by the `trust` tests).
+fn entry(author: &str, n: u64, body: Body) -> Vec<u8> {
+    Entry {
+        v: ENTRY_VERSION,
+        author: author.into(),
+        n,
+        base: 0,
+        body,
+    }
+    .to_bytes()
+}
+
 /// A session where everyone has joined.
 fn joined(n: usize) -> Sim {
     let mut sim = Sim::new(n);
@@ -332,16 +345,6 @@ fn hostile_and_broken_messages_are_skipped_identically_everywhere() {
     let a = sim.log(0).apply(sphere(0.0)).unwrap().created.unwrap();
     sim.quiesce();
     let before = sim.clients[0].0.document().content_hash();
-    let entry = |author: &str, n: u64, body: Body| {
-        Entry {
-            v: ENTRY_VERSION,
-            author: author.into(),
-            n,
-            base: 0,
-            body,
-        }
-        .to_bytes()
-    };
     let nan = String::from_utf8(entry(
         "p0",
         90,

@@ -135,13 +135,10 @@ fn circle(n: usize) -> impl Iterator<Item = (f64, f64)> {
     })
 }
 
-/// The solid of revolution of `profile` (`(r, z)` points from a point on
-/// the axis up the outside to another point on the axis; the first and
-/// last have `r = 0`, the others `r > 0`), with `n` points per ring and
-/// the radius scaled by `modulation(angle)`.
-pub fn lathe_mod(profile: &[[f64; 2]], n: usize, modulation: impl Fn(f64) -> f64) -> TriMesh {
-    let inner = &profile[1..profile.len() - 1];
-    let rs: Vec<Vec<DVec3>> = inner
+/// One ring of `n` points per `(r, z)` profile point, the radius scaled
+/// by `modulation(angle)`: what both lathes sweep.
+fn mod_rings(profile: &[[f64; 2]], n: usize, modulation: &impl Fn(f64) -> f64) -> Vec<Vec<DVec3>> {
+    profile
         .iter()
         .map(|&[r, z]| {
             (0..n)
@@ -152,7 +149,15 @@ pub fn lathe_mod(profile: &[[f64; 2]], n: usize, modulation: impl Fn(f64) -> f64
                 })
                 .collect()
         })
-        .collect();
+        .collect()
+}
+
+/// The solid of revolution of `profile` (`(r, z)` points from a point on
+/// the axis up the outside to another point on the axis; the first and
+/// last have `r = 0`, the others `r > 0`), with `n` points per ring and
+/// the radius scaled by `modulation(angle)`.
+pub fn lathe_mod(profile: &[[f64; 2]], n: usize, modulation: impl Fn(f64) -> f64) -> TriMesh {
+    let rs = mod_rings(&profile[1..profile.len() - 1], n, &modulation);
     let (z0, z1) = (profile[0][1], profile[profile.len() - 1][1]);
     rings(
         &rs,
@@ -172,18 +177,7 @@ pub fn lathe(profile: &[[f64; 2]], n: usize) -> TriMesh {
 /// (counter-clockwise in the `(r, z)` half plane, every `r > 0`): tyres,
 /// tubes, open shells (a lamp shade, a bowl without a bottom).
 pub fn lathe_ring_mod(profile: &[[f64; 2]], n: usize, modulation: impl Fn(f64) -> f64) -> TriMesh {
-    let rs: Vec<Vec<DVec3>> = profile
-        .iter()
-        .map(|&[r, z]| {
-            (0..n)
-                .map(|j| {
-                    let a = TAU * j as f64 / n as f64;
-                    let r = r * modulation(a);
-                    DVec3::new(r * a.fcos(), r * a.fsin(), z)
-                })
-                .collect()
-        })
-        .collect();
+    let rs = mod_rings(profile, n, &modulation);
     rings(&rs, None)
 }
 

@@ -3,17 +3,6 @@
 
 use super::*;
 
-fn entry(author: &str, n: u64, body: Body) -> Vec<u8> {
-    Entry {
-        v: ENTRY_VERSION,
-        author: author.into(),
-        n,
-        base: 0,
-        body,
-    }
-    .to_bytes()
-}
-
 #[test]
 fn subject_tokens_are_one_token_and_never_shared() {
     assert_eq!(subject_token("ana").as_deref(), Some("ana"));
