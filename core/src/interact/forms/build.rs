@@ -608,7 +608,7 @@ pub fn build(
         .map(|o| {
             serde_json::from_value::<Op>(o).map_err(|e| FormError::NotAnOp {
                 op: form.op,
-                why: format!("{}: {e}", form.op),
+                why: e.to_string(),
             })
         })
         .collect()
