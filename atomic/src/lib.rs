@@ -45,6 +45,8 @@
 #![deny(unsafe_code)]
 
 mod platform;
+#[cfg(feature = "testkit")]
+pub mod testkit;
 
 use platform::{replace, same_file, sync_dir};
 

@@ -33,7 +33,7 @@ static ALLOC: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 use shapewright::doc::{parse_script, run_script, ObjectId, ObjectKind, OpLog};
 use shapewright::gc::mesh_gc;
-use shapewright::mesh::{union, validate, write_stl, TriMesh};
+use shapewright::mesh::{f64_le_bytes, u32_le_bytes, union, validate, write_stl, TriMesh};
 
 /// Median, 25th and 75th percentiles (nearest rank) of sorted values.
 fn quartiles(sorted: &[f64]) -> [f64; 3] {
@@ -60,19 +60,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let m = mesh_gc(&p.gc)?;
         let mut f = std::fs::File::create(format!("{dir}/part{i:02}.stl"))?;
         write_stl(&m, &mut f)?;
-        let pos: Vec<u8> = m
-            .positions
-            .iter()
-            .flatten()
-            .flat_map(|x| x.to_le_bytes())
-            .collect();
+        let pos = f64_le_bytes(m.positions.iter().flatten(), 1.0);
         std::fs::write(format!("{dir}/part{i:02}.pos.f64"), pos)?;
-        let tri: Vec<u8> = m
-            .triangles
-            .iter()
-            .flatten()
-            .flat_map(|x| x.to_le_bytes())
-            .collect();
+        let tri = u32_le_bytes(m.triangles.iter().flatten());
         std::fs::write(format!("{dir}/part{i:02}.tri.u32"), tri)?;
         parts.push(m);
     }

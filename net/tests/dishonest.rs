@@ -12,20 +12,13 @@ use std::time::{Duration, Instant};
 
 use async_nats::jetstream::{self, object_store, stream};
 use common::*;
-use shapewright::doc::shared::{Body, Entry, Replica, ENTRY_VERSION};
+use shapewright::doc::shared::{Body, Entry, Replica};
 use shapewright::doc::OpLog;
 use shapewright_net::access::{server_config, Member};
 use shapewright_net::{Link, LinkError, LinkOptions, SessionUrl, SnapshotState};
 
 fn entry(author: &str, n: u64, body: Body) -> Vec<u8> {
-    Entry {
-        v: ENTRY_VERSION,
-        author: author.into(),
-        n,
-        base: 0,
-        body,
-    }
-    .to_bytes()
+    Entry::new(author, n, 0, body).to_bytes()
 }
 
 /// Publishes `bytes` on `subject` with the raw client's JetStream

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 
 use common::*;
 use shapewright::doc::shared::{
-    Body, Entry, NoticeKind, Replica, SharedError, SharedLog, ENTRY_VERSION, MAX_ENTRY_BYTES,
+    Body, Entry, NoticeKind, Replica, SharedError, SharedLog, MAX_ENTRY_BYTES,
 };
 use shapewright::doc::ObjectId;
 use shapewright_net::access::{server_config, Member};
@@ -199,16 +199,15 @@ fn duplicate_publishes_land_once() {
     let url = server.url("dupes");
     let mut a = Person::join(&url, "a");
     settle(&mut [&mut a], Duration::from_secs(30));
-    let entry = Entry {
-        v: ENTRY_VERSION,
-        author: "a".into(),
-        n: 2,
-        base: 1,
-        body: Body::Op {
+    let entry = Entry::new(
+        "a",
+        2,
+        1,
+        Body::Op {
             ids_from: Some(a.log.confirmed().next_free_id("a").unwrap()),
             op: sphere(0.0),
         },
-    };
+    );
     let bytes = entry.to_bytes();
     let id = entry.msg_id();
     // The same append three times (a retry after a lost ack): one lands.
@@ -274,16 +273,7 @@ fn hostile_messages_are_skipped_identically_by_every_replica() {
     let x = a.log.apply(sphere(0.0)).unwrap().created.unwrap();
     settle(&mut [&mut a, &mut b], Duration::from_secs(30));
     let before = a.log.document().content_hash();
-    let fake = |n: u64, body: Body| {
-        Entry {
-            v: ENTRY_VERSION,
-            author: "b".into(),
-            n,
-            base: 0,
-            body,
-        }
-        .to_bytes()
-    };
+    let fake = |n: u64, body: Body| Entry::new("b", n, 0, body).to_bytes();
     let msgs = vec![
         (None, b"\xff\xfe not json".to_vec()),
         (None, vec![b'['; MAX_ENTRY_BYTES + 10]),

@@ -112,22 +112,41 @@ fn import_file_here(
     }
     drop(bytes);
     let stage = Stage::open(&name).map_err(|e| open_err(format!("{e:#}")))?;
-    let units = stage_units(&stage)?;
-    let mut root_fix = DMat4::from_scale(DVec3::splat(
+    let root_fix = root_fix(&stage_units(&stage)?, options);
+    read_meshes(&stage, walk(&stage)?, root_fix, options, &name)
+}
+
+/// From the file's units and up axis to the caller's units, Z up.
+fn root_fix(units: &StageUnits, options: &ImportOptions) -> DMat4 {
+    let scale = DMat4::from_scale(DVec3::splat(
         units.meters_per_unit / options.meters_per_unit,
     ));
     if units.y_up {
-        root_fix *= DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2);
+        scale * DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2)
+    } else {
+        scale
     }
+}
+
+/// The meshes `found` (in traversal order) under the options' prefix,
+/// read from `src` and carried by their world transform and `root_fix`;
+/// [`ImportError::NoMesh`] when there are none.
+fn read_meshes(
+    src: &impl Attrs,
+    found: Vec<MeshVisit>,
+    root_fix: DMat4,
+    options: &ImportOptions,
+    name: &str,
+) -> Result<Vec<ImportedMesh>, ImportError> {
     let mut out = Vec::new();
-    for visit in walk(&stage)? {
+    for visit in found {
         let p = visit.path;
         if let Some(prefix) = &options.prefix {
             if !p.as_str().starts_with(prefix.as_str()) {
                 continue;
             }
         }
-        let (mut mesh, polygons) = read_mesh(&stage, &p)?;
+        let (mut mesh, polygons) = read_mesh(src, &p)?;
         let world = root_fix * visit.world?;
         mesh.transform(&shapewright::math::DAffine3::from_mat4(world));
         mesh.compute_normals();
@@ -138,7 +157,7 @@ fn import_file_here(
         });
     }
     if out.is_empty() {
-        return Err(ImportError::NoMesh(name));
+        return Err(ImportError::NoMesh(name.to_owned()));
     }
     Ok(out)
 }
@@ -171,13 +190,7 @@ fn import_flat(
         return Ok(None);
     }
     let meta = |key: &'static str| Ok(field(&root, key).map(std::borrow::Cow::into_owned));
-    let units = units_from(meta)?;
-    let mut root_fix = DMat4::from_scale(DVec3::splat(
-        units.meters_per_unit / options.meters_per_unit,
-    ));
-    if units.y_up {
-        root_fix *= DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2);
-    }
+    let root_fix = root_fix(&units_from(meta)?, options);
     let layer = FlatLayer(data);
     let names = |p: &sdf::Path| -> Vec<String> {
         match field(p, "primChildren").as_deref() {
@@ -225,29 +238,10 @@ fn import_flat(
             Some(Value::Token(t)) if t.as_str() == "Mesh"
         );
         if is_mesh {
-            found.push((path, world));
+            found.push(MeshVisit { path, world });
         }
     }
-    let mut out = Vec::new();
-    for (p, world) in found {
-        if let Some(prefix) = &options.prefix {
-            if !p.as_str().starts_with(prefix.as_str()) {
-                continue;
-            }
-        }
-        let (mut mesh, polygons) = read_mesh(&layer, &p)?;
-        mesh.transform(&shapewright::math::DAffine3::from_mat4(root_fix * world?));
-        mesh.compute_normals();
-        out.push(ImportedMesh {
-            path: p.as_str().to_owned(),
-            mesh,
-            polygons,
-        });
-    }
-    if out.is_empty() {
-        return Err(ImportError::NoMesh(name.to_owned()));
-    }
-    Ok(Some(out))
+    read_meshes(&layer, found, root_fix, options, name).map(Some)
 }
 
 /// A mesh prim found by [`walk`], with its local-to-world transform (an

@@ -10,12 +10,11 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use shapewright::doc::{Op, OpLog};
+use shapewright_atomic::testkit;
 use shapewright_usd::{load_file, AutosaveSettings, Autosaver, LoadOptions, SaveOptions};
 
 const ENV: &str = "SW_USD_CRASH_CHILD";
@@ -64,21 +63,10 @@ fn crash_child_writer() {
 
 #[test]
 fn killed_writer_never_loses_acknowledged_ops() {
-    let runs: usize = std::env::var("CRASH_RUNS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(200);
+    let runs = testkit::runs(200);
     let dir = common::scratch("crash");
-    let exe = std::env::current_exe().unwrap();
     let expected: Vec<Op> = (0..2000).map(op).collect();
-    // xorshift64*: deterministic delays without another dependency.
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let mut next = move || {
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        state.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    };
+    let mut delays = testkit::Delays::new(0x9E37_79B9_7F4A_7C15);
     let mut max_ops = 0;
     let mut mid_run_kills = 0;
     for run in 0..runs {
@@ -88,45 +76,17 @@ fn killed_writer_never_loses_acknowledged_ops() {
         if run % 4 == run % 8 {
             let _ = std::fs::remove_file(&path);
         }
-        let mut child = Command::new(&exe)
-            .args([
-                "crash_child_writer",
-                "--exact",
-                "--nocapture",
-                "--test-threads=1",
-            ])
-            .env(ENV, &path)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let stdout = child.stdout.take().unwrap();
-        let (tx, rx) = std::sync::mpsc::channel::<usize>();
-        let reader = std::thread::spawn(move || {
-            let mut last: Option<usize> = None;
-            for line in BufReader::new(stdout).lines() {
-                let Ok(line) = line else { break };
-                if let Some(n) = line.strip_prefix("ACK ") {
-                    last = n.trim().parse().ok();
-                    if let Some(n) = last {
-                        let _ = tx.send(n);
-                    }
-                }
-            }
-            last
-        });
+        let child = testkit::Writer::spawn("crash_child_writer", ENV, &path);
         // One run in eight is killed during start-up (before or during the
         // first save); the others once the first save was acknowledged,
         // after a random 0-100 ms, which lands between saves and in the
         // middle of writes (a save of this session takes a few ms).
-        let delay = next() % 100_000;
+        let delay = delays.next_u64() % 100_000;
         if run % 8 != 0 {
-            let _ = rx.recv_timeout(Duration::from_secs(30));
+            let _ = child.first_ack(Duration::from_secs(30));
         }
         std::thread::sleep(Duration::from_micros(delay));
-        child.kill().unwrap();
-        child.wait().unwrap();
-        let acked = reader.join().unwrap();
+        let acked = child.kill();
         let Some(acked) = acked else {
             // Killed before the first save returned: the file may be
             // missing or hold whatever an earlier run left; if present it

@@ -15,13 +15,12 @@
 
 use shapewright::math::fm::DetMath as _;
 use std::collections::HashMap;
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use shapewright::doc::{Op, OpLog};
 use shapewright::mesh::TriMesh;
+use shapewright_atomic::testkit;
 use shapewright_xr::gfx::RgbaImage;
 
 const ENV: &str = "SW_CRASH_WRITER";
@@ -142,21 +141,10 @@ fn temps(dir: &Path) -> Vec<PathBuf> {
 
 #[test]
 fn every_writer_survives_kill_9_at_random_moments() {
-    let runs: usize = std::env::var("CRASH_RUNS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(200);
-    let exe = std::env::current_exe().unwrap();
+    let runs = testkit::runs(200);
     let root = std::env::temp_dir().join(format!("sw-crash-writers-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&root);
-    // xorshift64*: deterministic delays without another dependency.
-    let mut state = 0x2545_F491_4F6C_DD1Du64;
-    let mut next = move || {
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        state.wrapping_mul(0x9E37_79B9_7F4A_7C15)
-    };
+    let mut delays = testkit::Delays::new(0x2545_F491_4F6C_DD1D);
     let mut summary = Vec::new();
     for format in FORMATS {
         let dir = root.join(format);
@@ -177,40 +165,19 @@ fn every_writer_survives_kill_9_at_random_moments() {
         let target = dir.join(format!("target.{format}"));
         let (mut mid_write, mut max_version) = (0, 0);
         for run in 0..runs {
-            let mut child = Command::new(&exe)
-                .args([
-                    "crash_child_writer",
-                    "--exact",
-                    "--nocapture",
-                    "--test-threads=1",
-                ])
-                .env(ENV, format!("{format}:{}", target.display()))
-                .stdout(Stdio::piped())
-                .stderr(Stdio::null())
-                .spawn()
-                .unwrap();
-            let stdout = child.stdout.take().unwrap();
-            let (tx, rx) = std::sync::mpsc::channel::<usize>();
-            let reader = std::thread::spawn(move || {
-                let mut last = None;
-                for line in BufReader::new(stdout).lines() {
-                    let Ok(line) = line else { break };
-                    if let Some(n) = line.strip_prefix("ACK ").and_then(|n| n.parse().ok()) {
-                        last = Some(n);
-                        let _ = tx.send(n);
-                    }
-                }
-                last
-            });
+            let child = testkit::Writer::spawn(
+                "crash_child_writer",
+                ENV,
+                format!("{format}:{}", target.display()),
+            );
             // After the first acknowledged write, wait 0-30 ms: a write
             // here takes a few ms, so kills land both between and inside
             // writes.
-            rx.recv_timeout(Duration::from_secs(60))
-                .unwrap_or_else(|_| panic!("{format} run {run}: the child never wrote"));
-            std::thread::sleep(Duration::from_micros(next() % 30_000));
-            child.kill().unwrap();
-            child.wait().unwrap();
-            let acked = reader.join().unwrap().unwrap();
+            child
+                .first_ack(Duration::from_secs(60))
+                .unwrap_or_else(|| panic!("{format} run {run}: the child never wrote"));
+            std::thread::sleep(Duration::from_micros(delays.next_u64() % 30_000));
+            let acked = child.kill().unwrap();
             let got = std::fs::read(&target)
                 .unwrap_or_else(|e| panic!("{format} run {run}: target gone after kill: {e}"));
             let which = [acked, acked + 1]

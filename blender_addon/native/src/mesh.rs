@@ -3,7 +3,7 @@
 
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use shapewright::mesh::{validate, TriMesh, ValidationReport};
+use shapewright::mesh::{f64_le_bytes, u32_le_bytes, validate, TriMesh, ValidationReport};
 
 /// A mesh as `(positions: f64 x 3n, triangles: u32 x 3m, sources: u32 x m)`
 /// byte buffers, positions multiplied by `units_per_metre` (a host's
@@ -17,23 +17,13 @@ pub(crate) fn buffers<'py>(
     Bound<'py, PyBytes>,
     Bound<'py, PyBytes>,
 ) {
-    let pos: Vec<u8> = m
-        .positions
-        .iter()
-        .flatten()
-        .flat_map(|x| (x * units_per_metre).to_le_bytes())
-        .collect();
-    let tri: Vec<u8> = m
-        .triangles
-        .iter()
-        .flatten()
-        .flat_map(|x| x.to_le_bytes())
-        .collect();
-    let src: Vec<u8> = m.tri_source.iter().flat_map(|x| x.to_le_bytes()).collect();
     (
-        PyBytes::new(py, &pos),
-        PyBytes::new(py, &tri),
-        PyBytes::new(py, &src),
+        PyBytes::new(
+            py,
+            &f64_le_bytes(m.positions.iter().flatten(), units_per_metre),
+        ),
+        PyBytes::new(py, &u32_le_bytes(m.triangles.iter().flatten())),
+        PyBytes::new(py, &u32_le_bytes(&m.tri_source)),
     )
 }
 

@@ -13,6 +13,7 @@
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
 use shapewright::doc::ObjectId;
+use shapewright::mesh::{f64_le_bytes, u32_le_bytes};
 use shapewright::nurbs::{euclidean, knot_aligned_samples, NurbsCurve, NurbsSurface};
 use shapewright_usd::parametric::{parts, Part};
 
@@ -90,13 +91,9 @@ pub(crate) fn parametric_parts<'py>(
         d.set_item("name", p.name())?;
         let mesh_item = |pts: &[[f64; 3]], tris: &[[u32; 3]]| -> PyResult<()> {
             d.set_item("kind", "patch")?;
-            let pos: Vec<u8> = pts.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
-            let tri: Vec<u8> = tris
-                .iter()
-                .flatten()
-                .flat_map(|x| x.to_le_bytes())
-                .collect();
+            let pos = f64_le_bytes(pts.iter().flatten(), 1.0);
             d.set_item("positions", PyBytes::new(py, &pos))?;
+            let tri = u32_le_bytes(tris.iter().flatten());
             d.set_item("triangles", PyBytes::new(py, &tri))
         };
         match p {

@@ -29,7 +29,7 @@ pub use precision::{at_precision, at_precision_in, Precision};
 pub use selfx::{self_intersections, SelfIntersections, MAX_EXACT_COORDINATE};
 pub use stl::{read_stl, write_stl};
 pub use threemf::{read_3mf, write_3mf};
-pub use trimesh::TriMesh;
+pub use trimesh::{f64_le_bytes, u32_le_bytes, TriMesh};
 pub use validate::{
     problem_triangles, validate, ValidationReport, ValidationSettings, LISTED_PAIRS,
 };

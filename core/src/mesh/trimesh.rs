@@ -207,6 +207,19 @@ fn corner_normals(positions: &[[f64; 3]], tri: &[u32; 3]) -> [Option<DVec3>; 3] 
     })
 }
 
+/// `xs` times `scale` as one little-endian `f64` buffer: what numpy views
+/// without copying (`np.frombuffer`) and the bench's peers read.
+pub fn f64_le_bytes<'a>(xs: impl IntoIterator<Item = &'a f64>, scale: f64) -> Vec<u8> {
+    xs.into_iter()
+        .flat_map(|x| (x * scale).to_le_bytes())
+        .collect()
+}
+
+/// `xs` as one little-endian `u32` buffer (triangle indices, sources).
+pub fn u32_le_bytes<'a>(xs: impl IntoIterator<Item = &'a u32>) -> Vec<u8> {
+    xs.into_iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

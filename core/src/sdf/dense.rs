@@ -134,25 +134,15 @@ impl DenseSdf {
     /// units (divide by `step` for local units).
     #[inline]
     pub fn sample_gradient_index(&self, u: DVec3) -> Option<(f64, DVec3)> {
-        let (c, [x, y, z]) = self.locate_index(u)?;
+        let (c, f) = self.locate_index(u)?;
         let v = self.corners(c);
+        let [x, y, z] = f;
         let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
-        let x00 = lerp(v[0], v[1], x);
-        let x10 = lerp(v[2], v[3], x);
-        let x01 = lerp(v[4], v[5], x);
-        let x11 = lerp(v[6], v[7], x);
-        let y0 = lerp(x00, x10, y);
-        let y1 = lerp(x01, x11, y);
-        let gx = lerp(
-            lerp(v[1] - v[0], v[3] - v[2], y),
-            lerp(v[5] - v[4], v[7] - v[6], y),
-            z,
-        );
-        let gy = lerp(
-            lerp(v[2] - v[0], v[3] - v[1], x),
-            lerp(v[6] - v[4], v[7] - v[5], x),
-            z,
-        );
+        let y0 = lerp(lerp(v[0], v[1], x), lerp(v[2], v[3], x), y);
+        let y1 = lerp(lerp(v[4], v[5], x), lerp(v[6], v[7], x), y);
+        // ∂/∂z is y1 - y0, at hand: the shared formula's value up to
+        // rounding, and the bits every SDF fixture was recorded with.
+        let [gx, gy, _] = trilinear_gradient(&v, f);
         Some((lerp(y0, y1, z), DVec3::new(gx, gy, y1 - y0)))
     }
 
@@ -160,26 +150,36 @@ impl DenseSdf {
     /// of [`Self::sample`] inside a cell), or `None` outside the box. Sculpt
     /// brushes use it as the direction of explode/collapse warps.
     pub fn gradient(&self, p: DVec3) -> Option<DVec3> {
-        let ([i, j, k], [x, y, z]) = self.locate(p)?;
-        let c = |di: usize, dj: usize, dk: usize| self.at(i + di, j + dj, k + dk);
-        let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
-        let dx = lerp(
-            lerp(c(1, 0, 0) - c(0, 0, 0), c(1, 1, 0) - c(0, 1, 0), y),
-            lerp(c(1, 0, 1) - c(0, 0, 1), c(1, 1, 1) - c(0, 1, 1), y),
-            z,
-        );
-        let dy = lerp(
-            lerp(c(0, 1, 0) - c(0, 0, 0), c(1, 1, 0) - c(1, 0, 0), x),
-            lerp(c(0, 1, 1) - c(0, 0, 1), c(1, 1, 1) - c(1, 0, 1), x),
-            z,
-        );
-        let dz = lerp(
-            lerp(c(0, 0, 1) - c(0, 0, 0), c(1, 0, 1) - c(1, 0, 0), x),
-            lerp(c(0, 1, 1) - c(0, 1, 0), c(1, 1, 1) - c(1, 1, 0), x),
-            y,
-        );
-        Some(DVec3::new(dx, dy, dz) / self.step)
+        let ([i, j, k], f) = self.locate(p)?;
+        let v =
+            [0, 1, 2, 3, 4, 5, 6, 7].map(|n| self.at(i + (n & 1), j + (n >> 1 & 1), k + (n >> 2)));
+        Some(DVec3::from_array(trilinear_gradient(&v, f)) / self.step)
     }
+}
+
+/// The gradient of the trilinear interpolant of a cell's samples `v`
+/// (corner `n` at offset `(n & 1, n >> 1 & 1, n >> 2 & 1)`) at the local
+/// fractions `f`, in units of 1/step: the exact derivative inside the
+/// cell, for the grids here and for extraction's bricks.
+#[inline]
+pub(crate) fn trilinear_gradient(v: &[f64; 8], [x, y, z]: [f64; 3]) -> [f64; 3] {
+    let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
+    let gx = lerp(
+        lerp(v[1] - v[0], v[3] - v[2], y),
+        lerp(v[5] - v[4], v[7] - v[6], y),
+        z,
+    );
+    let gy = lerp(
+        lerp(v[2] - v[0], v[3] - v[1], x),
+        lerp(v[6] - v[4], v[7] - v[5], x),
+        z,
+    );
+    let gz = lerp(
+        lerp(v[4] - v[0], v[5] - v[1], x),
+        lerp(v[6] - v[2], v[7] - v[3], x),
+        y,
+    );
+    [gx, gy, gz]
 }
 
 /// Cells per side of a [`GridField`] bounds block.

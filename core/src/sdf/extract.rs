@@ -33,6 +33,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
+use super::dense::trilinear_gradient;
 use super::features::{feature_apex, ExactField};
 use super::grid::{Brick, BrickKey, SparseGrid, BRICK, SIGN_IN, SIGN_OUT};
 use super::mc::{polygonize_config, MeshSink, VertKey, MIN_TWICE_AREA_REL};
@@ -87,31 +88,6 @@ impl Piece {
 const N: usize = BRICK as usize + 1;
 /// Slots of edge vertices in a brick's vertex table (see [`Piece`]).
 pub const EDGE_SLOTS: u32 = (N * N * N * 3) as u32;
-
-/// The gradient of the trilinear interpolant of a cell's samples `c`
-/// (corner `i` at offset `(i & 1, i >> 1 & 1, i >> 2 & 1)`) at the local
-/// fractions `f`, in units of 1/step.
-fn cell_gradient(c: &[f32; 8], f: [f64; 3]) -> [f64; 3] {
-    let v = c.map(f64::from);
-    let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
-    let [x, y, z] = f;
-    let gx = lerp(
-        lerp(v[1] - v[0], v[3] - v[2], y),
-        lerp(v[5] - v[4], v[7] - v[6], y),
-        z,
-    );
-    let gy = lerp(
-        lerp(v[2] - v[0], v[3] - v[1], x),
-        lerp(v[6] - v[4], v[7] - v[5], x),
-        z,
-    );
-    let gz = lerp(
-        lerp(v[4] - v[0], v[5] - v[1], x),
-        lerp(v[6] - v[2], v[7] - v[3], x),
-        y,
-    );
-    [gx, gy, gz]
-}
 
 fn unit_or_z(g: [f64; 3]) -> [f64; 3] {
     let l = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
@@ -212,7 +188,7 @@ fn vertex_normal(
             c[i] = b[block_index([0, 1, 2].map(|a| l[a] + o[a] as usize))];
         }
         let f = [0, 1, 2].map(|a| pos[a] * inv_step - (base[a] + l[a] as i32) as f64);
-        return unit_or_z(cell_gradient(&c, f));
+        return unit_or_z(trilinear_gradient(&c.map(f64::from), f));
     }
     let e = (slot / 3) as usize;
     let axis = (slot % 3) as usize;

@@ -11,6 +11,22 @@ enum Line {
     Lifecycle(LifecycleEvent),
 }
 
+/// The session states, in order, of a run that reaches FOCUSED and that
+/// the host ends itself (a frame limit or a quit): OpenXR's whole
+/// lifecycle, each state once on the way in and out.
+pub const HOST_ENDED_RUN: [&str; 10] = [
+    "IDLE",
+    "READY",
+    "SYNCHRONIZED",
+    "VISIBLE",
+    "FOCUSED",
+    "VISIBLE",
+    "SYNCHRONIZED",
+    "STOPPING",
+    "IDLE",
+    "EXITING",
+];
+
 /// The record's frames and events, in file order; panics on a line that
 /// is not a frame or an event.
 pub fn parse(text: &str) -> (Vec<InputFrame>, Vec<LifecycleEvent>) {

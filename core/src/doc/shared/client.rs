@@ -6,7 +6,7 @@
 use std::collections::VecDeque;
 
 use super::replica::EntryError;
-use super::{valid_author, Body, Entry, Notice, NoticeKind, Replica, ENTRY_VERSION};
+use super::{valid_author, Body, Entry, Notice, NoticeKind, Replica};
 use super::{MAX_ENTRY_BYTES, MAX_PARTICIPANTS};
 use crate::doc::{Document, LinearLog, LogError, Op, OpError, OpOutcome};
 
@@ -337,13 +337,7 @@ impl SharedLog {
     /// view; on error nothing changes.
     fn push_local(&mut self, body: Body) -> Result<Option<OpOutcome>, SharedError> {
         self.writable()?;
-        let mut entry = Entry {
-            v: ENTRY_VERSION,
-            author: self.me.clone(),
-            n: self.next_n,
-            base: 0,
-            body,
-        };
+        let mut entry = Entry::new(&self.me, self.next_n, 0, body);
         let size = serde_json::to_vec(&entry).map_or(usize::MAX, |b| b.len());
         if size > MAX_ENTRY_BYTES {
             return Err(SharedError::Refused(format!(

@@ -64,6 +64,18 @@ pub enum Body {
 }
 
 impl Entry {
+    /// A version-[`ENTRY_VERSION`] entry: `author`'s `n`th, published
+    /// having seen the stream up to `base`.
+    pub fn new(author: &str, n: u64, base: u64, body: Body) -> Self {
+        Entry {
+            v: ENTRY_VERSION,
+            author: author.into(),
+            n,
+            base,
+            body,
+        }
+    }
+
     /// The message id the stream de-duplicates on (`Nats-Msg-Id`).
     pub fn msg_id(&self) -> String {
         msg_id(&self.author, self.n)

@@ -174,14 +174,7 @@ fn delete(id: ObjectId) -> Op {
 /// The bytes of a version-[`ENTRY_VERSION`] entry on base 0 (also used
 /// by the `trust` tests).
 fn entry(author: &str, n: u64, body: Body) -> Vec<u8> {
-    Entry {
-        v: ENTRY_VERSION,
-        author: author.into(),
-        n,
-        base: 0,
-        body,
-    }
-    .to_bytes()
+    Entry::new(author, n, 0, body).to_bytes()
 }
 
 /// A session where everyone has joined.
