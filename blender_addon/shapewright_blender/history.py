@@ -174,7 +174,7 @@ def record(scene: bpy.types.Scene, s: sw.Session, in_place: bool = False) -> Non
     persist.changed(scene, s)
 
 
-def apply(scene: bpy.types.Scene, op: dict) -> int | None:
+def apply(scene: bpy.types.Scene, op: dict | sw.Built) -> int | None:
     """Applies one op (or an undo/redo line) to the scene's session;
     raises sw.ShapewrightError (with nothing changed) if the core refuses
     it. Returns the id the op created, if any."""
@@ -185,7 +185,7 @@ def apply(scene: bpy.types.Scene, op: dict) -> int | None:
     return created
 
 
-def apply_all(scene: bpy.types.Scene, ops: list[dict]) -> int | None:
+def apply_all(scene: bpy.types.Scene, ops: list[dict | sw.Built]) -> int | None:
     """Applies ops all or none (see `Session.apply_all`), as one record."""
     finish_pending(scene)
     s = session(scene)

@@ -75,8 +75,8 @@ class OpSpec:
     # `build` from the values alone, `build_with` with the scene's session
     # too (sketches on an object, Blender meshes). Neither: the values are
     # the op's fields as they are.
-    build: Callable[[dict], dict | list[dict]] | None = None
-    build_with: Callable[[dict, Any], dict | list[dict]] | None = None
+    build: Callable[[dict], sw.Built] | None = None
+    build_with: Callable[[dict, Any], sw.Built] | None = None
     sketch: str = ""  # the field a sketch fills ("points" fields), if any
     # The core kind of the object the op edits (None: it creates one).
     target_kind: str | None = None
@@ -161,18 +161,18 @@ UI: dict[str, tuple[str, str, str]] = {
 }
 
 
-def _built(op: str, values: dict, s=None) -> dict | list[dict]:
-    """The core's op (or ops, applied as one step) of form `op`; a refusal
-    names the operator ("Fill Loop: ...")."""
+def _built(op: str, values: dict, s=None) -> sw.Built:
+    """The core's op (or ops, applied as one step) of form `op`, kept in
+    the core until `Session.apply`; a refusal names the operator ("Fill
+    Loop: ...")."""
     try:
-        ops = sw.build_form(op, values, s)
+        return sw.build_form(op, values, s)
     except sw.ShapewrightError as e:
         label = UI[op][0] if op in UI else op
         raise type(e)(f"{label}: {e}") from e
-    return ops[0] if len(ops) == 1 else ops
 
 
-def _with_mesh(op: str, values: dict, s=None) -> dict | list[dict]:
+def _with_mesh(op: str, values: dict, s=None) -> sw.Built:
     """Form values with their Blender mesh read (world space, triangles)."""
     from . import sync  # Blender's side: reads the mesh object
 
@@ -257,8 +257,8 @@ CATEGORIES = (
 )
 
 
-def build_op(spec: OpSpec, values: dict, s=None) -> dict | list[dict]:
-    """The op dict (or, for composite edits, the op dicts) of `spec` from
+def build_op(spec: OpSpec, values: dict, s=None) -> sw.Built:
+    """The op (or, for composite edits, the ops) of `spec` from
     flat property values (json/points fields already decoded); `s` is the
     scene's session, for ops built with the core's sketch functions."""
     if spec.build_with is not None:

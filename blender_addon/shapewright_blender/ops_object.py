@@ -110,7 +110,7 @@ class SHAPEWRIGHT_OT_add_solid(_ShapeProps, bpy.types.Operator):
                 "location": units.to_metres(scene, units.snap32(list(loc))),
                 "rotation": _quat(self.rotation),
             }
-            (op,) = sw.build_form("add_solid", values)
+            op = sw.build_form("add_solid", values)
         except sw.ShapewrightError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
@@ -141,7 +141,7 @@ class SHAPEWRIGHT_OT_edit_solid(_ShapeProps, bpy.types.Operator):
         if not props.is_property_set("segments"):
             self.segments = now["segments"]
         try:
-            (op,) = sw.build_form("edit_solid", {"id": oid, **self.solid_values(scene)})
+            op = sw.build_form("edit_solid", {"id": oid, **self.solid_values(scene)})
         except sw.ShapewrightError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
@@ -182,7 +182,7 @@ class SHAPEWRIGHT_OT_move(bpy.types.Operator):
             "scale": list(self.scale),
         }
         try:
-            ops = [sw.build_form("transform_by", {"id": i, **by})[0] for i in run.selected_ids(context)]
+            ops = [sw.build_form("transform_by", {"id": i, **by}) for i in run.selected_ids(context)]
         except sw.ShapewrightError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
@@ -202,7 +202,7 @@ class SHAPEWRIGHT_OT_duplicate(bpy.types.Operator):
         return bool(run.selected_ids(context))
 
     def execute(self, context):
-        ops = [sw.build_form("duplicate", {"id": i})[0] for i in run.selected_ids(context)]
+        ops = [sw.build_form("duplicate", {"id": i}) for i in run.selected_ids(context)]
         return run.run_op(self, context, ops)
 
 
@@ -219,7 +219,7 @@ class SHAPEWRIGHT_OT_delete(bpy.types.Operator):
         return bool(run.selected_ids(context))
 
     def execute(self, context):
-        ops = [sw.build_form("delete", {"id": i})[0] for i in run.selected_ids(context)]
+        ops = [sw.build_form("delete", {"id": i}) for i in run.selected_ids(context)]
         return run.run_op(self, context, ops)
 
 

@@ -37,8 +37,9 @@ def scene_has_kind(context, kind: str) -> bool:
     return scene is not None and any(sync.kind_of(o) == kind for o in scene.objects if sync.ID_PROP in o)
 
 
-def run_op(operator, context, op: dict | list[dict]) -> set[str]:
-    """Applies `op` (or a list of ops, all or none) to the scene; reports
+def run_op(operator, context, op: dict | sw.Built | list[dict | sw.Built]) -> set[str]:
+    """Applies `op` (a form's built ops, or a list of them, all or none;
+    an op dict where Blender itself made the op) to the scene; reports
     the core's message if it is refused. A created object becomes the
     active and only selected one."""
     scene = context.scene

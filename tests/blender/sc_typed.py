@@ -250,11 +250,11 @@ def scenario_op_schema(work: Path) -> None:
         ]
         passed_as_is: dict[str, bool] = {}
         for f, item, values in variants:
-            built = table.build_op(spec, values, None)
-            first = built[0] if isinstance(built, list) else built
+            built = table.build_op(spec, values, None).dicts()
+            first = built[0]
             if f is not None and f.name in fields:
                 passed_as_is[f.name] = passed_as_is.get(f.name, True) and first.get(f.name) == item
-            for op in built if isinstance(built, list) else [built]:
+            for op in built:
                 got = ops[op["op"]]
                 keys = set(op) - {"op"}
                 problems += [f"{spec.op}: builds unknown field {k!r}" for k in sorted(keys - set(got))]

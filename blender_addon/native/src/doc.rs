@@ -20,6 +20,7 @@ use shapewright_net::Link;
 
 use crate::convert::{into_py, to_value};
 use crate::error::{log_err, op_err, script_err, ParseError};
+use crate::forms::Built;
 use crate::lines::Lines;
 use crate::mesh::{buffers, report_dict};
 use crate::objects::Objects;
@@ -81,6 +82,31 @@ impl Session {
         let log = &mut self.log;
         py.detach(|| log.redo()).map_err(log_err)
     }
+
+    /// Runs `cmds` all or none (tried on a copy of the log first when
+    /// there is more than one); the id the last creating op created.
+    fn apply_commands(
+        &mut self,
+        py: Python<'_>,
+        cmds: Vec<ScriptCommand>,
+    ) -> PyResult<Option<u32>> {
+        if cmds.len() > 1 {
+            let mut trial = self.log.clone();
+            py.detach(|| {
+                cmds.iter().try_for_each(|c| match c {
+                    ScriptCommand::Op(op) => trial.apply(op.clone()).map(|_| ()),
+                    ScriptCommand::Undo => trial.undo(),
+                    ScriptCommand::Redo => trial.redo(),
+                })
+            })
+            .map_err(log_err)?;
+        }
+        let mut created = None;
+        for c in cmds {
+            created = run_command(self, py, c)?.or(created);
+        }
+        Ok(created)
+    }
 }
 
 /// A Python op dict as a command: an op, or `{"op": "undo"}` /
@@ -106,6 +132,21 @@ pub(crate) fn command_of(op: &Bound<'_, PyAny>) -> PyResult<ScriptCommand> {
     match lines.as_slice() {
         [one] => Ok(one.command.clone()),
         _ => Err(ParseError::new_err("expected one op")),
+    }
+}
+
+/// What `op` asks for: the ops a form built ([`Built`]), or one op dict
+/// (or undo/redo line).
+fn commands_of(op: &Bound<'_, PyAny>) -> PyResult<Vec<ScriptCommand>> {
+    match op.cast::<Built>() {
+        Ok(built) => Ok(built
+            .get()
+            .ops
+            .iter()
+            .cloned()
+            .map(ScriptCommand::Op)
+            .collect()),
+        Err(_) => Ok(vec![command_of(op)?]),
     }
 }
 
@@ -148,28 +189,18 @@ impl Session {
     /// "redo"}`); returns the id it created, if any. Refused ops (typed
     /// errors naming the field) change nothing.
     fn apply(&mut self, py: Python<'_>, op: &Bound<'_, PyAny>) -> PyResult<Option<u32>> {
-        let cmd = command_of(op)?;
-        run_command(self, py, cmd)
+        self.apply_commands(py, commands_of(op)?)
     }
 
-    /// Applies a list of op dicts, all or none: if one is refused, none is
-    /// applied. Returns the id the last creating op created, if any.
+    /// Applies a list of op dicts (or forms' built ops), all or none: if
+    /// one is refused, none is applied. Returns the id the last creating
+    /// op created, if any.
     fn apply_all(&mut self, py: Python<'_>, ops: Vec<Bound<'_, PyAny>>) -> PyResult<Option<u32>> {
-        let cmds = ops.iter().map(command_of).collect::<PyResult<Vec<_>>>()?;
-        let mut trial = self.log.clone();
-        py.detach(|| {
-            cmds.iter().try_for_each(|c| match c {
-                ScriptCommand::Op(op) => trial.apply(op.clone()).map(|_| ()),
-                ScriptCommand::Undo => trial.undo(),
-                ScriptCommand::Redo => trial.redo(),
-            })
-        })
-        .map_err(log_err)?;
-        let mut created = None;
-        for c in cmds {
-            created = run_command(self, py, c)?.or(created);
+        let mut cmds = Vec::new();
+        for op in &ops {
+            cmds.extend(commands_of(op)?);
         }
-        Ok(created)
+        self.apply_commands(py, cmds)
     }
 
     /// Runs a script (JSON lines, with undo/redo lines), all or none.

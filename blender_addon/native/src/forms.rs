@@ -1,10 +1,13 @@
 //! The core's op forms (`shapewright::interact::forms`): every form with
 //! its fields and defaults, and a form's values built into ops, so the
-//! add-on holds no op wire shapes or tool defaults (issue 36).
+//! add-on holds no op wire shapes or tool defaults (issue 36). The built
+//! ops stay in Rust ([`Built`]) until `Session.apply` takes them: an op
+//! crosses the border once, as the form's values.
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use serde_json::Value;
+use shapewright::doc::Op;
 use shapewright::interact::forms::{build, forms, FormError};
 
 use crate::convert::{into_py, to_value};
@@ -19,9 +22,39 @@ pub(crate) fn op_forms(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
     into_py(py, &forms())
 }
 
+/// The ops a form built, applied as one step by `Session.apply` (or, with
+/// others, `Session.apply_all`); Python reads them only through
+/// [`Built::dicts`].
+#[pyclass(frozen, module = "shapewright")]
+pub(crate) struct Built {
+    pub(crate) ops: Vec<Op>,
+}
+
+#[pymethods]
+impl Built {
+    /// How many ops (most forms build one).
+    fn __len__(&self) -> usize {
+        self.ops.len()
+    }
+
+    fn __repr__(&self) -> String {
+        let names: Vec<&str> = self.ops.iter().map(Op::name).collect();
+        format!("Built([{}])", names.join(", "))
+    }
+
+    /// The ops as dicts, as a script line has them.
+    fn dicts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let out = PyList::empty(py);
+        for o in &self.ops {
+            out.append(into_py(py, o)?)?;
+        }
+        Ok(out)
+    }
+}
+
 /// The ops form `op` makes of `values` (field name -> value: metres,
-/// quaternions, sketches as point lists), as op dicts applied as one
-/// step. `doc` is needed for a sketch on an existing object.
+/// quaternions, sketches as point lists), applied as one step. `doc` is
+/// needed for a sketch on an existing object.
 #[pyfunction]
 #[pyo3(signature = (op, values, doc=None))]
 pub(crate) fn build_form<'py>(
@@ -29,7 +62,7 @@ pub(crate) fn build_form<'py>(
     op: &str,
     values: &Bound<'py, PyDict>,
     doc: Option<PyRef<'py, Session>>,
-) -> PyResult<Bound<'py, PyList>> {
+) -> PyResult<Built> {
     let Value::Object(map) = to_value(values.as_any())? else {
         return Err(ParseError::new_err("a form's values are a dict"));
     };
@@ -42,9 +75,5 @@ pub(crate) fn build_form<'py>(
             }
             _ => ParseError::new_err(e.to_string()),
         })?;
-    let out = PyList::empty(py);
-    for o in &ops {
-        out.append(into_py(py, o)?)?;
-    }
-    Ok(out)
+    Ok(Built { ops })
 }

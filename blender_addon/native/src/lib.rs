@@ -53,6 +53,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<shared::Presence>()?;
     m.add_class::<jobs::ExportJob>()?;
     m.add_class::<autosave::Autosaver>()?;
+    m.add_class::<forms::Built>()?;
     m.add_function(wrap_pyfunction!(interact::action_map, m)?)?;
     m.add_function(wrap_pyfunction!(interact::trace_format, m)?)?;
     m.add_function(wrap_pyfunction!(interact::tool_names, m)?)?;
