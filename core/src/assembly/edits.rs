@@ -226,14 +226,7 @@ fn reanchor(
     tolerance: f64,
 ) -> Result<Anchor, AssemblyError> {
     let p = map(old_parent.surface()?.point(anchor.u, anchor.v));
-    let proj = project_to_surface(&new_parent.surface()?, p);
-    if !(proj.distance <= tolerance) {
-        return Err(AssemblyError::OffSurface {
-            distance: proj.distance,
-            tolerance,
-        });
-    }
-    Ok(proj.anchor)
+    project_within(&new_parent.surface()?, p, tolerance)
 }
 
 fn reanchor_attachment(
@@ -365,7 +358,7 @@ fn slide(
     let pg = &asm.parts[p].gc;
     let surf = pg.surface()?;
     let p0 = surf.point(att.start.u, att.start.v);
-    let start = project_moved(&surf, p0, m, tolerance)?;
+    let start = project_within(&surf, m.transform_point3(p0), tolerance)?;
     let f_old = anchor_frame(pg, &surf, att.start)?;
     let f_new = anchor_frame(pg, &surf, start)?;
     let motion = f_new * own_turn(&f_old, &f_new, m) * f_old.inverse();
@@ -424,13 +417,10 @@ fn own_turn(f_old: &DAffine3, f_new: &DAffine3, m: &DAffine3) -> DAffine3 {
     DAffine3::from_quat(twist / len)
 }
 
-fn project_moved(
-    surf: &NurbsSurface,
-    p0: DVec3,
-    m: &DAffine3,
-    tolerance: f64,
-) -> Result<Anchor, AssemblyError> {
-    let proj = project_to_surface(surf, m.transform_point3(p0));
+/// The anchor of `p` on `surf`, refused as off the surface when `p` is
+/// farther from it than `tolerance`.
+fn project_within(surf: &NurbsSurface, p: DVec3, tolerance: f64) -> Result<Anchor, AssemblyError> {
+    let proj = project_to_surface(surf, p);
     if !(proj.distance <= tolerance) {
         return Err(AssemblyError::OffSurface {
             distance: proj.distance,

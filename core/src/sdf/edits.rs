@@ -190,6 +190,21 @@ fn check_index(v: &SdfVolume, index: OperandIndex) -> Result<usize, SdfError> {
     }
 }
 
+/// Pending operand `index` with its transform set to `transform`, checked
+/// to fit the volume (what a move and a copy of an operand share), and
+/// its position in the queue.
+fn re_placed(
+    v: &SdfVolume,
+    index: OperandIndex,
+    transform: Transform,
+) -> Result<(usize, Operand), SdfError> {
+    let i = check_index(v, index)?;
+    let mut o = v.pending[i].clone();
+    o.transform = transform;
+    v.placed(&o)?;
+    Ok((i, o))
+}
+
 impl SdfCreate {
     /// The new, empty volume.
     pub fn build(&self) -> Result<SdfVolume, SdfError> {
@@ -210,10 +225,7 @@ impl SdfAddOperand {
 impl SdfSetOperandTransform {
     /// Moves the operand.
     pub fn apply_to(&self, v: &mut SdfVolume) -> Result<(), SdfError> {
-        let i = check_index(v, self.operand)?;
-        let mut o = v.pending[i].clone();
-        o.transform = self.transform;
-        v.placed(&o)?;
+        let (i, o) = re_placed(v, self.operand, self.transform)?;
         *v = v.with_pending(|p| p[i] = o);
         Ok(())
     }
@@ -244,10 +256,7 @@ impl SdfCancelOperand {
 impl SdfCopyOperand {
     /// Queues the copy.
     pub fn apply_to(&self, v: &mut SdfVolume) -> Result<(), SdfError> {
-        let i = check_index(v, self.operand)?;
-        let mut o = v.pending[i].clone();
-        o.transform = self.transform;
-        v.placed(&o)?;
+        let (_, o) = re_placed(v, self.operand, self.transform)?;
         *v = v.with_pending(|p| p.push(o));
         Ok(())
     }

@@ -7,6 +7,7 @@ use ash::vk;
 use openxr_sys as sys;
 use sys::Handle as _;
 
+use crate::api_instance::check_stereo;
 use crate::api_session::{sess, session_of};
 use crate::api_spaces::{all_valid, tracked, untracked, world_pose};
 use crate::api_swapchain::two_call;
@@ -198,9 +199,7 @@ pub(crate) unsafe extern "system" fn locate_views(
             if info.ty != sys::ViewLocateInfo::TYPE {
                 return Err(sys::Result::ERROR_VALIDATION_FAILURE);
             }
-            if info.view_configuration_type != sys::ViewConfigurationType::PRIMARY_STEREO {
-                return Err(sys::Result::ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);
-            }
+            check_stereo(info.view_configuration_type)?;
             if info.display_time.as_nanos() <= 0 {
                 return Err(sys::Result::ERROR_TIME_INVALID);
             }

@@ -28,6 +28,28 @@ pub(crate) fn offered(script: &Script) -> Vec<&'static str> {
 }
 
 /// The live, not-lost instance with this handle.
+/// The runtime's one system (an HMD), as `xrGetSystem` hands it out.
+pub(crate) const SYSTEM: u64 = 1;
+
+/// `ERROR_SYSTEM_INVALID` unless `id` is [`SYSTEM`].
+pub(crate) fn check_system(id: sys::SystemId) -> Result<(), sys::Result> {
+    if id.into_raw() == SYSTEM {
+        Ok(())
+    } else {
+        Err(sys::Result::ERROR_SYSTEM_INVALID)
+    }
+}
+
+/// `ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED` unless `ty` is the one
+/// view configuration the runtime offers, primary stereo.
+pub(crate) fn check_stereo(ty: sys::ViewConfigurationType) -> Result<(), sys::Result> {
+    if ty == sys::ViewConfigurationType::PRIMARY_STEREO {
+        Ok(())
+    } else {
+        Err(sys::Result::ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED)
+    }
+}
+
 pub(crate) fn inst(rt: &mut Runtime, h: sys::Instance) -> Result<&mut InstanceData, sys::Result> {
     match &mut rt.instance {
         Some(i) if i.handle == h.into_raw() => {
@@ -226,7 +248,7 @@ pub(crate) unsafe extern "system" fn get_system(
             if info.form_factor != sys::FormFactor::HEAD_MOUNTED_DISPLAY {
                 return Err(sys::Result::ERROR_FORM_FACTOR_UNSUPPORTED);
             }
-            *out = sys::SystemId::from_raw(1);
+            *out = sys::SystemId::from_raw(SYSTEM);
             Ok(sys::Result::SUCCESS)
         }))
     })
@@ -245,9 +267,7 @@ pub(crate) unsafe extern "system" fn get_system_properties(
     with_rt(|rt| {
         let rt_hands_supported = rt.script.hands_supported;
         done(inst(rt, instance).and_then(|i| {
-            if system.into_raw() != 1 {
-                return Err(sys::Result::ERROR_SYSTEM_INVALID);
-            }
+            check_system(system)?;
             props.system_id = system;
             props.vendor_id = 0;
             write_fixed(&mut props.system_name, RUNTIME_NAME);

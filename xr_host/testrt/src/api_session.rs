@@ -4,7 +4,7 @@
 use openxr_sys as sys;
 use sys::Handle as _;
 
-use crate::api_instance::inst;
+use crate::api_instance::{check_system, inst};
 use crate::state::{InstanceData, QueuedEvent, Runtime, SessionData};
 use crate::{done, input, output, with_rt};
 
@@ -148,9 +148,7 @@ pub(crate) unsafe extern "system" fn create_session(
             if info.ty != sys::SessionCreateInfo::TYPE {
                 return Err(sys::Result::ERROR_VALIDATION_FAILURE);
             }
-            if info.system_id.into_raw() != 1 {
-                return Err(sys::Result::ERROR_SYSTEM_INVALID);
-            }
+            check_system(info.system_id)?;
             // Headless (no binding, XR_MND_headless) or Vulkan (a
             // XrGraphicsBindingVulkan2KHR on the device made through
             // xrCreateVulkanDeviceKHR).

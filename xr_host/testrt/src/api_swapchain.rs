@@ -6,7 +6,7 @@ use ash::vk::Handle as _;
 use openxr_sys as sys;
 use sys::Handle as _;
 
-use crate::api_instance::inst;
+use crate::api_instance::{check_stereo, check_system, inst};
 use crate::api_session::{sess, session_of};
 use crate::state::{InstanceData, SwapchainData};
 use crate::{done, input, output, with_rt};
@@ -82,9 +82,7 @@ pub(crate) unsafe extern "system" fn enumerate_view_configurations(
 ) -> sys::Result {
     with_rt(|rt| {
         done(inst(rt, instance).and_then(|_| {
-            if system.into_raw() != 1 {
-                return Err(sys::Result::ERROR_SYSTEM_INVALID);
-            }
+            check_system(system)?;
             // SAFETY: forwarded caller pointers.
             Ok(unsafe {
                 two_call(
@@ -108,12 +106,8 @@ pub(crate) unsafe extern "system" fn enumerate_view_configuration_views(
 ) -> sys::Result {
     with_rt(|rt| {
         done(inst(rt, instance).and_then(|_| {
-            if system.into_raw() != 1 {
-                return Err(sys::Result::ERROR_SYSTEM_INVALID);
-            }
-            if ty != sys::ViewConfigurationType::PRIMARY_STEREO {
-                return Err(sys::Result::ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);
-            }
+            check_system(system)?;
+            check_stereo(ty)?;
             let v = sys::ViewConfigurationView {
                 ty: sys::ViewConfigurationView::TYPE,
                 next: std::ptr::null_mut(),
@@ -140,12 +134,8 @@ pub(crate) unsafe extern "system" fn enumerate_environment_blend_modes(
 ) -> sys::Result {
     with_rt(|rt| {
         done(inst(rt, instance).and_then(|_| {
-            if system.into_raw() != 1 {
-                return Err(sys::Result::ERROR_SYSTEM_INVALID);
-            }
-            if ty != sys::ViewConfigurationType::PRIMARY_STEREO {
-                return Err(sys::Result::ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);
-            }
+            check_system(system)?;
+            check_stereo(ty)?;
             // SAFETY: forwarded caller pointers.
             Ok(unsafe { two_call(&[sys::EnvironmentBlendMode::OPAQUE], capacity, count, out) })
         }))

@@ -7,7 +7,7 @@ use ash::vk;
 use ash::vk::Handle as _;
 use openxr_sys as sys;
 
-use crate::api_instance::inst;
+use crate::api_instance::{check_system, inst};
 use crate::state::{InstanceData, VulkanState};
 use crate::{done, input, output, with_rt};
 
@@ -32,9 +32,7 @@ pub(crate) unsafe extern "system" fn get_vulkan_graphics_requirements2(
     with_rt(|rt| {
         done(inst(rt, instance).and_then(|i| {
             vulkan_enabled(i)?;
-            if system.into_raw() != 1 {
-                return Err(sys::Result::ERROR_SYSTEM_INVALID);
-            }
+            check_system(system)?;
             reqs.min_api_version_supported = sys::Version::new(1, 1, 0);
             reqs.max_api_version_supported = sys::Version::new(1, 3, 0);
             i.requirements_queried = true;
