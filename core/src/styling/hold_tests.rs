@@ -16,6 +16,12 @@ use crate::print::PrintSettings;
 /// in the plane z = 0, each side bowed 4% outwards, filled, and its
 /// centre pulled up to `bump` by the surface puller.
 pub(crate) fn ngon_ops(n: usize, r: f64, bump: f64) -> Vec<Op> {
+    bowed_ngon_ops(n, r, bump, 0.04)
+}
+
+/// [`ngon_ops`] with each side's middle pushed out by `bow` times the
+/// distance of the side's middle from the centre (0: straight sides).
+fn bowed_ngon_ops(n: usize, r: f64, bump: f64, bow: f64) -> Vec<Op> {
     let mut lines =
         vec![r#"{"op":"curve_network_create","resolution":24,"surface_n":8}"#.to_string()];
     let corner = |k: usize| {
@@ -24,7 +30,7 @@ pub(crate) fn ngon_ops(n: usize, r: f64, bump: f64) -> Vec<Op> {
     };
     for k in 0..n {
         let (a, b) = (corner(k), corner(k + 1));
-        let out = (a + b) * 0.5 * 0.04;
+        let out = (a + b) * 0.5 * bow;
         let pts: Vec<[f64; 3]> = (0..9)
             .map(|i| {
                 let t = i as f64 / 8.0;
@@ -72,15 +78,22 @@ fn centre_z(net: &CurveNetwork) -> f64 {
 
 /// Triangles of patch 0's mesh facing down (against the loop's normal,
 /// +z here), and how far its mesh reaches sideways past the boundary's
-/// circumradius `r`.
+/// circumradius `r`. Triangles with two corners at one point (the
+/// collapsed side of a 3-sided patch, which the network's mesh drops)
+/// face nowhere and are not counted.
 fn overhang(net: &CurveNetwork, r: f64) -> (usize, f64) {
     let m = net.patch_mesh(0);
     let p = |i: u32| DVec3::from_array(m.positions[i as usize]);
     let nz = |t: &[u32; 3]| (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).z;
+    let collapsed = |t: &[u32; 3]| p(t[0]) == p(t[1]) || p(t[1]) == p(t[2]) || p(t[2]) == p(t[0]);
     // The mesh's orientation follows the loop's direction: "up" is the
     // side its vector area points to.
     let up = m.triangles.iter().map(nz).sum::<f64>().signum();
-    let down = m.triangles.iter().filter(|t| nz(t) * up <= 0.0).count();
+    let down = m
+        .triangles
+        .iter()
+        .filter(|t| !collapsed(t) && nz(t) * up <= 0.0)
+        .count();
     let wide = m
         .positions
         .iter()
@@ -221,12 +234,25 @@ fn the_held_tools_sample_the_mesh_that_prints() {
 /// pairs)" for the 12-gon, "vertex 16 has no normal" for the 16-gon;
 /// after the strongest sharpener 392 and 742 pairs). Their sides, bowed
 /// 4% outwards, meet at reflex corners (about 183 and 201 degrees against
-/// the regular domain's 150 and 157.5): the corner-based transfinite map
-/// of [`super::ngon`] over a convex domain corner cannot reach a reflex
-/// one without turning the corner cells over. With straight sides
-/// (the same ops with the bow set to 0, tried by hand) they print. A fix
-/// belongs in the n-gon domain or chart (corner angles taken from the
-/// boundary), not in the held tools.
+/// the regular domain's 150 and 157.5). With straight sides they print.
+///
+/// Why no domain or chart change fixes it: near corner `k` the corner
+/// blend `B_k` is 1 with zero gradient, so the patch is
+/// `Q_k + (P_k(s_k) - Q_k) + (P_{k-1}(s_{k-1}) - Q_k)` to first order,
+/// with both side parameters in `[0, 1]`: a point of the cone spanned by
+/// the two pieces' tangents at the corner. At a reflex corner that cone is
+/// the outside of the loop, whatever the domain's angles (and a polygon
+/// whose 16 corners are all reflex does not exist). The patch itself
+/// folds there, not only its mesh. Tried (issue 33 notes): a side-based
+/// patch (Kato's blends `∝ 1 / d_k²` of ribbons `P_k(t_k) + d_k c N ×
+/// chord_k`, `t_k` the projection on side `k`, pieces continued past
+/// their ends by their end quadratics) has no triangle facing down for
+/// any n of 3..=16, straight or bowed up to 8%, and makes this test pass;
+/// but its in-plane parameterization is so much closer to the energy's
+/// minimum that the held sharpener above no longer folds anything in the
+/// plane, runs to `w_q` about 40 on the hexagon (centre 4.3 cm -> 1.72 m)
+/// and that spike's shell passes through itself (86 pairs): the overhang
+/// guard alone does not keep the 6-gon printable then.
 #[test]
 #[ignore = "still failing (issue 33): bowed 12- and 16-gon patches fold at their reflex corners"]
 fn sharpened_twelve_and_sixteen_gons_print() {
@@ -242,4 +268,34 @@ fn sharpened_twelve_and_sixteen_gons_print() {
             printed.err().map(|e| e.to_string())
         );
     }
+}
+
+/// Issue 33: every loop of 3 to 16 sides, straight or bowed as in
+/// [`ngon_ops`], fills with a flat patch none of whose triangles faces
+/// down, and prints. (Now: straight ones all do; bowed 3- to 11-gons do,
+/// the 12- to 16-gons have 24, 156, 280, 420 and 512 triangles facing
+/// down and do not print, for the reason given above.)
+#[test]
+#[ignore = "still failing (issue 33): bowed 12- to 16-gon patches fold at their reflex corners"]
+fn flat_patches_of_every_size_face_up_and_print() {
+    let mut bad = Vec::new();
+    for bow in [0.0, 0.04] {
+        for n in 3usize..=16 {
+            let mut flat = bowed_ngon_ops(n, 0.15, 0.047, bow);
+            flat.pop();
+            let log = log_of(&flat);
+            let (down, _) = overhang(&net_of(&log), 0.15);
+            let printed = print_document(log.document(), &PrintSettings::default());
+            println!(
+                "bow {bow}, {n}-gon: {down} triangles facing down, print {}",
+                printed
+                    .as_ref()
+                    .map_or_else(|e| e.to_string(), |_| "ok".into())
+            );
+            if down != 0 || printed.is_err() {
+                bad.push(format!("bow {bow}, {n}-gon: {down} facing down"));
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{bad:?}");
 }
