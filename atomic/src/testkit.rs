@@ -47,7 +47,7 @@ impl Delays {
 pub struct Writer {
     child: Child,
     acks: Receiver<usize>,
-    reader: JoinHandle<Option<usize>>,
+    reader: Option<JoinHandle<Option<usize>>>,
 }
 
 impl Writer {
@@ -68,9 +68,11 @@ impl Writer {
             let mut last = None;
             for line in BufReader::new(stdout).lines() {
                 let Ok(line) = line else { break };
+                // The first ACK shares its line with libtest's "test name
+                // ... ", printed without a newline: read the line's end.
                 if let Some(n) = line
-                    .strip_prefix("ACK ")
-                    .and_then(|n| n.trim().parse().ok())
+                    .rsplit_once("ACK ")
+                    .and_then(|(_, n)| n.trim().parse().ok())
                 {
                     last = Some(n);
                     let _ = tx.send(n);
@@ -81,7 +83,7 @@ impl Writer {
         Writer {
             child,
             acks,
-            reader,
+            reader: Some(reader),
         }
     }
 
@@ -96,6 +98,17 @@ impl Writer {
     pub fn kill(mut self) -> Option<usize> {
         self.child.kill().expect("the writer child is killed");
         self.child.wait().expect("the writer child is reaped");
-        self.reader.join().expect("the ACK reader ends")
+        let reader = self.reader.take().expect("killed once");
+        reader.join().expect("the ACK reader ends")
+    }
+}
+
+impl Drop for Writer {
+    /// A test that panics before [`Writer::kill`] leaves no writer behind.
+    fn drop(&mut self) {
+        if self.reader.is_some() {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
     }
 }

@@ -175,7 +175,8 @@ def record(scene: bpy.types.Scene, s: sw.Session, in_place: bool = False) -> Non
 
 
 def apply(scene: bpy.types.Scene, op: dict | sw.Built) -> int | None:
-    """Applies one op (or an undo/redo line) to the scene's session;
+    """Applies one op (or an undo/redo line, or a form's built ops, all or
+    none) to the scene's session;
     raises sw.ShapewrightError (with nothing changed) if the core refuses
     it. Returns the id the op created, if any."""
     finish_pending(scene)

@@ -177,7 +177,7 @@ fn every_writer_survives_kill_9_at_random_moments() {
                 .first_ack(Duration::from_secs(60))
                 .unwrap_or_else(|| panic!("{format} run {run}: the child never wrote"));
             std::thread::sleep(Duration::from_micros(delays.next_u64() % 30_000));
-            let acked = child.kill().unwrap();
+            let acked = child.kill().expect("an acknowledgement was read");
             let got = std::fs::read(&target)
                 .unwrap_or_else(|e| panic!("{format} run {run}: target gone after kill: {e}"));
             let which = [acked, acked + 1]

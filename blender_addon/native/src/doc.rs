@@ -186,8 +186,9 @@ impl Session {
     }
 
     /// Applies one op given as a dict (or `{"op": "undo"}` / `{"op":
-    /// "redo"}`); returns the id it created, if any. Refused ops (typed
-    /// errors naming the field) change nothing.
+    /// "redo"}`), or the ops a form built (`Built`, all or none); returns
+    /// the id it created, if any. Refused ops (typed errors naming the
+    /// field) change nothing.
     fn apply(&mut self, py: Python<'_>, op: &Bound<'_, PyAny>) -> PyResult<Option<u32>> {
         self.apply_commands(py, commands_of(op)?)
     }

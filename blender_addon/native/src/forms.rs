@@ -25,7 +25,7 @@ pub(crate) fn op_forms(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
 /// The ops a form built, applied as one step by `Session.apply` (or, with
 /// others, `Session.apply_all`); Python reads them only through
 /// [`Built::dicts`].
-#[pyclass(frozen, module = "shapewright")]
+#[pyclass(frozen, module = "shapewright._native")]
 pub(crate) struct Built {
     pub(crate) ops: Vec<Op>,
 }

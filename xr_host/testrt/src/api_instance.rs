@@ -27,7 +27,6 @@ pub(crate) fn offered(script: &Script) -> Vec<&'static str> {
     v
 }
 
-/// The live, not-lost instance with this handle.
 /// The runtime's one system (an HMD), as `xrGetSystem` hands it out.
 pub(crate) const SYSTEM: u64 = 1;
 
@@ -50,6 +49,7 @@ pub(crate) fn check_stereo(ty: sys::ViewConfigurationType) -> Result<(), sys::Re
     }
 }
 
+/// The live, not-lost instance with this handle.
 pub(crate) fn inst(rt: &mut Runtime, h: sys::Instance) -> Result<&mut InstanceData, sys::Result> {
     match &mut rt.instance {
         Some(i) if i.handle == h.into_raw() => {
