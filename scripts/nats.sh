@@ -60,7 +60,7 @@ if [ -n "$users" ]; then
   done
   # The server-side rules come from the host (shapewright_net::access);
   # the configuration holds bcrypt hashes only.
-  bin="$root/target/release/shapewright-xr"
+  bin="${CARGO_TARGET_DIR:-$root/target}/release/shapewright-xr"
   [ -x "$bin" ] || (cd "$root" && cargo build --release -q -p shapewright-xr)
   mkdir -p "$store"
   (umask 077; "$bin" session-access "$users" > "$store/access.conf")

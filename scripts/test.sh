@@ -113,7 +113,7 @@ stage "pytest"
 host="${CARGO_TARGET_DIR:-$root/target}/debug/shapewright-xr"
 # `cargo test` above built the usd_tool example the USD tests drive. The
 # slowest tests are listed at the end, so a slow CI run says where it went.
-USD_TOOL="$root/target/debug/examples/usd_tool" .venv/bin/python -m pytest -q --durations=12 \
+USD_TOOL="${CARGO_TARGET_DIR:-$root/target}/debug/examples/usd_tool" .venv/bin/python -m pytest -q --durations=12 \
   tests/python tests/usd tests/blender
 # windows (issue 32): shapewright-xr.exe cross-built and run under wine
 # against this build. CI compares the mug script and trace, the schema,
