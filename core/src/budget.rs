@@ -43,12 +43,18 @@ impl OverBudget {
 /// An estimate and its limit for a message, in one form: whole numbers as
 /// they are when both are whole (the exponent form rounded 4,000,130 and
 /// 4,001,280 to digits that read the wrong way round), else both to five
-/// significant digits, so "2.1347e9" never stands beside "2000000000".
+/// significant digits, so "2.1347e9" never stands beside "2000000000";
+/// but both to two decimals when both are between 0.01 and 10,000 (a
+/// time in seconds reads "12.13, over the limit of 10.00", not
+/// "1.2126e1").
 fn numbers(estimate: f64, limit: f64) -> (String, String) {
     let whole = |x: f64| x.is_finite() && x.fract() == 0.0 && x.abs() < 1e15;
+    let plain = |x: f64| (0.01..1e4).contains(&x.abs());
     let one = |x: f64| {
         if whole(estimate) && whole(limit) {
             format!("{x:.0}")
+        } else if plain(estimate) && plain(limit) {
+            format!("{x:.2}")
         } else if x.is_finite() {
             format!("{x:.4e}")
         } else {
@@ -78,6 +84,11 @@ mod tests {
         assert_eq!(
             e.to_string(),
             "sections: the skin's flops would be 2.1347e9, over the limit of 2.0000e9"
+        );
+        let e = OverBudget::new("parts", "the seconds", 12.126, 10.0);
+        assert_eq!(
+            e.to_string(),
+            "parts: the seconds would be 12.13, over the limit of 10.00"
         );
     }
 }

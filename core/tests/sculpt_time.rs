@@ -12,9 +12,11 @@
 //! `--release --ignored --nocapture`) prints the measurements the
 //! constants come from.
 
+mod common;
+
+use common::timed;
 use shapewright::math::fm::DetMath as _;
 use std::sync::Mutex;
-use std::time::Instant;
 
 use glam::{DQuat, DVec3};
 use shapewright::budget::OverBudget;
@@ -33,23 +35,6 @@ const BUILD_FACTOR: f64 = if cfg!(debug_assertions) { 2.5 } else { 1.0 };
 
 /// Timing tests run one at a time (CPU time is the process's).
 static SERIAL: Mutex<()> = Mutex::new(());
-
-/// CPU seconds (user + system, every thread) of this process so far.
-fn cpu_seconds() -> f64 {
-    let s = std::fs::read_to_string("/proc/self/stat").unwrap();
-    let rest = &s[s.rfind(')').unwrap() + 2..];
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    // Fields 14 and 15 (utime, stime), in clock ticks of 1/100 s.
-    let ticks: f64 = f[11].parse::<f64>().unwrap() + f[12].parse::<f64>().unwrap();
-    ticks / 100.0
-}
-
-/// CPU and wall seconds of `f`.
-fn timed<T>(f: impl FnOnce() -> T) -> (T, f64, f64) {
-    let (c, w) = (cpu_seconds(), Instant::now());
-    let out = f();
-    (out, cpu_seconds() - c, w.elapsed().as_secs_f64())
-}
 
 fn create(radius: f64, edge: f64) -> Op {
     Op::SculptCreate(Create(SculptCreate {

@@ -25,6 +25,46 @@
 //!   allocation failure; a first limit of 4 Mi still let 2000 × 2000
 //!   through, which took over 60 s and 4.9 GB to export (abuse sweep).
 //!
+//! The profiles are summed into the skin's cost as they are fitted
+//! ([`Cost::add`]), so a GC whose first profiles already ask for too much
+//! is refused before the rest are fitted (64 sections of distinct
+//! 4,096-point loops were fitted for 17 s before the refusal).
+//!
+//! ## Time
+//!
+//! Those limits bound one GC; an assembly's union grows with every part,
+//! and an edit re-unites its parts from the first one it changed. A child
+//! added to a container at 724 × 724 (2 M triangles, accepted) took 10 s;
+//! the chair's nine parts at 256 × 256, 11 s (issue 37: no accepted op may
+//! run longer than 10 s). So every GC op is also estimated in seconds
+//! before it is evaluated ([`edit_seconds`], from the parameters alone:
+//! each part's triangles from its grid) and refused past [`MAX_SECONDS`]
+//! with [`GcError::OverBudget`]. The estimate follows what
+//! [`crate::assembly::union_mesh_cached`] does when the document's last
+//! evaluation is cached (as it is in a session, a replay and a load,
+//! which replays the history op by op):
+//!
+//! ```text
+//! seconds = MESH·(triangles meshed: changed parts and their cavities)
+//!         + DIFFERENCE·Σ_trimmed (part + the cavities that may cut it)
+//!         + IMPORT·Σ_{parts from the first changed} part
+//!         + UNION·Σ_{union steps} (accumulated union + next part)
+//!         + RESULT·(the result's triangles)
+//! ```
+//!
+//! A changed hollow part may cut any other part, so its edit re-trims and
+//! re-unites them all; any hollow part is assumed to cut every other
+//! (the bounding boxes that decide it are not known before meshing). The
+//! constants are CPU seconds of the release build on this machine (AMD
+//! EPYC, 2 cores), from `calibrate` in `core/tests/gc_time.rs`, rounded
+//! up: the estimate is 1.3-1.6 times the measured time on the mug, the
+//! teapot and the chair at 256 to 724 segments, and that test runs an
+//! edit at the limit and checks it finishes within it. The union is a
+//! left fold (as Manifold's batch union), so a long assembly costs the
+//! square of its parts: nine default-resolution parts take 0.75 s cold,
+//! thirty would take about 8 s, which a balanced union tree would cut to
+//! about 2 s (issue 37's open work).
+//!
 //! Each resolution axis stays declared as 4..=4096 in the op schema (a
 //! long cable wants many rings and few points around); the product is what
 //! the grid limit checks, with [`GcError::OverBudget`] naming the
@@ -34,7 +74,7 @@
 
 use crate::nurbs::NurbsCurve;
 
-use super::{GcError, Resolution};
+use super::{Gc, GcAssembly, GcError, Resolution, ShapeType};
 use crate::budget::OverBudget;
 
 /// Most key sections one GC may have (see the module doc).
@@ -61,39 +101,154 @@ pub fn check_sections(count: usize) -> Result<(), GcError> {
     Ok(())
 }
 
-/// Checks the skin work and the mesh grid of a GC whose sections have
-/// the (local) profile curves `profiles` at resolution `res`.
-pub fn check_cost(profiles: &[NurbsCurve], res: Resolution) -> Result<(), GcError> {
-    let k = profiles.len();
-    check_sections(k)?;
-    let mut knots: Vec<f64> = profiles
-        .iter()
-        .flat_map(|c| c.knots.iter().copied())
-        .collect();
-    knots.sort_by(f64::total_cmp);
-    knots.dedup();
-    let degree = profiles.iter().map(|c| c.degree).max().unwrap_or(1);
-    let distinct = knots.len() as f64;
-    let columns = distinct * (degree + 1) as f64;
-    let kk = (k + 2) as f64;
-    let flops = columns * kk * kk * kk / 3.0;
-    if flops.is_nan() || flops > MAX_SKIN_FLOPS {
-        return Err(over(
-            "sections",
-            "the skinning work (control columns × (sections + 2)³ / 3 flops)",
-            flops,
-            MAX_SKIN_FLOPS,
-        ));
+/// The skin work and mesh grid of one GC, summed profile by profile.
+#[derive(Clone, Debug)]
+pub struct Cost {
+    sections: usize,
+    res: Resolution,
+    knots: Vec<f64>,
+    degree: usize,
+}
+
+impl Cost {
+    /// The cost of a GC of `sections` key sections at `res`, before any
+    /// profile is added (checks the section count).
+    pub fn new(sections: usize, res: Resolution) -> Result<Self, GcError> {
+        check_sections(sections)?;
+        Ok(Self {
+            sections,
+            res,
+            knots: Vec::new(),
+            degree: 1,
+        })
     }
-    let rings = f64::from(res.v) + k as f64 + 1.0;
-    let around = f64::from(res.u) + distinct;
-    let points = rings * around;
-    if points.is_nan() || points > MAX_GRID_POINTS {
+
+    /// Adds one section's (local) profile curve; refuses as soon as the
+    /// profiles added so far ask for more skinning work than the limit.
+    pub fn add(&mut self, profile: &NurbsCurve) -> Result<(), GcError> {
+        self.knots.extend(profile.knots.iter().copied());
+        self.knots.sort_by(f64::total_cmp);
+        self.knots.dedup();
+        self.degree = self.degree.max(profile.degree);
+        let columns = self.knots.len() as f64 * (self.degree + 1) as f64;
+        let kk = (self.sections + 2) as f64;
+        let flops = columns * kk * kk * kk / 3.0;
+        if flops.is_nan() || flops > MAX_SKIN_FLOPS {
+            return Err(over(
+                "sections",
+                "the skinning work (control columns × (sections + 2)³ / 3 flops)",
+                flops,
+                MAX_SKIN_FLOPS,
+            ));
+        }
+        Ok(())
+    }
+
+    /// Checks the mesh grid once every profile is added, and gives the
+    /// grid points of one wall.
+    pub fn finish(&self) -> Result<f64, GcError> {
+        let rings = f64::from(self.res.v) + self.sections as f64 + 1.0;
+        let around = f64::from(self.res.u) + self.knots.len() as f64;
+        let points = rings * around;
+        if points.is_nan() || points > MAX_GRID_POINTS {
+            return Err(over(
+                "resolution",
+                "the mesh grid points ((resolution.v + sections) × (resolution.u + profile knots))",
+                points,
+                MAX_GRID_POINTS,
+            ));
+        }
+        Ok(points)
+    }
+}
+
+/// The longest a GC op may be estimated to take on this machine.
+pub const MAX_SECONDS: f64 = 10.0;
+/// Seconds per triangle of a part or cavity meshed.
+pub const MESH_SECONDS: f64 = 0.2e-6;
+/// Seconds per triangle of a part trimmed and of the cavities cutting it
+/// (both imported, one difference).
+pub const DIFFERENCE_SECONDS: f64 = 3.0e-6;
+/// Seconds per triangle of a part imported as a union operand.
+pub const IMPORT_SECONDS: f64 = 2.0e-6;
+/// Seconds per triangle of each operand of one union step.
+pub const UNION_SECONDS: f64 = 2.0e-6;
+/// Seconds per triangle of the result (export from Manifold, sliver
+/// check, placement, the document's hash and fold check).
+pub const RESULT_SECONDS: f64 = 0.15e-6;
+
+/// One part's estimated triangles: its walls' and, for a hollow part,
+/// its cavity's (two per grid point; a shell or container has two walls,
+/// its cavity the inner one).
+fn triangles(gc: &Gc) -> Result<(f64, f64), GcError> {
+    let mut cost = Cost::new(gc.sections.len(), gc.resolution)?;
+    for s in &gc.sections {
+        cost.add(&s.profile.curve()?)?;
+    }
+    let wall = 2.0 * cost.finish()?;
+    Ok(match gc.shape {
+        ShapeType::Solid => (wall, 0.0),
+        ShapeType::Shell { .. } | ShapeType::Container { .. } => (2.0 * wall, wall),
+    })
+}
+
+/// The seconds `after`'s evaluation is estimated to take on this machine
+/// when `before` (the assembly the op edited; `None` for a new one) was
+/// evaluated last (see the module doc).
+pub fn edit_seconds(before: Option<&GcAssembly>, after: &GcAssembly) -> Result<f64, GcError> {
+    let sizes: Vec<(f64, f64)> = after
+        .parts
+        .iter()
+        .map(|p| triangles(&p.gc))
+        .collect::<Result<_, _>>()?;
+    let changed: Vec<bool> = (0..after.parts.len())
+        .map(|i| before.and_then(|b| b.parts.get(i)).map(|p| &p.gc) != Some(&after.parts[i].gc))
+        .collect();
+    let hollow = |i: usize| sizes[i].1 > 0.0;
+    let total: f64 = sizes.iter().map(|s| s.0).sum();
+    let mut seconds = RESULT_SECONDS * total;
+    for (i, &(t, c)) in sizes.iter().enumerate() {
+        if changed[i] {
+            seconds += MESH_SECONDS * (t + c);
+        }
+    }
+    if after.parts.len() < 2 {
+        return Ok(seconds);
+    }
+    // The first part whose trimmed mesh may differ: a changed hollow part
+    // re-trims every part; a one-part assembly before cached no union.
+    let any_hollow_changed = (0..sizes.len()).any(|i| changed[i] && hollow(i));
+    let single_before = before.is_none_or(|b| b.parts.len() < 2);
+    let first = if any_hollow_changed || single_before {
+        0
+    } else {
+        changed.iter().position(|&c| c).unwrap_or(sizes.len())
+    };
+    let cavities: f64 = sizes.iter().map(|s| s.1).sum();
+    let mut acc: f64 = sizes[..first].iter().map(|s| s.0).sum();
+    for (i, &(t, c)) in sizes.iter().enumerate().skip(first) {
+        let cutting = cavities - c;
+        if cutting > 0.0 {
+            seconds += DIFFERENCE_SECONDS * (t + cutting);
+        }
+        seconds += IMPORT_SECONDS * t;
+        if i > 0 {
+            seconds += UNION_SECONDS * (acc + t);
+        }
+        acc += t;
+    }
+    Ok(seconds)
+}
+
+/// [`GcError::OverBudget`] when [`edit_seconds`] is over [`MAX_SECONDS`].
+pub fn check_edit(before: Option<&GcAssembly>, after: &GcAssembly) -> Result<(), GcError> {
+    let seconds = edit_seconds(before, after)?;
+    if !(seconds <= MAX_SECONDS) {
         return Err(over(
-            "resolution",
-            "the mesh grid points ((resolution.v + sections) × (resolution.u + profile knots))",
-            points,
-            MAX_GRID_POINTS,
+            "parts",
+            "the seconds to mesh and unite the parts this op changes, on this machine (lower their resolution or split the assembly)",
+            seconds,
+            MAX_SECONDS,
         ));
     }
     Ok(())

@@ -257,12 +257,11 @@ impl Gc {
         if k < 2 {
             return Err(GcError::TooFewSections { got: k });
         }
-        budget::check_sections(k)?;
+        let mut cost = budget::Cost::new(k, self.resolution)?;
         let (a, b) = self.spine.curve.domain();
-        let mut profiles = Vec::with_capacity(k);
         for (i, s) in self.sections.iter().enumerate() {
             s.validate()?;
-            profiles.push(s.profile.curve()?);
+            cost.add(&s.profile.curve()?)?;
             let lo = if i == 0 { a } else { self.sections[i - 1].v };
             let hi = if i + 1 == k {
                 b
@@ -280,7 +279,7 @@ impl Gc {
                 });
             }
         }
-        budget::check_cost(&profiles, self.resolution)
+        cost.finish().map(|_| ())
     }
 
     /// The frames along the spine.

@@ -104,3 +104,20 @@ pub fn spine(asm: &GcAssembly, part: usize) -> Vec<DVec3> {
         .map(|h| euclidean(*h))
         .collect()
 }
+
+/// CPU seconds (user + system, every thread) of this process so far.
+pub fn cpu_seconds() -> f64 {
+    let s = std::fs::read_to_string("/proc/self/stat").unwrap();
+    let rest = &s[s.rfind(')').unwrap() + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    // Fields 14 and 15 (utime, stime), in clock ticks of 1/100 s.
+    let ticks: f64 = f[11].parse::<f64>().unwrap() + f[12].parse::<f64>().unwrap();
+    ticks / 100.0
+}
+
+/// `f`'s result, and its CPU and wall seconds.
+pub fn timed<T>(f: impl FnOnce() -> T) -> (T, f64, f64) {
+    let (c, w) = (cpu_seconds(), std::time::Instant::now());
+    let out = f();
+    (out, cpu_seconds() - c, w.elapsed().as_secs_f64())
+}

@@ -4,7 +4,8 @@
 //! Every part edit goes through the one structure-aware path
 //! ([`crate::assembly::propagate_edit`]: symmetry group, then descendants
 //! breadth-first, then the recorded relations are checked).
-//! Every one is checked for folds after it applies (a spine bent tighter
+//! Every one is estimated in seconds before it is evaluated
+//! ([`crate::gc::budget::check_edit`]) and checked for folds after it applies (a spine bent tighter
 //! than its sections; see [`crate::print::check_edit`]).
 
 use super::{EditCx, ObjectCreate, ObjectEdit};
@@ -18,7 +19,9 @@ impl ObjectCreate for gc::GcCreate {
     type Target = GcAssembly;
     const CHECK_FOLDS: bool = true;
     fn build(&self, _: &mut EditCx<'_>) -> Result<GcAssembly, OpError> {
-        Ok(GcAssembly::single(gc::GcCreate::build(self)?))
+        let asm = GcAssembly::single(gc::GcCreate::build(self)?);
+        gc::budget::check_edit(None, &asm)?;
+        Ok(asm)
     }
 }
 
@@ -36,7 +39,9 @@ macro_rules! part_edits {
             type Target = GcAssembly;
             const CHECK_FOLDS: bool = true;
             fn apply(&self, asm: &mut GcAssembly, _: &mut EditCx<'_>) -> Result<(), OpError> {
-                propagate_edit(asm, self).map_err(gc_error)
+                let before = asm.clone();
+                propagate_edit(asm, self).map_err(gc_error)?;
+                Ok(gc::budget::check_edit(Some(&before), asm)?)
             }
         }
     )*};
@@ -61,7 +66,9 @@ macro_rules! assembly_edits {
             type Target = GcAssembly;
             const CHECK_FOLDS: bool = true;
             fn apply(&self, asm: &mut GcAssembly, _: &mut EditCx<'_>) -> Result<(), OpError> {
-                self.apply_to(asm).map_err(gc_error)
+                let before = asm.clone();
+                self.apply_to(asm).map_err(gc_error)?;
+                Ok(gc::budget::check_edit(Some(&before), asm)?)
             }
         }
     )*};
