@@ -177,8 +177,8 @@ fn an_edit_of_one_part_reuses_the_other_parts() {
 
 #[test]
 fn a_cache_that_keeps_nothing_gives_the_same_bits() {
-    // Budget 0: every entry of an earlier evaluation is dropped as soon as
-    // the next one stores anything; the meshes must not change.
+    // Budget 0: every entry of the evaluations before the last is dropped
+    // as soon as the next one stores anything; the meshes must not change.
     let mut log = common::run(&common::data("teapot.jsonl"));
     let tiny = UnionCache::with_budget(0);
     let big = UnionCache::new();
@@ -257,4 +257,43 @@ fn adding_parts_then_undo_and_redo_never_gives_a_stale_union() {
     assert_fresh_mesh(&log, "chair branch");
     log.undo().expect("undo");
     assert_fresh(&log, "chair branch undone");
+}
+
+/// The last evaluation is kept whatever the budget: an edit of the
+/// teapot's handle with a cache that keeps nothing else still reuses the
+/// union of body and spout (one union step). The GC time budget estimates
+/// an edit on that. (Before, a fold prefix over the budget was dropped as
+/// soon as the edit meshed its changed part, and every part was united
+/// again: a handle edit on a 2 M-triangle body took the full union's
+/// time.)
+#[test]
+fn an_edit_reuses_the_last_evaluation_whatever_the_budget() {
+    let log = common::run(&common::data("teapot.jsonl"));
+    let tiny = UnionCache::with_budget(0);
+    union_mesh_cached(&assembly(&log), &tiny).expect("first");
+    let mut log = log;
+    for (k, op) in [resize(2, 0, 1.1), resize(2, 0, 0.9)]
+        .into_iter()
+        .enumerate()
+    {
+        log.apply(op).expect("edit");
+        let before = tiny.stats();
+        let m = union_mesh_cached(&assembly(&log), &tiny).expect("edit");
+        let d = delta(before, tiny.stats());
+        assert_eq!(d.folded_parts_reused, 2, "edit {k}: {d:?}");
+        assert_eq!(d.union_steps, 1, "edit {k}: {d:?}");
+        assert_eq!(m, union_mesh(&assembly(&log)).expect("fresh"));
+    }
+    // An undo finds its result whole and keeps its prefixes: the edit
+    // after it unites one step too.
+    let undone = {
+        log.undo().expect("undo");
+        assembly(&log)
+    };
+    union_mesh_cached(&undone, &tiny).expect("undo");
+    log.apply(resize(2, 0, 1.2)).expect("branch");
+    let before = tiny.stats();
+    union_mesh_cached(&assembly(&log), &tiny).expect("branch");
+    let d = delta(before, tiny.stats());
+    assert_eq!(d.union_steps, 1, "after undo: {d:?}");
 }

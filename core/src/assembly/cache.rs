@@ -18,7 +18,13 @@
 //! undo and redo ([`crate::doc::Object::cache`]); it is not content (not
 //! saved, not hashed). Entries are dropped least recently used first once
 //! their estimated size passes [`UnionCache::DEFAULT_BUDGET`]; the entries
-//! of the evaluation running now are never dropped by it. The lock is held
+//! of the evaluation running now and of the one before it are never
+//! dropped, so an edit finds what the last evaluation made whatever its
+//! size (a 1 M-triangle fold prefix alone is twice the budget: it was
+//! dropped as soon as the next evaluation meshed its changed part, and
+//! the edit re-united every part; [`crate::gc::budget`] estimates an
+//! edit's time on the last evaluation being kept). A result found whole
+//! marks its fold prefixes used too (an undo, then an edit). The lock is held
 //! only to look up and insert, never while meshing or uniting.
 
 use std::collections::HashMap;
@@ -189,7 +195,7 @@ impl UnionCache {
     }
 
     /// Starts an evaluation: what it uses is protected from eviction
-    /// until the next one starts.
+    /// until the one after the next starts.
     pub(super) fn begin(&self) {
         self.lock().evaluation += 1;
     }
@@ -204,7 +210,7 @@ impl UnionCache {
     }
 
     /// Stores `value` under `(tag, key)` and drops least recently used
-    /// entries of earlier evaluations while over budget.
+    /// entries of the evaluations before the last one while over budget.
     pub(super) fn put(&self, tag: Tag, key: u64, value: Value) {
         let mut s = self.lock();
         let (now, seq) = (s.evaluation, s.seq);
@@ -224,7 +230,7 @@ impl UnionCache {
             let Some((&k, e)) = s
                 .entries
                 .iter()
-                .filter(|(_, e)| e.used < now)
+                .filter(|(_, e)| e.used + 1 < now)
                 .min_by_key(|(_, e)| (e.used, e.seq))
             else {
                 break;

@@ -98,6 +98,10 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
     let result_key = key(b"result", &[chain]);
     if let Some(Value::Result(m)) = cache.get(Tag::Result, result_key) {
         cache.count(|s| s.result_hits += 1);
+        // Keep what an edit of this state will start from.
+        for &k in &prefix_keys {
+            cache.get(Tag::Prefix, k);
+        }
         return Ok((*m).clone());
     }
     // The longest cached prefix of the fold.
