@@ -249,7 +249,7 @@ impl CurveSession {
             return Err(StylingError::BadParameter("frames must be 1..=100000"));
         }
         let b = super::budget::Budget::default();
-        b.check_tool_work("frames", frames, 3 * self.curve.n())?;
+        b.check_curve_tool("frames", frames, 3 * self.curve.n())?;
         let (a, bb) = self.curve.domain();
         let n = self.curve.n();
         let (weight, mut fixed) = if p.alpha > 0.0 {

@@ -17,6 +17,22 @@
 //!   samples in 10 s.
 //! - **tool work**: frames × unknowns of a held curve or surface tool (each
 //!   frame is a sparse solve, linear in the unknowns).
+//! - **tool time**: a held curve tool re-assembles the curve's energy and
+//!   refactors it every frame, measured at 3.5-4.3 µs of CPU per frame and
+//!   unknown in the release build on this machine (AMD EPYC, 2026-11-30:
+//!   a 2,048-point curve's smoother held for 800 frames took 18.9 s, for
+//!   8,000 frames 176 s; 500 points for 1,000 frames 5.3 s; a still
+//!   pointer is no cheaper). The tool-work limit alone let that 176 s
+//!   through (issue 37: no accepted op may run longer than 10 s), so a
+//!   held curve tool is also estimated in seconds
+//!   ([`CURVE_TOOL_SECONDS`] per frame and unknown) and refused past
+//!   [`MAX_SECONDS`]. A headset's curve of 100 points held for 10 s at
+//!   90 Hz is 0.27 M frame-unknowns, about 1.2 s. (Where the time goes:
+//!   37% looking up matrix slots by binary search while assembling, 11%
+//!   basis derivatives, 10% adding outer products; a slot map built once
+//!   per activation is issue 37's open work.) The surface tools cost far
+//!   less per unit (a patch's 5,000 frames: 0.2 s) and keep the work
+//!   limit.
 //! - **loop search**: paths the automatic loop search may extend.
 //!
 //! The defaults are sized for a headset (a few hundred MiB and about a
@@ -55,11 +71,39 @@ impl Default for Budget {
     }
 }
 
+/// The longest a held curve tool may be estimated to take on this
+/// machine (issue 37).
+pub const MAX_SECONDS: f64 = 10.0;
+/// CPU seconds per frame and unknown of a held curve tool (see the
+/// module doc; measured 3.5-4.3 µs, with a margin).
+pub const CURVE_TOOL_SECONDS: f64 = 4.5e-6;
+
 fn over(parameter: &'static str, what: &'static str, estimate: f64, limit: f64) -> StylingError {
     crate::budget::OverBudget::new(parameter, what, estimate, limit).into()
 }
 
 impl Budget {
+    /// Checks a held curve tool: its work ([`Self::check_tool_work`]) and
+    /// its estimated seconds on this machine.
+    pub fn check_curve_tool(
+        &self,
+        parameter: &'static str,
+        frames: usize,
+        unknowns: usize,
+    ) -> Result<(), StylingError> {
+        self.check_tool_work(parameter, frames, unknowns)?;
+        let seconds = frames as f64 * unknowns as f64 * CURVE_TOOL_SECONDS;
+        if !(seconds <= MAX_SECONDS) {
+            return Err(over(
+                parameter,
+                "the seconds the held tool would take on this machine (frames × unknowns × 4.5 µs)",
+                seconds,
+                MAX_SECONDS,
+            ));
+        }
+        Ok(())
+    }
+
     /// Checks that every point lies within `max_extent` of the origin.
     pub fn check_extent(&self, parameter: &'static str, pts: &[DVec3]) -> Result<(), StylingError> {
         let far = pts.iter().map(|p| p.length()).fold(0.0, f64::max);

@@ -185,11 +185,11 @@ impl CurveSession {
     }
 
     /// Refuses a pointer path whose frames would exceed the default
-    /// budget's tool work, or that reaches outside its extent.
+    /// budget's tool work or time, or that reaches outside its extent.
     pub fn check_work(&self, path: &[DVec3]) -> Result<(), StylingError> {
         let b = Budget::default();
         b.check_extent("path", path)?;
-        b.check_tool_work("path", path.len(), 3 * self.curve.n())
+        b.check_curve_tool("path", path.len(), 3 * self.curve.n())
     }
 
     /// Numeric factorizations done so far.
