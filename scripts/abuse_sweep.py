@@ -169,6 +169,12 @@ def cases():
     yield "gc resolution 2000x2000", True, "apply", gc_with(resolution=(2000, 2000))
     yield "gc resolution 1000x1000 (under the grid limit)", False, "apply", gc_with(resolution=(1000, 1000))
     yield "gc resolution 2048x2048", True, "apply", gc_with(resolution=(2048, 2048))
+    yield (
+        "gc handle on a 1000x1000 body (over the time limit)",
+        True,
+        "apply",
+        gc_with(resolution=(1000, 1000)) + [ops_of(DATA / "mug.jsonl")[1]],
+    )
     yield "gc 256 sections (the limit)", False, "apply", gc_with(sections=256)
     yield "gc 257 sections", True, "apply", gc_with(sections=257)
     yield "gc 20,000 sections", True, "apply", gc_with(sections=20_000)
