@@ -96,24 +96,55 @@ impl CurveNetwork {
         }
     }
 
+    /// Piece `p` at any `s` along its direction, derivatives 0..=2: the
+    /// piece itself on `[0, 1]`, continued past its ends by the quadratic
+    /// with its end's value and first two derivatives (so it is C² at the
+    /// ends).
+    fn piece_extended(&self, p: &Piece, s: f64) -> [DVec3; 3] {
+        let (end, t) = if s < 0.0 {
+            (0.0, s)
+        } else if s > 1.0 {
+            (1.0, s - 1.0)
+        } else {
+            return self.piece_jet_values(p, s);
+        };
+        let [v, d1, d2] = self.piece_jet_values(p, end);
+        [v + d1 * t + d2 * (0.5 * t * t), d1 + d2 * t, d2]
+    }
+
+    /// The unit normal of patch `k`'s loop (Newell's, over its nodes and
+    /// the middles of its pieces; zero for a loop without one): the loop
+    /// runs counter-clockwise around it.
+    fn loop_normal(&self, pc: &[Piece]) -> DVec3 {
+        let pts: Vec<DVec3> = pc
+            .iter()
+            .flat_map(|p| [self.node_point(p.from), self.piece_jet_values(p, 0.5)[0]])
+            .collect();
+        let n = pts.len();
+        (0..n)
+            .map(|i| pts[i].cross(pts[(i + 1) % n]))
+            .fold(DVec3::ZERO, |a, b| a + b)
+            .normalize_or_zero()
+    }
+
     /// The transfinite base of the n-sided patch `k` at domain point `p`,
     /// with its first and second derivatives in the domain coordinates.
     pub fn ngon_base(&self, k: usize, dom: &NgonDomain, p: DVec2) -> VJet {
         let pc = &self.patches[k].pieces;
-        let n = pc.len();
         let d = dom.dists(p);
-        let sides: Vec<VJet> = (0..n)
-            .map(|j| {
-                let s = NgonDomain::side_param(&d, j);
-                s.compose_curve(self.piece_jet_values(&pc[j], s.v))
-            })
-            .collect();
-        let blends = NgonDomain::corner_blends(&d);
+        let up = self.loop_normal(pc);
+        let c = dom.ribbon_scale();
+        let blends = NgonDomain::side_blends(&d);
         let mut out = VJet::default();
-        for (c, b) in blends.iter().enumerate() {
-            let q = VJet::constant(self.node_point(pc[c].from));
-            let corner = sides[(c + n - 1) % n] + sides[c] - q;
-            out = out + corner.scale(*b);
+        for (j, (piece, b)) in pc.iter().zip(&blends).enumerate() {
+            let s = dom.along(p, j);
+            let side = s.compose_curve(self.piece_extended(piece, s.v));
+            // The ribbon's direction: across the piece's chord, in the
+            // loop's plane.
+            let chord = self.node_point(piece.to) - self.node_point(piece.from);
+            let across = VJet::constant(up.cross(chord) * c);
+            let ribbon = side + across.scale(d[j]);
+            out = out + ribbon.scale(*b);
         }
         out
     }

@@ -15,9 +15,12 @@
 //!   interpolation over irregular n-sided domains", corner-based patch).
 //!   The denominator vanishes only where the lines of sides `k-1` and
 //!   `k+1` meet, which lies outside the polygon for `n >= 4`.
-//! - Corner blends `B_k = β_k / Σ β`, `β_k = Π_{j ∉ {k-1, k}} d_j²`: 1 at
-//!   `V_k`, non-zero on side `k` only for corners `k` and `k+1`, with
-//!   vanishing value and first derivative on the other sides.
+//! - Side blends `μ_k = β_k / Σ β`, `β_k = Π_{j ≠ k} d_j²` (Kato's
+//!   weights, `∝ 1 / d_k²`): 1 on side `k` and 0 there for every other
+//!   side, with vanishing first derivative across the other sides. At a
+//!   vertex `V_k` both `β_{k-1}` and `β_k` vanish and the blends depend on
+//!   the direction the vertex is approached from: what lets the patch of
+//!   [`super::ngon`] open a corner wider than the domain's (see there).
 //! - Displacement weight `w = Π_k (1 + a) d_k / (d_k + a)` with `a = ¼`:
 //!   smooth (C∞) on the closed polygon, 1 at the centre, zero on every side
 //!   (linearly, about like the distance) and quadratically at the corners.
@@ -116,6 +119,15 @@ impl NgonDomain {
             .collect()
     }
 
+    /// The position jet of `p` along side `k`: its projection on the
+    /// side's line, 0 at `V_k` and 1 at `V_{k+1}` (affine in `p`, and
+    /// outside `[0, 1]` past the side's ends).
+    pub fn along(&self, p: DVec2, k: usize) -> Jet {
+        let (a, b) = (self.vertex(k), self.vertex(k + 1));
+        let e = (b - a) / (b - a).length_squared();
+        Jet::affine((p - a).dot(e), e.x, e.y)
+    }
+
     /// Whether `p` lies in the closed polygon (to `tol` in normalized
     /// distance).
     pub fn contains(&self, p: DVec2, tol: f64) -> bool {
@@ -133,26 +145,41 @@ impl NgonDomain {
         a * den.recip()
     }
 
-    /// Corner blend jets `B_k` (corner `k` is vertex `V_k`, between sides
-    /// `k-1` and `k`); they sum to 1.
-    pub fn corner_blends(d: &[Jet]) -> Vec<Jet> {
+    /// Side blend jets `μ_k = Π_{j≠k} d_j² / Σ_l Π_{j≠l} d_j²` (Kato's,
+    /// `∝ 1 / d_k²`); they sum to 1, and on side `k` only `μ_k` is non-zero
+    /// (it is 1 there). At a vertex, where two distances vanish, they
+    /// depend on the direction it is approached from; exactly at one all
+    /// the weight goes to the first nearest side.
+    pub fn side_blends(d: &[Jet]) -> Vec<Jet> {
         let n = d.len();
         let sq: Vec<Jet> = d.iter().map(|x| *x * *x).collect();
-        let beta: Vec<Jet> = (0..n)
-            .map(|k| {
-                let skip = [(k + n - 1) % n, k];
-                (0..n)
-                    .filter(|j| !skip.contains(j))
-                    .fold(Jet::constant(1.0), |acc, j| acc * sq[j])
-            })
-            .collect();
+        // Π_{j≠k} from prefix and suffix products, in a fixed order.
+        let mut before = vec![Jet::constant(1.0); n + 1];
+        for k in 0..n {
+            before[k + 1] = before[k] * sq[k];
+        }
+        let mut after = vec![Jet::constant(1.0); n + 1];
+        for k in (0..n).rev() {
+            after[k] = after[k + 1] * sq[k];
+        }
+        let beta: Vec<Jet> = (0..n).map(|k| before[k] * after[k + 1]).collect();
         let sum = beta.iter().fold(Jet::constant(0.0), |acc, b| acc + *b);
         if !(sum.v > 0.0) {
-            // Only outside the polygon; give the nearest-corner-free answer.
-            return vec![Jet::constant(1.0 / n as f64); n];
+            let mut out = vec![Jet::constant(0.0); n];
+            let near = (0..n).fold(0, |m, k| if d[k].v < d[m].v { k } else { m });
+            out[near] = Jet::constant(1.0);
+            return out;
         }
         let inv = sum.recip();
         beta.into_iter().map(|b| b * inv).collect()
+    }
+
+    /// How far (in the domain) a unit of normalized distance reaches,
+    /// in units of a side's length: the inradius over the side length.
+    /// A ribbon `P(s) + d · c · (N × P')` with this `c` leaves each side
+    /// at right angles and about as fast as it runs along it.
+    pub fn ribbon_scale(&self) -> f64 {
+        self.inradius / self.vertex(0).distance(self.vertex(1))
     }
 
     /// The displacement weight jet `w` (zero on every side).
@@ -259,12 +286,13 @@ mod tests {
                         let prev = NgonDomain::side_param(&d, (k + n - 1) % n).v;
                         assert!((prev - 1.0).abs() < 1e-12);
                     }
-                    let b = NgonDomain::corner_blends(&d);
+                    let b = NgonDomain::side_blends(&d);
                     let sum: f64 = b.iter().map(|x| x.v).sum();
                     assert!((sum - 1.0).abs() < 1e-12);
+                    assert!((b[k].v - 1.0).abs() < 1e-12, "n {n} side {k}: {}", b[k].v);
                     for (j, bj) in b.iter().enumerate() {
-                        if j != k && j != (k + 1) % n {
-                            assert!(bj.v.abs() < 1e-12, "n {n} side {k} corner {j}: {}", bj.v);
+                        if j != k {
+                            assert!(bj.v.abs() < 1e-12, "n {n} side {k} side {j}: {}", bj.v);
                         }
                     }
                 }
