@@ -5,7 +5,8 @@
 
 use super::network::CurveNetwork;
 use super::patch::MeshSample;
-use super::surface_hold::PatchSampler;
+use super::surface::SurfaceWeights;
+use super::surface_hold::{hold_equilibrium, EquilibriumHold, PatchSampler, SurfaceStop};
 use crate::doc::print_document;
 use crate::doc::{Op, OpLog};
 use crate::math::fm::DetMath as _;
@@ -114,18 +115,16 @@ fn sharpen(f: f64, wq_max: f64, path: &[[f64; 3]], extra: &str) -> Op {
 /// on 7-, 12- and 16-gons the print then refuses to thicken it". The
 /// strongest sharpener a file may ask for (f = 2, w_q up to 100, global,
 /// unbounded steps) held for a second stops before any triangle of the
-/// patch turns over, and the patch prints as a 2 mm shell. (Before: the
-/// 4.3 cm bump of a 15 cm hexagon grew to 4.3 m and spread to 1.8 m, and
-/// the 16-gon's shell passed through itself in 17,101 triangle pairs.)
-///
-/// Not yet the 12- and 16-gons: their flat patch's mesh already has
-/// triangles turned over at the corners (24 and 512, areas about 1e-7
-/// and 1e-6 m²: the n-gon chart puts the samples next to a corner just
-/// outside it), a meshing fault of `ngon` this test does not cover.
+/// patch turns over or creases tighter than the wall, and the patch prints
+/// as a 2 mm shell. (Before: the 4.3 cm bump of a 15 cm hexagon grew to
+/// 4.3 m and spread to 1.8 m, and the 16-gon's shell passed through itself
+/// in 17,101 triangle pairs; with the side-based n-gon patch and only the
+/// overhang stop, the hexagon grew to 1.72 m and its shell passed through
+/// itself in 86 pairs.)
 #[test]
 fn no_sharpener_setting_makes_a_patch_overhang_or_refuse_to_print() {
     let still: Vec<[f64; 3]> = vec![[0.0, 0.0, 0.05]; 72];
-    for n in [6usize, 7] {
+    for n in [6usize, 7, 12, 16] {
         let mut flat = ngon_ops(n, 0.15, 0.047);
         flat.pop();
         let (down, _) = overhang(&net_of(&log_of(&flat)), 0.15);
@@ -136,18 +135,32 @@ fn no_sharpener_setting_makes_a_patch_overhang_or_refuse_to_print() {
             down, 0,
             "{n}-gon: the pulled patch has triangles facing down"
         );
-        let z0 = centre_z(&net_of(&log));
+        let before = net_of(&log);
+        let z0 = centre_z(&before);
         log.apply(sharpen(2.0, 100.0, &still, "")).unwrap();
         let net = net_of(&log);
+        // The same hold run directly, for its stop, and the w_q it reached.
+        let mut held = before.clone();
+        let hold = EquilibriumHold {
+            f: 2.0,
+            wq_max: 100.0,
+            radius: None,
+            max_step: None,
+        };
+        let path: Vec<DVec3> = still.iter().map(|p| DVec3::from_array(*p)).collect();
+        let (frames, stop) = hold_equilibrium(&mut held, 0, &WEIGHTS, &hold, &path).unwrap();
+        assert_eq!(held.patches[0].disp, net.patches[0].disp);
         let (down, wide) = overhang(&net, 0.15);
         println!(
-            "{n}-gon: centre {z0:.4} -> {:.4} m, {down} triangles facing down, {wide:.4} m past the boundary",
-            centre_z(&net)
+            "{n}-gon: centre {z0:.4} -> {:.4} m (w_q {:.1}, {frames} frames, stop {stop:?}), {down} triangles facing down, {wide:.4} m past the boundary",
+            centre_z(&net),
+            wq_reached(&before, &net)
         );
         assert!(
             centre_z(&net) > z0 + 0.01,
             "{n}-gon: the sharpener did nothing"
         );
+        assert!(stop.is_some(), "{n}-gon: the sharpener did not stop");
         assert_eq!(down, 0, "{n}-gon: the patch overhangs its boundary");
         assert!(
             wide <= 0.0,
@@ -155,6 +168,64 @@ fn no_sharpener_setting_makes_a_patch_overhang_or_refuse_to_print() {
         );
         let printed = print_document(log.document(), &PrintSettings::default());
         assert!(printed.is_ok(), "{n}-gon: {}", printed.err().unwrap());
+    }
+}
+
+const WEIGHTS: SurfaceWeights = SurfaceWeights { wb: 1.0, ws: 0.0 };
+
+/// The equilibrium weight a global tool took patch 0 of `before` to in
+/// `after`: the ratio of their distances from the minimal displacement,
+/// at the control point farthest from it.
+fn wq_reached(before: &CurveNetwork, after: &CurveNetwork) -> f64 {
+    let mut sys = before.surface_system(0, &WEIGHTS).unwrap();
+    let d0 = &before.patches[0].disp;
+    let dmin = sys.minimal(d0).unwrap();
+    let gap = |d: &[f64; 3], m: &[f64; 3]| DVec3::from_array(*d).distance(DVec3::from_array(*m));
+    let far = (0..d0.len())
+        .max_by(|&a, &b| gap(&d0[a], &dmin[a]).total_cmp(&gap(&d0[b], &dmin[b])))
+        .unwrap();
+    gap(&after.patches[0].disp[far], &dmin[far]) / gap(&d0[far], &dmin[far])
+}
+
+/// Issue 33: what stopped the hexagon's strongest sharpener is the crease
+/// check (nothing faces down yet), global or held over its centre within
+/// 8 cm, and both stopped patches print; the stop keeps the frames before
+/// it. (Without the crease stop, the global one ran to w_q about
+/// 40 and its shell passed through itself in 86 pairs.)
+#[test]
+fn the_sharpener_stops_before_a_crease_tighter_than_the_wall() {
+    let net0 = net_of(&log_of(&ngon_ops(6, 0.15, 0.047)));
+    for (radius, at) in [(None, [0.0, 0.0, 0.05]), (Some(0.08), [0.0, 0.0, 0.05])] {
+        let mut net = net0.clone();
+        let hold = EquilibriumHold {
+            f: 2.0,
+            wq_max: 100.0,
+            radius,
+            max_step: None,
+        };
+        let path = vec![DVec3::from_array(at); 72];
+        let (frames, stop) = hold_equilibrium(&mut net, 0, &WEIGHTS, &hold, &path).unwrap();
+        println!(
+            "radius {radius:?}: {frames} frames, stop {stop:?}, centre {:.4} m",
+            centre_z(&net)
+        );
+        assert_eq!(stop, Some(SurfaceStop::Crease), "radius {radius:?}");
+        assert!(frames > 3 && frames < path.len());
+        let (down, _) = overhang(&net, 0.15);
+        assert_eq!(down, 0);
+        let mut log = log_of(&ngon_ops(6, 0.15, 0.047));
+        let mut r = String::new();
+        if let Some(r0) = radius {
+            r = format!(r#","radius":{r0}"#);
+        }
+        log.apply(sharpen(2.0, 100.0, &vec![at; 72], &r)).unwrap();
+        assert_eq!(net_of(&log).patches[0].disp, net.patches[0].disp);
+        let printed = print_document(log.document(), &PrintSettings::default());
+        assert!(
+            printed.is_ok(),
+            "radius {radius:?}: {}",
+            printed.err().unwrap()
+        );
     }
 }
 
@@ -226,35 +297,24 @@ fn the_held_tools_sample_the_mesh_that_prints() {
     }
 }
 
-/// Issue 33, still open: "on 7-, 12- and 16-gons the print then refuses
-/// to thicken it". The 6- and 7-gons are covered above; the 12- and
-/// 16-gons of [`ngon_ops`] do not print even before any tool: their flat
-/// patch has 24 and 512 triangles facing down at the corners, and the
-/// print refuses it ("the shell passes through itself (342 triangle
-/// pairs)" for the 12-gon, "vertex 16 has no normal" for the 16-gon;
-/// after the strongest sharpener 392 and 742 pairs). Their sides, bowed
-/// 4% outwards, meet at reflex corners (about 183 and 201 degrees against
-/// the regular domain's 150 and 157.5). With straight sides they print.
+/// Issue 33: "on 7-, 12- and 16-gons the print then refuses to thicken
+/// it". The bowed 12- and 16-gons of [`ngon_ops`], sharpened as hard as a
+/// file may ask, face up and print. (Before: their flat patch already had
+/// 24 and 512 triangles facing down at the corners and did not print; 392
+/// and 742 shell pairs after the strongest sharpener.)
 ///
-/// Why no domain or chart change fixes it: near corner `k` the corner
-/// blend `B_k` is 1 with zero gradient, so the patch is
-/// `Q_k + (P_k(s_k) - Q_k) + (P_{k-1}(s_{k-1}) - Q_k)` to first order,
-/// with both side parameters in `[0, 1]`: a point of the cone spanned by
-/// the two pieces' tangents at the corner. At a reflex corner that cone is
-/// the outside of the loop, whatever the domain's angles (and a polygon
-/// whose 16 corners are all reflex does not exist). The patch itself
-/// folds there, not only its mesh. Tried (issue 33 notes): a side-based
-/// patch (Kato's blends `∝ 1 / d_k²` of ribbons `P_k(t_k) + d_k c N ×
-/// chord_k`, `t_k` the projection on side `k`, pieces continued past
-/// their ends by their end quadratics) has no triangle facing down for
-/// any n of 3..=16, straight or bowed up to 8%, and makes this test pass;
-/// but its in-plane parameterization is so much closer to the energy's
-/// minimum that the held sharpener above no longer folds anything in the
-/// plane, runs to `w_q` about 40 on the hexagon (centre 4.3 cm -> 1.72 m)
-/// and that spike's shell passes through itself (86 pairs): the overhang
-/// guard alone does not keep the 6-gon printable then.
+/// What was fixed: the n-gon patch was corner-based. Near corner `k` its
+/// blend `B_k` is 1 with zero gradient, so to first order the patch is
+/// `P_k(s_k) + P_{k-1}(s_{k-1}) - Q_k` with both side parameters in
+/// `[0, 1]`: in the cone of the two pieces' tangents at the corner, which
+/// at a reflex corner (bowed sides meet at about 183 and 201 degrees) lies
+/// outside the loop, whatever the domain. The side-based patch of
+/// [`super::ngon`] (Kato's blends `∝ 1 / d_k²` of ribbons leaving each
+/// side across its chord) has no corner cone. It also sits so much closer
+/// to the energy's minimum in the plane that the held sharpener no longer
+/// folds anything there and ran on to a tall spike whose shell crossed
+/// itself; the crease stop of [`super::surface_hold`] ends that.
 #[test]
-#[ignore = "still failing (issue 33): bowed 12- and 16-gon patches fold at their reflex corners"]
 fn sharpened_twelve_and_sixteen_gons_print() {
     let still: Vec<[f64; 3]> = vec![[0.0, 0.0, 0.05]; 72];
     for n in [12usize, 16] {
@@ -272,11 +332,10 @@ fn sharpened_twelve_and_sixteen_gons_print() {
 
 /// Issue 33: every loop of 3 to 16 sides, straight or bowed as in
 /// [`ngon_ops`], fills with a flat patch none of whose triangles faces
-/// down, and prints. (Now: straight ones all do; bowed 3- to 11-gons do,
-/// the 12- to 16-gons have 24, 156, 280, 420 and 512 triangles facing
-/// down and do not print, for the reason given above.)
+/// down, and prints. (Before the side-based n-gon patch, the bowed 12- to
+/// 16-gons had 24, 156, 280, 420 and 512 triangles facing down at their
+/// reflex corners and did not print; see above.)
 #[test]
-#[ignore = "still failing (issue 33): bowed 12- to 16-gon patches fold at their reflex corners"]
 fn flat_patches_of_every_size_face_up_and_print() {
     let mut bad = Vec::new();
     for bow in [0.0, 0.04] {

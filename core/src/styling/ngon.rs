@@ -2,29 +2,33 @@
 //! (paper §5.3: Kuriyama's patches from `m` surrounding curves, by
 //! transfinite interpolation of neighbouring curves and blending).
 //!
-//! **Base surface.** A corner-based transfinite patch over a regular n-gon
-//! domain (Várady, Rockwood, Salvi 2011; the corner interpolants are the
-//! Charrot-Gregory / Kuriyama kind): for corner `k` (node `Q_k`, between
-//! pieces `k-1` and `k`) the corner interpolant
+//! **Base surface.** A side-based transfinite patch over a regular n-gon
+//! domain (Várady, Rockwood, Salvi 2011; Kato's blends): for side `k`
+//! (piece `P_k`, reparameterized to `[0, 1]` from its `from` node) the
+//! ribbon
 //!
 //! ```text
-//! C_k(p) = P_{k-1}(s_{k-1}) + P_k(s_k) - Q_k
+//! R_k(p) = P_k(t_k) + d_k c (N × (Q_{k+1} - Q_k))
 //! ```
 //!
-//! sums the two pieces meeting there (each piece `P_j` reparameterized to
-//! `[0, 1]` from its `from` node), and the patch blends them,
-//! `S(p) = Σ_k B_k(p) C_k(p)`, with the side parameters `s_j` and corner
-//! blends `B_k` of [`NgonDomain`]. On side `k` only corners `k` and `k+1`
-//! have weight, and there `s_{k-1} = 1`, `s_{k+1} = 0`, so both corner
-//! interpolants equal `P_k(s_k)`: the patch contains its boundary curves
-//! exactly (to the junction gap and rounding; tests check 1e-9). Every
-//! function involved is C∞ inside the polygon (affine distances, positive
-//! denominators), so the patch is smooth in its interior: there are no
-//! internal seams in the surface, only in its meshing, and normals are
-//! continuous across the mesh's spokes by construction (tests measure
-//! them from both sides). Its cross-boundary derivative along side `k`
-//! blends the tangents of the neighbouring pieces at the corners, as a
-//! Coons patch does.
+//! leaves the side across its chord in the loop's plane (`N` the loop's
+//! Newell normal, `t_k` the projection of `p` on side `k`, the piece
+//! continued past its ends by its end quadratics, `c` the domain's
+//! inradius over its side length), and the patch blends them,
+//! `S(p) = Σ_k μ_k(p) R_k(p)`, with the side blends `μ_k ∝ 1 / d_k²` of
+//! [`NgonDomain`]. On side `k` only `μ_k` is non-zero and `d_k = 0`, so the
+//! patch contains its boundary curves exactly (to the junction gap and
+//! rounding; tests check 1e-9). Every function involved is C∞ inside the
+//! polygon, so the patch is smooth in its interior: there are no internal
+//! seams in the surface, only in its meshing, and normals are continuous
+//! across the mesh's spokes by construction (tests measure them from both
+//! sides). A corner-based patch (corner interpolants
+//! `P_{k-1}(s_{k-1}) + P_k(s_k) - Q_k`, what this module did before)
+//! stays, to first order near corner `k`, in the cone of the two pieces'
+//! tangents there, which at a reflex corner (bowed sides) is outside the
+//! loop: bowed 12- to 16-gons folded at their corners (issue 33). Kato's
+//! blends depend on the direction a corner is approached from, so the
+//! side-based patch opens a corner as wide as its curves do.
 //!
 //! **Why this and not subdivision or a split into quads.** The boundary
 //! pieces are non-uniform cubic B-splines cut at arbitrary parameters: a

@@ -24,22 +24,55 @@
 //!   sends `max_step` so that one held second changes a patch by a few
 //!   centimetres at most, at any frame rate up to 120 Hz.
 //! - **Where it stops.** A frame that would make the patch overhang its
-//!   boundary is taken only as far as it does not (the largest of its
-//!   half, quarter and eighth) and the tool stops there (like the curve
-//!   sharpener's limits, not an error: the frames before are kept). The
-//!   patch's mesh (what prints) overhangs when a triangle that faced along
-//!   the loop's normal at activation (the vector area of the boundary,
-//!   which no tool changes) turns to face against it or collapses: the
-//!   surface then folds back over its boundary, which is what made the
-//!   print refuse to thicken sharpened 7-, 12- and 16-gons. The puller
-//!   stops the same way.
-//!
+//!   boundary, or crease it tighter than a printed wall can follow, is
+//!   taken only as far as it does not (the largest of its half, quarter
+//!   and eighth) and the tool stops there (like the curve sharpener's
+//!   limits, not an error: the frames before are kept), with the
+//!   [`SurfaceStop`] that refused the last part tried. The puller stops
+//!   the same way. Both are checked on the patch's mesh (what prints):
+//!   - *Overhang*: a triangle that faced along the loop's normal at
+//!     activation (the vector area of the boundary, which no tool
+//!     changes) turns to face against it or collapses: the surface folds
+//!     back over its boundary.
+//!   - *Crease*: an interior edge's crease `h / tan(θ / 2)` (`θ` the angle
+//!     between its two triangles' normals, `h` the smaller one's height
+//!     over the edge) falls below the print's default wall `t` (2 mm;
+//!     or below the edge's crease at activation, when that was tighter).
+//!     Offsetting the two faces by `t` moves their meeting line
+//!     `t tan(θ / 2)` into each face: past the opposite corner when the
+//!     crease is below `t`, and the offset sheet turns over there. This is
+//!     what the overhang check missed: once the side-based n-gon patch
+//!     stopped folding in its plane, the strongest held sharpener (f = 2,
+//!     `w_q` up to 100, global, unbounded steps) raised the 15 cm
+//!     hexagon's 4.3 cm bump to 1.72 m (`w_q` about 40) before anything
+//!     faced down, and its 2 mm shell passed through itself in 86 pairs.
+//!     Measured on the bowed 6-, 7-, 12- and 16-gons with `w_q` swept from
+//!     1 to 100 (steps of 10%): every shell that passed through itself
+//!     (any offset) had a crease of 1.16 mm or less; every mesh with
+//!     creases of 2.49 mm or more printed. The crease check stops the
+//!     hexagon at `w_q` = 32 (1.38 m, creases 5.5 mm); the 12- and 16-gons
+//!     are stopped earlier by the overhang. A height cap (rise against
+//!     the loop's diameter) was the alternative: it does not see a narrow
+//!     local spike of a pointer-held sharpener, which creases the mesh
+//!     well below any height cap, and it would refuse tall shapes that
+//!     print. The check is local, so it is cheap: one cross product per
+//!     triangle and one per interior edge each frame (the edges, across
+//!     the n-gon mesh's seams too, are found once at activation).
+//!     The margin is for the default, centred shell (half the wall on each
+//!     side): with the whole wall on one side (inward or outward shells),
+//!     a pointer-held sharpener stopped at 2 mm creases can still leave a
+//!     few shell pairs crossing (up to 86 for an inward 2 mm shell in the
+//!     sweep of `hold_tests`' settings; none for the centred one). The
+//!     check sees only the patch's own edges, not the edges along its
+//!     boundary curves to the neighbouring patches.
+
 //! The patch's mesh is evaluated once at activation as base points plus
 //! displacement coefficients (`PatchSampler`), so a frame costs a sparse
 //! product, not a re-evaluation of the (transfinite) base surface.
 
 use crate::math::fm::DetMath as _;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 
 use crate::math::{DVec2, DVec3};
 
@@ -56,6 +89,9 @@ use super::StylingError;
 pub enum SurfaceStop {
     /// The next frame would have made the patch overhang its boundary.
     Overhang,
+    /// The next frame would have creased the patch's mesh tighter than a
+    /// printed wall can follow (its shell would pass through itself).
+    Crease,
 }
 
 /// How a held smoother (`f < 1`) or sharpener (`f > 1`) acts.
@@ -143,13 +179,23 @@ impl PatchSampler {
     }
 }
 
-/// Watches a patch's mesh for an overhang over its boundary (see the
-/// module doc).
-pub(crate) struct OverhangGuard {
+/// Watches a patch's mesh for an overhang over its boundary and for a
+/// crease tighter than a printed wall (see the module doc).
+pub(crate) struct SurfaceGuard {
     triangles: Vec<[u32; 3]>,
     /// Per triangle, the direction it must keep facing along (`None`: not
     /// watched, it did not face along the loop's normal at activation).
     facing: Vec<Option<DVec3>>,
+    /// The interior edges: its two ends, its two triangles, and the
+    /// tightest crease it may reach (the wall, or its own crease at
+    /// activation if that was tighter already).
+    edges: Vec<WatchedEdge>,
+}
+
+struct WatchedEdge {
+    ends: [u32; 2],
+    tris: [u32; 2],
+    floor: f64,
 }
 
 /// A triangle faces along `dir` when its normal's component along `dir`
@@ -162,9 +208,29 @@ fn normal_of(p: &[DVec3], t: &[u32; 3]) -> DVec3 {
     (b - a).cross(c - a)
 }
 
-impl OverhangGuard {
-    /// Watches the mesh `points`/`triangles` as it is at activation.
-    pub(crate) fn new(points: &[DVec3], triangles: Vec<[u32; 3]>) -> Self {
+/// The crease of an interior edge of length `len` between triangles with
+/// (unnormalized) normals `a` and `b`: `h / tan(θ / 2)`, `h` the smaller
+/// triangle's height over the edge and `θ` the angle between the normals.
+/// A wall of thickness `t` offset to the concave side of the edge moves
+/// the faces' meeting line `t tan(θ / 2)` into each face, past the
+/// opposite corner once that exceeds `h`: the offset sheet turns over
+/// there when the crease is below `t`. Infinite for a flat edge, zero for
+/// a folded one (and NaN for a collapsed triangle, which no comparison
+/// accepts).
+fn crease(a: DVec3, b: DVec3, len: f64) -> f64 {
+    let (la, lb) = (a.length(), b.length());
+    let sin = a.cross(b).length();
+    if sin == 0.0 && a.dot(b) > 0.0 {
+        return f64::INFINITY;
+    }
+    la.min(lb) * (la * lb + a.dot(b)) / (sin * len)
+}
+
+impl SurfaceGuard {
+    /// Watches the mesh `points`/`triangles` as it is at activation;
+    /// `samples` (where each point comes from) say which triangles meet
+    /// across the seams of the patch's mesh.
+    pub(crate) fn new(points: &[DVec3], triangles: Vec<[u32; 3]>, samples: &[MeshSample]) -> Self {
         let normals: Vec<DVec3> = triangles.iter().map(|t| normal_of(points, t)).collect();
         let area: f64 = normals.iter().map(|n| n.length()).sum();
         // The vector area of a disk-like patch is its boundary's: the
@@ -181,19 +247,98 @@ impl OverhangGuard {
             // area): each triangle keeps facing the way it did.
             normals.iter().map(|n| n.try_normalize()).collect()
         };
-        Self { triangles, facing }
+        let wall = print_wall();
+        let edges = interior_edges(&triangles, samples)
+            .into_iter()
+            .filter(|(_, [s, t])| {
+                normals[*s as usize] != DVec3::ZERO && normals[*t as usize] != DVec3::ZERO
+            })
+            .filter_map(|(ends, tris)| {
+                let len = points[ends[0] as usize].distance(points[ends[1] as usize]);
+                let now = crease(normals[tris[0] as usize], normals[tris[1] as usize], len);
+                // A fold already there at activation is not watched.
+                (!now.is_nan()).then(|| WatchedEdge {
+                    ends,
+                    tris,
+                    floor: now.min(wall),
+                })
+            })
+            .collect();
+        Self {
+            triangles,
+            facing,
+            edges,
+        }
     }
 
-    /// Whether the mesh `points` keeps every watched triangle facing its
-    /// way, without collapsing.
-    pub(crate) fn accepts(&self, points: &[DVec3]) -> bool {
-        self.triangles.iter().zip(&self.facing).all(|(t, dir)| {
+    /// Why the mesh `points` would stop a tool, if it would: a watched
+    /// triangle no longer facing its way or collapsed (an overhang), or an
+    /// interior edge creased tighter than it may be.
+    pub(crate) fn check(&self, points: &[DVec3]) -> Option<SurfaceStop> {
+        let normals: Vec<DVec3> = self
+            .triangles
+            .iter()
+            .map(|t| normal_of(points, t))
+            .collect();
+        let faces = normals.iter().zip(&self.facing).all(|(n, dir)| {
             let Some(dir) = dir else { return true };
-            let n = normal_of(points, t);
             let l = n.length();
             l.is_finite() && l > 0.0 && n.dot(*dir) > FACING_MARGIN * l
-        })
+        });
+        if !faces {
+            return Some(SurfaceStop::Overhang);
+        }
+        let creased = self.edges.iter().any(|e| {
+            let len = points[e.ends[0] as usize].distance(points[e.ends[1] as usize]);
+            let c = crease(
+                normals[e.tris[0] as usize],
+                normals[e.tris[1] as usize],
+                len,
+            );
+            !(c >= e.floor)
+        });
+        creased.then_some(SurfaceStop::Crease)
     }
+}
+
+/// The wall a patch is printed with by default
+/// ([`crate::print::PrintSettings`]): twice what the default, centred
+/// shell offsets the surface by on each side.
+fn print_wall() -> f64 {
+    crate::print::PrintSettings::default().wall_thickness
+}
+
+/// The edges of `triangles` shared by exactly two of them, as their two
+/// ends and two triangles; points are the same when their samples are
+/// (an n-sided patch's mesh is one grid per corner, sharing its spokes
+/// and boundary samples by value).
+fn interior_edges(triangles: &[[u32; 3]], samples: &[MeshSample]) -> Vec<([u32; 2], [u32; 2])> {
+    let key = |i: u32| match samples[i as usize] {
+        MeshSample::Fixed(p) => (0u8, p.to_array().map(f64::to_bits)),
+        MeshSample::At(uv) => (1u8, [uv.x.to_bits(), uv.y.to_bits(), 0]),
+    };
+    let mut ids: BTreeMap<(u8, [u64; 3]), u32> = BTreeMap::new();
+    let canon: Vec<u32> = (0..samples.len() as u32)
+        .map(|i| *ids.entry(key(i)).or_insert(i))
+        .collect();
+    let mut by_edge: BTreeMap<(u32, u32), Vec<(u32, [u32; 2])>> = BTreeMap::new();
+    for (t, tri) in triangles.iter().enumerate() {
+        for e in 0..3 {
+            let (a, b) = (tri[e], tri[(e + 1) % 3]);
+            let (ca, cb) = (canon[a as usize], canon[b as usize]);
+            if ca != cb {
+                by_edge
+                    .entry((ca.min(cb), ca.max(cb)))
+                    .or_default()
+                    .push((t as u32, [a, b]));
+            }
+        }
+    }
+    by_edge
+        .into_values()
+        .filter(|v| v.len() == 2)
+        .map(|v| (v[0].1, [v[0].0, v[1].0]))
+        .collect()
 }
 
 /// The Greville abscissa of control point `i` of the clamped uniform cubic
@@ -226,7 +371,7 @@ pub fn hold_equilibrium(
         .map(|&l| MeshSample::At(DVec2::new(greville(n, l / n), greville(n, l % n))))
         .collect();
     let sites = PatchSampler::new(net, k, &sites_at);
-    let guard = OverhangGuard::new(&mesh.eval(&d0), triangles);
+    let guard = SurfaceGuard::new(&mesh.eval(&d0), triangles, &samples);
     let e: Vec<DVec3> = free
         .iter()
         .map(|&l| DVec3::from_array(d0[l]) - DVec3::from_array(dmin[l]))
@@ -254,16 +399,19 @@ pub fn hold_equilibrium(
                 }
             }
         }
-        // The frame, or (when it would overhang) the largest of its half,
-        // quarter, ... eighth that does not: the tool then stops there.
+        // The frame, or (when it would overhang or crease) the largest of
+        // its half, quarter, ... eighth that does not: the tool then stops
+        // there, for the reason the whole frame was refused.
         let mut part = 1.0;
+        let mut why = None;
         let taken = loop {
             for (i, &l) in free.iter().enumerate() {
                 let w = wq[i] + (next[i] - wq[i]) * part;
                 cand[l] = (DVec3::from_array(dmin[l]) + e[i] * w).to_array();
             }
-            if guard.accepts(&mesh.eval(&cand)) {
-                break Some(part);
+            match guard.check(&mesh.eval(&cand)) {
+                None => break Some(part),
+                Some(stop) => why = Some(stop),
             }
             part *= 0.5;
             if part < 0.1 {
@@ -278,10 +426,7 @@ pub fn hold_equilibrium(
         }
         if taken != Some(1.0) {
             net.patches[k].disp = d;
-            return Ok((
-                frame + usize::from(taken.is_some()),
-                Some(SurfaceStop::Overhang),
-            ));
+            return Ok((frame + usize::from(taken.is_some()), why));
         }
     }
     if d.iter().flatten().any(|v| !v.is_finite()) {
@@ -310,13 +455,20 @@ pub fn hold_pull(
     Budget::default().check_tool_work("path", path.len(), samples.len())?;
     let mesh = PatchSampler::new(net, k, &samples);
     let d0 = net.patches[k].disp.clone();
-    let guard = OverhangGuard::new(&mesh.eval(&d0), triangles);
-    let mut accept = |d: &[[f64; 3]]| guard.accepts(&mesh.eval(d));
+    let guard = SurfaceGuard::new(&mesh.eval(&d0), triangles, &samples);
+    let mut why = None;
+    let mut accept = |d: &[[f64; 3]]| match guard.check(&mesh.eval(d)) {
+        None => true,
+        Some(stop) => {
+            why = Some(stop);
+            false
+        }
+    };
     let (d, frames) = sys.pull_guarded(&d0, u0, v0, base0, wpp, path, &mut accept)?;
     net.patches[k].disp = d;
     Ok((
         frames,
-        (frames < path.len()).then_some(SurfaceStop::Overhang),
+        (frames < path.len()).then(|| why.unwrap_or(SurfaceStop::Overhang)),
     ))
 }
 
