@@ -61,11 +61,13 @@
 //!     The margin is for the default, centred shell (half the wall on each
 //!     side): with the whole wall on one side (inward or outward shells),
 //!     a pointer-held sharpener stopped at 2 mm creases can still leave a
-//!     few shell pairs crossing (up to 86 for an inward 2 mm shell in the
-//!     sweep of `hold_tests`' settings; none for the centred one). The
-//!     check sees only the patch's own edges, not the edges along its
-//!     boundary curves to the neighbouring patches.
-
+//!     few shell pairs crossing: in a sweep of settings (f 1.05 to 2,
+//!     `w_q` up to 100, radius none, 3 or 8 cm, `max_step` none or 2 mm,
+//!     held still or dragged, on 5- to 16-gons) up to 86 for an inward
+//!     2 mm shell, none for the centred one; a stop at twice the wall
+//!     still left 7. The check sees only the patch's own edges, not the
+//!     edges along its boundary curves to the neighbouring patches.
+//!
 //! The patch's mesh is evaluated once at activation as base points plus
 //! displacement coefficients (`PatchSampler`), so a frame costs a sparse
 //! product, not a re-evaluation of the (transfinite) base surface.
@@ -321,7 +323,10 @@ fn interior_edges(triangles: &[[u32; 3]], samples: &[MeshSample]) -> Vec<([u32; 
     let canon: Vec<u32> = (0..samples.len() as u32)
         .map(|i| *ids.entry(key(i)).or_insert(i))
         .collect();
-    let mut by_edge: BTreeMap<(u32, u32), Vec<(u32, [u32; 2])>> = BTreeMap::new();
+    // Per edge (by its canonical ends): each triangle using it, with the
+    // edge's ends as that triangle has them.
+    type Uses = Vec<(u32, [u32; 2])>;
+    let mut by_edge: BTreeMap<(u32, u32), Uses> = BTreeMap::new();
     for (t, tri) in triangles.iter().enumerate() {
         for e in 0..3 {
             let (a, b) = (tri[e], tri[(e + 1) % 3]);
