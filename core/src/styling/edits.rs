@@ -378,8 +378,8 @@ impl CurveFillAuto {
 
 impl SurfaceEquilibrium {
     /// The smoother (`sharpen = false`) or sharpener along the path.
-    /// Stopping before an overhang is not an error: the frames before the
-    /// stop are kept.
+    /// Stopping before an overhang or a crease tighter than the print's
+    /// wall is not an error: the frames before the stop are kept.
     pub fn apply_to(&self, net: &mut CurveNetwork, sharpen: bool) -> Result<u64, StylingError> {
         let path = check_path(&self.path)?;
         Budget::default().check_extent("path", &path)?;
@@ -417,7 +417,8 @@ impl SurfaceEquilibrium {
 
 impl SurfacePull {
     /// The puller along the path, stopping (not failing) before a frame
-    /// that would make the patch overhang its boundary.
+    /// that would make the patch overhang its boundary or crease it
+    /// tighter than the print's wall.
     pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
         let path = check_path(&self.path)?;
         if !((0.0..=1.0).contains(&self.u0) && (0.0..=1.0).contains(&self.v0)) {
