@@ -7,6 +7,10 @@
 
 use thiserror::Error;
 
+/// The longest any accepted op may be estimated to take on this machine
+/// (issue 37); each module's time estimate refuses past it.
+pub const MAX_SECONDS: f64 = 10.0;
+
 /// An input asks for more memory or work than a budget allows: reduce or
 /// fix the parameter named.
 #[derive(Clone, Debug, PartialEq, Error)]
@@ -50,11 +54,16 @@ impl OverBudget {
 fn numbers(estimate: f64, limit: f64) -> (String, String) {
     let whole = |x: f64| x.is_finite() && x.fract() == 0.0 && x.abs() < 1e15;
     let plain = |x: f64| (0.01..1e4).contains(&x.abs());
+    // Two decimals, or as many more (up to six) as it takes for two
+    // different numbers not to print the same.
+    let decimals = (2..=6)
+        .find(|&d| estimate == limit || format!("{estimate:.d$}") != format!("{limit:.d$}"))
+        .unwrap_or(6);
     let one = |x: f64| {
         if whole(estimate) && whole(limit) {
             format!("{x:.0}")
         } else if plain(estimate) && plain(limit) {
-            format!("{x:.2}")
+            format!("{x:.decimals$}")
         } else if x.is_finite() {
             format!("{x:.4e}")
         } else {
@@ -89,6 +98,11 @@ mod tests {
         assert_eq!(
             e.to_string(),
             "parts: the seconds would be 12.13, over the limit of 10.00"
+        );
+        let e = OverBudget::new("parts", "the seconds", 10.004, 10.0);
+        assert_eq!(
+            e.to_string(),
+            "parts: the seconds would be 10.004, over the limit of 10.000"
         );
     }
 }

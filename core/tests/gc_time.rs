@@ -173,6 +173,7 @@ fn many_long_point_profiles_are_refused_at_once() {
 /// Every example the project ships is far under the limit.
 #[test]
 fn the_examples_are_far_under_the_limit() {
+    let _serial = SERIAL.lock().unwrap();
     for name in [
         "mug.jsonl",
         "teapot.jsonl",

@@ -9,6 +9,8 @@
 
 mod common;
 
+use std::sync::Mutex;
+
 use common::timed;
 use shapewright::budget::OverBudget;
 use shapewright::math::fm::DetMath as _;
@@ -16,6 +18,9 @@ use shapewright::math::DVec3;
 use shapewright::styling::budget::{CURVE_TOOL_SECONDS, MAX_SECONDS};
 use shapewright::styling::tools::{CurveSession, SmoothParams};
 use shapewright::styling::{fit_curve, FitMode, StylingError};
+
+/// Timing tests run one at a time (CPU time is the process's).
+static SERIAL: Mutex<()> = Mutex::new(());
 
 /// How much slower this build runs a held curve tool than release.
 const BUILD_FACTOR: f64 = if cfg!(debug_assertions) { 3.0 } else { 1.0 };
@@ -72,6 +77,7 @@ fn a_held_curve_tool_at_the_whole_time_limit_runs_within_it() {
 }
 
 fn run_at(share: f64) {
+    let _serial = SERIAL.lock().unwrap();
     let mut s = session(200);
     let frames = frames_at(&s, share);
     let est = frames as f64 * 3.0 * s.curve.n() as f64 * CURVE_TOOL_SECONDS;
@@ -96,6 +102,7 @@ fn run_at(share: f64) {
 /// naming its estimate over the limit, and leaves the curve as it was.
 #[test]
 fn a_held_curve_tool_over_the_time_limit_is_refused_at_once() {
+    let _serial = SERIAL.lock().unwrap();
     let mut s = session(2048);
     let before = s.curve.clone();
     let (r, cpu, _) = timed(|| s.smooth(&params(), &path(800)));

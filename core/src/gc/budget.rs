@@ -57,9 +57,18 @@
 //! (the bounding boxes that decide it are not known before meshing). The
 //! constants are CPU seconds of the release build on this machine (AMD
 //! EPYC, 2 cores), from `calibrate` in `core/tests/gc_time.rs`, rounded
-//! up: the estimate is 1.3-1.6 times the measured time on the mug, the
-//! teapot and the chair at 256 to 724 segments, and that test runs an
-//! edit at the limit and checks it finishes within it. The union is a
+//! up: the estimate is 1.2-2.2 times the measured time of every edit
+//! over a second on the mug, the teapot, the chair and the rack at 128 to
+//! 724 segments (0.8 times on one 1 s chair edit), and that test runs an
+//! edit at the limit and checks it finishes within it.
+//!
+//! The estimate counts on the cache holding the fold that the state
+//! before the op was evaluated with ([`crate::assembly::UnionCache`]
+//! keeps the last evaluation whatever its size). After an undo to a
+//! checkpoint, which restores a state without evaluating it, an edit of
+//! an assembly whose fold is over the cache's budget (about half a
+//! million triangles) may find it gone and unite every part: up to the
+//! whole union's time, which this estimate does not bound. The union is a
 //! left fold (as Manifold's batch union), so a long assembly costs the
 //! square of its parts: nine default-resolution parts take 0.75 s cold,
 //! thirty would take about 8 s, which a balanced union tree would cut to
@@ -162,8 +171,7 @@ impl Cost {
     }
 }
 
-/// The longest a GC op may be estimated to take on this machine.
-pub const MAX_SECONDS: f64 = 10.0;
+pub use crate::budget::MAX_SECONDS;
 /// Seconds per triangle of a part or cavity meshed.
 pub const MESH_SECONDS: f64 = 0.2e-6;
 /// Seconds per triangle of a part trimmed and of the cavities cutting it
@@ -217,7 +225,13 @@ pub fn edit_seconds(before: Option<&GcAssembly>, after: &GcAssembly) -> Result<f
     }
     // The first part whose trimmed mesh may differ: a changed hollow part
     // re-trims every part; a one-part assembly before cached no union.
-    let any_hollow_changed = (0..sizes.len()).any(|i| changed[i] && hollow(i));
+    let was_hollow = |i: usize| {
+        before
+            .and_then(|b| b.parts.get(i))
+            .is_some_and(|p| !matches!(p.gc.shape, ShapeType::Solid))
+    };
+    let any_hollow_changed = (0..sizes.len()).any(|i| changed[i] && (hollow(i) || was_hollow(i)))
+        || before.is_some_and(|b| (sizes.len()..b.parts.len()).any(was_hollow));
     let single_before = before.is_none_or(|b| b.parts.len() < 2);
     let first = if any_hollow_changed || single_before {
         0

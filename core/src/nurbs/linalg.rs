@@ -28,7 +28,7 @@ where
     let n = b.len();
     debug_assert_eq!(a.len(), n * n);
     let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    if !(scale > 0.0) || !scale.is_finite() {
+    if !(scale > 0.0) || !scale.is_finite() || a.iter().any(|x| x.is_nan()) {
         return Err(NurbsError::Singular);
     }
     // `first[r]`: no column of row `r` before it is nonzero (among the
@@ -83,7 +83,6 @@ where
         let d = a[col * n + col];
         nz.clear();
         nz.extend((col..n).filter(|&c| a[col * n + c] != 0.0));
-        let pivot_first = nz.get(1).copied().unwrap_or(n);
         for &r in reach.iter().filter(|&&r| r > col) {
             let f = a[r * n + col] / d;
             if f == 0.0 {
@@ -93,14 +92,10 @@ where
                 a[r * n + c] -= f * a[col * n + c];
             }
             b[r] = b[r] - b[col] * f;
-            first[r] = first[r].min(pivot_first);
         }
-        // Every listed row is past this column now: its next possible
-        // nonzero is at `col + 1` or later.
+        // A listed row stays listed until it is the pivot (`first` is
+        // read only for rows not listed yet, which no update touches).
         reach.retain(|&r| r > col);
-        for &r in &reach {
-            first[r] = first[r].max(col + 1);
-        }
     }
     let mut x = b.clone();
     for r in (0..n).rev() {

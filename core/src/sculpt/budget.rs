@@ -94,8 +94,7 @@ pub const MAX_TRIANGLES: usize = 12_000_000;
 /// Most faces one stroke may add (the hard limit).
 pub const MAX_STROKE_NEW_TRIANGLES: usize = 4_000_000;
 
-/// The longest a sculpt op may be estimated to take on this machine.
-pub const MAX_SECONDS: f64 = 10.0;
+pub use crate::budget::MAX_SECONDS;
 /// Seconds per face of the mesh a stroke works on (copy, vertex grid,
 /// triangle mesh out, the document's hash of it).
 pub const FACE_SECONDS: f64 = 0.6e-6;

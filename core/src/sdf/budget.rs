@@ -31,7 +31,7 @@ use crate::budget::OverBudget;
 
 /// No accepted SDF op should run longer than this on this machine
 /// (issue 37).
-pub const TIME_LIMIT_SECONDS: f64 = 10.0;
+pub const TIME_LIMIT_SECONDS: f64 = crate::budget::MAX_SECONDS;
 /// Memory budget of a volume's dense bricks.
 pub const MEMORY_BUDGET_BYTES: usize = 1 << 30;
 /// Bytes of one dense brick.

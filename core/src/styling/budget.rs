@@ -71,9 +71,7 @@ impl Default for Budget {
     }
 }
 
-/// The longest a held curve tool may be estimated to take on this
-/// machine (issue 37).
-pub const MAX_SECONDS: f64 = 10.0;
+pub use crate::budget::MAX_SECONDS;
 /// CPU seconds per frame and unknown of a held curve tool (see the
 /// module doc; measured 3.5-4.3 µs, with a margin).
 pub const CURVE_TOOL_SECONDS: f64 = 4.5e-6;
@@ -96,7 +94,7 @@ impl Budget {
         if !(seconds <= MAX_SECONDS) {
             return Err(over(
                 parameter,
-                "the seconds the held tool would take on this machine (frames × unknowns × 4.5 µs)",
+                "the seconds the held tool would take on this machine (frames × unknowns × CURVE_TOOL_SECONDS)",
                 seconds,
                 MAX_SECONDS,
             ));

@@ -220,12 +220,20 @@ fn normal_of(p: &[DVec3], t: &[u32; 3]) -> DVec3 {
 /// a folded one (and NaN for a collapsed triangle, which no comparison
 /// accepts).
 fn crease(a: DVec3, b: DVec3, len: f64) -> f64 {
-    let (la, lb) = (a.length(), b.length());
+    let (la, lb, dot) = (a.length(), b.length(), a.dot(b));
     let sin = a.cross(b).length();
-    if sin == 0.0 && a.dot(b) > 0.0 {
+    if sin == 0.0 && dot > 0.0 {
         return f64::INFINITY;
     }
-    la.min(lb) * (la * lb + a.dot(b)) / (sin * len)
+    // `1 / tan(θ / 2)` as `(|a||b| + a·b) / |a × b|`, or, for normals
+    // turned more than a right angle (where that sum cancels), as the
+    // equal `|a × b| / (|a||b| - a·b)`: zero, not infinite, for a fold.
+    let cot = if dot >= 0.0 {
+        (la * lb + dot) / sin
+    } else {
+        sin / (la * lb - dot)
+    };
+    la.min(lb) * cot / len
 }
 
 impl SurfaceGuard {
@@ -258,11 +266,13 @@ impl SurfaceGuard {
             .filter_map(|(ends, tris)| {
                 let len = points[ends[0] as usize].distance(points[ends[1] as usize]);
                 let now = crease(normals[tris[0] as usize], normals[tris[1] as usize], len);
-                // A fold already there at activation is not watched.
-                (!now.is_nan()).then(|| WatchedEdge {
+                // A fold already there at activation is not watched; an
+                // edge already tighter than the wall may not get tighter
+                // (by more than rounding).
+                (!now.is_nan()).then_some(WatchedEdge {
                     ends,
                     tris,
-                    floor: now.min(wall),
+                    floor: if now < wall { now * (1.0 - 1e-9) } else { wall },
                 })
             })
             .collect();
@@ -406,7 +416,7 @@ pub fn hold_equilibrium(
         }
         // The frame, or (when it would overhang or crease) the largest of
         // its half, quarter, ... eighth that does not: the tool then stops
-        // there, for the reason the whole frame was refused.
+        // there, for the reason the last, smallest part tried was refused.
         let mut part = 1.0;
         let mut why = None;
         let taken = loop {
