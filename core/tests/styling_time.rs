@@ -13,6 +13,7 @@ use std::sync::Mutex;
 
 use common::timed;
 use shapewright::budget::OverBudget;
+use shapewright::interact::CurveToolSettings;
 use shapewright::math::fm::DetMath as _;
 use shapewright::math::DVec3;
 use shapewright::styling::budget::{CURVE_TOOL_SECONDS, MAX_SECONDS};
@@ -43,15 +44,9 @@ fn path(frames: usize) -> Vec<DVec3> {
         .collect()
 }
 
+/// The headset's smoother.
 fn params() -> SmoothParams {
-    SmoothParams {
-        wb: 1e-6,
-        ws: 0.0,
-        wp0: 1.0,
-        wp1: 0.0,
-        wp2: 0.0,
-        alpha: 20.0,
-    }
+    CurveToolSettings::default().smooth
 }
 
 /// The frames of a 200-point curve's smoother whose estimate is `share`

@@ -28,9 +28,12 @@
 //!   ([`CURVE_TOOL_SECONDS`] per frame and unknown) and refused past
 //!   [`MAX_SECONDS`]. A headset's curve of 100 points held for 10 s at
 //!   90 Hz is 0.27 M frame-unknowns, about 1.2 s. (Where the time goes:
-//!   37% looking up matrix slots by binary search while assembling, 11%
-//!   basis derivatives, 10% adding outer products; a slot map built once
-//!   per activation is issue 37's open work.) The surface tools cost far
+//!   47% adding the energy's outer products into the matrix, 11% basis
+//!   derivatives: every frame re-assembles the energy over the whole
+//!   curve, though the pointer's weight reaches only a window of it. A
+//!   slot lookup by offset instead of binary search was tried and changed
+//!   nothing. Assembling only the window the weight changes is issue 37's
+//!   open work.) The surface tools cost far
 //!   less per unit (a patch's 5,000 frames: 0.2 s) and keep the work
 //!   limit.
 //! - **loop search**: paths the automatic loop search may extend.

@@ -355,3 +355,42 @@ impl FixedSolver {
         Ok(x)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::SymPattern;
+
+    /// The lookup finds every stored entry and nothing else, on banded
+    /// columns, columns with gaps and a cyclic corner.
+    #[test]
+    fn slot_finds_exactly_the_stored_entries() {
+        let n = 40;
+        let mut pairs = Vec::new();
+        for i in 0..n {
+            for d in 1..4 {
+                if i + d < n && (i % 7 != 3 || d != 2) {
+                    pairs.push((i + d, i));
+                }
+            }
+        }
+        pairs.extend([(n - 1, 0), (n - 2, 0), (n - 1, 1), (20, 5)]);
+        let p = SymPattern::new(n, pairs.iter().copied());
+        let mut seen = std::collections::BTreeSet::new();
+        for r in 0..n {
+            for c in 0..n {
+                let (lo, hi) = if r >= c { (r, c) } else { (c, r) };
+                let stored = lo == hi || pairs.contains(&(lo, hi));
+                let slot = p.slot(r, c);
+                assert_eq!(slot.is_some(), stored, "({r}, {c})");
+                if let Some(k) = slot {
+                    assert_eq!(p.row_idx()[k], lo, "({r}, {c})");
+                    assert!(p.col_ptr()[hi] <= k && k < p.col_ptr()[hi + 1]);
+                    if r >= c {
+                        assert!(seen.insert(k));
+                    }
+                }
+            }
+        }
+        assert_eq!(seen.len(), p.nnz());
+    }
+}
