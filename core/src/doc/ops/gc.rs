@@ -5,8 +5,9 @@
 //! ([`crate::assembly::propagate_edit`]: symmetry group, then descendants
 //! breadth-first, then the recorded relations are checked).
 //! Every one is estimated in seconds before it is evaluated
-//! ([`crate::gc::budget::check_edit`]) and checked for folds after it applies (a spine bent tighter
-//! than its sections; see [`crate::print::check_edit`]).
+//! ([`crate::gc::budget::check_edit`]) and checked for folds after it
+//! applies (a spine bent tighter than its sections; see
+//! [`crate::print::check_edit`]).
 
 use super::{EditCx, ObjectCreate, ObjectEdit};
 use crate::assembly::{
@@ -33,15 +34,24 @@ fn gc_error(e: AssemblyError) -> OpError {
     }
 }
 
+/// Applies `edit` to `asm`, then holds the result to the GC time budget
+/// against the assembly as it was.
+fn budgeted(
+    asm: &mut GcAssembly,
+    edit: impl FnOnce(&mut GcAssembly) -> Result<(), AssemblyError>,
+) -> Result<(), OpError> {
+    let before = asm.clone();
+    edit(asm).map_err(gc_error)?;
+    Ok(gc::budget::check_edit(Some(&before), asm)?)
+}
+
 macro_rules! part_edits {
     ($($ty:ty),*) => {$(
         impl ObjectEdit for $ty {
             type Target = GcAssembly;
             const CHECK_FOLDS: bool = true;
             fn apply(&self, asm: &mut GcAssembly, _: &mut EditCx<'_>) -> Result<(), OpError> {
-                let before = asm.clone();
-                propagate_edit(asm, self).map_err(gc_error)?;
-                Ok(gc::budget::check_edit(Some(&before), asm)?)
+                budgeted(asm, |a| propagate_edit(a, self))
             }
         }
     )*};
@@ -66,9 +76,7 @@ macro_rules! assembly_edits {
             type Target = GcAssembly;
             const CHECK_FOLDS: bool = true;
             fn apply(&self, asm: &mut GcAssembly, _: &mut EditCx<'_>) -> Result<(), OpError> {
-                let before = asm.clone();
-                self.apply_to(asm).map_err(gc_error)?;
-                Ok(gc::budget::check_edit(Some(&before), asm)?)
+                budgeted(asm, |a| self.apply_to(a))
             }
         }
     )*};
