@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""Runs the workspace's Rust tests as `cargo test --workspace` does, in two
+lanes: the test binaries that mostly wait run beside the ones that compute.
+
+    python3 scripts/test_lanes.py [--wait NAME ...]
+
+Why: on CI's 2-core machine the binaries run one after another, and four
+of them spend most of their time waiting, not computing: the Monado
+sessions are paced by the runtime's frames (98 s wall, 18 s CPU), the
+OpenXR test runtime, the dishonest-editor and NATS tests by a server's
+timeouts and a participant cut off for ten seconds (66 s wall, 22 s CPU
+together, measured 2026-11-30). `cargo test` cannot run two test binaries
+at once, so this builds them with `cargo test --no-run`, runs the waiting
+ones in a lane of their own while the rest run in order, each binary as
+cargo runs it (in its package's directory, with its manifest dir set),
+then runs the doc tests with cargo. Every binary's time is printed, and a
+failing binary's whole output; the exit status is 1 if any failed.
+
+Tests that measure time measure their own process's CPU time
+(`core/tests/common`), so a binary beside them does not change what they
+assert; the waiting lane's binaries share nothing with the others (each
+server and runtime on its own free port and directories).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import threading
+import time
+
+# The binaries that wait: (package, test target).
+WAITING = ["monado", "testrt", "dishonest", "nats"]
+
+
+def test_binaries(cargo_args: list[str]) -> list[dict]:
+    """Builds the workspace's test binaries; returns them in cargo's order."""
+    cmd = ["cargo", "test", "--workspace", "--no-run", "-q"]
+    cmd += ["--message-format=json-render-diagnostics", *cargo_args]
+    out = subprocess.run(cmd, stdout=subprocess.PIPE, text=True, check=False)
+    if out.returncode != 0:
+        sys.exit(out.returncode)
+    bins = []
+    for line in out.stdout.splitlines():
+        msg = json.loads(line)
+        if msg.get("reason") != "compiler-artifact" or not msg.get("executable"):
+            continue
+        if not msg["profile"]["test"]:
+            continue
+        bins.append(
+            {
+                "name": msg["target"]["name"],
+                "kind": msg["target"]["kind"][0],
+                "exe": msg["executable"],
+                "dir": os.path.dirname(msg["manifest_path"]),
+            }
+        )
+    return bins
+
+
+class Lane(threading.Thread):
+    def __init__(self, name: str, bins: list[dict], lock: threading.Lock):
+        super().__init__(name=name)
+        self.bins = bins
+        self.lock = lock
+        self.failed: list[str] = []
+
+    def run(self) -> None:
+        for b in self.bins:
+            env = dict(os.environ, CARGO_MANIFEST_DIR=b["dir"])
+            start = time.monotonic()
+            p = subprocess.run(
+                [b["exe"], "-q"],
+                cwd=b["dir"],
+                env=env,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.STDOUT,
+                text=True,
+                check=False,
+            )
+            took = time.monotonic() - start
+            label = f"{b['name']} ({b['kind']})"
+            summary = [line for line in p.stdout.splitlines() if line.startswith("test result:")]
+            with self.lock:
+                if p.returncode != 0:
+                    self.failed.append(label)
+                    print(f"---- {label} FAILED after {took:.1f} s [{self.name} lane]")
+                    print(p.stdout, end="")
+                else:
+                    result = summary[-1] if summary else "no tests"
+                    print(f"{took:6.1f} s  {label} [{self.name}]: {result}")
+                sys.stdout.flush()
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument(
+        "--wait",
+        nargs="*",
+        default=WAITING,
+        help="test targets that run in the waiting lane (default: %(default)s)",
+    )
+    args = ap.parse_args()
+    t0 = time.monotonic()
+    bins = test_binaries([])
+    print(f"test_lanes: {len(bins)} test binaries built in {time.monotonic() - t0:.0f} s")
+    waits = [b for b in bins if b["kind"] == "test" and b["name"] in args.wait]
+    missing = set(args.wait) - {b["name"] for b in waits}
+    if missing:
+        print(f"test_lanes: no test target named {sorted(missing)}", file=sys.stderr)
+        return 2
+    rest = [b for b in bins if b not in waits]
+    lock = threading.Lock()
+    lanes = [Lane("compute", rest, lock), Lane("waiting", waits, lock)]
+    t1 = time.monotonic()
+    for lane in lanes:
+        lane.start()
+    for lane in lanes:
+        lane.join()
+    print(f"test_lanes: the binaries ran in {time.monotonic() - t1:.0f} s")
+    t2 = time.monotonic()
+    doc = subprocess.run(["cargo", "test", "--workspace", "--doc", "-q"], check=False)
+    print(f"test_lanes: doc tests in {time.monotonic() - t2:.0f} s")
+    failed = [f for lane in lanes for f in lane.failed]
+    if doc.returncode != 0:
+        failed.append("doc tests")
+    if failed:
+        print(f"test_lanes: FAILED: {', '.join(failed)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
