@@ -88,6 +88,10 @@ pub(super) enum Job {
     Apply(ScriptCommand),
     Save(Sender<bool>),
     Flush(Sender<()>),
+    /// Tests: every later commit first waits this long (a slow commit,
+    /// as a GC edit or a loaded machine makes one).
+    #[cfg(test)]
+    Slow(std::time::Duration),
 }
 
 /// A commit's result, sent back to the frame thread.
@@ -223,9 +227,15 @@ pub(super) fn commit_loop(
     } else {
         TICK
     };
+    #[cfg(test)]
+    let mut slow = std::time::Duration::ZERO;
     loop {
         match jobs.recv_timeout(tick) {
+            #[cfg(test)]
+            Ok(Job::Slow(d)) => slow = d,
             Ok(Job::Apply(cmd)) => {
+                #[cfg(test)]
+                std::thread::sleep(slow);
                 let t0 = Instant::now();
                 let mut guard = lock(&shared);
                 let s = &mut *guard;

@@ -59,6 +59,11 @@ pub struct InteractionStats {
     pub others_drawn: usize,
 }
 
+/// The most held frames one [`Interaction::step`] steps (see there): at
+/// 90 Hz, a backlog of a 160-ms commit (15 frames) is worked off in 2
+/// frames, a 2-s one in 23 (a quarter of a second).
+pub(super) const CATCH_UP: usize = 8;
+
 /// A session, the commit thread (log and autosaver) and the scene.
 pub struct Interaction {
     pub(super) session: Session,
@@ -82,6 +87,10 @@ pub struct Interaction {
     /// Commands handed to the commit thread and not yet reported back,
     /// with the hands that made each.
     pub(super) pending: std::collections::VecDeque<[bool; 2]>,
+    /// Input frames that came while a command of ours was being
+    /// committed: the tool steps them, in order, once the document that
+    /// command made is in (see [`Interaction::step`]).
+    pub(super) held: std::collections::VecDeque<interact::InputFrame>,
     pub(super) scene: Scene,
     pub(super) stats: InteractionStats,
     pub(super) haptics: Vec<Haptic>,
@@ -182,6 +191,7 @@ impl Interaction {
             done,
             worker: Some(worker),
             pending: Default::default(),
+            held: Default::default(),
             scene,
             stats: InteractionStats::default(),
             haptics: Vec::new(),
@@ -216,18 +226,26 @@ impl Interaction {
     /// One frame: take in finished commits, step the session against the
     /// last committed document, hand its command (if any) to the commit
     /// thread, update the scene. Returns the command.
+    ///
+    /// The tool never steps against a document older than the commands it
+    /// produced: while one of ours is being committed, frames are held and
+    /// stepped, in order, once its document is in (up to [`CATCH_UP`] a
+    /// call, so a long commit's backlog is worked off over a few frames,
+    /// not in one). The scene keeps being drawn meanwhile; the tool's own
+    /// feedback waits for the commit. So the tool sees exactly what the
+    /// core's [`shapewright::interact::replay`] of the same input shows
+    /// it, however long a commit takes. Before (2026-11-30), frames were
+    /// stepped against the last committed document: on a loaded machine
+    /// a grab 20 frames after a duplicate picked the original, because
+    /// the copy (on top of it) was not committed yet, and the session's
+    /// own recording replayed to another model.
     pub fn step(&mut self, frame: &interact::InputFrame) -> Option<ScriptCommand> {
         self.stats.frames += 1;
         while let Ok(c) = self.done.try_recv() {
             self.take(c);
         }
-        let cmd = self.session.step(frame, &self.doc);
-        if let Some(c) = &cmd {
-            self.stats.commands += 1;
-            self.send(Job::Apply(c.clone()));
-            let hands = self.acting_hands();
-            self.pending.push_back(hands);
-        }
+        self.held.push_back(frame.clone());
+        let cmd = self.step_held(CATCH_UP);
         // The palette's Save: after every command so far, off the frame
         // (the result shows in the stats and, if it fails, in the headset).
         for _ in 0..self.session.take_save_requests() {
@@ -256,7 +274,29 @@ impl Interaction {
         cmd
     }
 
-    pub(super) fn send(&mut self, job: Job) {
+    /// Steps held frames in order while no command of ours is pending, at
+    /// most `max` of them; returns the command the last one produced (the
+    /// next frames wait for its commit).
+    fn step_held(&mut self, max: usize) -> Option<ScriptCommand> {
+        for _ in 0..max {
+            if !self.pending.is_empty() {
+                break;
+            }
+            let f = self.held.pop_front()?;
+            if let Some(c) = self.session.step(&f, &self.doc) {
+                self.stats.commands += 1;
+                let hands = self.acting_hands();
+                if self.send(Job::Apply(c.clone())) {
+                    self.pending.push_back(hands);
+                }
+                return Some(c);
+            }
+        }
+        None
+    }
+
+    /// Hands `job` to the commit thread; false if it is gone.
+    pub(super) fn send(&mut self, job: Job) -> bool {
         let sent = self.jobs.as_ref().is_some_and(|j| j.send(job).is_ok());
         if !sent {
             // The commit thread is gone (it panicked): nothing more can be
@@ -265,6 +305,7 @@ impl Interaction {
                 .rejected
                 .push("the commit thread stopped; the command was not applied".into());
         }
+        sent
     }
 
     pub(super) fn take(&mut self, c: Committed) {
@@ -307,17 +348,26 @@ impl Interaction {
         }
     }
 
-    /// Waits until every command produced so far is applied, and takes in
-    /// the results.
+    /// Waits until every frame so far is stepped and every command they
+    /// produced is applied, and takes in the results.
     pub fn flush(&mut self) {
-        if self.pending.is_empty() {
-            return;
-        }
-        let (tx, rx) = mpsc::channel();
-        self.send(Job::Flush(tx));
-        let _ = rx.recv();
-        while let Ok(c) = self.done.try_recv() {
-            self.take(c);
+        loop {
+            if !self.pending.is_empty() {
+                let (tx, rx) = mpsc::channel();
+                self.send(Job::Flush(tx));
+                let _ = rx.recv();
+                while let Ok(c) = self.done.try_recv() {
+                    self.take(c);
+                }
+                if !self.pending.is_empty() {
+                    // The commit thread is gone: nothing will come back.
+                    return;
+                }
+            }
+            if self.held.is_empty() {
+                return;
+            }
+            self.step_held(usize::MAX);
         }
     }
 
@@ -368,6 +418,9 @@ impl Interaction {
     /// autosaver and anything is unsaved (or the file was never written).
     /// Returns whether it saved.
     pub fn save_now(&mut self) -> bool {
+        // The frames held for a commit first: their commands were made
+        // before the save was asked for.
+        self.flush();
         let (tx, rx) = mpsc::channel();
         self.send(Job::Save(tx));
         let saved = rx.recv().unwrap_or(false);

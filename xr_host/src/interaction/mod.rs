@@ -8,12 +8,16 @@
 //! to a commit thread that owns the [`OpLog`](shapewright::doc::OpLog): applying an op re-evaluates
 //! its object (a generalized-cylinder assembly re-unites all its parts,
 //! 70 to 160 ms for the teapot), which would drop several 90 Hz frames.
-//! The frame keeps stepping against the last committed document and
-//! picks up the new one (and its mesh) when the commit reports back;
-//! commands are applied strictly in the order they were produced.
-//! [`Interaction::flush`] waits for every pending commit: `replay` calls it
-//! after each frame, so the tool sees exactly what the core's
-//! [`shapewright::interact::replay`] shows it, and the result is bit-identical.
+//! The scene keeps being drawn every frame; the tool's input frames are
+//! held while a command of its own is being committed and stepped, in
+//! order, against the document that command made once it is in, so the
+//! tool never acts on a document older than its own commands (a grab
+//! right after a duplicate grabs the copy on however slow a machine), and
+//! a live session does exactly what the core's
+//! [`shapewright::interact::replay`] of its recorded input does, bit for
+//! bit. Commands are applied strictly in the order they were produced.
+//! [`Interaction::flush`] steps every held frame and waits for every
+//! commit: `replay` calls it after each frame (the same result, sooner).
 //!
 //! Persistence: an optional [`Autosaver`](shapewright_usd::Autosaver) on the commit thread saves the
 //! log as USD (with its history, so `run --open` continues it and undo
