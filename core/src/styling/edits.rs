@@ -379,8 +379,14 @@ impl CurveFillAuto {
 impl SurfaceEquilibrium {
     /// The smoother (`sharpen = false`) or sharpener along the path.
     /// Stopping before an overhang or a crease tighter than the print's
-    /// wall is not an error: the frames before the stop are kept.
-    pub fn apply_to(&self, net: &mut CurveNetwork, sharpen: bool) -> Result<u64, StylingError> {
+    /// `wall` (the document's) is not an error: the frames before the
+    /// stop are kept.
+    pub fn apply_to(
+        &self,
+        net: &mut CurveNetwork,
+        sharpen: bool,
+        wall: f64,
+    ) -> Result<u64, StylingError> {
         let path = check_path(&self.path)?;
         Budget::default().check_extent("path", &path)?;
         let f_ok = if sharpen {
@@ -410,7 +416,7 @@ impl SurfaceEquilibrium {
             radius: self.radius,
             max_step: self.max_step,
         };
-        let (frames, _stop) = hold_equilibrium(net, k, &self.weights, &hold, &path)?;
+        let (frames, _stop) = hold_equilibrium(net, k, &self.weights, &hold, &path, wall)?;
         Ok((net.patches[k].disp.len() * frames.max(1)) as u64)
     }
 }
@@ -418,16 +424,23 @@ impl SurfaceEquilibrium {
 impl SurfacePull {
     /// The puller along the path, stopping (not failing) before a frame
     /// that would make the patch overhang its boundary or crease it
-    /// tighter than the print's wall.
-    pub fn apply_to(&self, net: &mut CurveNetwork) -> Result<u64, StylingError> {
+    /// tighter than the print's `wall` (the document's).
+    pub fn apply_to(&self, net: &mut CurveNetwork, wall: f64) -> Result<u64, StylingError> {
         let path = check_path(&self.path)?;
         if !((0.0..=1.0).contains(&self.u0) && (0.0..=1.0).contains(&self.v0)) {
             return Err(StylingError::BadParameter("u0 and v0 must be in [0, 1]"));
         }
         let k = self.patch.0;
         net.patch(k)?;
-        let (frames, _stop) =
-            hold_pull(net, k, &self.weights, (self.u0, self.v0), self.wpp, &path)?;
+        let (frames, _stop) = hold_pull(
+            net,
+            k,
+            &self.weights,
+            (self.u0, self.v0),
+            self.wpp,
+            &path,
+            wall,
+        )?;
         Ok((net.patches[k].disp.len() * frames.max(1)) as u64)
     }
 }

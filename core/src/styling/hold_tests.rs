@@ -148,7 +148,7 @@ fn no_sharpener_setting_makes_a_patch_overhang_or_refuse_to_print() {
             max_step: None,
         };
         let path: Vec<DVec3> = still.iter().map(|p| DVec3::from_array(*p)).collect();
-        let (frames, stop) = hold_equilibrium(&mut held, 0, &WEIGHTS, &hold, &path).unwrap();
+        let (frames, stop) = hold_equilibrium(&mut held, 0, &WEIGHTS, &hold, &path, WALL).unwrap();
         assert_eq!(held.patches[0].disp, net.patches[0].disp);
         let (down, wide) = overhang(&net, 0.15);
         println!(
@@ -172,6 +172,57 @@ fn no_sharpener_setting_makes_a_patch_overhang_or_refuse_to_print() {
 }
 
 const WEIGHTS: SurfaceWeights = SurfaceWeights { wb: 1.0, ws: 0.0 };
+
+/// The default print wall (a document's until `set_wall_thickness`).
+const WALL: f64 = 0.002;
+
+/// Issue 33 (the crease stop's limits, 2026-11-30): the held tools
+/// stopped at creases of the default 2 mm wall whatever wall the document
+/// asked for, so a patch sharpened in a document with 10 mm walls did not
+/// print (its shell passed through itself). They stop at the document's
+/// wall now: the hexagon's strongest sharpener stops lower than with 2 mm
+/// walls, and the patch prints with its 10 mm walls.
+#[test]
+fn the_sharpener_stops_at_the_document_s_wall() {
+    assert_eq!(WALL, PrintSettings::default().wall_thickness);
+    let still: Vec<[f64; 3]> = vec![[0.0, 0.0, 0.05]; 72];
+    let mut heights = Vec::new();
+    for wall in [WALL, 0.01] {
+        let mut ops: Vec<Op> = vec![serde_json::from_str(&format!(
+            r#"{{"op":"set_wall_thickness","thickness":{wall}}}"#
+        ))
+        .unwrap()];
+        ops.extend(ngon_ops(6, 0.15, 0.047));
+        let mut log = log_of(&ops);
+        let before = net_of(&log);
+        log.apply(sharpen(2.0, 100.0, &still, "")).unwrap();
+        let net = net_of(&log);
+        // The op stops where the hold with that wall stops.
+        let mut held = before.clone();
+        let hold = EquilibriumHold {
+            f: 2.0,
+            wq_max: 100.0,
+            radius: None,
+            max_step: None,
+        };
+        let path: Vec<DVec3> = still.iter().map(|p| DVec3::from_array(*p)).collect();
+        let (frames, stop) = hold_equilibrium(&mut held, 0, &WEIGHTS, &hold, &path, wall).unwrap();
+        assert_eq!(held.patches[0].disp, net.patches[0].disp, "{wall} m walls");
+        assert_eq!(stop, Some(SurfaceStop::Crease), "{wall} m walls");
+        println!(
+            "{wall} m walls: stopped after {frames} frames at {:.4} m",
+            centre_z(&net)
+        );
+        heights.push(centre_z(&net));
+        let printed = print_document(log.document(), &PrintSettings::default());
+        assert!(
+            printed.is_ok(),
+            "{wall} m walls: {}",
+            printed.err().unwrap()
+        );
+    }
+    assert!(heights[1] < heights[0], "{heights:?}");
+}
 
 /// The equilibrium weight a global tool took patch 0 of `before` to in
 /// `after`: the ratio of their distances from the minimal displacement,
@@ -204,7 +255,7 @@ fn the_sharpener_stops_before_a_crease_tighter_than_the_wall() {
             max_step: None,
         };
         let path = vec![DVec3::from_array(at); 72];
-        let (frames, stop) = hold_equilibrium(&mut net, 0, &WEIGHTS, &hold, &path).unwrap();
+        let (frames, stop) = hold_equilibrium(&mut net, 0, &WEIGHTS, &hold, &path, WALL).unwrap();
         println!(
             "radius {radius:?}: {frames} frames, stop {stop:?}, centre {:.4} m",
             centre_z(&net)

@@ -36,8 +36,12 @@
 //!     back over its boundary.
 //!   - *Crease*: an interior edge's crease `h / tan(θ / 2)` (`θ` the angle
 //!     between its two triangles' normals, `h` the smaller one's height
-//!     over the edge) falls below the print's default wall `t` (2 mm;
-//!     or below the edge's crease at activation, when that was tighter).
+//!     over the edge) falls below the document's wall `t`
+//!     (`set_wall_thickness`, 2 mm by default; or below the edge's crease
+//!     at activation, when that was tighter). The wall is the one the
+//!     document has when the op applies, so a replay stops where the live
+//!     tool did; a wall thickened later is checked by the print, which
+//!     refuses a shell that would pass through itself.
 //!     Offsetting the two faces by `t` moves their meeting line
 //!     `t tan(θ / 2)` into each face: past the opposite corner when the
 //!     crease is below `t`, and the offset sheet turns over there. This is
@@ -240,7 +244,13 @@ impl SurfaceGuard {
     /// Watches the mesh `points`/`triangles` as it is at activation;
     /// `samples` (where each point comes from) say which triangles meet
     /// across the seams of the patch's mesh.
-    pub(crate) fn new(points: &[DVec3], triangles: Vec<[u32; 3]>, samples: &[MeshSample]) -> Self {
+    /// `wall` is the print's wall thickness.
+    pub(crate) fn new(
+        points: &[DVec3],
+        triangles: Vec<[u32; 3]>,
+        samples: &[MeshSample],
+        wall: f64,
+    ) -> Self {
         let normals: Vec<DVec3> = triangles.iter().map(|t| normal_of(points, t)).collect();
         let area: f64 = normals.iter().map(|n| n.length()).sum();
         // The vector area of a disk-like patch is its boundary's: the
@@ -257,7 +267,6 @@ impl SurfaceGuard {
             // area): each triangle keeps facing the way it did.
             normals.iter().map(|n| n.try_normalize()).collect()
         };
-        let wall = print_wall();
         let edges = interior_edges(&triangles, samples)
             .into_iter()
             .filter(|(_, [s, t])| {
@@ -313,13 +322,6 @@ impl SurfaceGuard {
     }
 }
 
-/// The wall a patch is printed with by default
-/// ([`crate::print::PrintSettings`]): twice what the default, centred
-/// shell offsets the surface by on each side.
-fn print_wall() -> f64 {
-    crate::print::PrintSettings::default().wall_thickness
-}
-
 /// The edges of `triangles` shared by exactly two of them, as their two
 /// ends and two triangles; points are the same when their samples are
 /// (an n-sided patch's mesh is one grid per corner, sharing its spokes
@@ -364,14 +366,17 @@ fn greville(n: usize, i: usize) -> f64 {
 }
 
 /// Runs a held smoother or sharpener along `path` (model space) on patch
-/// `k` of `net`; returns the frames applied and why it stopped early, if
-/// it did. The patch's displacement is left as after the last frame taken.
+/// `k` of `net`, stopping before a crease tighter than `wall` (the
+/// document's print wall); returns the frames applied and why it stopped
+/// early, if it did. The patch's displacement is left as after the last
+/// frame taken.
 pub fn hold_equilibrium(
     net: &mut CurveNetwork,
     k: usize,
     weights: &SurfaceWeights,
     hold: &EquilibriumHold,
     path: &[DVec3],
+    wall: f64,
 ) -> Result<(usize, Option<SurfaceStop>), StylingError> {
     let mut sys = net.surface_system(k, weights)?;
     let n = net.surface_n as usize;
@@ -386,7 +391,7 @@ pub fn hold_equilibrium(
         .map(|&l| MeshSample::At(DVec2::new(greville(n, l / n), greville(n, l % n))))
         .collect();
     let sites = PatchSampler::new(net, k, &sites_at);
-    let guard = SurfaceGuard::new(&mesh.eval(&d0), triangles, &samples);
+    let guard = SurfaceGuard::new(&mesh.eval(&d0), triangles, &samples, wall);
     let e: Vec<DVec3> = free
         .iter()
         .map(|&l| DVec3::from_array(d0[l]) - DVec3::from_array(dmin[l]))
@@ -454,8 +459,8 @@ pub fn hold_equilibrium(
 /// Runs the held puller on patch `k` of `net`: the patch point at
 /// `(u0, v0)` attracted to each target of `path` in turn (weight `wpp`),
 /// stopping before a frame that would make the patch overhang its
-/// boundary. Returns the frames applied and the stop, as
-/// [`hold_equilibrium`].
+/// boundary or crease it tighter than `wall`. Returns the frames applied
+/// and the stop, as [`hold_equilibrium`].
 pub fn hold_pull(
     net: &mut CurveNetwork,
     k: usize,
@@ -463,6 +468,7 @@ pub fn hold_pull(
     (u0, v0): (f64, f64),
     wpp: f64,
     path: &[DVec3],
+    wall: f64,
 ) -> Result<(usize, Option<SurfaceStop>), StylingError> {
     let mut sys = net.surface_system(k, weights)?;
     let base0 = net.patch_base_point(k, u0, v0)?;
@@ -470,7 +476,7 @@ pub fn hold_pull(
     Budget::default().check_tool_work("path", path.len(), samples.len())?;
     let mesh = PatchSampler::new(net, k, &samples);
     let d0 = net.patches[k].disp.clone();
-    let guard = SurfaceGuard::new(&mesh.eval(&d0), triangles, &samples);
+    let guard = SurfaceGuard::new(&mesh.eval(&d0), triangles, &samples, wall);
     let mut why = None;
     let mut accept = |d: &[[f64; 3]]| match guard.check(&mesh.eval(d)) {
         None => true,

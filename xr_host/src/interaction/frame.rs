@@ -229,7 +229,7 @@ impl Interaction {
     ///
     /// The tool never steps against a document older than the commands it
     /// produced: while one of ours is being committed, frames are held and
-    /// stepped, in order, once its document is in (up to [`CATCH_UP`] a
+    /// stepped, in order, once its document is in (up to `CATCH_UP`, 8, a
     /// call, so a long commit's backlog is worked off over a few frames,
     /// not in one). The scene keeps being drawn meanwhile; the tool's own
     /// feedback waits for the commit. So the tool sees exactly what the

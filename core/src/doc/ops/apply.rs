@@ -45,6 +45,12 @@ impl EditCx<'_> {
         }
     }
 
+    /// The document's print settings (wall thickness, printer) before
+    /// this op.
+    pub fn print_setup(&self) -> &crate::print::PrintSetup {
+        self.doc.print_setup()
+    }
+
     /// Records `amount` units of work beyond meshing (see
     /// [`Document::add_work`]), so checkpoints stay spaced by work done.
     pub fn add_work(&mut self, amount: u64) {

@@ -15,30 +15,33 @@ impl ObjectCreate for st::CurveNetworkCreate {
 }
 
 macro_rules! network_edits {
-    ($($ty:ty => |$op:ident, $net:ident| $body:expr),* $(,)?) => {$(
+    ($($ty:ty => |$op:ident, $net:ident, $cx:ident| $body:expr),* $(,)?) => {$(
         impl ObjectEdit for $ty {
             type Target = CurveNetwork;
-            fn apply(&self, $net: &mut CurveNetwork, cx: &mut EditCx<'_>) -> Result<(), OpError> {
+            fn apply(&self, $net: &mut CurveNetwork, $cx: &mut EditCx<'_>) -> Result<(), OpError> {
                 let $op = self;
-                cx.add_work($body?);
+                let work = $body?;
+                $cx.add_work(work);
                 Ok(())
             }
         }
     )*};
 }
 
+// The held surface tools stop before a crease tighter than the document's
+// print wall (`set_wall_thickness`), as it is when the op applies.
 network_edits!(
-    st::CurveDraw => |op, net| op.apply_to(net),
-    st::CurveSmooth => |op, net| op.apply_to(net),
-    st::CurveSharpen => |op, net| op.apply_to(net),
-    st::CurvePull => |op, net| op.apply_to(net),
-    st::CurveAttract => |op, net| op.apply_to(net),
-    st::CurveDelete => |op, net| op.apply_to(net),
-    st::CurveFillLoop => |op, net| op.apply_to(net),
-    st::CurveFillAuto => |op, net| op.apply_to(net),
-    st::SurfaceSmooth => |op, net| op.0.apply_to(net, false),
-    st::SurfaceSharpen => |op, net| op.0.apply_to(net, true),
-    st::SurfacePull => |op, net| op.apply_to(net),
+    st::CurveDraw => |op, net, cx| op.apply_to(net),
+    st::CurveSmooth => |op, net, cx| op.apply_to(net),
+    st::CurveSharpen => |op, net, cx| op.apply_to(net),
+    st::CurvePull => |op, net, cx| op.apply_to(net),
+    st::CurveAttract => |op, net, cx| op.apply_to(net),
+    st::CurveDelete => |op, net, cx| op.apply_to(net),
+    st::CurveFillLoop => |op, net, cx| op.apply_to(net),
+    st::CurveFillAuto => |op, net, cx| op.apply_to(net),
+    st::SurfaceSmooth => |op, net, cx| op.0.apply_to(net, false, cx.print_setup().wall_thickness),
+    st::SurfaceSharpen => |op, net, cx| op.0.apply_to(net, true, cx.print_setup().wall_thickness),
+    st::SurfacePull => |op, net, cx| op.apply_to(net, cx.print_setup().wall_thickness),
 );
 
 /// Drawing in the held modeling frame changes the network's curves and its
