@@ -31,9 +31,20 @@ impl Progress {
 
     /// Notes that `done` of `total` steps are done; prints when due.
     pub fn step(&mut self, done: usize, total: usize) {
-        let Some(line) = self.due(done, total, Instant::now()) else {
-            return;
-        };
+        if let Some(line) = self.due(done, total, Instant::now()) {
+            self.show(&line);
+        }
+    }
+
+    /// Notes that `fraction` (0 to 1) of the work is done, `detail` saying
+    /// where it is (e.g. "uniting objects 3/9"); prints when due.
+    pub fn fraction(&mut self, fraction: f64, detail: &str) {
+        if let Some(line) = self.due_fraction(fraction, detail, Instant::now()) {
+            self.show(&line);
+        }
+    }
+
+    fn show(&self, line: &str) {
         let mut err = std::io::stderr().lock();
         let _ = if self.tty {
             write!(err, "\r{line}")
@@ -42,29 +53,63 @@ impl Progress {
         };
     }
 
-    /// The line to show at `now`, if one is due (and notes it shown).
-    fn due(&mut self, done: usize, total: usize, now: Instant) -> Option<String> {
+    /// Whether a line is due at `now` (and notes it shown if so).
+    fn due_at(&mut self, now: Instant) -> bool {
         let since = self.last.unwrap_or(self.start);
-        if now.saturating_duration_since(since) < self.every || done >= total {
-            return None;
+        if now.saturating_duration_since(since) < self.every {
+            return false;
         }
         self.last = Some(now);
+        true
+    }
+
+    fn seconds(&self, now: Instant) -> f64 {
+        now.saturating_duration_since(self.start).as_secs_f64()
+    }
+
+    /// The line to show at `now`, if one is due (and notes it shown).
+    fn due(&mut self, done: usize, total: usize, now: Instant) -> Option<String> {
+        if done >= total || !self.due_at(now) {
+            return None;
+        }
         let pct = 100.0 * done as f64 / total.max(1) as f64;
         Some(format!(
             "{}: {done}/{total} ({pct:.0}%), {:.0} s",
             self.what,
-            now.saturating_duration_since(self.start).as_secs_f64()
+            self.seconds(now)
+        ))
+    }
+
+    /// [`Self::due`] for [`Self::fraction`].
+    fn due_fraction(&mut self, fraction: f64, detail: &str, now: Instant) -> Option<String> {
+        if fraction >= 1.0 || !self.due_at(now) {
+            return None;
+        }
+        Some(format!(
+            "{}: {:.0}% ({detail}), {:.0} s",
+            self.what,
+            100.0 * fraction.max(0.0),
+            self.seconds(now)
         ))
     }
 
     /// Ends the report: a closing line with the total time, only if
     /// progress was shown.
     pub fn finish(self, total: usize) {
+        self.close(&format!("{total}/{total}"));
+    }
+
+    /// Ends a [`Self::fraction`] report as [`Self::finish`] does.
+    pub fn finish_fraction(self) {
+        self.close("done");
+    }
+
+    fn close(self, done: &str) {
         if self.last.is_none() {
             return;
         }
         let line = format!(
-            "{}: {total}/{total} in {:.1} s",
+            "{}: {done} in {:.1} s",
             self.what,
             self.start.elapsed().as_secs_f64()
         );
@@ -95,5 +140,20 @@ mod tests {
         assert!(p.due(40, 100, at(2000)).is_some());
         // The last step is the closing line's job.
         assert_eq!(p.due(100, 100, at(9000)), None);
+    }
+
+    #[test]
+    fn a_fraction_is_shown_as_a_percentage_with_where_the_work_is() {
+        let mut p = Progress::new("exporting out.stl");
+        let t0 = p.start;
+        let at = |ms: u64| t0 + Duration::from_millis(ms);
+        assert_eq!(p.due_fraction(0.1, "preparing objects 1/2", at(500)), None);
+        assert_eq!(
+            p.due_fraction(0.35, "uniting objects 3/9", at(1200))
+                .as_deref(),
+            Some("exporting out.stl: 35% (uniting objects 3/9), 1 s")
+        );
+        assert_eq!(p.due_fraction(0.5, "uniting objects 5/9", at(1900)), None);
+        assert_eq!(p.due_fraction(1.0, "done", at(9000)), None);
     }
 }

@@ -135,21 +135,9 @@ fn no_sharpener_setting_makes_a_patch_overhang_or_refuse_to_print() {
             down, 0,
             "{n}-gon: the pulled patch has triangles facing down"
         );
-        let before = net_of(&log);
+        let (before, frames, stop) = sharpen_strongest(&mut log, &still, WALL);
         let z0 = centre_z(&before);
-        log.apply(sharpen(2.0, 100.0, &still, "")).unwrap();
         let net = net_of(&log);
-        // The same hold run directly, for its stop, and the w_q it reached.
-        let mut held = before.clone();
-        let hold = EquilibriumHold {
-            f: 2.0,
-            wq_max: 100.0,
-            radius: None,
-            max_step: None,
-        };
-        let path: Vec<DVec3> = still.iter().map(|p| DVec3::from_array(*p)).collect();
-        let (frames, stop) = hold_equilibrium(&mut held, 0, &WEIGHTS, &hold, &path, WALL).unwrap();
-        assert_eq!(held.patches[0].disp, net.patches[0].disp);
         let (down, wide) = overhang(&net, 0.15);
         println!(
             "{n}-gon: centre {z0:.4} -> {:.4} m (w_q {:.1}, {frames} frames, stop {stop:?}), {down} triangles facing down, {wide:.4} m past the boundary",
@@ -173,6 +161,35 @@ fn no_sharpener_setting_makes_a_patch_overhang_or_refuse_to_print() {
 
 const WEIGHTS: SurfaceWeights = SurfaceWeights { wb: 1.0, ws: 0.0 };
 
+/// Applies the strongest sharpener a file may ask for (f = 2, w_q up to
+/// 100, global, unbounded steps) along `still` to patch 0 of `log`'s
+/// network, and runs the same hold directly with the print wall `wall`
+/// (the document's), which must stop at the same displacement. Returns
+/// the network before, the frames the hold took and why it stopped.
+fn sharpen_strongest(
+    log: &mut OpLog,
+    still: &[[f64; 3]],
+    wall: f64,
+) -> (CurveNetwork, usize, Option<SurfaceStop>) {
+    let before = net_of(log);
+    log.apply(sharpen(2.0, 100.0, still, "")).unwrap();
+    let mut held = before.clone();
+    let hold = EquilibriumHold {
+        f: 2.0,
+        wq_max: 100.0,
+        radius: None,
+        max_step: None,
+    };
+    let path: Vec<DVec3> = still.iter().map(|p| DVec3::from_array(*p)).collect();
+    let (frames, stop) = hold_equilibrium(&mut held, 0, &WEIGHTS, &hold, &path, wall).unwrap();
+    assert_eq!(
+        held.patches[0].disp,
+        net_of(log).patches[0].disp,
+        "{wall} m walls"
+    );
+    (before, frames, stop)
+}
+
 /// The default print wall (a document's until `set_wall_thickness`).
 const WALL: f64 = 0.002;
 
@@ -194,20 +211,8 @@ fn the_sharpener_stops_at_the_document_s_wall() {
         .unwrap()];
         ops.extend(ngon_ops(6, 0.15, 0.047));
         let mut log = log_of(&ops);
-        let before = net_of(&log);
-        log.apply(sharpen(2.0, 100.0, &still, "")).unwrap();
+        let (_, frames, stop) = sharpen_strongest(&mut log, &still, wall);
         let net = net_of(&log);
-        // The op stops where the hold with that wall stops.
-        let mut held = before.clone();
-        let hold = EquilibriumHold {
-            f: 2.0,
-            wq_max: 100.0,
-            radius: None,
-            max_step: None,
-        };
-        let path: Vec<DVec3> = still.iter().map(|p| DVec3::from_array(*p)).collect();
-        let (frames, stop) = hold_equilibrium(&mut held, 0, &WEIGHTS, &hold, &path, wall).unwrap();
-        assert_eq!(held.patches[0].disp, net.patches[0].disp, "{wall} m walls");
         assert_eq!(stop, Some(SurfaceStop::Crease), "{wall} m walls");
         println!(
             "{wall} m walls: stopped after {frames} frames at {:.4} m",
