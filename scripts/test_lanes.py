@@ -19,7 +19,8 @@ failing binary's whole output; the exit status is 1 if any failed.
 Tests that measure time measure their own process's CPU time
 (`core/tests/common`), so a binary beside them does not change what they
 assert; the waiting lane's binaries share nothing with the others (each
-server and runtime on its own free port and directories).
+server and runtime on its own free port and directories; every binary that
+starts a NATS server is in the waiting lane).
 
 The computing lane runs at `nice` 10, as CI's background builds do: the
 waiting lane's hosts get the CPU first when they need it, as they did
@@ -42,8 +43,16 @@ import sys
 import threading
 import time
 
-# The binaries that wait: (package, test target).
-WAITING = ["monado", "testrt", "dishonest", "nats"]
+# The binaries that wait (test targets). `shared_session` computes little
+# too, and it is here above all because it starts NATS servers: a server
+# `nats` restarts keeps its port, which a test in the other lane could
+# take while it is down.
+WAITING = ["monado", "testrt", "dishonest", "nats", "shared_session"]
+
+# A binary still running after this long is stopped and shown as failed
+# with what it printed (the whole suite's longest takes 100 s), so a hang
+# says where it is instead of stalling CI silently.
+TIMEOUT_SECONDS = 1200
 
 
 def test_binaries(cargo_args: list[str]) -> list[dict]:
@@ -83,23 +92,31 @@ class Lane(threading.Thread):
         for b in self.bins:
             env = dict(os.environ, CARGO_MANIFEST_DIR=b["dir"])
             start = time.monotonic()
-            p = subprocess.run(
-                ["nice", "-n", str(self.nice), b["exe"], "-q"],
-                cwd=b["dir"],
-                env=env,
-                stdout=subprocess.PIPE,
-                stderr=subprocess.STDOUT,
-                text=True,
-                check=False,
-            )
+            try:
+                p = subprocess.run(
+                    ["nice", "-n", str(self.nice), b["exe"], "-q"],
+                    cwd=b["dir"],
+                    env=env,
+                    stdout=subprocess.PIPE,
+                    stderr=subprocess.STDOUT,
+                    text=True,
+                    check=False,
+                    timeout=TIMEOUT_SECONDS,
+                )
+                code, out = p.returncode, p.stdout
+            except subprocess.TimeoutExpired as e:
+                partial = e.stdout or ""
+                if isinstance(partial, bytes):
+                    partial = partial.decode(errors="replace")
+                code, out = "timeout", partial + f"\n(stopped after {TIMEOUT_SECONDS} s)\n"
             took = time.monotonic() - start
             label = f"{b['name']} ({b['kind']})"
-            summary = [line for line in p.stdout.splitlines() if line.startswith("test result:")]
+            summary = [line for line in out.splitlines() if line.startswith("test result:")]
             with self.lock:
-                if p.returncode != 0:
+                if code != 0:
                     self.failed.append(label)
-                    print(f"---- {label} FAILED after {took:.1f} s [{self.name} lane]")
-                    print(p.stdout, end="")
+                    print(f"---- {label} FAILED ({code}) after {took:.1f} s [{self.name} lane]")
+                    print(out, end="")
                 else:
                     result = summary[-1] if summary else "no tests"
                     print(f"{took:6.1f} s  {label} [{self.name}]: {result}")

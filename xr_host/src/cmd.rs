@@ -121,8 +121,8 @@ pub fn print_for_scaled(doc: &Document, out: &Path, scale: PrintScale) -> Result
 /// Runs the print job `job` on a thread of its own and reports its
 /// progress on stderr (issue 37: a 2-million-triangle export took 16 s
 /// without a word): silent for the first second, then a line a second
-/// with the share done and the stage. Ctrl-C cancels: the file is written
-/// crash-safely after the job, so nothing is left half-written.
+/// with the share done and the stage. Ctrl-C ends the command; the file
+/// is written crash-safely after the job, so nothing is half-written.
 fn with_progress<T: Send>(what: &str, job: impl FnOnce(&PrintControl) -> T + Send) -> T {
     let control = PrintControl::new();
     let mut progress = shapewright_xr::progress::Progress::new(what);

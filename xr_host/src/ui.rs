@@ -6,7 +6,7 @@
 //! and picking are the core's, so this only draws.
 
 use glam::{DVec3, Quat, Vec3};
-use shapewright::interact::{palette::facing, Hand, PaletteRole, PaletteView, Session};
+use shapewright::interact::{palette::facing, Frame, Hand, PaletteRole, PaletteView, Session};
 use shapewright::math::fm::DetMath as _;
 
 use crate::gfx::text::{quad, Baseline, Font};
@@ -81,9 +81,10 @@ fn lines_at(
     }
 }
 
-/// Where the dominant hand is (controller grip, else tracked palm).
-fn hand_position(session: &Session, hand: Hand) -> Option<DVec3> {
-    let f = session.last_frame()?;
+/// Where the dominant hand is in `frame` (controller grip, else tracked
+/// palm).
+fn hand_position(frame: Option<&Frame>, hand: Hand) -> Option<DVec3> {
+    let f = frame?;
     f.controller(hand)
         .and_then(|c| c.grip)
         .map(|g| g.position)
@@ -102,6 +103,7 @@ fn hand_position(session: &Session, hand: Hand) -> Option<DVec3> {
 pub fn overlay(
     font: &mut Font,
     session: &Session,
+    frame: Option<&Frame>,
     message: Option<(&str, f64)>,
     print: Option<&shapewright::print::PrintStatus>,
     out: &mut Vec<LineVertex>,
@@ -110,8 +112,8 @@ pub fn overlay(
     if let Some(view) = session.palette() {
         palette(font, view, out);
     }
-    let head = session.last_frame().and_then(|f| f.head);
-    let Some(hand) = hand_position(session, Hand::Right) else {
+    let head = frame.and_then(|f| f.head);
+    let Some(hand) = hand_position(frame, Hand::Right) else {
         return;
     };
     let p = session.preview();
@@ -264,11 +266,12 @@ pub fn tool_marks(session: &Session, out: &mut Vec<LineVertex>) {
     }
 }
 
-/// The hands as skeletons (wrist to each finger's tip) and controllers as
-/// small boxes at their grips, so the user sees what the system tracks.
-pub fn hands_and_controllers(session: &Session, out: &mut Vec<LineVertex>) {
+/// The hands of `frame` as skeletons (wrist to each finger's tip) and its
+/// controllers as small boxes at their grips, so the user sees what the
+/// system tracks.
+pub fn hands_and_controllers(frame: Option<&Frame>, out: &mut Vec<LineVertex>) {
     use shapewright::interact::Joint;
-    let Some(f) = session.last_frame() else {
+    let Some(f) = frame else {
         return;
     };
     for h in f.hands.iter().flatten() {

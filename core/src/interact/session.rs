@@ -64,6 +64,9 @@ struct Modeler {
 /// Raw frames in, at most one command per frame out.
 pub struct Session {
     sanitizer: Sanitizer,
+    /// The sanitizer of [`Session::display_frame`] (its own state, so the
+    /// tool's input counts are not touched).
+    display_sanitizer: Sanitizer,
     classifiers: [GestureClassifier; 2],
     gestures: [GestureState; 2],
     model: Similarity,
@@ -120,6 +123,7 @@ impl Session {
         let gestures = [classifiers[0].state(), classifiers[1].state()];
         Self {
             sanitizer: Sanitizer::default(),
+            display_sanitizer: Sanitizer::default(),
             classifiers,
             gestures,
             model,
@@ -138,17 +142,8 @@ impl Session {
         if self.modeler.is_some() {
             palette_cmd = self.palette_step(&mut frame, doc);
         }
+        self.hands_from_controllers(&mut frame);
         let tool = &mut self.tools[self.active];
-        if tool.uses_hands() {
-            for hand in Hand::BOTH {
-                let i = hand.index();
-                if frame.hands[i].is_none() {
-                    frame.hands[i] = frame.controllers[i]
-                        .as_ref()
-                        .and_then(|c| controller_hand(c, hand));
-                }
-            }
-        }
         for (i, c) in self.classifiers.iter_mut().enumerate() {
             self.gestures[i] = c.update(frame.time, frame.hands[i].as_ref(), frame.head.as_ref());
         }
@@ -168,6 +163,33 @@ impl Session {
         };
         self.last_frame = Some(frame);
         out
+    }
+
+    /// A tool that works with hands gets a hand made from each controller
+    /// where no hand is tracked.
+    fn hands_from_controllers(&self, frame: &mut Frame) {
+        if self.tools[self.active].uses_hands() {
+            for hand in Hand::BOTH {
+                let i = hand.index();
+                if frame.hands[i].is_none() {
+                    frame.hands[i] = frame.controllers[i]
+                        .as_ref()
+                        .and_then(|c| controller_hand(c, hand));
+                }
+            }
+        }
+    }
+
+    /// The newest input as the user's head, hands and controllers are
+    /// drawn from it, for a frame the tool has not stepped yet (a host
+    /// holds frames while a command of the tool's is being committed):
+    /// sanitized as [`Session::step`] does, by a sanitizer of its own, with
+    /// the hands the tool makes from controllers. `None` when the frame is
+    /// unusable (bad time).
+    pub fn display_frame(&mut self, raw: &InputFrame) -> Option<Frame> {
+        let mut frame = self.display_sanitizer.accept(raw)?;
+        self.hands_from_controllers(&mut frame);
+        Some(frame)
     }
 
     /// The palette part of a modeler frame: open or close it, lay it out,

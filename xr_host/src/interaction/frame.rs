@@ -2,7 +2,7 @@
 //! committed document, hands commands to the commit thread and brings the
 //! [`Scene`] up to date.
 
-use std::sync::mpsc::{self, Receiver, Sender};
+use std::sync::mpsc::{self, Receiver, Sender, TryRecvError};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -36,7 +36,8 @@ pub enum InteractionError {
 /// Counters of an interaction run.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct InteractionStats {
-    /// Frames stepped.
+    /// Frames received (each stepped by the tool, at once or once the
+    /// commit it waited for landed).
     pub frames: u64,
     /// Commands the tool produced.
     pub commands: u64,
@@ -59,9 +60,10 @@ pub struct InteractionStats {
     pub others_drawn: usize,
 }
 
-/// The most held frames one [`Interaction::step`] steps (see there): at
-/// 90 Hz, a backlog of a 160-ms commit (15 frames) is worked off in 2
-/// frames, a 2-s one in 23 (a quarter of a second).
+/// The most held frames one [`Interaction::step`] steps (see there). Each
+/// call also adds its own frame, so a backlog shrinks by 7 a frame: at
+/// 90 Hz a 160-ms commit's (15 frames) is worked off in 3 frames, a 2-s
+/// one's (180) in 26 (0.3 s).
 pub(super) const CATCH_UP: usize = 8;
 
 /// A session, the commit thread (log and autosaver) and the scene.
@@ -91,6 +93,10 @@ pub struct Interaction {
     /// committed: the tool steps them, in order, once the document that
     /// command made is in (see [`Interaction::step`]).
     pub(super) held: std::collections::VecDeque<interact::InputFrame>,
+    /// The newest frame as the head, hands and controllers are drawn from
+    /// it ([`Session::display_frame`]): they follow the user while the
+    /// tool's frames are held.
+    pub(super) drawn: Option<interact::Frame>,
     pub(super) scene: Scene,
     pub(super) stats: InteractionStats,
     pub(super) haptics: Vec<Haptic>,
@@ -192,6 +198,7 @@ impl Interaction {
             worker: Some(worker),
             pending: Default::default(),
             held: Default::default(),
+            drawn: None,
             scene,
             stats: InteractionStats::default(),
             haptics: Vec::new(),
@@ -225,14 +232,17 @@ impl Interaction {
 
     /// One frame: take in finished commits, step the session against the
     /// last committed document, hand its command (if any) to the commit
-    /// thread, update the scene. Returns the command.
+    /// thread, update the scene. Returns the command made in this call
+    /// (by this frame, or by a held one stepped now; commands of frames
+    /// stepped by [`Interaction::flush`] are counted in the stats only).
     ///
     /// The tool never steps against a document older than the commands it
     /// produced: while one of ours is being committed, frames are held and
     /// stepped, in order, once its document is in (up to `CATCH_UP`, 8, a
     /// call, so a long commit's backlog is worked off over a few frames,
-    /// not in one). The scene keeps being drawn meanwhile; the tool's own
-    /// feedback waits for the commit. So the tool sees exactly what the
+    /// not in one). The scene keeps being drawn meanwhile, the head, hands
+    /// and controllers from the newest frame; the tool's own feedback (its
+    /// rays, previews, palette) waits for the commit. So the tool sees exactly what the
     /// core's [`shapewright::interact::replay`] of the same input shows
     /// it, however long a commit takes. Before (2026-11-30), frames were
     /// stepped against the last committed document: on a loaded machine
@@ -241,18 +251,21 @@ impl Interaction {
     /// own recording replayed to another model.
     pub fn step(&mut self, frame: &interact::InputFrame) -> Option<ScriptCommand> {
         self.stats.frames += 1;
-        while let Ok(c) = self.done.try_recv() {
-            self.take(c);
+        loop {
+            match self.done.try_recv() {
+                Ok(c) => self.take(c),
+                Err(TryRecvError::Empty) => break,
+                Err(TryRecvError::Disconnected) => {
+                    self.commit_thread_gone();
+                    break;
+                }
+            }
+        }
+        if let Some(f) = self.session.display_frame(frame) {
+            self.drawn = Some(f);
         }
         self.held.push_back(frame.clone());
         let cmd = self.step_held(CATCH_UP);
-        // The palette's Save: after every command so far, off the frame
-        // (the result shows in the stats and, if it fails, in the headset).
-        for _ in 0..self.session.take_save_requests() {
-            let (tx, _ignored) = mpsc::channel();
-            self.send(Job::Save(tx));
-            self.stats.save_requests += 1;
-        }
         self.send_presence();
         self.update_preview();
         // A tick when a ray starts pointing at something.
@@ -283,16 +296,41 @@ impl Interaction {
                 break;
             }
             let f = self.held.pop_front()?;
-            if let Some(c) = self.session.step(&f, &self.doc) {
+            let cmd = self.session.step(&f, &self.doc);
+            if let Some(c) = &cmd {
                 self.stats.commands += 1;
                 let hands = self.acting_hands();
                 if self.send(Job::Apply(c.clone())) {
                     self.pending.push_back(hands);
                 }
-                return Some(c);
+            }
+            // The palette's Save: after every command so far, off the
+            // frame (the result shows in the stats and, if it fails, in
+            // the headset).
+            for _ in 0..self.session.take_save_requests() {
+                let (tx, _ignored) = mpsc::channel();
+                self.send(Job::Save(tx));
+                self.stats.save_requests += 1;
+            }
+            if cmd.is_some() {
+                return cmd;
             }
         }
         None
+    }
+
+    /// The commit thread ended (it panicked): the commands it did not
+    /// report back are lost, the tool goes on against the last document
+    /// (nothing more can be committed), and the headset says so.
+    fn commit_thread_gone(&mut self) {
+        if self.pending.is_empty() {
+            return;
+        }
+        self.pending.clear();
+        let e = "the commit thread stopped; the last edits were not applied".to_string();
+        let now = self.drawn.as_ref().map_or(0.0, |f| f.time);
+        self.refused = Some((e.clone(), now));
+        self.stats.rejected.push(e);
     }
 
     /// Hands `job` to the commit thread; false if it is gone.
@@ -468,8 +506,8 @@ impl Interaction {
             lines.push(v(model.apply(w[1]), SKETCH_COLOR));
         }
         crate::ui::tool_marks(&self.session, lines);
-        crate::ui::hands_and_controllers(&self.session, lines);
-        let now = self.session.last_frame().map_or(0.0, |f| f.time);
+        crate::ui::hands_and_controllers(self.drawn.as_ref(), lines);
+        let now = self.drawn.as_ref().map_or(0.0, |f| f.time);
         let message = self
             .refused
             .as_ref()
@@ -486,13 +524,14 @@ impl Interaction {
         crate::ui::overlay(
             &mut self.font,
             &self.session,
+            self.drawn.as_ref(),
             message,
             self.print_status.1.as_ref(),
             &mut self.scene.ui,
         );
         let others = self.avatars();
         self.stats.others_drawn = self.stats.others_drawn.max(others.len());
-        let viewer = self.session.last_frame().and_then(|f| f.head);
+        let viewer = self.drawn.as_ref().and_then(|f| f.head);
         crate::ui::avatars(
             &mut self.font,
             &others,

@@ -13,9 +13,11 @@
 //! order, against the document that command made once it is in, so the
 //! tool never acts on a document older than its own commands (a grab
 //! right after a duplicate grabs the copy on however slow a machine), and
-//! a live session does exactly what the core's
+//! a live session (outside a shared one, where others' edits arrive on
+//! their own schedule) does exactly what the core's
 //! [`shapewright::interact::replay`] of its recorded input does, bit for
-//! bit. Commands are applied strictly in the order they were produced.
+//! bit. The head, hands and controllers are drawn from the newest frame
+//! meanwhile. Commands are applied strictly in the order they were produced.
 //! [`Interaction::flush`] steps every held frame and waits for every
 //! commit: `replay` calls it after each frame (the same result, sooner).
 //!

@@ -65,7 +65,8 @@ fn stepping_a_trace_matches_the_core_replay_bit_for_bit() {
 /// where the replay makes 9, and a loaded machine's host dragged the
 /// original where the replay of its own recording dragged the duplicate
 /// on top of it (`testrt` failed 3 tests when it ran beside another test
-/// binary).
+/// binary). The head, hands and controllers never wait: they are drawn
+/// from the newest frame.
 #[test]
 fn slow_background_commits_do_not_change_what_the_tool_does() {
     let trace = fixture();
@@ -74,9 +75,16 @@ fn slow_background_commits_do_not_change_what_the_tool_does() {
     for slow in [0, 30] {
         let mut it = Interaction::new(&trace.header.tool, model, OpLog::new(), None).unwrap();
         it.send(Job::Slow(Duration::from_millis(slow)));
-        let mut returned = 0;
+        let (mut returned, mut lagged) = (0, 0);
         for f in &trace.frames {
             returned += usize::from(it.step(f).is_some());
+            // The head, hands and controllers are drawn from the newest
+            // frame, while the tool's frames wait for a commit.
+            assert_eq!(it.drawn.as_ref().map(|d| d.time), Some(f.time));
+            lagged += usize::from(it.session().last_frame().map(|l| l.time) != Some(f.time));
+        }
+        if slow > 0 {
+            assert!(lagged > 0, "no frame was held for a commit");
         }
         // The frames held for the last commits are stepped by the flush.
         it.flush();
