@@ -241,10 +241,10 @@ impl Interaction {
     /// stepped, in order, once its document is in (up to `CATCH_UP`, 8, a
     /// call, so a long commit's backlog is worked off over a few frames,
     /// not in one). The scene keeps being drawn meanwhile, the head, hands
-    /// and controllers from the newest frame; the tool's own feedback (its
-    /// rays, previews, palette) waits for the commit. So the tool sees exactly what the
-    /// core's [`shapewright::interact::replay`] of the same input shows
-    /// it, however long a commit takes. Before (2026-11-30), frames were
+    /// and controllers from the newest frame; the tool's own feedback
+    /// (its rays, previews, palette) waits for the commit. So the tool
+    /// sees exactly what the core's [`shapewright::interact::replay`] of
+    /// the same input shows it, however long a commit takes. Before (2026-11-30), frames were
     /// stepped against the last committed document: on a loaded machine
     /// a grab 20 frames after a duplicate picked the original, because
     /// the copy (on top of it) was not committed yet, and the session's
@@ -389,6 +389,7 @@ impl Interaction {
     /// Waits until every frame so far is stepped and every command they
     /// produced is applied, and takes in the results.
     pub fn flush(&mut self) {
+        let stepped = !self.held.is_empty();
         loop {
             if !self.pending.is_empty() {
                 let (tx, rx) = mpsc::channel();
@@ -399,13 +400,18 @@ impl Interaction {
                 }
                 if !self.pending.is_empty() {
                     // The commit thread is gone: nothing will come back.
-                    return;
+                    self.commit_thread_gone();
                 }
             }
             if self.held.is_empty() {
-                return;
+                break;
             }
             self.step_held(usize::MAX);
+        }
+        // The scene shows what the frames stepped here left (a save on
+        // session loss, the last frames at exit).
+        if stepped {
+            self.update_preview();
         }
     }
 

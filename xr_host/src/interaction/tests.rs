@@ -72,6 +72,12 @@ fn slow_background_commits_do_not_change_what_the_tool_does() {
     let trace = fixture();
     let model = trace.header.model.similarity().unwrap();
     let core = replay(&trace).unwrap();
+    // The scene a flush per frame leaves (what `replay` draws last).
+    let mut each = Interaction::new(&trace.header.tool, model, OpLog::new(), None).unwrap();
+    for f in &trace.frames {
+        each.step(f);
+        each.flush();
+    }
     for slow in [0, 30] {
         let mut it = Interaction::new(&trace.header.tool, model, OpLog::new(), None).unwrap();
         it.send(Job::Slow(Duration::from_millis(slow)));
@@ -86,8 +92,11 @@ fn slow_background_commits_do_not_change_what_the_tool_does() {
         if slow > 0 {
             assert!(lagged > 0, "no frame was held for a commit");
         }
-        // The frames held for the last commits are stepped by the flush.
+        // The frames held for the last commits are stepped by the flush,
+        // and the scene shows where they left the tool.
         it.flush();
+        assert_eq!(it.scene().lines, each.scene().lines, "{slow} ms commits");
+        assert_eq!(it.scene().ui, each.scene().ui, "{slow} ms commits");
         let what = format!("{slow} ms commits: {returned} commands made while stepping");
         assert_eq!(it.stats().commands as usize, core.commands.len(), "{what}");
         assert_eq!(it.stats().rejected.len(), core.rejected.len(), "{what}");
