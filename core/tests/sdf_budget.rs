@@ -7,6 +7,7 @@
 
 mod common;
 
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use common::run;
@@ -21,6 +22,9 @@ fn op(json: &str) -> Op {
 /// Six spheres 5 m across queued side by side in a 1 cm volume: each is
 /// accepted alone (estimated 2.3 s, 117 MiB), together they are within
 /// the memory budget but over the 10 s limit.
+/// Timing tests run one at a time (CPU time is the process's).
+static SERIAL: Mutex<()> = Mutex::new(());
+
 fn six_spheres() -> String {
     let mut s = String::from("{\"op\": \"sdf_create\", \"step\": 0.01}\n");
     for i in 0..6 {
@@ -34,6 +38,7 @@ fn six_spheres() -> String {
 
 #[test]
 fn an_update_over_the_time_limit_is_refused_at_once() {
+    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let mut log = run(&six_spheres());
     let before = log.document().content_hash();
     let t0 = Instant::now();
@@ -57,4 +62,112 @@ fn an_update_over_the_time_limit_is_refused_at_once() {
     );
     assert!(took < Duration::from_secs(2), "refused after {took:?}");
     assert_eq!(log.document().content_hash(), before);
+}
+
+/// What a run of the chain of copies measured, per op.
+struct Ran {
+    what: String,
+    estimated: f64,
+    cpu: f64,
+}
+
+/// The paper's cup copied beside the whole result and fused, again and
+/// again: each copy doubles the cups and nests the copies before it in
+/// its fold (a copy of the fused result is the fold of the operands it was
+/// fused from). Runs `copies` copies or until one is refused; returns what
+/// each accepted op was estimated and took (CPU seconds), and the refusal.
+fn chain_of_copies(copies: usize) -> (Vec<Ran>, Option<(String, f64)>) {
+    use shapewright::doc::ObjectId;
+    use shapewright::doc::ObjectKind;
+    let mut log = run(&common::data("csg_cup.jsonl"));
+    let (mut ran, mut x) = (Vec::new(), 0.3);
+    for i in 0..copies {
+        let copy = op(&format!(
+            r#"{{"op":"sdf_copy_fused","volume":1,"name":"c{i}","csg":"union","transform":{{"translate":[{x},0.0013,0],"rotate":[0,0,0,1],"scale":[1,1,1]}}}}"#
+        ));
+        let before = log.document().content_hash();
+        let (r, cpu, _) = common::timed(|| log.apply(copy));
+        if let Err(e) = r {
+            assert_eq!(log.document().content_hash(), before);
+            return (ran, Some((e.to_string(), cpu)));
+        }
+        let ObjectKind::SdfVolume(v) = &log.document().get(ObjectId(1)).unwrap().kind else {
+            panic!("not a volume")
+        };
+        let cache = shapewright::sdf::volume::default_cache();
+        let estimated = v.operand_work(&v.placed(&v.pending[0]).unwrap()).seconds();
+        ran.push(Ran {
+            what: format!("copy {i}"),
+            estimated: v.copy_work(&v.pending[0], cache).unwrap().seconds(),
+            cpu,
+        });
+        let (r, cpu, _) = common::timed(|| log.apply(op(r#"{"op":"sdf_update","volume":1}"#)));
+        r.unwrap();
+        ran.push(Ran {
+            what: format!("update {i}"),
+            estimated,
+            cpu,
+        });
+        x *= 2.0;
+    }
+    (ran, None)
+}
+
+/// Each op of the chain runs within twice its estimate (CPU seconds of
+/// two threads against an estimate of the time), and the estimate of the
+/// longer ones is not far too pessimistic.
+fn check_chain(ran: &[Ran]) {
+    for r in ran {
+        println!(
+            "{}: estimated {:.2} s, ran {:.2} s CPU",
+            r.what, r.estimated, r.cpu
+        );
+        assert!(
+            r.cpu <= 2.0 * r.estimated.max(0.05),
+            "{}: ran {:.2} s CPU against an estimate of {:.2} s",
+            r.what,
+            r.cpu,
+            r.estimated
+        );
+        if r.cpu > 0.5 {
+            assert!(
+                r.estimated <= 4.0 * r.cpu,
+                "{}: the estimate {:.2} s is far too pessimistic ({:.2} s)",
+                r.what,
+                r.estimated,
+                r.cpu
+            );
+        }
+    }
+}
+
+/// Six copies (up to 64 cups; a few seconds): within their estimates.
+#[test]
+fn a_chain_of_fused_copies_runs_within_its_estimates() {
+    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let (ran, refused) = chain_of_copies(6);
+    assert!(refused.is_none(), "{refused:?}");
+    check_chain(&ran);
+}
+
+/// The whole chain, to the refusal (23 s): every accepted op within the
+/// time limit and its estimate, and the refusal at once.
+#[test]
+#[ignore = "23 s: cargo test -p shapewright --test sdf_budget -- --ignored --nocapture"]
+fn a_chain_of_fused_copies_is_refused_at_once_when_over_the_limit() {
+    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let (ran, refused) = chain_of_copies(20);
+    check_chain(&ran);
+    for r in &ran {
+        assert!(
+            r.cpu <= 2.0 * TIME_LIMIT_SECONDS,
+            "{}: {:.1} s CPU",
+            r.what,
+            r.cpu
+        );
+    }
+    let (text, cpu) = refused.expect("the chain is refused");
+    println!("refused after {cpu:.2} s CPU: {text}");
+    assert!(text.contains("s limit") || text.contains("MiB"), "{text}");
+    assert!(cpu < 2.0, "refused after {cpu:.1} s CPU");
 }

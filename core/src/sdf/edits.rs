@@ -286,14 +286,8 @@ impl SdfImportComponent {
         }
         // Computes (and caches) the SDF now, so a bad mesh fails here.
         super::library::cached_component_sdf(&mesh)?;
-        v.user_components.insert(
-            self.name.clone(),
-            UserMesh {
-                positions: self.positions.clone(),
-                triangles: self.triangles.clone(),
-                step: None,
-            },
-        );
+        v.user_components
+            .insert(self.name.clone(), UserMesh::from_mesh(mesh, None));
         Ok(())
     }
 }
@@ -394,7 +388,7 @@ impl SdfComponentFromObject {
         };
         // Steps are in model units; the mesh is in the volume's frame.
         let what = format!("object #{}", self.object.0);
-        let step = super::reuse::reuse_step(source_step, v.step, 1.0) / scale;
+        let step = super::reuse::reuse_step(source_step, v.step) / scale;
         // The component's budget first (and its mesh checked closed), then
         // its walls.
         let (user, back) = super::reuse::component_from_mesh(&local, Some(step), cache)?;

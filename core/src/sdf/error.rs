@@ -72,9 +72,9 @@ pub enum SdfError {
     EmptyComponentName,
     /// A reused object, a copy or a moved result would not keep its shape
     /// at the volume's grid step: resampled there it loses pieces or
-    /// tunnels, or (a moved result) more than 1% of its volume (its
-    /// thinnest parts are below about two grid cells).
-    #[error("{what} would come out as {got} instead of {want_pieces} piece(s) of genus {want_genus} (a moved result also within 1% of its volume) at the grid step {step} m: its thinnest parts are below about two grid cells there; use a finer step (sdf_set_step, down to 0.004) or make it larger")]
+    /// tunnels, or (a moved result, a shrunk copy) more than 1% of its
+    /// volume (its thinnest parts are below about two grid cells).
+    #[error("{what} would come out as {got} instead of {want_pieces} piece(s) of genus {want_genus} (a moved result or a shrunk copy also within 1% of its volume) at the grid step {step} m: its thinnest parts are below about two grid cells there; use a finer step (sdf_set_step, down to 0.004) or make it larger")]
     TooThin {
         /// What was reused (`object #3`, `the copy of the result`, ...).
         what: String,

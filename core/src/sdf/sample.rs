@@ -52,7 +52,6 @@ use super::dense::GridField;
 use super::grid::{Brick, BrickKey, SparseGrid, BRICK, BRICK_LEN};
 use super::placement::{LocalField, PlacedField};
 use crate::math::DVec3;
-use crate::solid::SolidShape;
 
 /// Bricks per parallel task.
 pub const CHUNK: usize = 16;
@@ -224,7 +223,8 @@ pub fn sample_operand(f: &PlacedField, step: f64, band: f32) -> SampledOperand {
 pub fn sample_brick(f: &PlacedField, step: f64, band: f32, key: BrickKey) -> (Brick, bool) {
     match &f.field {
         LocalField::Grid(g) => grid_brick(f, g, step, band, key),
-        LocalField::Solid(s) => solid_brick(f, s, step, band, key),
+        LocalField::Solid(s) => point_brick(f, step, band, key, |q| solid_distance(s, q)),
+        LocalField::Fold(x) => point_brick(f, step, band, key, |q| x.value(q)),
     }
 }
 
@@ -387,12 +387,14 @@ impl<'a> RowKernel<'a> {
     }
 }
 
-fn solid_brick(
+/// A field evaluated point by point (an analytic solid, a fold):
+/// `local` is its value at a local point.
+fn point_brick(
     f: &PlacedField,
-    s: &SolidShape,
     step: f64,
     band: f32,
     key: BrickKey,
+    local: impl Fn(DVec3) -> f64,
 ) -> (Brick, bool) {
     let base = DVec3::new(key[0] as f64, key[1] as f64, key[2] as f64) * BRICK as f64;
     let centre = (base + DVec3::splat((BRICK - 1) as f64 / 2.0)) * step;
@@ -410,10 +412,7 @@ fn solid_brick(
         let ur = u0 + h.cols[1] * y + h.cols[2] * z;
         for (x, o) in row.iter_mut().enumerate() {
             let q = ur + h.cols[0] * x as f64;
-            *o = on_surface(
-                (solid_distance(s, q) * scale).clamp(-bandf, bandf) as f32,
-                eps,
-            );
+            *o = on_surface((local(q) * scale).clamp(-bandf, bandf) as f32, eps);
         }
     }
     (Brick::dense(out, band), true)

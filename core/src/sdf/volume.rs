@@ -41,7 +41,7 @@ use super::csg::{brick_count_in_box, fuse_sampled, CsgOp};
 use super::extract::{assemble, Piece};
 use super::features::ExactField;
 use super::grid::{BrickKey, SparseGrid, BRICK, BRICK_LEN};
-use super::placement::{two_hand_scale, LocalField, PlacedField, ScaleAxis};
+use super::placement::{two_hand_scale, FoldField, LocalField, PlacedField, ScaleAxis};
 use super::sample::{sample_operand, SampledOperand};
 use super::SdfError;
 use crate::math::Transform;
@@ -56,6 +56,12 @@ pub const STEP_RANGE: [f64; 2] = [0.004, 0.012];
 /// The band (clamp) in steps.
 pub const BAND_STEPS: f64 = 3.0;
 pub use super::budget::MEMORY_BUDGET_BYTES;
+/// The share of a surface brick's time (sampling, folding, extracting)
+/// that is the operand's evaluation: 0.32 to 0.39 measured on chains of
+/// copies of the fused result (their folds cost 3.4 to 6.4 plain samples
+/// each); at 0.5 the estimate of the longest accepted copy was 6.4 s for
+/// 6.1 s measured, so a margin.
+const FOLD_SAMPLING_SHARE: f64 = 0.75;
 /// Resampled operands kept per volume lineage.
 const SAMPLE_CACHE_ENTRIES: usize = 32;
 
@@ -93,9 +99,55 @@ pub struct UserMesh {
     /// across, §5.2), as for imported files.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub step: Option<f64>,
+    /// For a copy of the fused result ([`super::reuse`]): the operands it
+    /// was fused from, in the volume's frame. Its field is their fold
+    /// (exact), and the mesh (the result's surface) is drawn and budgeted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fused: Option<Vec<Operand>>,
+    /// The fold, once built (shared by the clones of this component).
+    #[serde(skip)]
+    fold: FoldCell,
+}
+
+/// Where a component's fold is kept once built; not part of what the
+/// component is (equal whether built or not).
+#[derive(Clone, Default)]
+struct FoldCell(Arc<OnceLock<Arc<FoldField>>>);
+
+impl PartialEq for FoldCell {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for FoldCell {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.get().is_some() { "built" } else { "-" })
+    }
 }
 
 impl UserMesh {
+    /// A component made from a closed mesh whose SDF is sampled with one
+    /// cell `step` in its units (`None`: the library's grid).
+    pub fn from_mesh(mesh: TriMesh, step: Option<f64>) -> Self {
+        Self {
+            positions: mesh.positions,
+            triangles: mesh.triangles,
+            step,
+            fused: None,
+            fold: FoldCell::default(),
+        }
+    }
+
+    /// A copy of a fused result: its surface `mesh` and the `operands` it
+    /// was fused from.
+    pub fn from_fused(mesh: TriMesh, operands: Vec<Operand>) -> Self {
+        Self {
+            fused: Some(operands),
+            ..Self::from_mesh(mesh, None)
+        }
+    }
+
     /// The mesh.
     pub fn mesh(&self) -> TriMesh {
         TriMesh::new(self.positions.clone(), self.triangles.clone())
@@ -181,6 +233,8 @@ enum FieldId {
     Solid(SolidShape),
     /// The address of the shared grid (kept alive by the entry).
     Grid(usize),
+    /// The address of the shared fold (kept alive by the entry).
+    Fold(usize),
 }
 
 struct SampleEntry {
@@ -302,9 +356,31 @@ impl SdfVolume {
                     .user_components
                     .get(name)
                     .ok_or_else(|| SdfError::UnknownComponent(name.clone()))?;
-                LocalField::Grid(cache.component_field_at(&m.mesh(), m.step)?)
+                match &m.fused {
+                    Some(operands) => LocalField::Fold(self.fold_of(m, operands, cache)?),
+                    None => LocalField::Grid(cache.component_field_at(&m.mesh(), m.step)?),
+                }
             }
         })
+    }
+
+    /// The fold of copy `m`'s `operands` (built once per component).
+    fn fold_of(
+        &self,
+        m: &UserMesh,
+        operands: &[Operand],
+        cache: &SdfCache,
+    ) -> Result<Arc<FoldField>, SdfError> {
+        if let Some(f) = m.fold.0.get() {
+            return Ok(f.clone());
+        }
+        let fields = operands
+            .iter()
+            .map(|o| Ok((Arc::new(self.placed_with(o, cache)?), o.csg)))
+            .collect::<Result<Vec<_>, SdfError>>()?;
+        let fold =
+            FoldField::new(fields, m.mesh().area(), &m.positions).ok_or(SdfError::EmptyResult)?;
+        Ok(m.fold.0.get_or_init(|| Arc::new(fold)).clone())
     }
 
     /// [`Self::local_field_with`] the [`default_cache`].
@@ -334,9 +410,15 @@ impl SdfVolume {
     pub fn operand_work(&self, f: &PlacedField) -> Work {
         let (lo, hi) = f.world_box;
         let near = surface_bricks(f.surface_area(), self.step);
+        // A fold's sample costs `cost` plain ones (its far test as much);
+        // the sampling is a share of a surface brick's time.
+        let (far, dense) = match &f.field {
+            LocalField::Fold(x) => (x.cost, 1.0 + FOLD_SAMPLING_SHARE * (x.cost - 1.0)),
+            _ => (1.0, 1.0),
+        };
         Work {
-            region_bricks: brick_count_in_box(self.step, lo, hi),
-            surface_bricks: near,
+            region_bricks: brick_count_in_box(self.step, lo, hi) * far,
+            surface_bricks: near * dense,
             held_bricks: near,
             ..Work::default()
         }
@@ -387,6 +469,7 @@ impl SdfVolume {
             field: match &field.field {
                 LocalField::Solid(s) => FieldId::Solid(*s),
                 LocalField::Grid(g) => FieldId::Grid(Arc::as_ptr(g) as usize),
+                LocalField::Fold(x) => FieldId::Fold(Arc::as_ptr(x) as usize),
             },
             transform: transform_bits(&o.transform),
             step: self.step.to_bits(),
