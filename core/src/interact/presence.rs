@@ -57,8 +57,15 @@ impl crate::interact::Session {
     ///
     /// [`PRESENCE_HZ`]: crate::doc::shared::PRESENCE_HZ
     pub fn presence(&self, selected: Option<u32>) -> Option<Presence> {
-        let f = self.last_frame()?;
-        Some(Presence::from_frame(f, &self.model().inverse(), selected))
+        Some(self.presence_at(self.last_frame()?, selected))
+    }
+
+    /// This person's presence from sanitized frame `f` (a host that draws
+    /// newer frames than its tool has stepped sends the newest,
+    /// [`crate::interact::Session::display_frame`]), through the inverse
+    /// of the model's placement, with the host's selection.
+    pub fn presence_at(&self, f: &Frame, selected: Option<u32>) -> Presence {
+        Presence::from_frame(f, &self.model().inverse(), selected)
     }
 }
 

@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use shapewright::doc::shared::{colour_for, PRESENCE_HZ, PRESENCE_STALE_SECS};
+use shapewright::doc::shared::{colour_for, Presence, PRESENCE_HZ, PRESENCE_STALE_SECS};
 use shapewright::doc::ObjectId;
 
 use super::commit::ModelBox;
@@ -14,20 +14,29 @@ impl Interaction {
     /// selected, in model space, at most [`PRESENCE_HZ`] times a second
     /// (a shared session only).
     pub(super) fn send_presence(&mut self) {
-        let Some(channel) = &self.presence else {
-            return;
-        };
-        let Some(f) = self.session.last_frame() else {
-            return;
-        };
-        if f.time - self.presence_sent < 1.0 / PRESENCE_HZ {
+        if self.presence.is_none() {
             return;
         }
-        self.presence_sent = f.time;
-        let selected = self.session.preview().selected.map(|id| id.0);
-        if let Some(p) = self.session.presence(selected) {
+        let Some((time, p)) = self.presence_now() else {
+            return;
+        };
+        if time - self.presence_sent < 1.0 / PRESENCE_HZ {
+            return;
+        }
+        self.presence_sent = time;
+        if let Some(channel) = &self.presence {
             channel.send(&p);
         }
+    }
+
+    /// This person's presence now and its frame's time: the head and
+    /// hands of the newest frame, as they are drawn, not of the last one
+    /// the tool stepped (while a commit runs the tool's frames are held,
+    /// and the others saw this person's hands stop for its length).
+    pub(super) fn presence_now(&self) -> Option<(f64, Presence)> {
+        let f = self.drawn.as_ref().or(self.session.last_frame())?;
+        let selected = self.session.preview().selected.map(|id| id.0);
+        Some((f.time, self.session.presence_at(f, selected)))
     }
 
     /// The other participants heard from lately, placed in this person's

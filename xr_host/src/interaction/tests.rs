@@ -81,16 +81,24 @@ fn slow_background_commits_do_not_change_what_the_tool_does() {
     for slow in [0, 30] {
         let mut it = Interaction::new(&trace.header.tool, model, OpLog::new(), None).unwrap();
         it.send(Job::Slow(Duration::from_millis(slow)));
-        let (mut returned, mut lagged) = (0, 0);
+        let (mut returned, mut lagged, mut moved) = (0, 0, 0);
         for f in &trace.frames {
             returned += usize::from(it.step(f).is_some());
             // The head, hands and controllers are drawn from the newest
-            // frame, while the tool's frames wait for a commit.
-            assert_eq!(it.drawn.as_ref().map(|d| d.time), Some(f.time));
+            // frame, while the tool's frames wait for a commit, and the
+            // others see them there too.
+            let drawn = it.drawn.clone().unwrap();
+            assert_eq!(drawn.time, f.time);
+            let (time, sent) = it.presence_now().unwrap();
+            assert_eq!(time, f.time);
+            assert_eq!(sent, it.session().presence_at(&drawn, sent.selected));
             lagged += usize::from(it.session().last_frame().map(|l| l.time) != Some(f.time));
+            // Where the tool's last frame would have shown them.
+            moved += usize::from(it.session().presence(sent.selected) != Some(sent));
         }
         if slow > 0 {
             assert!(lagged > 0, "no frame was held for a commit");
+            assert!(moved > 0, "the held frames never moved the head or hands");
         }
         // The frames held for the last commits are stepped by the flush,
         // and the scene shows where they left the tool.
