@@ -19,12 +19,12 @@ fn op(json: &str) -> Op {
     serde_json::from_str(json).unwrap_or_else(|e| panic!("{json}: {e}"))
 }
 
-/// Six spheres 5 m across queued side by side in a 1 cm volume: each is
-/// accepted alone (estimated 2.3 s, 117 MiB), together they are within
-/// the memory budget but over the 10 s limit.
 /// Timing tests run one at a time (CPU time is the process's).
 static SERIAL: Mutex<()> = Mutex::new(());
 
+/// Six spheres 5 m across queued side by side in a 1 cm volume: each is
+/// accepted alone (estimated 2.3 s, 117 MiB), together they are within
+/// the memory budget but over the 10 s limit.
 fn six_spheres() -> String {
     let mut s = String::from("{\"op\": \"sdf_create\", \"step\": 0.01}\n");
     for i in 0..6 {

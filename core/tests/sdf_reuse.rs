@@ -7,6 +7,7 @@
 mod common;
 
 use common::{data, run};
+use glam::DVec3;
 use shapewright::doc::{LogError, ObjectId, Op, OpError, OpLog};
 use shapewright::math::fm::DetMath as _;
 use shapewright::mesh::{validate, TriMesh, ValidationReport};
@@ -271,4 +272,47 @@ fn a_fused_cup_shrunk_below_the_grid_keeps_its_shape_or_is_refused() {
             assert_eq!(log.document().content_hash(), before);
         }
     }
+}
+
+/// A copy scaled with two hands afterwards (per axis, as the headset does)
+/// grows about its own centre, like any component: before, a copy of the
+/// fused result was placed in the volume's frame, and a cup 1.5 m from the
+/// volume's origin doubled along x jumped 1.56 m.
+#[test]
+fn a_copy_scaled_with_two_hands_grows_about_its_own_centre() {
+    let mut log = run(&data("csg_cup.jsonl"));
+    log.apply(op(r#"{"op":"sdf_move_fused","volume":1,"transform":{"translate":[1.5,0,0],"rotate":[0,0,0,1],"scale":[1,1,1]}}"#))
+        .unwrap();
+    let (lo0, hi0) = mesh(&log, 1).bbox().unwrap();
+    log.apply(op(r#"{"op":"sdf_copy_fused","volume":1,"name":"cup","csg":"union","transform":{"translate":[0.9,0,0],"rotate":[0,0,0,1],"scale":[1,1,1]}}"#))
+        .unwrap();
+    log.apply(op(r#"{"op":"sdf_scale_two_hand","volume":1,"operand":0,"axis":"x","hands_start":[[0,0,0],[0.1,0,0]],"hands_end":[[0,0,0],[0.2,0,0]]}"#))
+        .unwrap();
+    log.apply(op(r#"{"op":"sdf_update","volume":1}"#)).unwrap();
+    let m = mesh(&log, 1);
+    assert_eq!(report(&m).components, 2);
+    // The copy: everything past the cup (which ends at x = 1.745).
+    let copy: Vec<DVec3> = m
+        .positions
+        .iter()
+        .map(|p| DVec3::from_array(*p))
+        .filter(|p| p.x > hi0.x + 0.05)
+        .collect();
+    let lo = copy
+        .iter()
+        .copied()
+        .fold(DVec3::splat(f64::INFINITY), DVec3::min);
+    let hi = copy
+        .iter()
+        .copied()
+        .fold(DVec3::splat(f64::NEG_INFINITY), DVec3::max);
+    let centre = (lo + hi) * 0.5;
+    let want = (lo0 + hi0) * 0.5 + DVec3::new(0.9, 0.0, 0.0);
+    let size = (hi - lo) / (hi0 - lo0);
+    eprintln!("copy centre {centre} (want {want}), size ratio {size}");
+    assert!((centre - want).length() < 0.02, "{centre} vs {want}");
+    assert!(
+        (size - DVec3::new(2.0, 1.0, 1.0)).abs().max_element() < 0.05,
+        "{size}"
+    );
 }

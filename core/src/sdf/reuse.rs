@@ -87,15 +87,30 @@ pub fn component_from_mesh(
     if !r.is_closed_manifold() {
         return Err(SdfError::BadMesh(r.problems()));
     }
-    let (lo, hi) = mesh.bbox().ok_or(SdfError::EmptyResult)?;
+    let (back, _) = normalized_frame(mesh)?;
     cache.component_field_at(mesh, step)?;
+    Ok((UserMesh::from_mesh(mesh.clone(), step), back))
+}
+
+/// The placement that puts a component in the normalized frame (centred,
+/// [`COMPONENT_SIZE`] across) where closed `mesh` is, and its inverse.
+fn normalized_frame(mesh: &TriMesh) -> Result<(Transform, Transform), SdfError> {
+    let (lo, hi) = mesh.bbox().ok_or(SdfError::EmptyResult)?;
     let s = (hi - lo).max_element() / COMPONENT_SIZE;
+    let c = (lo + hi) * 0.5;
     let back = Transform {
-        translate: ((lo + hi) * 0.5).to_array(),
+        translate: c.to_array(),
         rotate: [0.0, 0.0, 0.0, 1.0],
         scale: [s; 3],
     };
-    Ok((UserMesh::from_mesh(mesh.clone(), step), back))
+    let to_local = Transform {
+        translate: (-c / s).to_array(),
+        rotate: [0.0, 0.0, 0.0, 1.0],
+        scale: [1.0 / s; 3],
+    };
+    back.validate()?;
+    to_local.validate()?;
+    Ok((back, to_local))
 }
 
 /// `a ∘ b` (apply `b`, then `a`) as a transform, when `a` is a similarity.
@@ -318,7 +333,7 @@ impl SdfVolume {
     /// already added): sampling it and extracting it alone for the check,
     /// and the memory the volume then holds.
     pub fn copy_work(&self, o: &Operand, cache: &SdfCache) -> Result<Work, SdfError> {
-        let work = self.operand_work(&self.placed_with(o, cache)?);
+        let work = self.operand_work(&self.placed_unchecked(o, cache)?);
         Ok(Work {
             // Extracted alone, once (the update reuses the sample).
             surface_bricks: work.surface_bricks + work.held_bricks,
@@ -352,11 +367,32 @@ impl SdfVolume {
             return Err(SdfError::EmptyResult);
         }
         t.validate()?;
-        let mut v = self.clone();
-        v.user_components.insert(
-            name.to_owned(),
-            UserMesh::from_fused(mesh.clone(), self.fused.clone()),
+        // In the frame every component has (centred on the result, 0.4
+        // across), so a two-hand scale of the copy afterwards scales it
+        // about its own centre, and the component is placed by name like
+        // any other.
+        let (back, to_local) = normalized_frame(&mesh)?;
+        let operands = self
+            .fused
+            .iter()
+            .map(|o| {
+                Ok(Operand {
+                    transform: compose(&to_local, &o.transform)?,
+                    ..o.clone()
+                })
+            })
+            .collect::<Result<Vec<_>, SdfError>>()?;
+        let a = to_local.to_affine()?;
+        let local = TriMesh::new(
+            mesh.positions
+                .iter()
+                .map(|p| a.transform_point3(DVec3::from_array(*p)).to_array())
+                .collect(),
+            mesh.triangles.clone(),
         );
+        let mut v = self.clone();
+        v.user_components
+            .insert(name.to_owned(), UserMesh::from_fused(local, operands));
         let o = Operand::new(
             Component::User {
                 name: name.to_owned(),
@@ -364,7 +400,7 @@ impl SdfVolume {
             csg,
             // A similarity (a per-axis scale is for the copy's operand
             // afterwards, a two-hand scale).
-            compose(t, &Transform::IDENTITY)?,
+            compose(t, &back)?,
         );
         // The copy's memory and the work of sampling it, before either.
         v.copy_work(&o, cache)?.check("the copy of the result")?;

@@ -62,6 +62,10 @@ pub use super::budget::MEMORY_BUDGET_BYTES;
 /// each); at 0.5 the estimate of the longest accepted copy was 6.4 s for
 /// 6.1 s measured, so a margin.
 const FOLD_SAMPLING_SHARE: f64 = 0.75;
+/// Copies of the fused result nest at most this deep (a copy of a result
+/// holding a copy, ...); the ops make one level per copy, and the budget
+/// refuses a chain of copies of copies long before (at 9 for the cup).
+const MAX_FOLD_DEPTH: usize = 64;
 /// Resampled operands kept per volume lineage.
 const SAMPLE_CACHE_ENTRIES: usize = 32;
 
@@ -374,13 +378,53 @@ impl SdfVolume {
         if let Some(f) = m.fold.0.get() {
             return Ok(f.clone());
         }
+        self.check_nesting(operands, &mut Vec::new())?;
         let fields = operands
             .iter()
-            .map(|o| Ok((Arc::new(self.placed_with(o, cache)?), o.csg)))
+            // In the copy's own frame: sampled point by point within the
+            // copy, never on this volume's lattice, so not budgeted as
+            // operands of it (the copy is).
+            .map(|o| {
+                let f =
+                    PlacedField::new(self.local_field_with(&o.component, cache)?, &o.transform)?;
+                Ok((Arc::new(f), o.csg))
+            })
             .collect::<Result<Vec<_>, SdfError>>()?;
         let fold =
             FoldField::new(fields, m.mesh().area(), &m.positions).ok_or(SdfError::EmptyResult)?;
         Ok(m.fold.0.get_or_init(|| Arc::new(fold)).clone())
+    }
+
+    /// Refuses copies nested deeper than [`MAX_FOLD_DEPTH`] or containing
+    /// themselves (a document the ops cannot make, read from a file or a
+    /// peer: its fold would recurse without end); `inside` holds the names
+    /// of the copies `operands` are within.
+    fn check_nesting(
+        &self,
+        operands: &[Operand],
+        inside: &mut Vec<String>,
+    ) -> Result<(), SdfError> {
+        for o in operands {
+            let Component::User { name } = &o.component else {
+                continue;
+            };
+            let Some(inner) = self
+                .user_components
+                .get(name)
+                .and_then(|m| m.fused.as_ref())
+            else {
+                continue;
+            };
+            if inside.contains(name) || inside.len() >= MAX_FOLD_DEPTH {
+                return Err(SdfError::BadMesh(format!(
+                    "component {name:?} is a copy nested in itself or more than {MAX_FOLD_DEPTH} deep"
+                )));
+            }
+            inside.push(name.clone());
+            self.check_nesting(inner, inside)?;
+            inside.pop();
+        }
+        Ok(())
     }
 
     /// [`Self::local_field_with`] the [`default_cache`].
@@ -391,6 +435,18 @@ impl SdfVolume {
     /// An operand's placed field (validates component and transform, and
     /// that its box fits the memory budget).
     pub fn placed_with(&self, o: &Operand, cache: &SdfCache) -> Result<PlacedField, SdfError> {
+        let f = self.placed_unchecked(o, cache)?;
+        self.operand_work(&f).check("fusing this operand")?;
+        Ok(f)
+    }
+
+    /// [`Self::placed_with`] but for its time: for an op that checks the
+    /// operand's work as part of its own.
+    pub(crate) fn placed_unchecked(
+        &self,
+        o: &Operand,
+        cache: &SdfCache,
+    ) -> Result<PlacedField, SdfError> {
         let f = PlacedField::new(self.local_field_with(&o.component, cache)?, &o.transform)?;
         let (lo, hi) = f.world_box;
         let bricks = brick_count_in_box(self.step, lo, hi);
@@ -401,7 +457,6 @@ impl SdfVolume {
                 (MEMORY_BUDGET_BYTES >> 20) as u64,
             )));
         }
-        self.operand_work(&f).check("fusing this operand")?;
         Ok(f)
     }
 

@@ -791,3 +791,47 @@ fn the_fused_result_moves_copies_and_becomes_a_component() {
     assert_eq!(r3.genus, r0.genus);
     assert!((r3.signed_volume / r0.signed_volume - 1.0).abs() < 0.03);
 }
+
+/// A copy of the fused result that contains itself, or copies nested past
+/// the limit (a document the ops cannot make, from a file or a peer), is a
+/// typed error when sampled, not a stack overflow.
+#[test]
+fn copies_nested_in_themselves_or_too_deep_are_refused() {
+    use crate::sdf::volume::UserMesh;
+    let user = |n: &str| Component::User { name: n.into() };
+    let mesh = crate::solid::tessellate(&SolidShape::Sphere { radius: 0.1 }, 16).unwrap();
+    let mut v = SdfVolume::new(0.01).unwrap();
+    v.user_components.insert(
+        "a".into(),
+        UserMesh::from_fused(
+            mesh.clone(),
+            vec![op(user("a"), CsgOp::Union, at([0.0; 3]))],
+        ),
+    );
+    let looped = v.local_field(&user("a")).unwrap_err();
+    assert!(
+        matches!(&looped, SdfError::BadMesh(m) if m.contains("nested")),
+        "{looped}"
+    );
+    let mut w = SdfVolume::new(0.01).unwrap();
+    w.user_components.insert(
+        "c0".into(),
+        UserMesh::from_fused(
+            mesh.clone(),
+            vec![op(sphere(0.1), CsgOp::Union, at([0.0; 3]))],
+        ),
+    );
+    for k in 1..=70 {
+        let inner = op(user(&format!("c{}", k - 1)), CsgOp::Union, at([0.0; 3]));
+        w.user_components.insert(
+            format!("c{k}"),
+            UserMesh::from_fused(mesh.clone(), vec![inner]),
+        );
+    }
+    assert!(w.local_field(&user("c10")).is_ok());
+    let deep = w.local_field(&user("c70")).unwrap_err();
+    assert!(
+        matches!(&deep, SdfError::BadMesh(m) if m.contains("deep")),
+        "{deep}"
+    );
+}
