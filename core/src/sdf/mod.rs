@@ -44,6 +44,7 @@ pub mod edits;
 mod error;
 pub mod extract;
 pub mod features;
+pub mod fold;
 pub mod grid;
 pub mod library;
 pub mod mc;

@@ -18,9 +18,8 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::analytic::solid_distance;
-use super::csg::CsgOp;
 use super::dense::GridField;
-use super::features::ExactField;
+use super::fold::FoldField;
 use super::SdfError;
 use crate::math::{DAffine3, DVec3, Transform};
 use crate::solid::SolidShape;
@@ -39,141 +38,6 @@ pub enum LocalField {
     /// ([`super::reuse`]), exact where a grid sampled from the result's
     /// mesh would carry its chords twice.
     Fold(Arc<FoldField>),
-}
-
-/// Values of a [`FoldField`] are clamped to this (local units): far
-/// beyond any volume's band at any scale a copy can be placed at, so the
-/// fold is the exact CSG of its operands wherever a volume samples it.
-pub const FOLD_BAND: f64 = 1e3;
-
-/// Surface points a fold's cost is counted at, at most.
-const COST_PROBES: usize = 256;
-/// The time of one box test against one field evaluation (measured on a
-/// chain of copies of copies, whose samples test many boxes).
-const BOX_TEST_COST: f64 = 0.1;
-
-/// The boxes tested and the analytic or grid fields evaluated by one
-/// sample of the fold of `fields` at `p` (as [`ExactField`] does: every
-/// field whose box holds the point is evaluated).
-fn visits(fields: &[(Arc<PlacedField>, CsgOp)], p: DVec3) -> (f64, f64) {
-    let (mut boxes, mut evaluated) = (0.0, 0.0);
-    for (f, _) in fields {
-        boxes += 1.0;
-        let (lo, hi) = f.world_box;
-        if p.cmpge(lo).all() && p.cmple(hi).all() {
-            match &f.field {
-                LocalField::Fold(x) => {
-                    let (b, e) = visits(x.exact.fields(), f.inverse.transform_point3(p));
-                    boxes += b;
-                    evaluated += e;
-                }
-                _ => evaluated += 1.0,
-            }
-        }
-    }
-    (boxes, evaluated)
-}
-
-/// The fold of a fused result's operands, in the frame of the volume they
-/// were fused in.
-#[derive(Debug)]
-pub struct FoldField {
-    exact: ExactField,
-    /// The area of the result's surface (for the budgets).
-    pub area: f64,
-    /// The work of one sample against that of a plain component, for the
-    /// budgets: the fields evaluated and the boxes tested, counted at
-    /// points of the result's surface ([`FoldField::new`]).
-    pub cost: f64,
-    bounds: (DVec3, DVec3),
-}
-
-impl FoldField {
-    /// The fold of `fields` (in fusion order) whose surface has area
-    /// `area` and passes through `surface` (its vertices); `None` when no
-    /// operand adds material (nothing is inside).
-    pub fn new(
-        fields: Vec<(Arc<PlacedField>, CsgOp)>,
-        area: f64,
-        surface: &[[f64; 3]],
-    ) -> Option<Self> {
-        // The fold starts outside; only a union brings material in, so
-        // the union operands' boxes hold everything inside and its band.
-        let mut lo = DVec3::splat(f64::INFINITY);
-        let mut hi = DVec3::splat(f64::NEG_INFINITY);
-        for (f, op) in &fields {
-            if *op == CsgOp::Union {
-                lo = lo.min(f.world_box.0);
-                hi = hi.max(f.world_box.1);
-            }
-        }
-        if !lo.cmple(hi).all() {
-            return None;
-        }
-        // Where the dense samples are, on average: at up to
-        // `COST_PROBES` of the surface's vertices (deterministic: the
-        // refusal must not depend on the machine's load).
-        let stride = surface.len().div_ceil(COST_PROBES).max(1);
-        let (mut n, mut work) = (0.0, 0.0);
-        for p in surface.iter().step_by(stride) {
-            let (boxes, evaluated) = visits(&fields, DVec3::from_array(*p));
-            work += evaluated + BOX_TEST_COST * boxes;
-            n += 1.0;
-        }
-        let cost = if n > 0.0 { (work / n).max(1.0) } else { 1.0 };
-        Some(Self {
-            exact: ExactField::new(fields, FOLD_BAND),
-            area,
-            cost,
-            bounds: (lo, hi),
-        })
-    }
-
-    /// The fold's value at `p` (far outside where no operand decides).
-    #[inline]
-    pub fn value(&self, p: DVec3) -> f64 {
-        self.exact.value(p).unwrap_or(FOLD_BAND)
-    }
-
-    /// [`PlacedField::far_sign`] for the fold, at local point `p`, from
-    /// its fields' own: a fold's value is not continuous where it leaves
-    /// every field's box (it is outside there), so its value at one point
-    /// proves nothing about its neighbours (a brick centred in a corner
-    /// of the box that no field's box reaches was taken for empty, and
-    /// cut a copied cup's handle off).
-    fn far_sign(&self, p: DVec3, r: f64, band: f64) -> Option<f64> {
-        let mut sign = 1.0;
-        for (f, op) in self.exact.fields() {
-            let (lo, hi) = f.world_box;
-            let s = if (p.clamp(lo, hi) - p).length() > r {
-                Some(1.0)
-            } else {
-                f.far_sign(p, r, band)
-            };
-            sign = match (op, s) {
-                (CsgOp::Union, Some(-1.0)) => -1.0,
-                (CsgOp::Union, Some(_)) => sign,
-                (CsgOp::Subtract, Some(-1.0)) | (CsgOp::Intersect, Some(1.0)) => 1.0,
-                (CsgOp::Subtract | CsgOp::Intersect, Some(_)) => sign,
-                // Unknown: a union cannot raise an inside, a subtract or
-                // an intersect cannot lower an outside.
-                (CsgOp::Union, None) if sign < 0.0 => sign,
-                (CsgOp::Subtract | CsgOp::Intersect, None) if sign > 0.0 => sign,
-                _ => return None,
-            };
-        }
-        Some(sign)
-    }
-
-    /// The Lipschitz bound: a min or max of fields keeps the largest of
-    /// theirs.
-    fn lipschitz(&self) -> f64 {
-        self.exact
-            .fields()
-            .iter()
-            .map(|(f, _)| f.field.lipschitz())
-            .fold(1.0, f64::max)
-    }
 }
 
 impl LocalField {

@@ -18,7 +18,7 @@
 //!   that are not volumes), in the units it was made in
 //!   ([`super::mesh_sdf::component_sdf_at`]).
 //! - **A copy of the fused result is the fold of its operands**
-//!   ([`super::placement::FoldField`]): its field is the CSG of the
+//!   ([`super::fold::FoldField`]): its field is the CSG of the
 //!   operands the result was fused from, evaluated exactly wherever the
 //!   copy goes, so it is the result itself placed there, at any step,
 //!   turn or scale. Made from the result's mesh, it had carried the

@@ -40,8 +40,9 @@ use super::cache::SdfCache;
 use super::csg::{brick_count_in_box, fuse_sampled, CsgOp};
 use super::extract::{assemble, Piece};
 use super::features::ExactField;
+use super::fold::FoldCell;
 use super::grid::{BrickKey, SparseGrid, BRICK, BRICK_LEN};
-use super::placement::{two_hand_scale, FoldField, LocalField, PlacedField, ScaleAxis};
+use super::placement::{two_hand_scale, LocalField, PlacedField, ScaleAxis};
 use super::sample::{sample_operand, SampledOperand};
 use super::SdfError;
 use crate::math::Transform;
@@ -62,10 +63,6 @@ pub use super::budget::MEMORY_BUDGET_BYTES;
 /// each); at 0.5 the estimate of the longest accepted copy was 6.4 s for
 /// 6.1 s measured, so a margin.
 const FOLD_SAMPLING_SHARE: f64 = 0.75;
-/// Copies of the fused result nest at most this deep (a copy of a result
-/// holding a copy, ...); the ops make one level per copy, and the budget
-/// refuses a chain of copies of copies long before (at 9 for the cup).
-const MAX_FOLD_DEPTH: usize = 64;
 /// Resampled operands kept per volume lineage.
 const SAMPLE_CACHE_ENTRIES: usize = 32;
 
@@ -110,24 +107,7 @@ pub struct UserMesh {
     pub fused: Option<Vec<Operand>>,
     /// The fold, once built (shared by the clones of this component).
     #[serde(skip)]
-    fold: FoldCell,
-}
-
-/// Where a component's fold is kept once built; not part of what the
-/// component is (equal whether built or not).
-#[derive(Clone, Default)]
-struct FoldCell(Arc<OnceLock<Arc<FoldField>>>);
-
-impl PartialEq for FoldCell {
-    fn eq(&self, _: &Self) -> bool {
-        true
-    }
-}
-
-impl std::fmt::Debug for FoldCell {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(if self.0.get().is_some() { "built" } else { "-" })
-    }
+    pub(super) fold: FoldCell,
 }
 
 impl UserMesh {
@@ -366,65 +346,6 @@ impl SdfVolume {
                 }
             }
         })
-    }
-
-    /// The fold of copy `m`'s `operands` (built once per component).
-    fn fold_of(
-        &self,
-        m: &UserMesh,
-        operands: &[Operand],
-        cache: &SdfCache,
-    ) -> Result<Arc<FoldField>, SdfError> {
-        if let Some(f) = m.fold.0.get() {
-            return Ok(f.clone());
-        }
-        self.check_nesting(operands, &mut Vec::new())?;
-        let fields = operands
-            .iter()
-            // In the copy's own frame: sampled point by point within the
-            // copy, never on this volume's lattice, so not budgeted as
-            // operands of it (the copy is).
-            .map(|o| {
-                let f =
-                    PlacedField::new(self.local_field_with(&o.component, cache)?, &o.transform)?;
-                Ok((Arc::new(f), o.csg))
-            })
-            .collect::<Result<Vec<_>, SdfError>>()?;
-        let fold =
-            FoldField::new(fields, m.mesh().area(), &m.positions).ok_or(SdfError::EmptyResult)?;
-        Ok(m.fold.0.get_or_init(|| Arc::new(fold)).clone())
-    }
-
-    /// Refuses copies nested deeper than [`MAX_FOLD_DEPTH`] or containing
-    /// themselves (a document the ops cannot make, read from a file or a
-    /// peer: its fold would recurse without end); `inside` holds the names
-    /// of the copies `operands` are within.
-    fn check_nesting(
-        &self,
-        operands: &[Operand],
-        inside: &mut Vec<String>,
-    ) -> Result<(), SdfError> {
-        for o in operands {
-            let Component::User { name } = &o.component else {
-                continue;
-            };
-            let Some(inner) = self
-                .user_components
-                .get(name)
-                .and_then(|m| m.fused.as_ref())
-            else {
-                continue;
-            };
-            if inside.contains(name) || inside.len() >= MAX_FOLD_DEPTH {
-                return Err(SdfError::BadMesh(format!(
-                    "component {name:?} is a copy nested in itself or more than {MAX_FOLD_DEPTH} deep"
-                )));
-            }
-            inside.push(name.clone());
-            self.check_nesting(inner, inside)?;
-            inside.pop();
-        }
-        Ok(())
     }
 
     /// [`Self::local_field_with`] the [`default_cache`].
