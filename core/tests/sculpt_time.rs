@@ -139,9 +139,11 @@ fn run_at_limit(name: &str, mut log: OpLog, op: Op, estimated: f64) -> f64 {
     );
     // The whittle only contracts: the estimate charges it the refinement
     // of its whole reach, which it does not do where the surface is
-    // already smooth (measured 5.5x pessimistic, 2026-11-29).
+    // already smooth (measured 5.5x pessimistic, 2026-11-29; 8.9x in the
+    // release build once the fold guard tested each pair of triangles
+    // once, 2026-11-30).
     let pessimism = if name.starts_with("whittle") {
-        8.0
+        12.0
     } else {
         4.0
     };
