@@ -245,6 +245,36 @@ fn a_shrunk_copy_of_the_fused_cup_keeps_its_shape_or_is_refused() {
     }
 }
 
+/// A copy made at full size and then shrunk by half with two hands (the
+/// headset's gesture) keeps the cup's shape and volume within 1% like a
+/// copy made at half size, or is refused naming the step with the
+/// document unchanged; at 1 cm it is refused. Before, the gesture was
+/// not checked: at 1 cm the copy fused into a broken cup with exit 0.
+#[test]
+fn a_copy_shrunk_with_two_hands_keeps_its_shape_or_is_refused() {
+    for step in [0.004, 0.01] {
+        let (mut log, one) = cup_at(step);
+        log.apply(op(r#"{"op":"sdf_copy_fused","volume":1,"name":"cup","csg":"union","transform":{"translate":[0.4,0.011,0.002],"rotate":[0,0,0,1],"scale":[1,1,1]}}"#))
+            .unwrap();
+        let before = log.document().content_hash();
+        match log.apply(op(r#"{"op":"sdf_scale_two_hand","volume":1,"operand":0,"axis":"uniform","hands_start":[[0,0,0],[0.2,0,0]],"hands_end":[[0,0,0],[0.1,0,0]]}"#)) {
+            Ok(_) => {
+                assert!(step < 0.01, "{step} m: the half-size copy was accepted");
+                log.apply(op(r#"{"op":"sdf_update","volume":1}"#)).unwrap();
+                let both = report(&mesh(&log, 1));
+                let ratio = (both.signed_volume - one.signed_volume) / (one.signed_volume / 8.0);
+                eprintln!("{step} m, shrunk by half with two hands: the copy alone {ratio:.4} of the cup");
+                assert_eq!((both.components, both.genus), (2, Some(2)));
+                assert!((ratio - 1.0).abs() < 0.01, "{step} m: {ratio}");
+            }
+            Err(e) => {
+                refused(e, too_thin, "the scaled copy of the result", &step.to_string());
+                assert_eq!(log.document().content_hash(), before);
+            }
+        }
+    }
+}
+
 #[test]
 fn the_fused_cup_moved_at_half_scale_keeps_its_shape() {
     // Before, the move resampled at the volume's step: 7 pieces, -42%.

@@ -41,7 +41,9 @@
 //!   the grid's own chords (a 3 cm sphere at 1 cm keeps 93.7%, as any
 //!   grid at that step would). A moved result is compared with itself at
 //!   the old step, and a shrunk copy with the result, so there the volume
-//!   is checked too ([`REUSE_VOLUME_TOL`]).
+//!   is checked too ([`REUSE_VOLUME_TOL`]). A reused component shrunk
+//!   afterwards (two hands, a new placement, a copy of the operand) is
+//!   checked again as it goes ([`SdfVolume::check_rescaled`]).
 //! - **On the lattice.** A component made at the reuse step has its
 //!   nodes at whole multiples of that step in the mesh's frame
 //!   ([`super::mesh_sdf::component_sdf_at`]), so an object reused where it
@@ -327,6 +329,50 @@ impl SdfVolume {
             check_shape("the moved result", v.step, want.scaled(s), got, tol)?;
         }
         Ok(v)
+    }
+
+    /// Checks pending operand `o`, re-placed from `old` (a two-hand
+    /// scale, a new placement, a copy of the operand), when it is a reused
+    /// component (a copy of the fused result, or an object) shrunk along
+    /// any axis: sampled where it goes and extracted alone, it must keep
+    /// its source's pieces and genus, and a copy of the result its volume
+    /// within [`REUSE_VOLUME_TOL`], as when it was made
+    /// ([`Self::with_fused_copy`], [`super::component_from_mesh`]), or the
+    /// edit is refused with [`SdfError::TooThin`] naming the step. A
+    /// copy made at full size and shrunk by half at 1 cm had fused into a
+    /// broken cup.
+    pub fn check_rescaled(
+        &self,
+        old: &Transform,
+        o: &Operand,
+        cache: &SdfCache,
+    ) -> Result<(), SdfError> {
+        let Component::User { name } = &o.component else {
+            return Ok(());
+        };
+        let Some(user) = self.user_components.get(name) else {
+            return Ok(());
+        };
+        let shrunk = (0..3).any(|k| o.transform.scale[k].abs() < old.scale[k].abs());
+        if !shrunk || (user.fused.is_none() && user.step.is_none()) {
+            return Ok(());
+        }
+        let mesh = TriMesh::new(user.positions.clone(), user.triangles.clone());
+        let Some(want) = shape(&mesh) else {
+            return Ok(());
+        };
+        let [x, y, z] = o.transform.scale;
+        let want = Shape {
+            volume: want.volume * (x * y * z).abs(),
+            ..want
+        };
+        let (tol, what) = match user.fused {
+            Some(_) => (Some(REUSE_VOLUME_TOL), "the scaled copy of the result"),
+            None => (None, "the scaled component"),
+        };
+        // The check samples and extracts the copy alone: its work first.
+        self.copy_work(o, cache)?.check(what)?;
+        self.check_reuse(o, want, tol, what, cache)
     }
 
     /// The work of queuing copy `o` of the fused result (its component
