@@ -337,7 +337,7 @@ impl SdfVolume {
     /// any axis: sampled where it goes and extracted alone, it must keep
     /// its source's pieces and genus, and a copy of the result its volume
     /// within [`REUSE_VOLUME_TOL`], as when it was made
-    /// ([`Self::with_fused_copy`], [`super::component_from_mesh`]), or the
+    /// ([`Self::with_fused_copy`], [`component_from_mesh`]), or the
     /// edit is refused with [`SdfError::TooThin`] naming the step. A
     /// copy made at full size and shrunk by half at 1 cm had fused into a
     /// broken cup.
