@@ -8,7 +8,7 @@ mod common;
 
 use common::{data, run};
 use glam::DVec3;
-use shapewright::doc::{LogError, ObjectId, Op, OpError, OpLog};
+use shapewright::doc::{LogError, ObjectId, ObjectKind, Op, OpError, OpLog};
 use shapewright::math::fm::DetMath as _;
 use shapewright::mesh::{validate, TriMesh, ValidationReport};
 use shapewright::sdf::SdfError;
@@ -278,7 +278,7 @@ fn a_copy_shrunk_with_two_hands_keeps_its_shape_or_is_refused() {
                 r#"{"op":"sdf_copy_fused","volume":1,"name":"cup","csg":"union","transform":{"translate":[0.4,0.011,0.002],"rotate":[0,0,0,1],"scale":[1,1,1]}}"#,
             ],
             r#"{"op":"sdf_scale_two_hand","volume":1,"operand":0,"axis":"uniform","hands_start":[[0,0,0],[0.2,0,0]],"hands_end":[[0,0,0],[0.1,0,0]]}"#,
-            "the scaled copy of the result",
+            "the placed copy of the result",
         );
         assert!(accepted || step >= 0.01, "{step} m: refused");
         assert!(
@@ -286,6 +286,45 @@ fn a_copy_shrunk_with_two_hands_keeps_its_shape_or_is_refused() {
             "{step} m: the half-size copy was accepted"
         );
     }
+}
+
+/// A copy of the result placed again at half size (the palette adds an
+/// existing component as a new operand) is checked as a copy made so: at
+/// 1 cm it is refused, with the document unchanged. Before, adding the
+/// component again skipped every check.
+#[test]
+fn a_copy_added_again_at_half_size_is_checked() {
+    let (mut log, _) = cup_at(0.01);
+    log.apply(op(r#"{"op":"sdf_copy_fused","volume":1,"name":"cup","csg":"union","transform":{"translate":[0.4,0.011,0.002],"rotate":[0,0,0,1],"scale":[1,1,1]}}"#))
+        .unwrap();
+    let ObjectKind::SdfVolume(v) = &log.document().get(ObjectId(1)).unwrap().kind else {
+        panic!("object 1 is not a volume");
+    };
+    let s = 0.5 * v.pending[0].transform.scale[0];
+    let before = log.document().content_hash();
+    let e = log
+        .apply(op(&format!(
+            r#"{{"op":"sdf_add_operand","volume":1,"component":{{"kind":"user","name":"cup"}},"csg":"union","transform":{{"translate":[-0.4,0.011,0.002],"rotate":[0,0,0,1],"scale":[{s},{s},{s}]}}}}"#
+        )))
+        .unwrap_err();
+    refused(e, too_thin, "the placed copy of the result", "0.01");
+    assert_eq!(log.document().content_hash(), before);
+}
+
+/// A copy made grown and shrunk back toward the cup's size with two hands
+/// is kept: at 12 mm it holds more of the true cup than the result's mesh
+/// it is compared with (whose 1.25-cell walls lost some), which is no
+/// reason to refuse it.
+#[test]
+fn a_grown_copy_shrunk_back_toward_its_size_is_kept() {
+    let (mut log, _) = cup_at(0.012);
+    log.apply(op(r#"{"op":"sdf_copy_fused","volume":1,"name":"cup","csg":"union","transform":{"translate":[0.4,0.011,0.002],"rotate":[0,0,0,1],"scale":[1.3,1.3,1.3]}}"#))
+        .unwrap();
+    log.apply(op(r#"{"op":"sdf_scale_two_hand","volume":1,"operand":0,"axis":"uniform","hands_start":[[0,0,0],[0.2,0,0]],"hands_end":[[0,0,0],[0.18,0,0]]}"#))
+        .unwrap();
+    log.apply(op(r#"{"op":"sdf_update","volume":1}"#)).unwrap();
+    let both = report(&mesh(&log, 1));
+    assert_eq!((both.components, both.genus), (2, Some(2)));
 }
 
 #[test]

@@ -202,7 +202,7 @@ fn re_placed(
     let mut o = v.pending[i].clone();
     o.transform = transform;
     v.placed(&o)?;
-    v.check_rescaled(&v.pending[i].transform, &o, default_cache())?;
+    v.check_placed_reuse(Some(&v.pending[i].transform), &o, default_cache())?;
     Ok((i, o))
 }
 
@@ -218,6 +218,7 @@ impl SdfAddOperand {
     pub fn apply_to(&self, v: &mut SdfVolume) -> Result<(), SdfError> {
         let o = Operand::new(self.component.clone(), self.csg, self.transform);
         v.placed(&o)?;
+        v.check_placed_reuse(None, &o, default_cache())?;
         *v = v.with_pending(|p| p.push(o));
         Ok(())
     }
@@ -238,7 +239,7 @@ impl SdfScaleTwoHand {
         let i = check_index(v, self.operand)?;
         let o = v.pending[i].scaled_two_hand(self.axis, self.hands_start, self.hands_end)?;
         v.placed(&o)?;
-        v.check_rescaled(&v.pending[i].transform, &o, default_cache())?;
+        v.check_placed_reuse(Some(&v.pending[i].transform), &o, default_cache())?;
         *v = v.with_pending(|p| p[i] = o);
         Ok(())
     }
