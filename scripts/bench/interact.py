@@ -24,12 +24,16 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 def read_stl(path):
+    """The STL's triangles in metres (ours are written in millimetres, as
+    the header says: read as metres, the scene was 1000 times too large
+    and the peer hit nothing, so the hits never agreed)."""
     data = pathlib.Path(path).read_bytes()
     (n,) = struct.unpack_from("<I", data, 80)
     rec = np.frombuffer(
         data, dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]), count=n, offset=84
     )
-    return rec["v"].astype(np.float64)
+    scale = 1e-3 if b"millimetres" in data[:80] else 1.0
+    return rec["v"].astype(np.float64) * scale
 
 
 def pick_numpy(tris, origins, d):
