@@ -41,9 +41,10 @@
 //!   the grid's own chords (a 3 cm sphere at 1 cm keeps 93.7%, as any
 //!   grid at that step would). A moved result is compared with itself at
 //!   the old step, and a shrunk copy with the result, so there the volume
-//!   is checked too ([`REUSE_VOLUME_TOL`]). A reused component shrunk
-//!   afterwards (two hands, a new placement, a copy of the operand) is
-//!   checked again as it goes ([`SdfVolume::check_placed_reuse`]).
+//!   is checked too ([`REUSE_VOLUME_TOL`]). A reused component placed
+//!   anew (added again as an operand) or shrunk afterwards (two hands, a
+//!   new placement, a copy of the operand) is checked again as it goes
+//!   ([`SdfVolume::check_placed_reuse`]).
 //! - **On the lattice.** A component made at the reuse step has its
 //!   nodes at whole multiples of that step in the mesh's frame
 //!   ([`super::mesh_sdf::component_sdf_at`]), so an object reused where it
