@@ -16,9 +16,12 @@
 //! timed: meshing the parts (the peer gets them as files). One untimed
 //! warm-up rep first, as the peer does.
 //!
-//! Threads: one. manifold-rust is built without its `parallel` feature
-//! (see `core/src/mesh/boolean.rs`: determinism), so the union runs on the
-//! calling thread. Allocator: mimalloc, the hosts'.
+//! Threads: rayon's pool, sized from the CPUs the process may use (the
+//! bench runs it pinned to one CPU, and on every CPU): the union tree
+//! unites the two halves of each node at once, and manifold-rust's own
+//! parallel sites run on the same pool, with the same bits on any number
+//! of threads (`core/src/mesh/union_tree.rs`). Allocator: mimalloc, the
+//! hosts'.
 //!
 //! Prints one JSON line: median and 25th–75th percentiles in ms, parts,
 //! input and output triangles, and whether the result is closed and its
@@ -78,11 +81,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let [med, p25, p75] = quartiles(&times);
     let r = validate(&out, &Default::default());
     println!(
-        "{{\"parts\": {}, \"input_triangles\": {}, \"output_triangles\": {}, \"ms\": [{med:.4}, {p25:.4}, {p75:.4}], \"runs\": {}, \"threads\": 1, \"closed\": {}, \"genus\": {}}}",
+        "{{\"parts\": {}, \"input_triangles\": {}, \"output_triangles\": {}, \"ms\": [{med:.4}, {p25:.4}, {p75:.4}], \"runs\": {}, \"threads\": {}, \"closed\": {}, \"genus\": {}}}",
         parts.len(),
         parts.iter().map(|m| m.triangles.len()).sum::<usize>(),
         out.triangles.len(),
         times.len(),
+        rayon::current_num_threads(),
         r.is_closed(),
         r.genus.unwrap_or(-1)
     );

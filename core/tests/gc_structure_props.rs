@@ -24,7 +24,11 @@
 //! degenerate triangle, with the genus and component count of the
 //! unedited model (a copy adds what its source adds), as long as no edit
 //! made parts meet or part that are not parent and child
-//! ([`gc_props::topology::Contacts`]; counted and printed).
+//! ([`gc_props::topology::Contacts`]; counted and printed). The union is
+//! also evaluated through one cache kept across the sequence, as the
+//! document keeps it, and must be the fresh union bit for bit (issue 37's
+//! incremental union: only the union tree's nodes over changed parts are
+//! united again).
 //!
 //! Refused ops must be typed errors (a relation refusal names the
 //! relation and two parts); the refusal rate is printed and bounded.
@@ -48,7 +52,7 @@ use gc_props::topology::{
 use glam::DQuat;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
-use shapewright::assembly::{descendants_bfs, AssemblyError};
+use shapewright::assembly::{descendants_bfs, AssemblyError, UnionCache};
 use shapewright::doc::{parse_script, run_script, ObjectId, ObjectKind, OpLog};
 use shapewright::gc::*;
 
@@ -209,8 +213,9 @@ fn evaluated(
     next: &GcAssembly,
     m: &Made,
     stats: &mut Stats,
+    cache: &UnionCache,
 ) -> Result<Option<Evaluated>, TestCaseError> {
-    let why = match evaluate(next).map_err(TestCaseError::fail)? {
+    let why = match evaluate(next, Some(cache)).map_err(TestCaseError::fail)? {
         Err(g) => format!("{g:?}")
             .split(['{', '(', ' '])
             .next()
@@ -238,8 +243,9 @@ fn run_case(ex: usize, seeds: &[Seed], topo: bool, stats: &mut Stats) -> Result<
     }
     let mut expected = all_local(&asm);
     let mut recorded = asm.relations.clone().expect("examples record relations");
+    let cache = UnionCache::new();
     let mut expect = if topo {
-        let ev = evaluate(&asm)
+        let ev = evaluate(&asm, Some(&cache))
             .map_err(TestCaseError::fail)?
             .map_err(|e| TestCaseError::fail(e.to_string()))?;
         let contacts = contacts(&asm, &ev.parts).map_err(TestCaseError::fail)?;
@@ -262,7 +268,7 @@ fn run_case(ex: usize, seeds: &[Seed], topo: bool, stats: &mut Stats) -> Result<
             }
             Ok(()) => {
                 let ev = if topo {
-                    match evaluated(&next, &m, stats)? {
+                    match evaluated(&next, &m, stats, &cache)? {
                         Some(ev) => Some(ev),
                         None => continue,
                     }

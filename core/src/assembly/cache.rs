@@ -4,9 +4,9 @@
 //! Every entry is keyed by content, never by position in history: a part's
 //! mesh and cavity by the [`ContentHasher`] hash of its GC's exact JSON
 //! (serde prints every f64 exactly), a part's trimmed mesh by its index,
-//! its GC's hash and the hashes of the cavities cut out of it, a prefix of
-//! the union fold by the chain of its trimmed parts' keys, the final mesh
-//! by the whole chain. So an entry is reused exactly when recomputing it
+//! its GC's hash and the hashes of the cavities cut out of it, a node of
+//! the union tree by its range and its trimmed parts' keys, the final mesh
+//! by the root's key. So an entry is reused exactly when recomputing it
 //! would give the same bits, whichever op, undo or redo led there, and the
 //! result never depends on what the cache holds (a fresh cache gives the
 //! same mesh: the assembly tests compare both). A 64-bit key can collide;
@@ -20,11 +20,11 @@
 //! their estimated size passes [`UnionCache::DEFAULT_BUDGET`]; the entries
 //! of the evaluation running now and of the one before it are never
 //! dropped, so an edit finds what the last evaluation made whatever its
-//! size (a 1 M-triangle fold prefix alone is twice the budget: it was
+//! size (a 1 M-triangle union node alone is twice the budget: it was
 //! dropped as soon as the next evaluation meshed its changed part, and
 //! the edit re-united every part; [`crate::gc::budget`] estimates an
 //! edit's time on the last evaluation being kept). A result found whole
-//! marks its fold prefixes used too (an undo, then an edit). The lock is held
+//! marks its tree's nodes used too (an undo, then an edit). The lock is held
 //! only to look up and insert, never while meshing or uniting.
 
 use std::collections::HashMap;
@@ -49,8 +49,9 @@ pub struct CacheStats {
     /// Trimmed part meshes computed (a boolean difference, or the part's
     /// mesh as is when nothing cuts it).
     pub trim_misses: u64,
-    /// Parts whose union with the parts before them was taken from the
-    /// cache (the length of the reused prefix of the fold).
+    /// Parts whose union was taken from the cache: the parts under the
+    /// union tree's nodes found whole (a part's own imported mesh
+    /// counts as the node over it alone).
     pub folded_parts_reused: u64,
     /// Union steps computed (one boolean each).
     pub union_steps: u64,
@@ -68,8 +69,9 @@ pub(super) enum Value {
     /// A part's mesh with its sources set and the other parts' cavities
     /// cut out.
     Trimmed(Arc<TriMesh>),
-    /// The union of a prefix of the trimmed parts (`None`: all empty).
-    Prefix(Option<Arc<UnionOperand>>),
+    /// A node of the union tree: the union of a range of the trimmed
+    /// parts (`None`: all empty).
+    Node(Option<Arc<UnionOperand>>),
     /// The checked union of all parts.
     Result(Arc<TriMesh>),
 }
@@ -87,7 +89,7 @@ impl Value {
             Self::Cavity(c) => c.as_ref().as_ref().map_or(0, mesh),
             // Halfedges, face and vertex data, triangle references and the
             // collider: about 200 bytes a triangle in manifold-rust.
-            Self::Prefix(p) => p.as_ref().map_or(0, |u| 200 * u.triangle_count()),
+            Self::Node(p) => p.as_ref().map_or(0, |u| 200 * u.triangle_count()),
         }
     }
 }
@@ -98,7 +100,7 @@ pub(super) enum Tag {
     Mesh,
     Cavity,
     Trimmed,
-    Prefix,
+    Node,
     Result,
 }
 
@@ -122,7 +124,7 @@ struct State {
 }
 
 /// The evaluation cache of one assembly object: part meshes, cavities,
-/// trimmed parts, prefixes of the union fold and results, each keyed by
+/// trimmed parts, nodes of the union tree and results, each keyed by
 /// content so that reusing one never changes a result (see
 /// [`super::union_mesh_cached`]). Cloning shares it.
 #[derive(Clone)]
@@ -151,7 +153,7 @@ impl Default for UnionCache {
 
 impl UnionCache {
     /// Estimated bytes kept before the least recently used entries go:
-    /// about three chair-sized (110k-triangle) fold prefixes, or a hundred
+    /// about three chair-sized (110k-triangle) union nodes, or a hundred
     /// part meshes.
     pub const DEFAULT_BUDGET: usize = 96 << 20;
 

@@ -8,7 +8,10 @@ use rayon::prelude::*;
 use super::cache::{gc_key, key, Tag, Value};
 use super::{AssemblyError, UnionCache};
 use crate::gc::{cavity_gc, mesh_gc, GcAssembly};
-use crate::mesh::{difference, validate, TriMesh, UnionOperand, ValidationReport};
+use crate::mesh::{
+    difference, union_tree_nodes, unite_tree, validate, TriMesh, UnionOperand, UnionTree,
+    ValidationReport,
+};
 
 /// Meshes every part and unites them with `manifold-rust`
 /// ([`crate::mesh::union`], which checks every operand's status), keeping
@@ -29,10 +32,11 @@ pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
 /// the same object and keeping what this one computes (see
 /// [`UnionCache`]): a part whose GC did not change is not re-meshed, a
 /// part whose GC and cutting cavities did not change is not re-trimmed,
-/// and the union, a left fold over the parts in order exactly as
-/// [`crate::mesh::union`] computes it, restarts after the longest prefix
-/// of unchanged trimmed parts it holds. Bit-identical to [`union_mesh`]
-/// whatever the cache holds.
+/// and the union, in the fixed tree of [`crate::mesh::union_tree_nodes`]
+/// exactly as [`crate::mesh::union`] computes it, takes every node over
+/// unchanged trimmed parts that it holds whole: an edit of one part
+/// re-unites the nodes on that part's path to the root. Bit-identical to
+/// [`union_mesh`] whatever the cache holds.
 pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh, AssemblyError> {
     asm.validate()?;
     cache.begin();
@@ -89,31 +93,22 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
             key(b"trimmed", &words)
         })
         .collect();
-    let mut prefix_keys = Vec::with_capacity(trim_keys.len());
-    let mut chain = key(b"prefix", &[]);
-    for &t in &trim_keys {
-        chain = key(b"prefix", &[chain, t]);
-        prefix_keys.push(chain);
-    }
-    let result_key = key(b"result", &[chain]);
+    // Every node of the union tree, keyed by its range and the trimmed
+    // parts in it (its shape depends on its range alone).
+    let node_key = |lo: usize, hi: usize| {
+        let mut words = vec![lo as u64, hi as u64];
+        words.extend(&trim_keys[lo..hi]);
+        key(b"node", &words)
+    };
+    let n = asm.parts.len();
+    let result_key = key(b"result", &[node_key(0, n)]);
     if let Some(Value::Result(m)) = cache.get(Tag::Result, result_key) {
         cache.count(|s| s.result_hits += 1);
         // Keep what an edit of this state will start from.
-        for &k in &prefix_keys {
-            cache.get(Tag::Prefix, k);
+        for (lo, hi) in union_tree_nodes(n) {
+            cache.get(Tag::Node, node_key(lo, hi));
         }
         return Ok((*m).clone());
-    }
-    // The longest cached prefix of the fold.
-    let mut start = 0;
-    let mut acc: Option<Arc<UnionOperand>> = None;
-    for n in (1..=prefix_keys.len()).rev() {
-        if let Some(Value::Prefix(p)) = cache.get(Tag::Prefix, prefix_keys[n - 1]) {
-            start = n;
-            acc = p;
-            cache.count(|s| s.folded_parts_reused += n as u64);
-            break;
-        }
     }
     // Part `i` with its sources set and the cavities cutting it cut out.
     let trimmed_part = |i: usize| -> Result<Arc<TriMesh>, AssemblyError> {
@@ -136,26 +131,16 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
         cache.count(|s| s.trim_misses += 1);
         Ok(m)
     };
-    // The trimmed parts the fold needs, imported as union operands, in
-    // parallel (independent booleans and imports); errors reported in part
-    // order, a part's trim before its import, as sequentially.
-    let operands: Vec<Result<Option<UnionOperand>, AssemblyError>> = (start..asm.parts.len())
-        .into_par_iter()
-        .map(|i| trimmed_part(i).and_then(|m| Ok(UnionOperand::import(i, &m)?)))
-        .collect();
-    for (i, next) in (start..asm.parts.len()).zip(operands) {
-        // As `crate::mesh::union`: a left fold, empty operands skipped.
-        if let Some(next) = next? {
-            acc = Some(Arc::new(match acc {
-                None => next,
-                Some(a) => {
-                    cache.count(|s| s.union_steps += 1);
-                    a.union(&next)
-                }
-            }));
-        }
-        cache.put(Tag::Prefix, prefix_keys[i], Value::Prefix(acc.clone()));
-    }
+    // The union tree over the trimmed parts, its nodes kept and reused:
+    // a node over unchanged parts is found whole, the others are united
+    // again, both halves of each at once (errors in part order, a part's
+    // trim before its import, as sequentially).
+    let nodes = Nodes {
+        cache,
+        trimmed_part,
+        node_key,
+    };
+    let acc = unite_tree(&nodes, n)?;
     let united = match &acc {
         Some(a) => a.to_mesh()?,
         None => TriMesh::default(),
@@ -170,6 +155,45 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
     let out = Arc::new(out);
     cache.put(Tag::Result, result_key, Value::Result(out.clone()));
     Ok(Arc::unwrap_or_clone(out))
+}
+
+/// The union tree over an assembly's trimmed parts (see
+/// [`union_mesh_cached`]): its nodes are looked up in and kept in the
+/// cache by their content key.
+struct Nodes<'a, F, K> {
+    cache: &'a UnionCache,
+    trimmed_part: F,
+    node_key: K,
+}
+impl<F, K> UnionTree for Nodes<'_, F, K>
+where
+    F: Fn(usize) -> Result<Arc<TriMesh>, AssemblyError> + Sync,
+    K: Fn(usize, usize) -> u64 + Sync,
+{
+    type Value = UnionOperand;
+    type Error = AssemblyError;
+    fn leaf(&self, i: usize) -> Result<Option<Arc<UnionOperand>>, AssemblyError> {
+        let m = (self.trimmed_part)(i)?;
+        Ok(UnionOperand::import(i, &m)?.map(Arc::new))
+    }
+    fn join(&self, a: &UnionOperand, b: &UnionOperand) -> Result<UnionOperand, AssemblyError> {
+        self.cache.count(|s| s.union_steps += 1);
+        Ok(a.union(b))
+    }
+    fn found(&self, lo: usize, hi: usize) -> Option<Option<Arc<UnionOperand>>> {
+        match self.cache.get(Tag::Node, (self.node_key)(lo, hi)) {
+            Some(Value::Node(v)) => {
+                self.cache
+                    .count(|s| s.folded_parts_reused += (hi - lo) as u64);
+                Some(v)
+            }
+            _ => None,
+        }
+    }
+    fn keep(&self, lo: usize, hi: usize, v: &Option<Arc<UnionOperand>>) {
+        self.cache
+            .put(Tag::Node, (self.node_key)(lo, hi), Value::Node(v.clone()));
+    }
 }
 
 /// A part's mesh, from the cache or meshed (and kept).

@@ -33,7 +33,8 @@
 //! ## Time
 //!
 //! Those limits bound one GC; an assembly's union grows with every part,
-//! and an edit re-unites its parts from the first one it changed. A child
+//! and an edit re-unites the nodes of the union tree over the parts it
+//! changed ([`crate::mesh::union_tree_nodes`]). A child
 //! added to a container at 724 × 724 (2 M triangles, accepted) took 10 s;
 //! the chair's nine parts at 256 × 256, 11 s (issue 37: no accepted op may
 //! run longer than 10 s). So every GC op is also estimated in seconds
@@ -46,33 +47,40 @@
 //!
 //! ```text
 //! seconds = MESH·(triangles meshed: changed parts and their cavities)
-//!         + DIFFERENCE·Σ_trimmed (part + the cavities that may cut it)
-//!         + IMPORT·Σ_{parts from the first changed} part
-//!         + UNION·Σ_{union steps} (accumulated union + next part)
+//!         + DIFFERENCE·Σ_{re-trimmed parts} (part + the cavities that may cut it)
+//!         + IMPORT·Σ_{re-imported parts} part
+//!         + UNION·Σ_{tree nodes united again} (the parts under the node)
 //!         + RESULT·(the result's triangles)
 //! ```
 //!
-//! A changed hollow part may cut any other part, so its edit re-trims and
-//! re-unites them all; any hollow part is assumed to cut every other
+//! A part is re-trimmed and re-imported when it changed, and a node is
+//! united again when a part under it was re-trimmed or the tree before
+//! the op (over the parts before it) had no such node. The seconds are
+//! CPU seconds: the two halves of a node are united at once, so on two
+//! cores the wall time can be less.
+//!
+//! A changed hollow part may cut any other part, so its edit re-trims
+//! and re-unites them all; any hollow part is assumed to cut every other
 //! (the bounding boxes that decide it are not known before meshing). The
 //! constants are CPU seconds of the release build on this machine (AMD
 //! EPYC, 2 cores), from `calibrate` in `core/tests/gc_time.rs`, rounded
-//! up: the estimate is 1.2-2.2 times the measured time of every edit
-//! over a second on the mug, the teapot, the chair and the rack at 128 to
-//! 724 segments (0.8 times on one 1 s chair edit), and that test runs an
-//! edit at the limit and checks it finishes within it.
+//! up. With the union tree (2026-11-30) the estimate is 1.1-2.2 times the
+//! measured CPU time of every edit over half a second on the mug, the
+//! teapot, the chair and the rack at 128 to 724 segments, but for two: a
+//! chair slat at 128 (0.76 s estimated, 0.85 s run) and the mug's handle
+//! at 512 (6.16 s, 6.55 s). That test runs an edit at the limit and
+//! checks it finishes within it.
 //!
-//! The estimate counts on the cache holding the fold that the state
+//! The estimate counts on the cache holding the tree that the state
 //! before the op was evaluated with ([`crate::assembly::UnionCache`]
 //! keeps the last evaluation whatever its size). After an undo to a
 //! checkpoint, which restores a state without evaluating it, an edit of
-//! an assembly whose fold is over the cache's budget (about half a
+//! an assembly whose tree is over the cache's budget (about half a
 //! million triangles) may find it gone and unite every part: up to the
-//! whole union's time, which this estimate does not bound. The union is a
-//! left fold (as Manifold's batch union), so a long assembly costs the
-//! square of its parts: nine default-resolution parts take 0.75 s cold,
-//! thirty would take about 8 s, which a balanced union tree would cut to
-//! about 2 s (issue 37's open work).
+//! whole union's time, which this estimate does not bound. The tree
+//! (issue 37) keeps that bounded for long assemblies: the left fold it
+//! replaced (Manifold's batch union) cost the square of the parts, about
+//! 8 s for thirty default-resolution parts; the tree costs `n log n`.
 //!
 //! Each resolution axis stays declared as 4..=4096 in the op schema (a
 //! long cable wants many rings and few points around); the product is what
@@ -81,6 +89,7 @@
 //! these checks, so every op that builds or edits a GC (and every GC read
 //! from a USD file, a trace or a shared session) is held to them.
 
+use crate::mesh::union_tree_nodes;
 use crate::nurbs::NurbsCurve;
 
 use super::{Gc, GcAssembly, GcError, Resolution, ShapeType};
@@ -223,7 +232,7 @@ pub fn edit_seconds(before: Option<&GcAssembly>, after: &GcAssembly) -> Result<f
     if after.parts.len() < 2 {
         return Ok(seconds);
     }
-    // The first part whose trimmed mesh may differ: a changed hollow part
+    // The parts whose trimmed mesh may differ: a changed hollow part
     // re-trims every part; a one-part assembly before cached no union.
     let was_hollow = |i: usize| {
         before
@@ -232,24 +241,33 @@ pub fn edit_seconds(before: Option<&GcAssembly>, after: &GcAssembly) -> Result<f
     };
     let any_hollow_changed = (0..sizes.len()).any(|i| changed[i] && (hollow(i) || was_hollow(i)))
         || before.is_some_and(|b| (sizes.len()..b.parts.len()).any(was_hollow));
-    let single_before = before.is_none_or(|b| b.parts.len() < 2);
-    let first = if any_hollow_changed || single_before {
-        0
-    } else {
-        changed.iter().position(|&c| c).unwrap_or(sizes.len())
+    let before_nodes: std::collections::HashSet<(usize, usize)> = match before {
+        Some(b) if b.parts.len() >= 2 => union_tree_nodes(b.parts.len()).into_iter().collect(),
+        _ => Default::default(),
     };
+    let retrimmed = |i: usize| changed[i] || any_hollow_changed || before_nodes.is_empty();
     let cavities: f64 = sizes.iter().map(|s| s.1).sum();
-    let mut acc: f64 = sizes[..first].iter().map(|s| s.0).sum();
-    for (i, &(t, c)) in sizes.iter().enumerate().skip(first) {
+    for (i, &(t, c)) in sizes.iter().enumerate() {
         let cutting = cavities - c;
-        if cutting > 0.0 {
+        if retrimmed(i) && cutting > 0.0 {
             seconds += DIFFERENCE_SECONDS * (t + cutting);
         }
-        seconds += IMPORT_SECONDS * t;
-        if i > 0 {
-            seconds += UNION_SECONDS * (acc + t);
+    }
+    // The union tree's nodes that are not found whole: those over a
+    // re-trimmed part, and those the tree before did not have.
+    let mut under = vec![0.0; sizes.len() + 1];
+    for (i, s) in sizes.iter().enumerate() {
+        under[i + 1] = under[i] + s.0;
+    }
+    for (lo, hi) in union_tree_nodes(sizes.len()) {
+        if before_nodes.contains(&(lo, hi)) && !(lo..hi).any(retrimmed) {
+            continue;
         }
-        acc += t;
+        seconds += if hi - lo == 1 {
+            IMPORT_SECONDS * sizes[lo].0
+        } else {
+            UNION_SECONDS * (under[hi] - under[lo])
+        };
     }
     Ok(seconds)
 }

@@ -17,6 +17,8 @@
 //! result a closed 2-manifold. The printable path uses it to remove the
 //! features that rounding to float32 would collapse or fold.
 
+use std::sync::Arc;
+
 use manifold_rust::cancel::CancelToken;
 use manifold_rust::manifold::Manifold;
 use manifold_rust::types::{BooleanConfig, Error as ManifoldStatus, MeshGLP, OpType};
@@ -88,49 +90,78 @@ pub fn union(meshes: &[&TriMesh]) -> Result<TriMesh, BooleanError> {
 /// doc); `0.0` is Manifold's own precision (1e-12 of the box). Sources as
 /// for [`union`].
 pub fn union_snapped(meshes: &[&TriMesh], tolerance: f64) -> Result<TriMesh, BooleanError> {
-    union_snapped_with(meshes, tolerance, None, &mut |_, _| {})
+    union_snapped_with(meshes, tolerance, None, &|_, _| {})
 }
 
 /// [`union_snapped`], stoppable by `cancel` and reporting its steps:
-/// `step(done, total)` after each operand is imported (`total` = 2 x the
-/// operands: imports, then union steps) and after each union step. The
-/// union is Manifold's `batch_boolean` written out (the same left fold,
-/// step by step), so the result is the same bits as [`union_snapped`]'s.
+/// `step(done, total)` after each operand is imported and after each
+/// union step (`total` = 2 x the operands; `done` only grows), then
+/// `step(total, total)`. The operands are united in the fixed tree of
+/// [`super::union_tree_nodes`], the two halves of each node at once, so the
+/// result is the same bits on any number of threads; `step` may be called
+/// from any of them (one call at a time).
 pub fn union_snapped_with(
     meshes: &[&TriMesh],
     tolerance: f64,
     cancel: Option<&BooleanCancel>,
-    step: &mut dyn FnMut(usize, usize),
+    step: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<TriMesh, BooleanError> {
-    let token = cancel.map(|c| &c.0);
-    let stopped = || token.is_some_and(CancelToken::is_cancelled);
-    let total = 2 * meshes.len();
-    let mut manifolds = Vec::with_capacity(meshes.len());
-    for (index, m) in meshes.iter().enumerate() {
-        if stopped() {
-            return Err(BooleanError::Cancelled);
-        }
-        if !m.triangles.is_empty() {
-            let source = m.tri_source.first().copied().unwrap_or(index as u32);
-            manifolds.push(import_tol(index, m, source, tolerance)?);
-        }
-        step(index + 1, total);
+    struct Tree<'a> {
+        meshes: &'a [&'a TriMesh],
+        tolerance: f64,
+        token: Option<&'a CancelToken>,
+        engine: manifold_rust::types::BooleanEngine,
+        done: std::sync::Mutex<usize>,
+        step: &'a (dyn Fn(usize, usize) + Sync),
     }
-    if manifolds.is_empty() {
+    impl Tree<'_> {
+        fn stopped(&self) -> Result<(), BooleanError> {
+            match self.token.is_some_and(CancelToken::is_cancelled) {
+                true => Err(BooleanError::Cancelled),
+                false => Ok(()),
+            }
+        }
+        fn tick(&self) {
+            let mut done = self.done.lock().unwrap_or_else(|e| e.into_inner());
+            *done += 1;
+            (self.step)(*done, 2 * self.meshes.len());
+        }
+    }
+    impl super::union_tree::UnionTree for Tree<'_> {
+        type Value = Manifold;
+        type Error = BooleanError;
+        fn leaf(&self, index: usize) -> Result<Option<Arc<Manifold>>, BooleanError> {
+            self.stopped()?;
+            let m = self.meshes[index];
+            let out = if m.triangles.is_empty() {
+                None
+            } else {
+                let source = m.tri_source.first().copied().unwrap_or(index as u32);
+                Some(Arc::new(import_tol(index, m, source, self.tolerance)?))
+            };
+            self.tick();
+            Ok(out)
+        }
+        fn join(&self, a: &Manifold, b: &Manifold) -> Result<Manifold, BooleanError> {
+            self.stopped()?;
+            let out = a.boolean_with_engine_and_token(b, OpType::Add, self.engine, self.token);
+            self.tick();
+            Ok(out)
+        }
+    }
+    let tree = Tree {
+        meshes,
+        tolerance,
+        token: cancel.map(|c| &c.0),
+        engine: BooleanConfig::default_engine(),
+        done: std::sync::Mutex::new(0),
+        step,
+    };
+    let Some(united) = super::union_tree::unite_tree(&tree, meshes.len())? else {
         return Ok(TriMesh::default());
-    }
-    let engine = BooleanConfig::default_engine();
-    let mut parts = manifolds.into_iter();
-    let mut result = parts.next().unwrap_or_default();
-    step(meshes.len() + 1, total);
-    for (k, m) in parts.enumerate() {
-        if stopped() {
-            return Err(BooleanError::Cancelled);
-        }
-        result = result.boolean_with_engine_and_token(&m, OpType::Add, engine, token);
-        step(meshes.len() + k + 2, total);
-    }
-    if stopped() || result.status() == ManifoldStatus::Cancelled {
+    };
+    let mut result = Arc::unwrap_or_clone(united);
+    if tree.stopped().is_err() || result.status() == ManifoldStatus::Cancelled {
         return Err(BooleanError::Cancelled);
     }
     if tolerance > 0.0 {
@@ -139,6 +170,7 @@ pub fn union_snapped_with(
     if result.status() != ManifoldStatus::NoError {
         return Err(BooleanError::Failed(format!("{:?}", result.status())));
     }
+    let total = 2 * meshes.len();
     step(total, total);
     Ok(export(&result))
 }
@@ -181,11 +213,12 @@ pub fn difference(a: &TriMesh, cutters: &[&TriMesh]) -> Result<TriMesh, BooleanE
     Ok(export(&result))
 }
 
-/// A closed mesh imported into Manifold, one step of a union fold.
-/// [`union`] is the left fold of these steps (`union(&[a, b, c])` is
-/// `a.union(&b).union(&c)` exported, bit for bit, empty operands skipped),
-/// so a caller that keeps a prefix of the fold can re-unite only the
-/// operands after it ([`crate::assembly::UnionCache`]).
+/// A closed mesh imported into Manifold, an operand or a node of a union
+/// tree. [`union`] unites its operands in the tree of
+/// [`super::union_tree_nodes`] with these steps (`union(&[a, b, c, d])` is
+/// `a.union(&b).union(&c.union(&d))` exported, bit for bit, empty operands
+/// skipped), so a caller that keeps the tree's nodes can re-unite only
+/// those over a changed operand ([`crate::assembly::UnionCache`]).
 #[derive(Clone)]
 pub struct UnionOperand(Manifold);
 
@@ -207,7 +240,7 @@ impl UnionOperand {
         Ok(Some(Self(import_tol(index, m, source, 0.0)?)))
     }
 
-    /// The union of `self` and `next` (the next step of the fold).
+    /// The union of `self` and `next` (one node of the tree).
     pub fn union(&self, next: &Self) -> Self {
         Self(self.0.boolean(&next.0, OpType::Add))
     }

@@ -130,7 +130,7 @@ pub fn printable_with(
         &meshes,
         base,
         Some(control.boolean_cancel()),
-        &mut |done, total| control.set(PrintStage::Uniting, done, total),
+        &|done, total| control.set(PrintStage::Uniting, done, total),
     )
     .map_err(|e| union_error(e, &ready, &label_of))?;
     let mut current = united;

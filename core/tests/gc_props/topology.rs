@@ -12,7 +12,9 @@
 
 use std::collections::BTreeSet;
 
-use shapewright::assembly::{project_to_surface, union_mesh, AssemblyError};
+use shapewright::assembly::{
+    project_to_surface, union_mesh, union_mesh_cached, AssemblyError, UnionCache,
+};
 use shapewright::gc::{mesh_gc, GcAssembly, GcError};
 use shapewright::mesh::{self_intersections, union, validate, TriMesh};
 
@@ -35,7 +37,15 @@ pub struct Evaluated {
     pub topology: Topology,
 }
 
-pub fn evaluate(asm: &GcAssembly) -> Result<Result<Evaluated, GcError>, String> {
+/// With `cache` (kept across the ops of one random sequence, as the
+/// document keeps it), the union is also evaluated through it and must be
+/// the fresh union bit for bit: the incremental union of issue 37 (a
+/// change re-unites only the union tree's nodes over the parts it
+/// changed) under random edits.
+pub fn evaluate(
+    asm: &GcAssembly,
+    cache: Option<&UnionCache>,
+) -> Result<Result<Evaluated, GcError>, String> {
     let mut parts = Vec::with_capacity(asm.parts.len());
     for p in &asm.parts {
         match mesh_gc(&p.gc) {
@@ -48,6 +58,16 @@ pub fn evaluate(asm: &GcAssembly) -> Result<Result<Evaluated, GcError>, String> 
         Err(e) => return Err(format!("union: {e}")),
         Ok(m) => m,
     };
+    if let Some(cache) = cache {
+        let cached = union_mesh_cached(asm, cache).map_err(|e| format!("cached union: {e}"))?;
+        if cached != mesh {
+            return Err(format!(
+                "the cached union differs from the fresh one ({} and {} triangles)",
+                cached.triangles.len(),
+                mesh.triangles.len()
+            ));
+        }
+    }
     let r = validate(&mesh, &Default::default());
     if !r.is_closed() || r.non_manifold_vertices > 0 {
         return Err(format!(
@@ -71,7 +91,7 @@ pub fn folded_part(ev: &Evaluated) -> Option<usize> {
 }
 
 pub fn topology(asm: &GcAssembly) -> Result<Topology, String> {
-    match evaluate(asm)? {
+    match evaluate(asm, None)? {
         Ok(ev) => Ok(ev.topology),
         Err(e) => Err(e.to_string()),
     }
