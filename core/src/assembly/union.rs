@@ -9,8 +9,8 @@ use super::cache::{gc_key, key, Tag, Value};
 use super::{AssemblyError, UnionCache};
 use crate::gc::{cavity_gc, mesh_gc, GcAssembly};
 use crate::mesh::{
-    difference, union_tree_nodes, unite_tree, validate, TriMesh, UnionOperand, UnionTree,
-    ValidationReport,
+    difference, disjoint_groups, union_tree_nodes, unite_tree, validate, TriMesh, UnionOperand,
+    UnionTree, ValidationReport,
 };
 
 /// Meshes every part and unites them with `manifold-rust`
@@ -33,9 +33,11 @@ pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
 /// [`UnionCache`]): a part whose GC did not change is not re-meshed, a
 /// part whose GC and cutting cavities did not change is not re-trimmed,
 /// and the union, in the fixed tree of [`crate::mesh::union_tree_nodes`]
-/// exactly as [`crate::mesh::union`] computes it, takes every node over
-/// unchanged trimmed parts that it holds whole: an edit of one part
-/// re-unites the nodes on that part's path to the root. Bit-identical to
+/// over the groups of parts with disjoint boxes
+/// ([`crate::mesh::disjoint_groups`]) exactly as [`crate::mesh::union`]
+/// computes it, takes every node over unchanged trimmed parts that it
+/// holds whole (each part's import too): an edit of one part re-composes
+/// its group and re-unites the nodes on that group's path to the root. Bit-identical to
 /// [`union_mesh`] whatever the cache holds.
 pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh, AssemblyError> {
     asm.validate()?;
@@ -93,20 +95,29 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
             key(b"trimmed", &words)
         })
         .collect();
-    // Every node of the union tree, keyed by its range and the trimmed
-    // parts in it (its shape depends on its range alone).
-    let node_key = |lo: usize, hi: usize| {
-        let mut words = vec![lo as u64, hi as u64];
-        words.extend(&trim_keys[lo..hi]);
+    // The union tree's leaves: groups of parts whose boxes are disjoint
+    // (a trimmed part lies in its part's box), composed without a boolean.
+    let boxes: Vec<_> = meshes.iter().map(|(_, b)| *b).collect();
+    let groups = disjoint_groups(&boxes);
+    // Every node of the tree, keyed by the groups under it and their
+    // trimmed parts (its shape depends on how many groups it spans).
+    let node_key = |under: &[Vec<usize>]| {
+        let mut words = Vec::new();
+        for g in under {
+            words.push(g.len() as u64);
+            words.extend(g.iter().map(|&i| trim_keys[i]));
+        }
         key(b"node", &words)
     };
-    let n = asm.parts.len();
-    let result_key = key(b"result", &[node_key(0, n)]);
+    let result_key = key(b"result", &[node_key(&groups)]);
     if let Some(Value::Result(m)) = cache.get(Tag::Result, result_key) {
         cache.count(|s| s.result_hits += 1);
         // Keep what an edit of this state will start from.
-        for (lo, hi) in union_tree_nodes(n) {
-            cache.get(Tag::Node, node_key(lo, hi));
+        for (lo, hi) in union_tree_nodes(groups.len()) {
+            cache.get(Tag::Node, node_key(&groups[lo..hi]));
+        }
+        for &i in groups.iter().flatten() {
+            cache.get(Tag::Node, node_key(&[vec![i]]));
         }
         return Ok((*m).clone());
     }
@@ -140,7 +151,7 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
         trimmed_part,
         node_key,
     };
-    let acc = unite_tree(&nodes, n)?;
+    let acc = unite_tree(&nodes, &groups)?;
     let united = match &acc {
         Some(a) => a.to_mesh()?,
         None => TriMesh::default(),
@@ -168,7 +179,7 @@ struct Nodes<'a, F, K> {
 impl<F, K> UnionTree for Nodes<'_, F, K>
 where
     F: Fn(usize) -> Result<Arc<TriMesh>, AssemblyError> + Sync,
-    K: Fn(usize, usize) -> u64 + Sync,
+    K: Fn(&[Vec<usize>]) -> u64 + Sync,
 {
     type Value = UnionOperand;
     type Error = AssemblyError;
@@ -176,23 +187,27 @@ where
         let m = (self.trimmed_part)(i)?;
         Ok(UnionOperand::import(i, &m)?.map(Arc::new))
     }
+    fn compose(&self, parts: &[Arc<UnionOperand>]) -> Result<UnionOperand, AssemblyError> {
+        let parts: Vec<&UnionOperand> = parts.iter().map(|p| p.as_ref()).collect();
+        Ok(UnionOperand::compose(&parts))
+    }
     fn join(&self, a: &UnionOperand, b: &UnionOperand) -> Result<UnionOperand, AssemblyError> {
         self.cache.count(|s| s.union_steps += 1);
         Ok(a.union(b))
     }
-    fn found(&self, lo: usize, hi: usize) -> Option<Option<Arc<UnionOperand>>> {
-        match self.cache.get(Tag::Node, (self.node_key)(lo, hi)) {
+    fn found(&self, under: &[Vec<usize>]) -> Option<Option<Arc<UnionOperand>>> {
+        match self.cache.get(Tag::Node, (self.node_key)(under)) {
             Some(Value::Node(v)) => {
-                self.cache
-                    .count(|s| s.folded_parts_reused += (hi - lo) as u64);
+                let parts: usize = under.iter().map(Vec::len).sum();
+                self.cache.count(|s| s.folded_parts_reused += parts as u64);
                 Some(v)
             }
             _ => None,
         }
     }
-    fn keep(&self, lo: usize, hi: usize, v: &Option<Arc<UnionOperand>>) {
+    fn keep(&self, under: &[Vec<usize>], v: &Option<Arc<UnionOperand>>) {
         self.cache
-            .put(Tag::Node, (self.node_key)(lo, hi), Value::Node(v.clone()));
+            .put(Tag::Node, (self.node_key)(under), Value::Node(v.clone()));
     }
 }
 

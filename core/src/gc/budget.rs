@@ -57,18 +57,22 @@
 //! united again when a part under it was re-trimmed or the tree before
 //! the op (over the parts before it) had no such node. The seconds are
 //! CPU seconds: the two halves of a node are united at once, so on two
-//! cores the wall time can be less.
+//! cores the wall time can be less. The union composes parts whose boxes
+//! are disjoint without a boolean ([`crate::mesh::disjoint_groups`]);
+//! the boxes are not known before meshing, so the estimate is the tree's
+//! over single parts, which unites at least what the grouped tree does
+//! unless an edit moves a part into or out of a group (then the groups
+//! after it may all be composed again: imports' time, not booleans').
 //!
 //! A changed hollow part may cut any other part, so its edit re-trims
 //! and re-unites them all; any hollow part is assumed to cut every other
 //! (the bounding boxes that decide it are not known before meshing). The
 //! constants are CPU seconds of the release build on this machine (AMD
 //! EPYC, 2 cores), from `calibrate` in `core/tests/gc_time.rs`, rounded
-//! up. With the union tree (2026-11-30) the estimate is 1.1-2.2 times the
-//! measured CPU time of every edit over half a second on the mug, the
-//! teapot, the chair and the rack at 128 to 724 segments, but for two: a
-//! chair slat at 128 (0.76 s estimated, 0.85 s run) and the mug's handle
-//! at 512 (6.16 s, 6.55 s). That test runs an edit at the limit and
+//! up. With the grouped union tree (2026-11-30) the estimate is 1.5-3.9
+//! times the measured CPU time of every edit over 0.3 s on the mug, the
+//! teapot, the chair and the rack at 128 to 724 segments (a boolean the
+//! groups save is still counted). That test runs an edit at the limit and
 //! checks it finishes within it.
 //!
 //! The estimate counts on the cache holding the tree that the state

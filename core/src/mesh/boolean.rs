@@ -96,7 +96,8 @@ pub fn union_snapped(meshes: &[&TriMesh], tolerance: f64) -> Result<TriMesh, Boo
 /// [`union_snapped`], stoppable by `cancel` and reporting its steps:
 /// `step(done, total)` after each operand is imported and after each
 /// union step (`total` = 2 x the operands; `done` only grows), then
-/// `step(total, total)`. The operands are united in the fixed tree of
+/// `step(total, total)`. The operands are grouped by disjoint boxes
+/// ([`super::disjoint_groups`]) and the groups united in the fixed tree of
 /// [`super::union_tree_nodes`], the two halves of each node at once, so the
 /// result is the same bits on any number of threads; `step` may be called
 /// from any of them (one call at a time).
@@ -142,6 +143,13 @@ pub fn union_snapped_with(
             self.tick();
             Ok(out)
         }
+        fn compose(&self, parts: &[Arc<Manifold>]) -> Result<Manifold, BooleanError> {
+            self.stopped()?;
+            let parts: Vec<Manifold> = parts.iter().map(|p| (**p).clone()).collect();
+            let out = Manifold::compose(&parts);
+            self.tick();
+            Ok(out)
+        }
         fn join(&self, a: &Manifold, b: &Manifold) -> Result<Manifold, BooleanError> {
             self.stopped()?;
             let out = a.boolean_with_engine_and_token(b, OpType::Add, self.engine, self.token);
@@ -157,7 +165,9 @@ pub fn union_snapped_with(
         done: std::sync::Mutex::new(0),
         step,
     };
-    let Some(united) = super::union_tree::unite_tree(&tree, meshes.len())? else {
+    let boxes: Vec<_> = meshes.iter().map(|m| m.bbox()).collect();
+    let groups = super::union_tree::disjoint_groups(&boxes);
+    let Some(united) = super::union_tree::unite_tree(&tree, &groups)? else {
         return Ok(TriMesh::default());
     };
     let mut result = Arc::unwrap_or_clone(united);
@@ -215,10 +225,13 @@ pub fn difference(a: &TriMesh, cutters: &[&TriMesh]) -> Result<TriMesh, BooleanE
 
 /// A closed mesh imported into Manifold, an operand or a node of a union
 /// tree. [`union`] unites its operands in the tree of
-/// [`super::union_tree_nodes`] with these steps (`union(&[a, b, c, d])` is
-/// `a.union(&b).union(&c.union(&d))` exported, bit for bit, empty operands
-/// skipped), so a caller that keeps the tree's nodes can re-unite only
-/// those over a changed operand ([`crate::assembly::UnionCache`]).
+/// [`super::union_tree_nodes`] over the groups of
+/// [`super::disjoint_groups`] with these steps (for four operands whose
+/// boxes all overlap, `union(&[a, b, c, d])` is
+/// `a.union(&b).union(&c.union(&d))` exported, bit for bit; a group is
+/// [`Self::compose`]d; empty operands are skipped), so a caller that keeps
+/// the tree's nodes can re-unite only those over a changed operand
+/// ([`crate::assembly::UnionCache`]).
 #[derive(Clone)]
 pub struct UnionOperand(Manifold);
 
@@ -243,6 +256,13 @@ impl UnionOperand {
     /// The union of `self` and `next` (one node of the tree).
     pub fn union(&self, next: &Self) -> Self {
         Self(self.0.boolean(&next.0, OpType::Add))
+    }
+
+    /// The union of operands whose boxes are pairwise disjoint: their
+    /// meshes side by side (Manifold's `Compose`), no boolean.
+    pub fn compose(parts: &[&Self]) -> Self {
+        let parts: Vec<Manifold> = parts.iter().map(|p| p.0.clone()).collect();
+        Self(Manifold::compose(&parts))
     }
 
     /// The operand as a mesh, as [`union`] returns its result.

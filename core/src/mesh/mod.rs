@@ -31,7 +31,9 @@ pub use selfx::{self_intersections, SelfIntersections, MAX_EXACT_COORDINATE};
 pub use stl::{read_stl, write_stl};
 pub use threemf::{read_3mf, write_3mf};
 pub use trimesh::{f64_le_bytes, u32_le_bytes, TriMesh};
-pub use union_tree::{union_split, union_tree_nodes, unite_tree, UnionTree};
+pub use union_tree::{
+    disjoint_groups, singletons, union_split, union_tree_nodes, unite_tree, UnionTree,
+};
 pub use validate::{
     problem_triangles, validate, ValidationReport, ValidationSettings, LISTED_PAIRS,
 };

@@ -29,12 +29,24 @@
 //! operand after it. Up to three operands the tree is the left fold, so
 //! the bits of a union of three or fewer are what they were.
 //!
+//! Its leaves are *groups* of operands whose bounding boxes are pairwise
+//! disjoint ([`disjoint_groups`], C++ Manifold's `BatchUnion`
+//! partition): a group's union is the concatenation of its operands
+//! (Manifold's `Compose`), with no boolean at all, so the four legs of a
+//! chair are one leaf and the chair's nine parts take one boolean, not
+//! eight. Each operand is first made (imported) alone, all of them in
+//! parallel, errors in operand order.
+//!
 //! The same shape, whatever the threads: each node is one Manifold
 //! boolean of its two children, computed in parallel with `rayon::join`,
 //! and Manifold's own parallel sites give the sequential bits, so the
 //! union is the same bits on 1 or 2 threads (`tests/union_cache.rs`).
 
+use std::collections::HashMap;
 use std::sync::Arc;
+
+use glam::DVec3;
+use rayon::prelude::*;
 
 /// Where the node `lo..hi` of the union tree splits (`hi - lo >= 2`; see
 /// the module doc): its left child is `lo..split`, its right `split..hi`.
@@ -69,11 +81,35 @@ pub fn union_tree_nodes(n: usize) -> Vec<(usize, usize)> {
     out
 }
 
-/// What a union tree is evaluated with: the operands (`leaf`), the step
+/// C++ Manifold's partition of a batch union's operands: each operand,
+/// in order, joins the first group none of whose members' boxes overlaps
+/// its box (closed boxes: touching overlaps), or starts a new group.
+/// Operands without a box (empty) are left out. A pure function of the
+/// boxes, so of the operands.
+pub fn disjoint_groups(boxes: &[Option<(DVec3, DVec3)>]) -> Vec<Vec<usize>> {
+    let overlap =
+        |a: (DVec3, DVec3), b: (DVec3, DVec3)| a.0.cmple(b.1).all() && b.0.cmple(a.1).all();
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (i, b) in boxes.iter().enumerate() {
+        let Some(b) = *b else { continue };
+        let free =
+            |g: &&mut Vec<usize>| g.iter().all(|&j| boxes[j].is_some_and(|c| !overlap(b, c)));
+        match groups.iter_mut().find(free) {
+            Some(g) => g.push(i),
+            None => groups.push(vec![i]),
+        }
+    }
+    groups
+}
+
+/// What a union tree is evaluated with: the operands (`leaf`), the
+/// union of a group of disjoint operands (`compose`) and of two nodes
 /// (`join`), and, for a caller that keeps nodes between evaluations, a
-/// lookup (`found`) and a store (`keep`). `None` is an empty operand (and
-/// a node all of whose operands are empty): a join with it is the other
-/// side, as Manifold's batch union skips empty operands.
+/// lookup (`found`) and a store (`keep`) of a node, named by the groups
+/// under it (an operand alone is the node `&[vec![i]]`). `None` is an
+/// empty operand (and a node all of whose operands are empty): a join
+/// with it is the other side, as Manifold's batch union skips empty
+/// operands.
 pub trait UnionTree: Sync {
     /// The united value (an imported Manifold mesh).
     type Value: Send + Sync;
@@ -83,48 +119,127 @@ pub trait UnionTree: Sync {
     /// Operand `i`.
     fn leaf(&self, i: usize) -> Result<Option<Arc<Self::Value>>, Self::Error>;
 
+    /// The union of two or more non-empty operands with disjoint boxes.
+    fn compose(&self, parts: &[Arc<Self::Value>]) -> Result<Self::Value, Self::Error>;
+
     /// The union of two non-empty nodes.
     fn join(&self, a: &Self::Value, b: &Self::Value) -> Result<Self::Value, Self::Error>;
 
-    /// The node `lo..hi` when it is kept from an earlier evaluation.
-    fn found(&self, _lo: usize, _hi: usize) -> Option<Option<Arc<Self::Value>>> {
+    /// The node over `groups` when it is kept from an earlier evaluation.
+    fn found(&self, _groups: &[Vec<usize>]) -> Option<Option<Arc<Self::Value>>> {
         None
     }
 
     /// Called with every node computed (not with those found).
-    fn keep(&self, _lo: usize, _hi: usize, _value: &Option<Arc<Self::Value>>) {}
+    fn keep(&self, _groups: &[Vec<usize>], _value: &Option<Arc<Self::Value>>) {}
 }
 
-/// Evaluates the union tree over `n` operands (see the module doc), both
-/// children of a node in parallel. Errors are reported in operand order:
-/// of two failing children, the left one's (its operands come first).
-pub fn unite_tree<T: UnionTree>(tree: &T, n: usize) -> Result<Option<Arc<T::Value>>, T::Error> {
-    fn node<T: UnionTree>(
-        tree: &T,
-        lo: usize,
-        hi: usize,
-    ) -> Result<Option<Arc<T::Value>>, T::Error> {
-        if let Some(v) = tree.found(lo, hi) {
-            return Ok(v);
+type Node<T> = Option<Arc<<T as UnionTree>::Value>>;
+
+/// What is left to compute of a node once what is kept is found.
+enum Plan<V> {
+    Found(Option<Arc<V>>),
+    Group(usize),
+    Join(usize, usize, Box<Plan<V>>, Box<Plan<V>>),
+}
+
+/// Evaluates the union tree over `groups` (see the module doc; from
+/// [`disjoint_groups`], or one operand a group for a plain tree): the
+/// nodes kept are looked up from the root down, the operands still needed
+/// are made in parallel (errors reported in operand order), then the
+/// groups are composed and the nodes joined, both children of a node at
+/// once (of two failing children, the left one's error is reported).
+pub fn unite_tree<T: UnionTree>(tree: &T, groups: &[Vec<usize>]) -> Result<Node<T>, T::Error> {
+    fn plan<T: UnionTree>(tree: &T, groups: &[Vec<usize>], lo: usize, hi: usize) -> Plan<T::Value> {
+        if let Some(v) = tree.found(&groups[lo..hi]) {
+            return Plan::Found(v);
         }
-        let value = if hi - lo == 1 {
-            tree.leaf(lo)?
-        } else {
-            let mid = union_split(lo, hi);
-            let (a, b) = rayon::join(|| node(tree, lo, mid), || node(tree, mid, hi));
-            match (a?, b?) {
-                (Some(a), Some(b)) => Some(Arc::new(tree.join(&a, &b)?)),
-                (a, None) => a,
-                (None, b) => b,
+        if hi - lo == 1 {
+            return Plan::Group(lo);
+        }
+        let mid = union_split(lo, hi);
+        let (a, b) = (plan(tree, groups, lo, mid), plan(tree, groups, mid, hi));
+        Plan::Join(lo, hi, Box::new(a), Box::new(b))
+    }
+    fn needed<V>(p: &Plan<V>, groups: &[Vec<usize>], out: &mut Vec<usize>) {
+        match p {
+            Plan::Found(_) => {}
+            Plan::Group(g) => out.extend(&groups[*g]),
+            Plan::Join(_, _, a, b) => {
+                needed(a, groups, out);
+                needed(b, groups, out);
+            }
+        }
+    }
+    fn run<T: UnionTree>(
+        tree: &T,
+        groups: &[Vec<usize>],
+        made: &HashMap<usize, Node<T>>,
+        p: Plan<T::Value>,
+    ) -> Result<Node<T>, T::Error> {
+        let (range, value) = match p {
+            Plan::Found(v) => return Ok(v),
+            Plan::Group(g) => {
+                let parts: Vec<Arc<T::Value>> = groups[g]
+                    .iter()
+                    .filter_map(|i| made.get(i).cloned().flatten())
+                    .collect();
+                if groups[g].len() == 1 {
+                    // The operand itself, kept when it was made.
+                    return Ok(parts.into_iter().next());
+                }
+                let value = match parts.len() {
+                    0 => None,
+                    1 => parts.into_iter().next(),
+                    _ => Some(Arc::new(tree.compose(&parts)?)),
+                };
+                (g..g + 1, value)
+            }
+            Plan::Join(lo, hi, a, b) => {
+                let (a, b) = rayon::join(
+                    || run(tree, groups, made, *a),
+                    || run(tree, groups, made, *b),
+                );
+                let value = match (a?, b?) {
+                    (Some(a), Some(b)) => Some(Arc::new(tree.join(&a, &b)?)),
+                    (a, None) => a,
+                    (None, b) => b,
+                };
+                (lo..hi, value)
             }
         };
-        tree.keep(lo, hi, &value);
+        tree.keep(&groups[range], &value);
         Ok(value)
     }
-    if n == 0 {
+    if groups.is_empty() {
         return Ok(None);
     }
-    node(tree, 0, n)
+    let root = plan(tree, groups, 0, groups.len());
+    let mut ids = Vec::new();
+    needed(&root, groups, &mut ids);
+    ids.sort_unstable();
+    let made: Vec<Result<Node<T>, T::Error>> = ids
+        .par_iter()
+        .map(|&i| {
+            let alone = [vec![i]];
+            if let Some(v) = tree.found(&alone) {
+                return Ok(v);
+            }
+            let v = tree.leaf(i)?;
+            tree.keep(&alone, &v);
+            Ok(v)
+        })
+        .collect();
+    let mut by_id = HashMap::with_capacity(ids.len());
+    for (i, v) in ids.into_iter().zip(made) {
+        by_id.insert(i, v?);
+    }
+    run(tree, groups, &by_id, root)
+}
+
+/// One operand a group: the plain tree over `n` operands.
+pub fn singletons(n: usize) -> Vec<Vec<usize>> {
+    (0..n).map(|i| vec![i]).collect()
 }
 
 #[cfg(test)]
@@ -132,8 +247,9 @@ mod tests {
     use super::*;
     use std::sync::Mutex;
 
-    /// The tree written out as a string of its joins.
-    fn shape(n: usize) -> String {
+    /// The tree over `groups` written out: `(a b)` a join, `{a b}` a
+    /// group composed.
+    fn grouped(groups: &[Vec<usize>]) -> String {
         struct Show;
         impl UnionTree for Show {
             type Value = String;
@@ -141,13 +257,41 @@ mod tests {
             fn leaf(&self, i: usize) -> Result<Option<Arc<String>>, ()> {
                 Ok(Some(Arc::new(i.to_string())))
             }
+            fn compose(&self, parts: &[Arc<String>]) -> Result<String, ()> {
+                let parts: Vec<&str> = parts.iter().map(|p| p.as_str()).collect();
+                Ok(format!("{{{}}}", parts.join(" ")))
+            }
             fn join(&self, a: &String, b: &String) -> Result<String, ()> {
                 Ok(format!("({a} {b})"))
             }
         }
-        unite_tree(&Show, n)
+        unite_tree(&Show, groups)
             .expect("no errors")
             .map_or(String::new(), |s| (*s).clone())
+    }
+
+    /// The plain tree over `n` operands, written out.
+    fn shape(n: usize) -> String {
+        grouped(&singletons(n))
+    }
+
+    #[test]
+    fn disjoint_operands_are_composed_into_one_leaf() {
+        let cube = |lo: f64, hi: f64| Some((DVec3::splat(lo), DVec3::splat(hi)));
+        // A seat overlapping four legs that do not meet each other; the
+        // last leg's box touches the third's corner (touching overlaps),
+        // and an empty operand has no box.
+        let boxes = [
+            cube(0.0, 10.0),
+            cube(0.0, 1.0),
+            cube(2.0, 3.0),
+            cube(5.0, 6.0),
+            None,
+            cube(6.0, 7.0),
+        ];
+        let groups = disjoint_groups(&boxes);
+        assert_eq!(groups, vec![vec![0], vec![1, 2, 3], vec![5]]);
+        assert_eq!(grouped(&groups), "((0 {1 2 3}) 5)");
     }
 
     #[test]
@@ -200,13 +344,16 @@ mod tests {
                     _ => Ok(Some(Arc::new(i.to_string()))),
                 }
             }
+            fn compose(&self, _: &[Arc<String>]) -> Result<String, usize> {
+                unreachable!("one operand a group")
+            }
             fn join(&self, a: &String, b: &String) -> Result<String, usize> {
                 Ok(format!("({a} {b})"))
             }
         }
         let t = Sparse(Mutex::new(Vec::new()));
-        let got = unite_tree(&t, 4).expect("no error among 0..4");
+        let got = unite_tree(&t, &singletons(4)).expect("no error among 0..4");
         assert_eq!(got.as_deref().map(String::as_str), Some("(0 (2 3))"));
-        assert_eq!(unite_tree(&t, 8).err(), Some(5));
+        assert_eq!(unite_tree(&t, &singletons(8)).err(), Some(5));
     }
 }
