@@ -5,7 +5,7 @@
 //! mesh and cavity by the [`ContentHasher`] hash of its GC's exact JSON
 //! (serde prints every f64 exactly), a part's trimmed mesh by its index,
 //! its GC's hash and the hashes of the cavities cut out of it, a node of
-//! the union tree by its range and its trimmed parts' keys, the final mesh
+//! the union tree by its groups and their trimmed parts' keys, the final mesh
 //! by the root's key. So an entry is reused exactly when recomputing it
 //! would give the same bits, whichever op, undo or redo led there, and the
 //! result never depends on what the cache holds (a fresh cache gives the

@@ -34,8 +34,10 @@ pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
 /// part whose GC and cutting cavities did not change is not re-trimmed,
 /// and the union, in the fixed tree of [`crate::mesh::union_tree_nodes`]
 /// over the groups of parts with disjoint boxes
-/// ([`crate::mesh::disjoint_groups`]) exactly as [`crate::mesh::union`]
-/// computes it, takes every node over unchanged trimmed parts that it
+/// ([`crate::mesh::disjoint_groups`], grouped by the boxes of the parts
+/// before trimming, which hold the trimmed parts), as
+/// [`crate::mesh::union`] unites its operands, takes every node over
+/// unchanged trimmed parts that it
 /// holds whole (each part's import too): an edit of one part re-composes
 /// its group and re-unites the nodes on that group's path to the root. Bit-identical to
 /// [`union_mesh`] whatever the cache holds.

@@ -94,9 +94,9 @@ pub fn union_snapped(meshes: &[&TriMesh], tolerance: f64) -> Result<TriMesh, Boo
 }
 
 /// [`union_snapped`], stoppable by `cancel` and reporting its steps:
-/// `step(done, total)` after each operand is imported and after each
-/// union step (`total` = 2 x the operands; `done` only grows), then
-/// `step(total, total)`. The operands are grouped by disjoint boxes
+/// `step(done, total)` after each non-empty operand is imported and after
+/// each group composed and each union step (`total` = 2 x the operands;
+/// `done` only grows, and stays below `total`), then `step(total, total)`. The operands are grouped by disjoint boxes
 /// ([`super::disjoint_groups`]) and the groups united in the fixed tree of
 /// [`super::union_tree_nodes`], the two halves of each node at once, so the
 /// result is the same bits on any number of threads; `step` may be called
@@ -165,9 +165,16 @@ pub fn union_snapped_with(
         done: std::sync::Mutex::new(0),
         step,
     };
-    let boxes: Vec<_> = meshes.iter().map(|m| m.bbox()).collect();
+    // A mesh with triangles but no box (no vertices) overlaps everything:
+    // it is an operand alone, and its import says what is wrong with it.
+    let everywhere = (glam::DVec3::NEG_INFINITY, glam::DVec3::INFINITY);
+    let boxes: Vec<_> = meshes
+        .iter()
+        .map(|m| (!m.triangles.is_empty()).then(|| m.bbox().unwrap_or(everywhere)))
+        .collect();
     let groups = super::union_tree::disjoint_groups(&boxes);
     let Some(united) = super::union_tree::unite_tree(&tree, &groups)? else {
+        tree.stopped()?;
         return Ok(TriMesh::default());
     };
     let mut result = Arc::unwrap_or_clone(united);
@@ -471,5 +478,54 @@ mod tests {
             union(&[&nan]),
             Err(BooleanError::Malformed { index: 0, .. })
         ));
+        // Triangles and no vertices: no box, but not empty.
+        let mut none = sphere_at(5.0, 0.5, 2);
+        none.positions.clear();
+        assert!(matches!(
+            union(&[&a, &none]),
+            Err(BooleanError::Malformed { index: 1, .. })
+        ));
+        // Of two broken operands in different groups (the far sphere is
+        // composed with `a`), the first in operand order is reported.
+        let far = sphere_at(5.0, 0.5, 3);
+        assert!(matches!(
+            union(&[&a, &open, &far, &bad]),
+            Err(BooleanError::NotManifold { index: 1, .. })
+        ));
+    }
+
+    #[test]
+    fn progress_only_grows_and_a_cancelled_union_returns_no_mesh() {
+        // Two overlapping pairs far apart: {0 2} and {1 3} are composed
+        // (disjoint boxes), then one boolean; the empty one is skipped.
+        let parts = [
+            sphere_at(0.0, 0.5, 1),
+            sphere_at(0.6, 0.5, 2),
+            sphere_at(10.0, 0.5, 3),
+            sphere_at(10.6, 0.5, 4),
+            TriMesh::default(),
+        ];
+        let refs: Vec<&TriMesh> = parts.iter().collect();
+        let seen = std::sync::Mutex::new(Vec::new());
+        let record = |done: usize, total: usize| seen.lock().expect("lock").push((done, total));
+        let u = union_snapped_with(&refs, 0.0, None, &record).expect("union");
+        assert_eq!(validate(&u, &Default::default()).components, 2);
+        let seen = seen.into_inner().expect("lock");
+        assert_eq!(seen.last(), Some(&(10, 10)));
+        assert!(seen.windows(2).all(|w| w[0].0 < w[1].0), "{seen:?}");
+        assert!(
+            seen[..seen.len() - 1].iter().all(|&(d, t)| d < t),
+            "{seen:?}"
+        );
+        // 4 imports, 2 groups composed, 1 boolean, the end.
+        assert_eq!(seen.len(), 4 + 2 + 1 + 1, "{seen:?}");
+        let cancel = BooleanCancel::new();
+        cancel.cancel();
+        for refs in [refs.as_slice(), &refs[4..]] {
+            assert_eq!(
+                union_snapped_with(refs, 0.0, Some(&cancel), &|_, _| {}),
+                Err(BooleanError::Cancelled)
+            );
+        }
     }
 }

@@ -26,8 +26,7 @@
 //! the new leaf to the root, at most `log2(n + 1) + 1` of them and of
 //! doubling sizes, so about twice the left fold's one step. An edit of
 //! one operand re-unites that path, where the left fold re-unites every
-//! operand after it. Up to three operands the tree is the left fold, so
-//! the bits of a union of three or fewer are what they were.
+//! operand after it. Up to three groups the tree is the left fold.
 //!
 //! Its leaves are *groups* of operands whose bounding boxes are pairwise
 //! disjoint ([`disjoint_groups`], C++ Manifold's `BatchUnion`
@@ -83,12 +82,21 @@ pub fn union_tree_nodes(n: usize) -> Vec<(usize, usize)> {
 
 /// C++ Manifold's partition of a batch union's operands: each operand,
 /// in order, joins the first group none of whose members' boxes overlaps
-/// its box (closed boxes: touching overlaps), or starts a new group.
-/// Operands without a box (empty) are left out. A pure function of the
-/// boxes, so of the operands.
+/// its box, or starts a new group. Boxes that touch, or come within a
+/// billionth of their coordinates' size of each other, overlap: a box
+/// computed from a mesh before a boolean trimmed it may miss the trimmed
+/// mesh by a rounding, and composing two operands that meet would be
+/// wrong. Operands without a box (empty) are left out. A pure function of
+/// the boxes, so of the operands.
 pub fn disjoint_groups(boxes: &[Option<(DVec3, DVec3)>]) -> Vec<Vec<usize>> {
-    let overlap =
-        |a: (DVec3, DVec3), b: (DVec3, DVec3)| a.0.cmple(b.1).all() && b.0.cmple(a.1).all();
+    let overlap = |a: (DVec3, DVec3), b: (DVec3, DVec3)| {
+        let size = [a.0, a.1, b.0, b.1]
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0, f64::max);
+        let pad = DVec3::splat(1e-9 * size);
+        a.0.cmple(b.1 + pad).all() && b.0.cmple(a.1 + pad).all()
+    };
     let mut groups: Vec<Vec<usize>> = Vec::new();
     for (i, b) in boxes.iter().enumerate() {
         let Some(b) = *b else { continue };
@@ -355,5 +363,9 @@ mod tests {
         let got = unite_tree(&t, &singletons(4)).expect("no error among 0..4");
         assert_eq!(got.as_deref().map(String::as_str), Some("(0 (2 3))"));
         assert_eq!(unite_tree(&t, &singletons(8)).err(), Some(5));
+        // Every operand is made once per evaluation, before any join.
+        let mut made = t.0.into_inner().expect("lock");
+        made.sort_unstable();
+        assert_eq!(made, [0, 0, 1, 1, 2, 2, 3, 3, 4, 5, 6, 7]);
     }
 }
