@@ -84,7 +84,7 @@ fn delta(a: CacheStats, b: CacheStats) -> CacheStats {
         cavity_misses: b.cavity_misses - a.cavity_misses,
         trim_hits: b.trim_hits - a.trim_hits,
         trim_misses: b.trim_misses - a.trim_misses,
-        folded_parts_reused: b.folded_parts_reused - a.folded_parts_reused,
+        parts_reused: b.parts_reused - a.parts_reused,
         union_steps: b.union_steps - a.union_steps,
         result_hits: b.result_hits - a.result_hits,
     }
@@ -140,7 +140,7 @@ fn an_edit_of_one_part_reuses_the_other_parts() {
     assert_eq!((d.mesh_hits, d.mesh_misses), (2, 1), "{d:?}");
     assert_eq!((d.cavity_hits, d.cavity_misses), (2, 1), "{d:?}");
     // Body and spout keep their trims and their union: one union step.
-    assert_eq!(d.folded_parts_reused, 2, "{d:?}");
+    assert_eq!(d.parts_reused, 2, "{d:?}");
     assert_eq!(d.trim_misses, 1, "{d:?}");
     assert_eq!(d.union_steps, 1, "{d:?}");
     // Undo and redo re-mesh, re-trim and re-unite nothing (the log keeps
@@ -170,7 +170,7 @@ fn an_edit_of_one_part_reuses_the_other_parts() {
     assert!(added >= 1);
     assert_eq!(d.mesh_hits, n as u64, "{d:?}");
     assert_eq!(d.mesh_misses, added as u64, "{d:?}");
-    assert_eq!(d.folded_parts_reused, n as u64, "{d:?}");
+    assert_eq!(d.parts_reused, n as u64, "{d:?}");
     assert_eq!(d.union_steps, added as u64, "{d:?}");
     assert_fresh(&log, "chair");
 }
@@ -280,7 +280,7 @@ fn an_edit_reuses_the_last_evaluation_whatever_the_budget() {
         let before = tiny.stats();
         let m = union_mesh_cached(&assembly(&log), &tiny).expect("edit");
         let d = delta(before, tiny.stats());
-        assert_eq!(d.folded_parts_reused, 2, "edit {k}: {d:?}");
+        assert_eq!(d.parts_reused, 2, "edit {k}: {d:?}");
         assert_eq!(d.union_steps, 1, "edit {k}: {d:?}");
         assert_eq!(m, union_mesh(&assembly(&log)).expect("fresh"));
     }
@@ -341,7 +341,7 @@ fn the_chair_unites_in_a_tree_with_the_same_bits_on_one_and_two_threads() {
     let d = delta(before, shared.stats());
     assert_eq!(d.union_steps, 1, "{d:?}");
     // The seat's group whole (3), and the imports of parts 1, 2, 5, 6.
-    assert_eq!(d.folded_parts_reused, 7, "{d:?}");
+    assert_eq!(d.parts_reused, 7, "{d:?}");
     assert_eq!(d.trim_misses, 2, "{d:?}");
     assert_eq!(cached, on(1, &edited, &UnionCache::new()));
     assert_eq!(

@@ -52,7 +52,7 @@ pub struct CacheStats {
     /// Parts whose union was taken from the cache: the parts under the
     /// union tree's nodes found whole (a part's own imported mesh
     /// counts as the node over it alone).
-    pub folded_parts_reused: u64,
+    pub parts_reused: u64,
     /// Union steps computed (one boolean each).
     pub union_steps: u64,
     /// Whole results taken from the cache.

@@ -32,15 +32,14 @@ pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
 /// the same object and keeping what this one computes (see
 /// [`UnionCache`]): a part whose GC did not change is not re-meshed, a
 /// part whose GC and cutting cavities did not change is not re-trimmed,
-/// and the union, in the fixed tree of [`crate::mesh::union_tree_nodes`]
-/// over the groups of parts with disjoint boxes
-/// ([`crate::mesh::disjoint_groups`], grouped by the boxes of the parts
-/// before trimming, which hold the trimmed parts), as
-/// [`crate::mesh::union`] unites its operands, takes every node over
-/// unchanged trimmed parts that it
-/// holds whole (each part's import too): an edit of one part re-composes
-/// its group and re-unites the nodes on that group's path to the root. Bit-identical to
-/// [`union_mesh`] whatever the cache holds.
+/// and the union takes every node it holds whole (each part's import
+/// too). The union is [`crate::mesh::union`]'s: the fixed tree of
+/// [`crate::mesh::union_tree_nodes`] over the groups of parts with
+/// disjoint boxes ([`crate::mesh::disjoint_groups`]; here the boxes of
+/// the parts before trimming, which hold the trimmed parts). So an edit
+/// of one part re-composes its group and re-unites the nodes on that
+/// group's path to the root. Bit-identical to [`union_mesh`] whatever the
+/// cache holds.
 pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh, AssemblyError> {
     asm.validate()?;
     cache.begin();
@@ -201,7 +200,7 @@ where
         match self.cache.get(Tag::Node, (self.node_key)(under)) {
             Some(Value::Node(v)) => {
                 let parts: usize = under.iter().map(Vec::len).sum();
-                self.cache.count(|s| s.folded_parts_reused += parts as u64);
+                self.cache.count(|s| s.parts_reused += parts as u64);
                 Some(v)
             }
             _ => None,
