@@ -139,9 +139,11 @@ fn an_edit_of_one_part_reuses_the_other_parts() {
     let d = delta(before, stats(&log));
     assert_eq!((d.mesh_hits, d.mesh_misses), (2, 1), "{d:?}");
     assert_eq!((d.cavity_hits, d.cavity_misses), (2, 1), "{d:?}");
-    // Body and spout keep their trims and their union: one union step.
-    assert_eq!(d.parts_reused, 2, "{d:?}");
-    assert_eq!(d.trim_misses, 1, "{d:?}");
+    // The body is found whole; spout and handle, one group (their boxes
+    // are disjoint), are imported together again, the spout from its
+    // kept trim: one union step.
+    assert_eq!(d.parts_reused, 1, "{d:?}");
+    assert_eq!((d.trim_hits, d.trim_misses), (1, 1), "{d:?}");
     assert_eq!(d.union_steps, 1, "{d:?}");
     // Undo and redo re-mesh, re-trim and re-unite nothing (the log keeps
     // the states it passed through; what it replays is found whole).
@@ -170,7 +172,11 @@ fn an_edit_of_one_part_reuses_the_other_parts() {
     assert!(added >= 1);
     assert_eq!(d.mesh_hits, n as u64, "{d:?}");
     assert_eq!(d.mesh_misses, added as u64, "{d:?}");
-    assert_eq!(d.parts_reused, n as u64, "{d:?}");
+    // Every other part is found in a kept node or imported again from its
+    // kept trim (the added part joins a group); only the new one is
+    // trimmed.
+    assert_eq!(d.parts_reused + d.trim_hits, n as u64, "{d:?}");
+    assert_eq!(d.trim_misses, added as u64, "{d:?}");
     assert_eq!(d.union_steps, added as u64, "{d:?}");
     assert_fresh(&log, "chair");
 }
@@ -280,7 +286,7 @@ fn an_edit_reuses_the_last_evaluation_whatever_the_budget() {
         let before = tiny.stats();
         let m = union_mesh_cached(&assembly(&log), &tiny).expect("edit");
         let d = delta(before, tiny.stats());
-        assert_eq!(d.parts_reused, 2, "edit {k}: {d:?}");
+        assert_eq!(d.parts_reused, 1, "edit {k}: {d:?}");
         assert_eq!(d.union_steps, 1, "edit {k}: {d:?}");
         assert_eq!(m, union_mesh(&assembly(&log)).expect("fresh"));
     }
@@ -340,9 +346,10 @@ fn the_chair_unites_in_a_tree_with_the_same_bits_on_one_and_two_threads() {
     let cached = on(2, &edited, &shared);
     let d = delta(before, shared.stats());
     assert_eq!(d.union_steps, 1, "{d:?}");
-    // The seat's group whole (3), and the imports of parts 1, 2, 5, 6.
-    assert_eq!(d.parts_reused, 7, "{d:?}");
-    assert_eq!(d.trim_misses, 2, "{d:?}");
+    // The seat's group whole (3); the legs' group imported again, parts
+    // 1, 2, 5 and 6 from their kept trims.
+    assert_eq!(d.parts_reused, 3, "{d:?}");
+    assert_eq!((d.trim_hits, d.trim_misses), (4, 2), "{d:?}");
     assert_eq!(cached, on(1, &edited, &UnionCache::new()));
     assert_eq!(
         *log.document().get(ObjectId(1)).expect("chair").local_mesh,

@@ -32,13 +32,13 @@ pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
 /// the same object and keeping what this one computes (see
 /// [`UnionCache`]): a part whose GC did not change is not re-meshed, a
 /// part whose GC and cutting cavities did not change is not re-trimmed,
-/// and the union takes every node it holds whole (each part's import
+/// and the union takes every node it holds whole (a group's import
 /// too). The union is [`crate::mesh::union`]'s: the fixed tree of
 /// [`crate::mesh::union_tree_nodes`] over the groups of parts with
 /// disjoint boxes ([`crate::mesh::disjoint_groups`]; here the boxes of
 /// the parts before trimming, which hold the trimmed parts). So an edit
-/// of one part re-composes its group and re-unites the nodes on that
-/// group's path to the root. Bit-identical to [`union_mesh`] whatever the
+/// of one part re-imports its group (the other members from their kept
+/// trims) and re-unites the nodes on that group's path to the root. Bit-identical to [`union_mesh`] whatever the
 /// cache holds.
 pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh, AssemblyError> {
     asm.validate()?;
@@ -97,7 +97,8 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
         })
         .collect();
     // The union tree's leaves: groups of parts whose boxes are disjoint
-    // (a trimmed part lies in its part's box), composed without a boolean.
+    // (a trimmed part lies in its part's box), imported together, without
+    // a boolean.
     let boxes: Vec<_> = meshes.iter().map(|(_, b)| *b).collect();
     let groups = disjoint_groups(&boxes);
     // Every node of the tree, keyed by the groups under it and their
@@ -184,13 +185,31 @@ where
 {
     type Value = UnionOperand;
     type Error = AssemblyError;
-    fn leaf(&self, i: usize) -> Result<Option<Arc<UnionOperand>>, AssemblyError> {
-        let m = (self.trimmed_part)(i)?;
-        Ok(UnionOperand::import(i, &m)?.map(Arc::new))
-    }
-    fn compose(&self, parts: &[Arc<UnionOperand>]) -> Result<UnionOperand, AssemblyError> {
-        let parts: Vec<&UnionOperand> = parts.iter().map(|p| p.as_ref()).collect();
-        Ok(UnionOperand::compose(&parts))
+    fn group(
+        &self,
+        members: &[usize],
+    ) -> Result<Option<Arc<UnionOperand>>, (usize, AssemblyError)> {
+        // Each member trimmed, then all imported at once. A failed trim
+        // is reported unless an earlier member fails its import (what
+        // trimming and importing them one by one would report first).
+        let mut trimmed = Vec::with_capacity(members.len());
+        for &i in members {
+            match (self.trimmed_part)(i) {
+                Ok(m) => trimmed.push((i, m)),
+                Err(e) => {
+                    let before: Vec<(usize, &TriMesh)> =
+                        trimmed.iter().map(|(i, m)| (*i, m.as_ref())).collect();
+                    for one in before.chunks(1) {
+                        UnionOperand::import_group(one).map_err(|(i, e)| (i, e.into()))?;
+                    }
+                    return Err((i, e));
+                }
+            }
+        }
+        let parts: Vec<(usize, &TriMesh)> = trimmed.iter().map(|(i, m)| (*i, m.as_ref())).collect();
+        UnionOperand::import_group(&parts)
+            .map(|v| v.map(Arc::new))
+            .map_err(|(i, e)| (i, e.into()))
     }
     fn join(&self, a: &UnionOperand, b: &UnionOperand) -> Result<UnionOperand, AssemblyError> {
         self.cache.count(|s| s.union_steps += 1);

@@ -57,8 +57,9 @@
 //! united again when a part under it was re-trimmed or the tree before
 //! the op (over the parts before it) had no such node. The seconds are
 //! CPU seconds: the two halves of a node are united at once, so on two
-//! cores the wall time can be less. The union composes parts whose boxes
-//! are disjoint without a boolean ([`crate::mesh::disjoint_groups`]);
+//! cores the wall time can be less. The union imports parts whose boxes
+//! are disjoint together, without a boolean
+//! ([`crate::mesh::disjoint_groups`]);
 //! the boxes are not known before meshing, so the estimate is the tree's
 //! over single parts. When a part is added or removed, the nodes over
 //! part 0 are counted as well: the part may join or leave the first

@@ -94,8 +94,8 @@ pub fn union_snapped(meshes: &[&TriMesh], tolerance: f64) -> Result<TriMesh, Boo
 }
 
 /// [`union_snapped`], stoppable by `cancel` and reporting its steps:
-/// `step(done, total)` after each non-empty operand is imported and after
-/// each group composed and each union step (`total` = 2 x the operands;
+/// `step(done, total)` once per non-empty operand after each group is
+/// imported and once after each union step (`total` = 2 x the operands;
 /// `done` only grows, and stays below `total`), then `step(total, total)`. The operands are grouped by disjoint boxes
 /// ([`super::disjoint_groups`]) and the groups united in the fixed tree of
 /// [`super::union_tree_nodes`], the two halves of each node at once, so the
@@ -131,24 +131,17 @@ pub fn union_snapped_with(
     impl super::union_tree::UnionTree for Tree<'_> {
         type Value = Manifold;
         type Error = BooleanError;
-        fn leaf(&self, index: usize) -> Result<Option<Arc<Manifold>>, BooleanError> {
-            self.stopped()?;
-            let m = self.meshes[index];
-            let out = if m.triangles.is_empty() {
-                None
-            } else {
-                let source = m.tri_source.first().copied().unwrap_or(index as u32);
-                Some(Arc::new(import_tol(index, m, source, self.tolerance)?))
-            };
-            self.tick();
-            Ok(out)
-        }
-        fn compose(&self, parts: &[Arc<Manifold>]) -> Result<Manifold, BooleanError> {
-            self.stopped()?;
-            let parts: Vec<Manifold> = parts.iter().map(|p| (**p).clone()).collect();
-            let out = Manifold::compose(&parts);
-            self.tick();
-            Ok(out)
+        fn group(&self, members: &[usize]) -> Result<Option<Arc<Manifold>>, (usize, BooleanError)> {
+            self.stopped().map_err(|e| (members[0], e))?;
+            let ops: Vec<(usize, &TriMesh)> =
+                members.iter().map(|&i| (i, self.meshes[i])).collect();
+            let out = import_group(&ops, self.tolerance)?;
+            for (_, m) in ops {
+                if !m.triangles.is_empty() {
+                    self.tick();
+                }
+            }
+            Ok(out.map(Arc::new))
         }
         fn join(&self, a: &Manifold, b: &Manifold) -> Result<Manifold, BooleanError> {
             self.stopped()?;
@@ -235,10 +228,11 @@ pub fn difference(a: &TriMesh, cutters: &[&TriMesh]) -> Result<TriMesh, BooleanE
 /// [`super::union_tree_nodes`] over the groups of
 /// [`super::disjoint_groups`] with these steps (for four operands whose
 /// boxes all overlap, `union(&[a, b, c, d])` is
-/// `a.union(&b).union(&c.union(&d))` exported, bit for bit; a group is
-/// [`Self::compose`]d; empty operands are skipped), so a caller that keeps
-/// the tree's nodes can re-unite only those over a changed operand
-/// ([`crate::assembly::UnionCache`]).
+/// `a.union(&b).union(&c.union(&d))` exported, bit for bit, each operand
+/// made by [`Self::import_group`] alone; a group of disjoint operands is
+/// one [`Self::import_group`]; empty operands are skipped), so a caller
+/// that keeps the tree's nodes can re-unite only those over a changed
+/// operand ([`crate::assembly::UnionCache`]).
 #[derive(Clone)]
 pub struct UnionOperand(Manifold);
 
@@ -249,27 +243,20 @@ impl std::fmt::Debug for UnionOperand {
 }
 
 impl UnionOperand {
-    /// Imports the closed mesh `m` as [`union`] imports its operand number
-    /// `index` (its source: its first triangle's, else `index`). `None` for
-    /// a mesh without triangles, which [`union`] skips.
-    pub fn import(index: usize, m: &TriMesh) -> Result<Option<Self>, BooleanError> {
-        if m.triangles.is_empty() {
-            return Ok(None);
-        }
-        let source = m.tri_source.first().copied().unwrap_or(index as u32);
-        Ok(Some(Self(import_tol(index, m, source, 0.0)?)))
+    /// Imports the closed meshes `members` (operand index, mesh; their
+    /// boxes pairwise disjoint, or one alone) side by side, as [`union`]
+    /// imports a group of its operands (each operand's source: its first
+    /// triangle's, else its index). `None` when none has triangles, which
+    /// [`union`] skips. On failure, the first member that fails alone.
+    pub fn import_group(
+        members: &[(usize, &TriMesh)],
+    ) -> Result<Option<Self>, (usize, BooleanError)> {
+        Ok(import_group(members, 0.0)?.map(Self))
     }
 
     /// The union of `self` and `next` (one node of the tree).
     pub fn union(&self, next: &Self) -> Self {
         Self(self.0.boolean(&next.0, OpType::Add))
-    }
-
-    /// The union of operands whose boxes are pairwise disjoint: their
-    /// meshes side by side (Manifold's `Compose`), no boolean.
-    pub fn compose(parts: &[&Self]) -> Self {
-        let parts: Vec<Manifold> = parts.iter().map(|p| p.0.clone()).collect();
-        Self(Manifold::compose(&parts))
     }
 
     /// The operand as a mesh, as [`union`] returns its result.
@@ -302,6 +289,63 @@ fn import_tol(
     import_with(index, m, &sources, tolerance)
 }
 
+/// Imports the operands `members` (index, mesh) as one Manifold, their
+/// meshes side by side (their boxes pairwise disjoint, so this is their
+/// union), each operand's triangles tagged with its source (its first
+/// triangle's, else its index). `None` when none has triangles. One
+/// import, not one per operand and a `Compose` (see
+/// [`super::union_tree`]). On failure, the first member that fails alone
+/// (index checks first, then Manifold's), as importing them one by one
+/// would report.
+fn import_group(
+    members: &[(usize, &TriMesh)],
+    tolerance: f64,
+) -> Result<Option<Manifold>, (usize, BooleanError)> {
+    let live: Vec<(usize, &TriMesh)> = members
+        .iter()
+        .copied()
+        .filter(|(_, m)| !m.triangles.is_empty())
+        .collect();
+    let source = |i: usize, m: &TriMesh| m.tri_source.first().copied().unwrap_or(i as u32);
+    // What importing the members one by one reports first (only on the
+    // way out of a failure: each one's own checks and import).
+    let alone = |otherwise: (usize, BooleanError)| {
+        for &(i, m) in &live {
+            if let Err(e) = import_tol(i, m, source(i, m), tolerance) {
+                return (i, e);
+            }
+        }
+        otherwise
+    };
+    match live.as_slice() {
+        [] => return Ok(None),
+        &[(i, m)] => {
+            return import_tol(i, m, source(i, m), tolerance)
+                .map(Some)
+                .map_err(|e| (i, e))
+        }
+        _ => {}
+    }
+    if let Some(e) = live
+        .iter()
+        .find_map(|&(i, m)| check_arrays(i, m).err().map(|e| (i, e)))
+    {
+        return Err(alone(e));
+    }
+    let mut all = TriMesh::default();
+    let mut sources = Vec::new();
+    for &(i, m) in &live {
+        let offset = all.positions.len() as u32;
+        all.positions.extend_from_slice(&m.positions);
+        all.triangles
+            .extend(m.triangles.iter().map(|t| t.map(|v| v + offset)));
+        sources.extend(std::iter::repeat_n(source(i, m), m.triangles.len()));
+    }
+    import_with(live[0].0, &all, &sources, tolerance)
+        .map(Some)
+        .map_err(|e| alone((live[0].0, e)))
+}
+
 /// Imports a mesh whose triangles carry their own sources (one run per
 /// maximal stretch of equal sources; Manifold keeps runs by original id).
 fn import_runs(index: usize, m: &TriMesh, tolerance: f64) -> Result<Manifold, BooleanError> {
@@ -313,12 +357,9 @@ fn import_runs(index: usize, m: &TriMesh, tolerance: f64) -> Result<Manifold, Bo
     import_with(index, m, &sources, tolerance)
 }
 
-fn import_with(
-    index: usize,
-    m: &TriMesh,
-    sources: &[u32],
-    tolerance: f64,
-) -> Result<Manifold, BooleanError> {
+/// Operand `index`'s arrays can be imported: indices in range, finite
+/// coordinates.
+fn check_arrays(index: usize, m: &TriMesh) -> Result<(), BooleanError> {
     let n = m.positions.len();
     if let Some(t) = m
         .triangles
@@ -336,6 +377,16 @@ fn import_with(
             reason: "a vertex coordinate is not finite".into(),
         });
     }
+    Ok(())
+}
+
+fn import_with(
+    index: usize,
+    m: &TriMesh,
+    sources: &[u32],
+    tolerance: f64,
+) -> Result<Manifold, BooleanError> {
+    check_arrays(index, m)?;
     // Triangles sorted by source (stable), one run per source.
     let mut order: Vec<usize> = (0..m.triangles.len()).collect();
     order.sort_by_key(|&t| sources[t]);
@@ -492,12 +543,32 @@ mod tests {
             union(&[&a, &open, &far, &bad]),
             Err(BooleanError::NotManifold { index: 1, .. })
         ));
+        // Within one group (three disjoint spheres, imported as one mesh):
+        // the member that fails alone, and of an open one before one with
+        // a bad index, the open one, as one by one.
+        let mut open_far = sphere_at(5.0, 0.5, 3);
+        open_far.triangles.pop();
+        let mut bad_far = sphere_at(10.0, 0.5, 4);
+        bad_far.triangles[0][1] = 1_000_000;
+        assert!(matches!(
+            union(&[&a, &open_far]),
+            Err(BooleanError::NotManifold { index: 1, .. })
+        ));
+        assert!(matches!(
+            union(&[&a, &far, &bad_far]),
+            Err(BooleanError::Malformed { index: 2, .. })
+        ));
+        assert!(matches!(
+            union(&[&a, &open_far, &bad_far]),
+            Err(BooleanError::NotManifold { index: 1, .. })
+        ));
     }
 
     #[test]
     fn progress_only_grows_and_a_cancelled_union_returns_no_mesh() {
-        // Two overlapping pairs far apart: {0 2} and {1 3} are composed
-        // (disjoint boxes), then one boolean; the empty one is skipped.
+        // Two overlapping pairs far apart: {0 2} and {1 3} are each
+        // imported as one (disjoint boxes), then one boolean; the empty
+        // one is skipped.
         let parts = [
             sphere_at(0.0, 0.5, 1),
             sphere_at(0.6, 0.5, 2),
@@ -517,8 +588,8 @@ mod tests {
             seen[..seen.len() - 1].iter().all(|&(d, t)| d < t),
             "{seen:?}"
         );
-        // 4 imports, 2 groups composed, 1 boolean, the end.
-        assert_eq!(seen.len(), 4 + 2 + 1 + 1, "{seen:?}");
+        // One step per non-empty operand imported, 1 boolean, the end.
+        assert_eq!(seen.len(), 4 + 1 + 1, "{seen:?}");
         let cancel = BooleanCancel::new();
         cancel.cancel();
         for refs in [refs.as_slice(), &refs[4..]] {
