@@ -14,6 +14,7 @@ mod stl;
 #[cfg(test)]
 pub(crate) mod test_meshes;
 mod threemf;
+mod tri_meet;
 mod trimesh;
 mod union_tree;
 pub(crate) mod validate;
