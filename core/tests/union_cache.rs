@@ -290,8 +290,8 @@ fn an_edit_reuses_the_last_evaluation_whatever_the_budget() {
         assert_eq!(d.union_steps, 1, "edit {k}: {d:?}");
         assert_eq!(m, union_mesh(&assembly(&log)).expect("fresh"));
     }
-    // An undo finds its result whole and keeps its prefixes: the edit
-    // after it unites one step too.
+    // An undo finds its result whole and keeps its nodes and its parts'
+    // trims: the edit after it unites one step too.
     let undone = {
         log.undo().expect("undo");
         assembly(&log)
@@ -302,16 +302,20 @@ fn an_edit_reuses_the_last_evaluation_whatever_the_budget() {
     union_mesh_cached(&assembly(&log), &tiny).expect("branch");
     let d = delta(before, tiny.stats());
     assert_eq!(d.union_steps, 1, "after undo: {d:?}");
+    // Only the edited handle is trimmed again: the spout, imported again
+    // with it (one group), comes from its kept trim.
+    assert_eq!((d.trim_hits, d.trim_misses), (1, 1), "after undo: {d:?}");
 }
 
 /// The chair's nine parts are united in the union tree (issue 37): its
-/// leaves are groups of parts whose boxes are pairwise disjoint, composed
-/// without a boolean (C++ Manifold's batch union does the same), so the
-/// chair takes one boolean: the seat with the back's two rails, and the
-/// four legs with the two back posts. The bits are the same on one and
-/// two threads, and an edit of a leg (which its copy follows) re-composes
-/// the legs' group from the other parts' kept imports and re-unites the
-/// root, reusing the seat's group whole.
+/// leaves are groups of parts whose boxes are pairwise disjoint, each
+/// imported as one mesh without a boolean (C++ Manifold's batch union
+/// groups the same way), so the chair takes one boolean: the seat with the
+/// back's two rails, and the four legs with the two back posts. The bits
+/// are the same on one and two threads, and an edit of a leg (which its
+/// copy follows) imports the legs' group again, the other parts from
+/// their kept trims, and re-unites the root, reusing the seat's group
+/// whole.
 #[test]
 fn the_chair_unites_in_a_tree_with_the_same_bits_on_one_and_two_threads() {
     let log = common::run(&common::data("chair.jsonl"));

@@ -24,7 +24,8 @@
 //! dropped as soon as the next evaluation meshed its changed part, and
 //! the edit re-united every part; [`crate::gc::budget`] estimates an
 //! edit's time on the last evaluation being kept). A result found whole
-//! marks its tree's nodes used too (an undo, then an edit). The lock is held
+//! marks its tree's nodes and its parts' trims used too (an undo, then an
+//! edit). The lock is held
 //! only to look up and insert, never while meshing or uniting.
 
 use std::collections::HashMap;
@@ -50,8 +51,8 @@ pub struct CacheStats {
     /// mesh as is when nothing cuts it).
     pub trim_misses: u64,
     /// Parts whose union was taken from the cache: the parts under the
-    /// union tree's nodes found whole (a part's own imported mesh
-    /// counts as the node over it alone).
+    /// union tree's nodes found whole (a part alone in its group counts
+    /// with its imported mesh, the node over it alone).
     pub parts_reused: u64,
     /// Union steps computed (one boolean each).
     pub union_steps: u64,

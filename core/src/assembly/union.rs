@@ -114,12 +114,14 @@ pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh
     let result_key = key(b"result", &[node_key(&groups)]);
     if let Some(Value::Result(m)) = cache.get(Tag::Result, result_key) {
         cache.count(|s| s.result_hits += 1);
-        // Keep what an edit of this state will start from.
+        // Keep what an edit of this state will start from: the tree's
+        // nodes (each group's among them) and every part's trim (an edit
+        // imports the edited part's whole group again).
         for (lo, hi) in union_tree_nodes(groups.len()) {
             cache.get(Tag::Node, node_key(&groups[lo..hi]));
         }
         for &i in groups.iter().flatten() {
-            cache.get(Tag::Node, node_key(&[vec![i]]));
+            cache.get(Tag::Trimmed, trim_keys[i]);
         }
         return Ok((*m).clone());
     }

@@ -55,7 +55,12 @@
 //!
 //! A part is re-trimmed and re-imported when it changed, and a node is
 //! united again when a part under it was re-trimmed or the tree before
-//! the op (over the parts before it) had no such node. The seconds are
+//! the op (over the parts before it) had no such node. (The union imports
+//! a changed part's whole group again, the other members from their kept
+//! trims: a chair leg's edit imports six parts. The estimate charges the
+//! changed part's import and the union of every node over it, which is
+//! at least the group's import: the root spans every part, at the same
+//! seconds per triangle.) The seconds are
 //! CPU seconds: the two halves of a node are united at once, so on two
 //! cores the wall time can be less. The union imports parts whose boxes
 //! are disjoint together, without a boolean

@@ -537,7 +537,7 @@ mod tests {
             Err(BooleanError::Malformed { index: 1, .. })
         ));
         // Of two broken operands in different groups (the far sphere is
-        // composed with `a`), the first in operand order is reported.
+        // in `a`'s group), the first in operand order is reported.
         let far = sphere_at(5.0, 0.5, 3);
         assert!(matches!(
             union(&[&a, &open, &far, &bad]),

@@ -260,7 +260,7 @@ mod tests {
     use std::sync::Mutex;
 
     /// The tree over `groups` written out: `(a b)` a join, `{a b}` a
-    /// group composed.
+    /// group imported as one.
     fn grouped(groups: &[Vec<usize>]) -> String {
         struct Show;
         impl UnionTree for Show {
