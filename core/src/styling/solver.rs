@@ -154,6 +154,9 @@ pub struct FixedSolver {
     norm_inf: f64,
     /// How many numeric factorizations were done (for tests and benches).
     pub refactor_count: usize,
+    /// Whether `l_values` holds the factors of `values` with `fixed`
+    /// eliminated (false after a failed factorization).
+    factored: bool,
     /// How many solves needed their refinement step (for tests and
     /// benches).
     pub refinements: std::sync::atomic::AtomicUsize,
@@ -198,6 +201,7 @@ impl FixedSolver {
             l_values: vec![0.0; l_len],
             norm_inf: 0.0,
             refactor_count: 0,
+            factored: false,
             refinements: std::sync::atomic::AtomicUsize::new(0),
         })
     }
@@ -235,7 +239,7 @@ impl FixedSolver {
 
     /// Whether the factorization already holds these values and fixed set.
     pub fn is_current(&self, values: &[f64], fixed: &[bool]) -> bool {
-        self.refactor_count > 0 && self.values == values && self.fixed == fixed
+        self.factored && self.values == values && self.fixed == fixed
     }
 
     /// Numeric LDLᵀ of `values` with the unknowns in `fixed` eliminated.
@@ -250,6 +254,9 @@ impl FixedSolver {
         if values.iter().any(|v| !v.is_finite()) {
             return Err(StylingError::Solver("non-finite energy matrix".into()));
         }
+        // Until the factorization below succeeds, nothing is current (a
+        // failed one must not be taken for these values next time).
+        self.factored = false;
         self.values.copy_from_slice(values);
         self.fixed.copy_from_slice(fixed);
         let p = &self.pattern;
@@ -312,6 +319,7 @@ impl FixedSolver {
             )
             .map_err(|_| StylingError::Solver("singular energy matrix (zero pivot)".into()))?;
         self.refactor_count += 1;
+        self.factored = true;
         Ok(())
     }
 
@@ -360,7 +368,12 @@ impl FixedSolver {
         k: usize,
     ) -> Result<Vec<f64>, StylingError> {
         let n = self.pattern.n;
-        if rhs.len() != n * k || fixed_values.len() != n * k || self.refactor_count == 0 {
+        if !self.factored {
+            return Err(StylingError::Solver(
+                "no factorization to solve with (none yet, or the last failed)".into(),
+            ));
+        }
+        if rhs.len() != n * k || fixed_values.len() != n * k {
             return Err(StylingError::Solver("right-hand side size mismatch".into()));
         }
         let b = self.eliminated_rhs(rhs, fixed_values, k);
@@ -456,6 +469,35 @@ mod tests {
 
     fn bits(v: &[f64]) -> Vec<u64> {
         v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// A factorization that failed is not taken for current: the same
+    /// values factored again fail again, and nothing solves with the
+    /// half-written factors (found by the review of issue 37's change).
+    #[test]
+    fn a_failed_factorization_is_never_current() {
+        let n = 12;
+        let (p, values) = banded(n);
+        let fixed = vec![false; n];
+        let mut solver = FixedSolver::new(p.clone()).expect("symbolic");
+        solver.factor(&values, &fixed).expect("factor");
+        let rhs = vec![1.0; n];
+        assert!(solver.solve(&rhs, &rhs, 1).is_ok());
+        // Unknown 5 uncoupled and with a zero diagonal: a zero pivot.
+        let mut singular = values.clone();
+        for c in 0..n {
+            for k in p.col_ptr()[c]..p.col_ptr()[c + 1] {
+                if p.row_idx()[k] == 5 || c == 5 {
+                    singular[k] = 0.0;
+                }
+            }
+        }
+        for _ in 0..2 {
+            assert!(solver.factor(&singular, &fixed).is_err());
+            assert!(solver.solve(&rhs, &rhs, 1).is_err());
+        }
+        solver.factor(&values, &fixed).expect("factor again");
+        assert!(solver.solve(&rhs, &rhs, 1).is_ok());
     }
 
     /// The product one column at a time gives the sweep's bits, and moving
