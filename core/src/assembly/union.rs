@@ -38,8 +38,8 @@ pub fn union_mesh(asm: &GcAssembly) -> Result<TriMesh, AssemblyError> {
 /// disjoint boxes ([`crate::mesh::disjoint_groups`]; here the boxes of
 /// the parts before trimming, which hold the trimmed parts). So an edit
 /// of one part re-imports its group (the other members from their kept
-/// trims) and re-unites the nodes on that group's path to the root. Bit-identical to [`union_mesh`] whatever the
-/// cache holds.
+/// trims) and re-unites the nodes on that group's path to the root.
+/// Bit-identical to [`union_mesh`] whatever the cache holds.
 pub fn union_mesh_cached(asm: &GcAssembly, cache: &UnionCache) -> Result<TriMesh, AssemblyError> {
     asm.validate()?;
     cache.begin();
@@ -199,11 +199,11 @@ where
             match (self.trimmed_part)(i) {
                 Ok(m) => trimmed.push((i, m)),
                 Err(e) => {
+                    // The members before it, imported as a group, report
+                    // the first of them that fails alone.
                     let before: Vec<(usize, &TriMesh)> =
                         trimmed.iter().map(|(i, m)| (*i, m.as_ref())).collect();
-                    for one in before.chunks(1) {
-                        UnionOperand::import_group(one).map_err(|(i, e)| (i, e.into()))?;
-                    }
+                    UnionOperand::import_group(&before).map_err(|(i, e)| (i, e.into()))?;
                     return Err((i, e));
                 }
             }

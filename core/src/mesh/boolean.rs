@@ -341,7 +341,8 @@ fn import_group(
             .extend(m.triangles.iter().map(|t| t.map(|v| v + offset)));
         sources.extend(std::iter::repeat_n(source(i, m), m.triangles.len()));
     }
-    import_with(live[0].0, &all, &sources, tolerance)
+    // Each member's arrays were checked above.
+    import_checked(live[0].0, &all, &sources, tolerance)
         .map(Some)
         .map_err(|e| alone((live[0].0, e)))
 }
@@ -387,6 +388,16 @@ fn import_with(
     tolerance: f64,
 ) -> Result<Manifold, BooleanError> {
     check_arrays(index, m)?;
+    import_checked(index, m, sources, tolerance)
+}
+
+/// [`import_with`] of arrays [`check_arrays`] accepted.
+fn import_checked(
+    index: usize,
+    m: &TriMesh,
+    sources: &[u32],
+    tolerance: f64,
+) -> Result<Manifold, BooleanError> {
     // Triangles sorted by source (stable), one run per source.
     let mut order: Vec<usize> = (0..m.triangles.len()).collect();
     order.sort_by_key(|&t| sources[t]);
