@@ -19,6 +19,7 @@ use crate::gc::{
     build_gc, Gc, GcAssembly, GcError, GcPart, PartId, Resolution, SectionIndex, SectionSpec,
     ShapeType,
 };
+use crate::math::fm::DetMath as _;
 use crate::nurbs::NurbsSurface;
 
 fn default_tolerance() -> f64 {
@@ -333,13 +334,12 @@ impl GcCopy {
 
 /// Part `i` of `asm` moved by `m`. A root moves rigidly. A child slides:
 /// its anchor point moves by `m` and is projected back on the parent
-/// (within `tolerance`), the part spins about the surface normal at its
-/// anchor by the turn of `m`'s rotation about that normal
-/// ([`own_turn`]) and then follows the anchor frame
-/// `(n, t, n x t)` from the old anchor to the new one, so it re-orients
-/// with the surface normal; a handle's end then lands on its own slid
-/// anchor (rotated and scaled about its start, as in
-/// [`reattach_descendants`]).
+/// (within `tolerance`), the part follows the anchor frame `(n, t, n x t)`
+/// from the old anchor to the new one (so it re-orients with the surface
+/// normal and keeps its bearing to the parent's spine), and spins about
+/// the normal by the turn `m`'s rotation gives it ([`own_turn`]); a
+/// handle's end then lands on its own slid anchor (rotated and scaled
+/// about its start, as in [`reattach_descendants`]).
 ///
 /// The rest of `m`'s rotation is not applied to the part a second time:
 /// it already moved the anchor, and the frame carries the part with it
@@ -361,7 +361,8 @@ fn slide(
     let start = project_within(&surf, m.transform_point3(p0), tolerance)?;
     let f_old = anchor_frame(pg, &surf, att.start)?;
     let f_new = anchor_frame(pg, &surf, start)?;
-    let motion = f_new * own_turn(&f_old, &f_new, m) * f_old.inverse();
+    let axis = pg.spine.curve.derivatives(att.start.v, 1)[1];
+    let motion = f_new * own_turn(&f_old, axis, m) * f_old.inverse();
     let mut gc = transform_gc(&src.gc, &motion);
     let end = match att.end {
         None => None,
@@ -391,30 +392,47 @@ fn slide(
     Ok((gc, Some(Attachment { start, end })))
 }
 
-/// The part of `m`'s rotation a child anchored at frame `f_old` (moved
-/// to `f_new` by its slid anchor) turns by itself: the rotation that
-/// takes the frame where `m` carried it (`m f_old`) to the frame of the
-/// new anchor, read in the anchor's own axes, keeps only its turn about
-/// the surface normal (the frame's x axis; the twist of its swing-twist
-/// decomposition). A rotation about the parent's axis of revolution
-/// carries the frame exactly onto the new one and leaves no turn; a
-/// rotation about the normal at the anchor is all turn; a rotation that
-/// tilts the part off the normal keeps only its turn (a half turn about a
-/// tangent axis has no defined turn and counts as none). Returned as the
-/// local rotation, in `f_old`'s axes.
-fn own_turn(f_old: &DAffine3, f_new: &DAffine3, m: &DAffine3) -> DAffine3 {
-    // No rotation (a twin's mirrored slide is the identity to rounding).
-    if m.matrix3.abs_diff_eq(glam::DMat3::IDENTITY, 1e-14) {
+/// The turn about the surface normal that `m`'s rotation gives a child
+/// anchored at frame `f_old` (whose `t` is the parent's spine tangent
+/// `axis` made perpendicular to the normal), as a rotation about the
+/// frame's x axis: the angle, about the turned normal, from the spine
+/// tangent made perpendicular to the turned normal to the turned `t`.
+///
+/// It reads the part's bearing to the parent's spine after `m` as the
+/// frame reads it everywhere, so (issue 33):
+/// - no rotation is no turn, whatever the slide;
+/// - a spin by `phi` about the normal is a turn by `phi`, whatever the
+///   slide;
+/// - a turn about a straight spine leaves the spine tangent where it was
+///   and is no turn (the frame's own move carries the part: on a body of
+///   revolution that is the turned part, not turned twice);
+/// - it is continuous in `m` (a spin of 1e-9 is a turn of 1e-9).
+///
+/// It used to be the twist of `f_newᵀ m f_old`: that is the least
+/// rotation back onto the new normal, which differs from following the
+/// frames by the frames' own turn about the normal between the two
+/// anchors (first order in the slide on a bulged body), so the smallest
+/// spin jumped the part by that turn, where no rotation at all took none.
+/// A rotation that turns the normal onto the spine tangent has no bearing
+/// and counts as no turn. No trigonometry: the rotation is built from the
+/// cosine and sine (same bits everywhere).
+fn own_turn(f_old: &DAffine3, axis: DVec3, m: &DAffine3) -> DAffine3 {
+    let to_local = f_old.matrix3.transpose();
+    let turned = to_local * m.matrix3 * f_old.matrix3;
+    let (n, t) = (turned.x_axis, turned.y_axis);
+    let a = to_local * axis;
+    let reference = a - n * n.dot(a);
+    let (c, s) = (reference.dot(t), reference.cross(t).dot(n));
+    let len = c.fhypot(s);
+    if !(len > 1e-12 * a.length()) {
         return DAffine3::IDENTITY;
     }
-    let local = f_new.matrix3.transpose() * m.matrix3 * f_old.matrix3;
-    let q = DQuat::from_mat3(&local);
-    let twist = DQuat::from_xyzw(q.x, 0.0, 0.0, q.w);
-    let len = twist.length();
-    if !(len > 1e-12) {
-        return DAffine3::IDENTITY;
-    }
-    DAffine3::from_quat(twist / len)
+    let (c, s) = (c / len, s / len);
+    DAffine3::from_mat3(glam::DMat3::from_cols(
+        DVec3::X,
+        DVec3::new(0.0, c, s),
+        DVec3::new(0.0, -s, c),
+    ))
 }
 
 /// The anchor of `p` on `surf`, refused as off the surface when `p` is

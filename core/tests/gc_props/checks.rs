@@ -1,13 +1,12 @@
 //! Checks of the recorded relations and of each op's own effect,
 //! independent of the core's own check.
 
-use glam::{DQuat, DVec3};
+use glam::{DAffine3, DQuat, DVec3};
 use shapewright::assembly::{
     anchor_frame, anchor_frame_in_plane, mirror_plane, reflect, spine_controls, spine_size, Anchor,
     MAX_SINK,
 };
 use shapewright::gc::*;
-use shapewright::math::fm::DetMath as _;
 
 use super::edits::{profile_radius, straight_axis, Made, Motion};
 
@@ -62,26 +61,67 @@ fn coplanar_with_parent(asm: &GcAssembly, c: usize, p: usize) -> bool {
 /// [`local_ends`] in the frame kept in the parent's plane (`coplanar`) or
 /// in the plain anchor frame, whatever `c`'s relations.
 fn local_ends_in(asm: &GcAssembly, c: usize, coplanar: bool) -> Option<Local> {
-    let p = asm.parts[c].parent?;
     let att = asm.parts[c].attach?;
-    let parent = &asm.parts[p].gc;
-    let surf = parent.surface().expect("parent surface");
     let (s, e) = ends(&asm.parts[c].gc);
-    let frame = |a: Anchor| {
-        if coplanar {
-            let o = spine_controls(parent)[0];
-            let n = parent.spine.plane_normal.normalize();
-            let offset = (surf.point(a.u, a.v) - o).dot(n);
-            anchor_frame_in_plane(parent, &surf, a, (o, n), offset)
-                .expect("in-plane frame")
-                .1
-        } else {
-            anchor_frame(parent, &surf, a).expect("frame")
-        }
+    let frame = |a: Anchor| local_frame(asm, c, a, coplanar);
+    let start = frame(att.start)?.inverse().transform_point3(s);
+    let end = match att.end {
+        Some(a) => Some(frame(a)?.inverse().transform_point3(e)),
+        None => None,
     };
-    let start = frame(att.start).inverse().transform_point3(s);
-    let end = att.end.map(|a| frame(a).inverse().transform_point3(e));
     Some((start, end))
+}
+
+/// The frame of child `c`'s anchor `a` on its parent: kept in the
+/// parent's plane (`coplanar`) or the plain anchor frame.
+fn local_frame(asm: &GcAssembly, c: usize, a: Anchor, coplanar: bool) -> Option<DAffine3> {
+    let parent = &asm.parts[asm.parts[c].parent?].gc;
+    let surf = parent.surface().expect("parent surface");
+    Some(if coplanar {
+        let o = spine_controls(parent)[0];
+        let n = parent.spine.plane_normal.normalize();
+        let offset = (surf.point(a.u, a.v) - o).dot(n);
+        anchor_frame_in_plane(parent, &surf, a, (o, n), offset)
+            .expect("in-plane frame")
+            .1
+    } else {
+        anchor_frame(parent, &surf, a).expect("frame")
+    })
+}
+
+/// True when child `c` sits in `asm` where it sat in `before` in the
+/// frame kept in the plane of one of its coplanar siblings: the core
+/// re-places a child so when the plain placement would leave that plane
+/// (`reattach_descendants`), and that frame turns against the plain one
+/// once the parent's normal there has left the plane (a chair's seat
+/// section replaced by a circle, then bent: a leg 1.4e-6 m off in the
+/// plain frame, found by a 2,000-case run).
+fn kept_in_a_siblings_plane(asm: &GcAssembly, before: &GcAssembly, c: usize, tol: f64) -> bool {
+    let (Some(rec), true) = (&asm.relations, c < before.parts.len()) else {
+        return false;
+    };
+    let parent = asm.parts[c].parent;
+    let in_plane = |asm: &GcAssembly, j: usize| -> Option<(DVec3, DAffine3)> {
+        let p = asm.parts[c].parent?;
+        let att = asm.parts[c].attach?;
+        let surf = asm.parts[p].gc.surface().ok()?;
+        let (o, n) = mirror_plane(&asm.parts[j].gc);
+        let offset = (surf.point(att.start.u, att.start.v) - o).dot(n);
+        let (_, f) = anchor_frame_in_plane(&asm.parts[p].gc, &surf, att.start, (o, n), offset)?;
+        Some((f.inverse().transform_point3(ends(&asm.parts[c].gc).0), f))
+    };
+    let gc = &asm.parts[c].gc;
+    rec.coplanar
+        .iter()
+        .filter_map(|&(a, b)| (a == c).then_some(b).or((b == c).then_some(a)))
+        .filter(|&j| Some(j) != parent && j < before.parts.len())
+        .any(|j| match (in_plane(before, j), in_plane(asm, j)) {
+            (Some((was, _)), Some((now, f))) => {
+                let sink = sink_world(asm, c, true).map(|w| f.matrix3.transpose() * w);
+                drift_ok(now, was, sink, radius(gc, true), tol)
+            }
+            _ => false,
+        })
 }
 
 pub fn all_local(asm: &GcAssembly) -> Vec<Option<Local>> {
@@ -96,14 +136,49 @@ pub fn twins(asm: &GcAssembly, part: usize) -> Vec<usize> {
 }
 
 /// How an attached end may have moved in its anchor frame: not at all, or
-/// (an open end) sunk straight in along the inward normal (local `-x`) by
+/// (an open end, `sink` the way it may go in the same frame) sunk in by
 /// up to [`MAX_SINK`] radii (the junction keeps its rim in the parent).
-fn drift_ok(now: DVec3, want: DVec3, open_end: bool, r: f64, tol: f64) -> bool {
+fn drift_ok(now: DVec3, want: DVec3, sink: Option<DVec3>, r: f64, tol: f64) -> bool {
     let d = now - want;
     if d.length() <= tol {
         return true;
     }
-    open_end && d.x < 0.0 && -d.x <= MAX_SINK * r + tol && d.y.fhypot(d.z) <= tol
+    let Some(u) = sink else {
+        return false;
+    };
+    let along = d.dot(u);
+    along > 0.0 && along <= MAX_SINK * r + tol && (d - u * along).length() <= tol
+}
+
+/// The way the junction sinks child `c`'s open start (`first`) or end, in
+/// world axes: the parent's inward normal at the anchor projected into the
+/// child's spine plane (`assembly::junction`; along the frame's `-x` when
+/// the plane holds the normal, and off it once a parent's new profile
+/// turned the normal out of a plane the child is kept in: a spun copy of
+/// the teapot's spout, found by GC_PROPS_SEED=14). `None` for a closed
+/// end, which is never sunk.
+fn sink_world(asm: &GcAssembly, c: usize, first: bool) -> Option<DVec3> {
+    let gc = &asm.parts[c].gc;
+    let p = asm.parts[c].parent?;
+    let att = asm.parts[c].attach?;
+    let a = if first { att.start } else { att.end? };
+    if !open(gc, first) {
+        return None;
+    }
+    let parent = &asm.parts[p].gc;
+    let surf = parent.surface().ok()?;
+    let n = anchor_frame(parent, &surf, a).ok()?.matrix3.x_axis;
+    let pn = gc.spine.plane_normal.normalize();
+    Some(-(n - pn * n.dot(pn)).try_normalize().unwrap_or(n))
+}
+
+/// [`sink_world`] in the frame [`local_ends`] reads `c`'s end in.
+fn sink(asm: &GcAssembly, c: usize, first: bool) -> Option<DVec3> {
+    let p = asm.parts[c].parent?;
+    let att = asm.parts[c].attach?;
+    let a = if first { att.start } else { att.end? };
+    let f = local_frame(asm, c, a, coplanar_with_parent(asm, c, p))?;
+    Some(f.matrix3.transpose() * sink_world(asm, c, first)?)
 }
 
 /// Checks every relation independently of the core's own check. Children
@@ -157,12 +232,14 @@ pub fn check_relations(
             expected[c] = Some(now);
             continue;
         }
-        if !drift_ok(now.0, want.0, open(gc, true), radius(gc, true), tol) {
+        if !drift_ok(now.0, want.0, sink(asm, c, true), radius(gc, true), tol)
+            && !kept_in_a_siblings_plane(asm, before, c, tol)
+        {
             let ds = (now.0 - want.0).length();
             return Err(format!("part {c} start drifted {ds} on its parent {p}"));
         }
         if let (Some(a), Some(b)) = (now.1, want.1) {
-            if !drift_ok(a, b, open(gc, false), radius(gc, false), tol) {
+            if !drift_ok(a, b, sink(asm, c, false), radius(gc, false), tol) {
                 let de = (a - b).length();
                 return Err(format!("part {c} end drifted {de} on its parent {p}"));
             }
@@ -487,7 +564,7 @@ pub fn check_effect(before: &GcAssembly, after: &GcAssembly, m: &Made) -> Result
                         _ => 0.0,
                     };
                     let want = DQuat::from_rotation_x(spin) * a.0;
-                    if !drift_ok(b.0, want, open(g, true), radius(g, true), tol) {
+                    if !drift_ok(b.0, want, sink(after, k, true), radius(g, true), tol) {
                         let d = (want - b.0).length();
                         return Err(format!(
                             "copy: start {d} off the source's anchor coordinates"

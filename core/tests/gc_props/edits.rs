@@ -172,7 +172,7 @@ pub fn straight_axis(gc: &Gc) -> Option<(DVec3, DVec3)> {
 
 /// The rigid motion (rotation quaternion, translation) a child `c` of
 /// `asm` is moved by, and where its anchor is dropped: a slide of about
-/// `dist` along the parent's spine direction with a spin about the normal,
+/// `dist` in a direction of the tangent plane with a spin about the normal,
 /// or a turn about the parent's straight spine (a slide when it is not).
 pub fn child_motion(
     asm: &GcAssembly,
@@ -195,7 +195,14 @@ pub fn child_motion(
             return Some((Motion::AboutAxis { angle }, q.to_array(), translate, target));
         }
     }
-    let target = project_to_surface(&surf, anchor + f.matrix3.y_axis * dist).point;
+    // Any direction in the tangent plane (the frame's y axis at `section`
+    // 0): a slide along a parallel of a body of revolution, or across a
+    // body whose sections are no longer circles, turns the anchor frames
+    // about the normal, and only there does following them differ from
+    // the least rotation (issue 33's spun copy).
+    let (sin, cos) = (std::f64::consts::TAU * s.section).fsin_cos();
+    let along = f.matrix3.y_axis * cos + f.matrix3.z_axis * sin;
+    let target = project_to_surface(&surf, anchor + along * dist).point;
     // A spin in a quarter of the slides (a plain slide in the rest).
     let spin = if s.w > 0.75 { 0.6 * s.y } else { 0.0 };
     let q = DQuat::from_axis_angle(f.matrix3.x_axis, spin);
