@@ -6,8 +6,25 @@ use serde::{Deserialize, Serialize};
 use super::identity::msg_id;
 use crate::doc::Op;
 
-/// Version of the entry format.
-pub const ENTRY_VERSION: u32 = 1;
+/// Version of the entry format, and of what the ops compute: it goes up
+/// when a build computes the same ops into different geometry, so that
+/// builds which would silently disagree in one session refuse each other
+/// instead (issue 33). A replica applies entries of versions
+/// [`OLDEST_ENTRY_VERSION`] to this one, but none older than the newest it
+/// has applied: once a newer build has written to a session, an older
+/// build's entries are refused with a notice (the older build refuses the
+/// newer one's by itself), and the history before that point replays as
+/// this build computes it, as an old file does.
+///
+/// - 1: the first shared sessions.
+/// - 2 (2026-11-30): a copy of the fused result is the fold of its
+///   operands (a build of version 1 ignores `UserMesh::fused` and samples
+///   the mesh); disjoint parts are united as one import; a turned part
+///   keeps its bearing to its parent's spine.
+pub const ENTRY_VERSION: u32 = 2;
+
+/// The oldest entry version this build applies.
+pub const OLDEST_ENTRY_VERSION: u32 = 1;
 
 /// The largest entry a replica applies (bytes of JSON): under NATS's
 /// default 1 MiB message limit, with room for headers. An op bigger than

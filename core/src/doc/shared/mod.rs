@@ -91,7 +91,7 @@ mod entry;
 mod identity;
 mod ids;
 
-pub use entry::{Body, Entry, ENTRY_VERSION, MAX_ENTRY_BYTES};
+pub use entry::{Body, Entry, ENTRY_VERSION, MAX_ENTRY_BYTES, OLDEST_ENTRY_VERSION};
 pub use identity::{colour_for, id_from_token, msg_id, subject_token, valid_author};
 use ids::apply_op;
 pub use ids::{id_range, ID_RANGE_BITS, MAX_PARTICIPANTS};

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::MAX_PARTICIPANTS;
 use super::{apply_op, id_from_token, id_range, subject_token, valid_author};
-use super::{Body, Entry, ENTRY_VERSION, MAX_ENTRY_BYTES};
+use super::{Body, Entry, ENTRY_VERSION, MAX_ENTRY_BYTES, OLDEST_ENTRY_VERSION};
 use crate::doc::linear::thinned;
 use crate::doc::{CheckpointPolicy, Document, LinearLog, Op, OpError, OpOutcome, ReserveIds};
 
@@ -97,6 +97,8 @@ struct Checkpoint {
 #[derive(Clone, Debug)]
 pub struct Replica {
     last_seq: u64,
+    /// The newest entry version applied ([`ENTRY_VERSION`]'s rule).
+    newest_version: u32,
     participants: Vec<Participant>,
     by_id: BTreeMap<String, usize>,
     /// Ops of a single-user document the session started from (the first
@@ -135,6 +137,7 @@ impl Replica {
     pub fn with_policy(policy: CheckpointPolicy) -> Self {
         Self {
             last_seq: 0,
+            newest_version: OLDEST_ENTRY_VERSION,
             participants: Vec::new(),
             by_id: BTreeMap::new(),
             seed: Vec::new(),
@@ -333,15 +336,29 @@ impl Replica {
             Err(reason)
         };
         let refused = |reason: String| EntryError::Refused(reason);
-        if e.v != ENTRY_VERSION {
+        if !(OLDEST_ENTRY_VERSION..=ENTRY_VERSION).contains(&e.v) {
             return refuse(
                 self,
                 refused(format!(
-                    "entry format version {} (this build reads {ENTRY_VERSION})",
+                    "entry format version {} (this build reads {OLDEST_ENTRY_VERSION} to \
+                     {ENTRY_VERSION})",
                     e.v
                 )),
             );
         }
+        if e.v < self.newest_version {
+            return refuse(
+                self,
+                refused(format!(
+                    "made by an older Shapewright (entry version {}) after a newer one \
+                     (version {}) joined the session: the two compute some geometry \
+                     differently, so the older build's edits are refused here; update \
+                     Shapewright to go on editing together",
+                    e.v, self.newest_version
+                )),
+            );
+        }
+        self.newest_version = e.v;
         if !valid_author(&e.author) {
             return Err(refused(
                 "author id is empty, longer than 64 bytes or not A-Z a-z 0-9 _ - .".into(),

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::{Checkpoint, Effect, OpRec, Participant, Replica};
-use crate::doc::shared::{valid_author, ENTRY_VERSION, MAX_PARTICIPANTS};
+use crate::doc::shared::{valid_author, ENTRY_VERSION, MAX_PARTICIPANTS, OLDEST_ENTRY_VERSION};
 use crate::doc::{Document, LinearLog, Op};
 
 /// The format name of a replica snapshot.
@@ -18,6 +18,8 @@ struct Snapshot {
     format: String,
     version: u32,
     last_seq: u64,
+    /// The newest entry version the replica applied.
+    newest_version: u32,
     participants: Vec<Participant>,
     seed: Vec<Op>,
     ops: Vec<SnapshotOp>,
@@ -48,6 +50,7 @@ impl Replica {
             format: SNAPSHOT_FORMAT.into(),
             version: ENTRY_VERSION,
             last_seq: self.last_seq,
+            newest_version: self.newest_version,
             participants: self.participants.clone(),
             seed: self.seed.clone(),
             ops: self
@@ -79,6 +82,13 @@ impl Replica {
                 s.format, s.version, ENTRY_VERSION
             ));
         }
+        if !(OLDEST_ENTRY_VERSION..=ENTRY_VERSION).contains(&s.newest_version) {
+            return Err(format!(
+                "snapshot's newest entry version {} (this build reads {OLDEST_ENTRY_VERSION} to \
+                 {ENTRY_VERSION})",
+                s.newest_version
+            ));
+        }
         let np = s.participants.len();
         let slots_ok = s
             .participants
@@ -90,6 +100,7 @@ impl Replica {
         }
         let mut r = Self::new();
         r.last_seq = s.last_seq;
+        r.newest_version = s.newest_version;
         for (i, p) in s.participants.iter().enumerate() {
             r.by_id.insert(p.id.clone(), i);
         }
