@@ -15,7 +15,11 @@
 //!   Every rep must give the same mesh (checked).
 //! - `perf_goals gc-commit REPS`: the commit of every GC op in the teapot
 //!   trace (`tests/data/teapot.trace.jsonl`, replayed through the session
-//!   to get its ops) and the chair script (`tests/data/chair.jsonl`): each
+//!   to get its ops), the chair script (`tests/data/chair.jsonl`) and the
+//!   30-part shelf (`tests/data/bench/shelf.jsonl`: legs, posts, rails,
+//!   stretchers and slats, then four edits; in a folder of its own so the
+//!   slicer, USD and Windows tests, which take every script in
+//!   `tests/data`, do not spend CI time on it): each
 //!   op's `OpLog::apply` (the op, the assembly's re-evaluation: meshing
 //!   every part, cavities, the manifold union, validation, and the log's
 //!   checkpointing), REPS times from an empty log. Reports p50 / p99 / max
@@ -105,7 +109,15 @@ fn gc_sessions() -> Res<Vec<(&'static str, Vec<Op>)>> {
         &parse_script(&std::fs::read_to_string(format!("{root}chair.jsonl"))?)?,
     )?;
     let chair = log.ops()[..log.cursor()].to_vec();
-    Ok(vec![("teapot", teapot), ("chair", chair)])
+    let mut log = OpLog::new();
+    run_script(
+        &mut log,
+        &parse_script(&std::fs::read_to_string(format!(
+            "{root}bench/shelf.jsonl"
+        ))?)?,
+    )?;
+    let shelf = log.ops()[..log.cursor()].to_vec();
+    Ok(vec![("teapot", teapot), ("chair", chair), ("shelf", shelf)])
 }
 
 fn gc_commit(reps: usize) -> Res<()> {

@@ -9,14 +9,14 @@ Rows (what each measures is in the module that makes it):
   on the same operand grids (scripts/bench/sdf.py);
 - full-grid extraction at 128^3 and 256^3 vs the single-thread "classify
   every cell" floor, fast-surface-nets and scikit-image (sdf.py);
-- assembly union, teapot and chair, vs manifold3d with the same threads
+- assembly union, teapot, chair and the 30-part shelf, vs manifold3d with the same threads
   (import + union + export timed on both sides) and with its default
   threads (scripts/bench/gc_union.py);
 - styling per-frame solve vs SciPy SuperLU, curve and surface systems
   (scripts/bench/styling.py; the SuperLU-SPD ratio in the note);
 - goals without a peer: sculpt bench stroke at 2M and 5M vertices, p99
-  frame (`perf_goals sculpt`); GC edit commit p99 on the teapot trace and
-  the chair script (`perf_goals gc-commit`); history bytes per 1,000 ops in
+  frame (`perf_goals sculpt`); GC edit commit p99 on the teapot trace, the
+  chair script and the 30-part shelf (`perf_goals gc-commit`); history bytes per 1,000 ops in
   the 20-object session (`history_bytes`);
 - shared sessions (issue 23, `session_bench` against a real nats-server
   on loopback): op round trip p99 (one person's edit applied by every
