@@ -181,6 +181,49 @@ fn sink(asm: &GcAssembly, c: usize, first: bool) -> Option<DVec3> {
     Some(f.matrix3.transpose() * sink_world(asm, c, first)?)
 }
 
+/// The direction child `c`'s spine leaves its start, in its plain anchor
+/// frame.
+fn start_tangent(asm: &GcAssembly, c: usize) -> Option<DVec3> {
+    let att = asm.parts[c].attach?;
+    let f = local_frame(asm, c, att.start, false)?;
+    let curve = &asm.parts[c].gc.spine.curve;
+    Some(f.matrix3.transpose() * curve.tangent(curve.domain().0).normalize())
+}
+
+/// A slid or copied child without an end on its parent (`src` in
+/// `before`, `dst` in `after`) leaves its start turned about the anchor's
+/// normal by the spin and no more: a slide or a turn about the parent's
+/// axis keeps its direction in the anchor frame (the frame carries it).
+/// The start's position alone barely shows a spin (a start on the normal
+/// does not move), so this is what holds the turn to the spin.
+fn check_spun(
+    before: &GcAssembly,
+    src: usize,
+    after: &GcAssembly,
+    dst: usize,
+    motion: &Motion,
+) -> Result<(), String> {
+    let spin = match motion {
+        Motion::Slide { spin } => *spin,
+        Motion::AboutAxis { .. } => 0.0,
+        Motion::Rigid => return Ok(()),
+    };
+    if after.parts[dst].attach.is_some_and(|a| a.end.is_some()) {
+        return Ok(());
+    }
+    let (Some(t0), Some(t1)) = (start_tangent(before, src), start_tangent(after, dst)) else {
+        return Ok(());
+    };
+    let want = DQuat::from_rotation_x(spin) * t0;
+    let d = (t1 - want).length();
+    if d > 1e-9 {
+        return Err(format!(
+            "start direction {t1} in the anchor frame, want {want} ({d} off)"
+        ));
+    }
+    Ok(())
+}
+
 /// Checks every relation independently of the core's own check. Children
 /// whose anchor moved although the op did not move them (kept in their
 /// coplanar partner's plane across a change of the parent's profile kind)
@@ -233,7 +276,7 @@ pub fn check_relations(
             continue;
         }
         if !drift_ok(now.0, want.0, sink(asm, c, true), radius(gc, true), tol)
-            && !kept_in_a_siblings_plane(asm, before, c, tol)
+            && (moved_by_op.contains(&c) || !kept_in_a_siblings_plane(asm, before, c, tol))
         {
             let ds = (now.0 - want.0).length();
             return Err(format!("part {c} start drifted {ds} on its parent {p}"));
@@ -522,6 +565,7 @@ pub fn check_effect(before: &GcAssembly, after: &GcAssembly, m: &Made) -> Result
                     {
                         check_turned(&before.parts[p].gc, &after.parts[p].gc, q, e.translate, tol)?;
                     }
+                    check_spun(before, p, after, p, motion).map_err(|e| format!("slide: {e}"))?;
                 }
                 _ => {
                     let want = q * ends(&before.parts[p].gc).0 + e.translate;
@@ -534,6 +578,9 @@ pub fn check_effect(before: &GcAssembly, after: &GcAssembly, m: &Made) -> Result
         }
         Made::Copy(e, src, motion, _) => {
             let k = before.parts.len();
+            if !e.mirror && after.parts.len() > k {
+                check_spun(before, *src, after, k, motion).map_err(|e| format!("copy: {e}"))?;
+            }
             if after.parts.len() <= k {
                 return Err("copy: no part added".into());
             }

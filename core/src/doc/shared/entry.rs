@@ -8,13 +8,17 @@ use crate::doc::Op;
 
 /// Version of the entry format, and of what the ops compute: it goes up
 /// when a build computes the same ops into different geometry, so that
-/// builds which would silently disagree in one session refuse each other
-/// instead (issue 33). A replica applies entries of versions
+/// two builds editing one session at once do not go on silently holding
+/// different models (issue 33). A replica applies entries of versions
 /// [`OLDEST_ENTRY_VERSION`] to this one, but none older than the newest it
-/// has applied: once a newer build has written to a session, an older
-/// build's entries are refused with a notice (the older build refuses the
-/// newer one's by itself), and the history before that point replays as
-/// this build computes it, as an old file does.
+/// has taken in: once a newer build has joined or edited, an older build's
+/// entries are refused here with a notice to their author. The older
+/// build skips the newer one's entries by itself (as of an unknown
+/// version, listed in its skipped entries; it has no notice to give,
+/// since it never saw the newer author join). What came before the newer
+/// build's first entry replays here as this build computes it, as an old
+/// file does: a model that differs from what the older build showed, with
+/// no word of it.
 ///
 /// - 1: the first shared sessions.
 /// - 2 (2026-11-30): a copy of the fused result is the fold of its

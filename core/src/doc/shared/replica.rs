@@ -351,21 +351,22 @@ impl Replica {
                 self,
                 refused(format!(
                     "made by an older Shapewright (entry version {}) after a newer one \
-                     (version {}) joined the session: the two compute some geometry \
+                     (version {}) wrote to the session: the two compute some geometry \
                      differently, so the older build's edits are refused here; update \
                      Shapewright to go on editing together",
                     e.v, self.newest_version
                 )),
             );
         }
-        self.newest_version = e.v;
         if !valid_author(&e.author) {
             return Err(refused(
                 "author id is empty, longer than 64 bytes or not A-Z a-z 0-9 _ - .".into(),
             ));
         }
         if let Body::Join { name, colour } = &e.body {
-            return self.join(e, name, *colour).map(|()| None).map_err(refused);
+            self.join(e, name, *colour).map_err(refused)?;
+            self.newest_version = e.v;
+            return Ok(None);
         }
         let Some(&a) = self.by_id.get(&e.author) else {
             return Err(refused(format!(
@@ -383,6 +384,9 @@ impl Replica {
             );
         }
         self.participants[a].last_n = e.n;
+        // Only an entry taken in raises the version (a refused one, from
+        // someone who never joined or a full session's joiner, does not).
+        self.newest_version = e.v;
         match &e.body {
             Body::Join { .. } => unreachable!("handled above"),
             Body::Op { ids_from, op } => {

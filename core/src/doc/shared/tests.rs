@@ -720,6 +720,17 @@ fn an_older_builds_entries_are_refused_once_a_newer_build_has_written() {
     let body = add(&r, "old", 0.0);
     feed(&mut r, 1, "old", 2, body).unwrap();
     assert_eq!(r.document().len(), 1);
+    // A newer build's entry that is itself refused (its author never
+    // joined) does not shut the older build out.
+    let body = add(&r, "old", 0.5);
+    let ghost = Body::Op {
+        ids_from: None,
+        op: delete(ObjectId(1)),
+    };
+    let err = feed(&mut r, ENTRY_VERSION, "ghost", 1, ghost).unwrap_err();
+    assert!(err.to_string().contains("has not joined"), "{err}");
+    feed(&mut r, 1, "old", 3, body).unwrap();
+    assert_eq!(r.document().len(), 2);
     // A newer build joins and edits; the older build's next edit is
     // refused, and its author is told why.
     feed(&mut r, ENTRY_VERSION, "new", 1, join("New")).unwrap();
@@ -727,9 +738,9 @@ fn an_older_builds_entries_are_refused_once_a_newer_build_has_written() {
     feed(&mut r, ENTRY_VERSION, "new", 2, body).unwrap();
     r.take_notices();
     let body = add(&r, "old", 2.0);
-    let err = feed(&mut r, 1, "old", 3, body.clone()).unwrap_err();
+    let err = feed(&mut r, 1, "old", 4, body.clone()).unwrap_err();
     assert!(err.to_string().contains("older Shapewright"), "{err}");
-    assert_eq!(r.document().len(), 2);
+    assert_eq!(r.document().len(), 3);
     let notices = r.take_notices();
     assert_eq!(notices.len(), 1);
     assert_eq!(notices[0].author, "old");
@@ -741,9 +752,9 @@ fn an_older_builds_entries_are_refused_once_a_newer_build_has_written() {
     // A late joiner starts from the snapshot and refuses what the others
     // refuse.
     let mut late = Replica::from_snapshot(&r.snapshot()).unwrap();
-    let err = feed(&mut late, 1, "old", 4, body).unwrap_err();
+    let err = feed(&mut late, 1, "old", 5, body).unwrap_err();
     assert!(err.to_string().contains("older Shapewright"), "{err}");
     let body = add(&late, "new", 4.0);
     feed(&mut late, ENTRY_VERSION, "new", 4, body).unwrap();
-    assert_eq!(late.document().len(), 3);
+    assert_eq!(late.document().len(), 4);
 }

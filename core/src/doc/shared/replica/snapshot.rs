@@ -18,7 +18,9 @@ struct Snapshot {
     format: String,
     version: u32,
     last_seq: u64,
-    /// The newest entry version the replica applied.
+    /// The newest entry version the replica applied (absent in snapshots
+    /// of version 1, which the version check then refuses by name).
+    #[serde(default)]
     newest_version: u32,
     participants: Vec<Participant>,
     seed: Vec<Op>,
