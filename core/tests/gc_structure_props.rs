@@ -392,6 +392,25 @@ fn run_example(ex: usize, topo: bool) {
     );
 }
 
+/// Runs one case of the relation tests from its seeds, each `(kind,
+/// [part, section, x, y, z, w])`, on example `ex` (a case a random run
+/// found, kept as a test).
+fn regression(ex: usize, seeds: &[(u8, [f64; 6])]) {
+    let seeds: Vec<Seed> = seeds
+        .iter()
+        .map(|&(kind, [part, section, x, y, z, w])| Seed {
+            kind,
+            part,
+            section,
+            x,
+            y,
+            z,
+            w,
+        })
+        .collect();
+    run_case(ex, &seeds, false, &mut Stats::default()).unwrap();
+}
+
 #[test]
 fn the_examples_record_their_relations() {
     let ex = examples();
@@ -457,27 +476,26 @@ fn chair_random_edits_keep_topology() {
 /// (`gc_props::checks`, issue 33).
 #[test]
 fn mug_handle_copied_after_a_body_edit_sits_where_its_source_sits() {
-    let seeds = [
-        Seed {
-            kind: 4,
-            part: 0.0,
-            section: 0.6192683192484946,
-            x: 0.0,
-            y: 0.0,
-            z: 0.0,
-            w: 0.6686199948530956,
-        },
-        Seed {
-            kind: 10,
-            part: 0.7385887906169473,
-            section: 0.0,
-            x: -0.1843922702988571,
-            y: 0.0,
-            z: 0.7796427786804366,
-            w: 0.5706112155144293,
-        },
-    ];
-    run_case(0, &seeds, false, &mut Stats::default()).unwrap();
+    regression(
+        0,
+        &[
+            (
+                4,
+                [0.0, 0.6192683192484946, 0.0, 0.0, 0.0, 0.6686199948530956],
+            ),
+            (
+                10,
+                [
+                    0.7385887906169473,
+                    0.0,
+                    -0.1843922702988571,
+                    0.0,
+                    0.7796427786804366,
+                    0.5706112155144293,
+                ],
+            ),
+        ],
+    );
 }
 
 /// Found by a random seed in the same run: a slid and spun copy on the
@@ -494,27 +512,23 @@ fn mug_handle_copied_after_a_body_edit_sits_where_its_source_sits() {
 /// bearing to the parent's spine (`own_turn` in `assembly/edits.rs`).
 #[test]
 fn teapot_spun_copy_sits_where_its_source_sits() {
-    let seeds = [
-        Seed {
-            kind: 4,
-            part: 0.0,
-            section: 0.0,
-            x: 0.0,
-            y: 0.0,
-            z: 0.0,
-            w: 0.4862623956248063,
-        },
-        Seed {
-            kind: 10,
-            part: 0.978270517226612,
-            section: 0.0,
-            x: 0.41669863651552874,
-            y: 0.14201845397955284,
-            z: 0.0,
-            w: 0.7951101524335711,
-        },
-    ];
-    run_case(1, &seeds, false, &mut Stats::default()).unwrap();
+    regression(
+        1,
+        &[
+            (4, [0.0, 0.0, 0.0, 0.0, 0.0, 0.4862623956248063]),
+            (
+                10,
+                [
+                    0.978270517226612,
+                    0.0,
+                    0.41669863651552874,
+                    0.14201845397955284,
+                    0.0,
+                    0.7951101524335711,
+                ],
+            ),
+        ],
+    );
 }
 
 /// Found by a 2,000-case run (2026-11-30): the chair's seat section
@@ -527,27 +541,13 @@ fn teapot_spun_copy_sits_where_its_source_sits() {
 /// (`kept_in_a_siblings_plane`).
 #[test]
 fn chair_leg_kept_in_a_posts_plane_after_the_seat_is_bent() {
-    let seeds = [
-        Seed {
-            kind: 4,
-            part: 0.0,
-            section: 0.0,
-            x: 0.0,
-            y: 0.0,
-            z: 0.0,
-            w: 0.0,
-        },
-        Seed {
-            kind: 0,
-            part: 0.0,
-            section: 0.0,
-            x: 0.0,
-            y: -0.49388340631091404,
-            z: 0.0,
-            w: 0.0,
-        },
-    ];
-    run_case(2, &seeds, false, &mut Stats::default()).unwrap();
+    regression(
+        2,
+        &[
+            (4, [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+            (0, [0.0, 0.0, 0.0, -0.49388340631091404, 0.0, 0.0]),
+        ],
+    );
 }
 
 /// Found by a 2,000-case run (GC_PROPS_SEED=14): after the teapot body's
@@ -558,25 +558,31 @@ fn chair_leg_kept_in_a_posts_plane_after_the_seat_is_bent() {
 /// allowed sinking along `-x` only (`gc_props::checks::sink`).
 #[test]
 fn teapot_spun_spout_copy_sinks_in_its_own_plane() {
-    let seeds = [
-        Seed {
-            kind: 4,
-            part: 0.0,
-            section: 0.47613959775093617,
-            x: 0.0,
-            y: 0.0,
-            z: 0.618677661477631,
-            w: 0.8137548640804837,
-        },
-        Seed {
-            kind: 10,
-            part: 0.3758116101295561,
-            section: 0.0,
-            x: 0.0,
-            y: -0.45931396114366924,
-            z: 0.0,
-            w: 0.8801736350783702,
-        },
-    ];
-    run_case(1, &seeds, false, &mut Stats::default()).unwrap();
+    regression(
+        1,
+        &[
+            (
+                4,
+                [
+                    0.0,
+                    0.47613959775093617,
+                    0.0,
+                    0.0,
+                    0.618677661477631,
+                    0.8137548640804837,
+                ],
+            ),
+            (
+                10,
+                [
+                    0.3758116101295561,
+                    0.0,
+                    0.0,
+                    -0.45931396114366924,
+                    0.0,
+                    0.8801736350783702,
+                ],
+            ),
+        ],
+    );
 }

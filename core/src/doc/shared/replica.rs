@@ -321,6 +321,28 @@ impl Replica {
         EntryError::Refused(why)
     }
 
+    /// Why an entry of version `v` is not applied: a version this build
+    /// does not read, or one older than the newest taken in
+    /// ([`ENTRY_VERSION`]'s rule).
+    fn check_version(&self, v: u32) -> Result<(), String> {
+        if !(OLDEST_ENTRY_VERSION..=ENTRY_VERSION).contains(&v) {
+            return Err(format!(
+                "entry format version {v} (this build reads {OLDEST_ENTRY_VERSION} to \
+                 {ENTRY_VERSION})"
+            ));
+        }
+        if v < self.newest_version {
+            return Err(format!(
+                "made by an older Shapewright (entry version {v}) after a newer one \
+                 (version {}) wrote to the session: the two compute some geometry \
+                 differently, so the older build's edits are refused here; update \
+                 Shapewright to go on editing together",
+                self.newest_version
+            ));
+        }
+        Ok(())
+    }
+
     /// Applies one decoded entry (the stream's next). On error nothing but
     /// the author's entry counter changes.
     pub(super) fn apply_entry(&mut self, e: &Entry) -> Result<Option<OpOutcome>, EntryError> {
@@ -336,27 +358,8 @@ impl Replica {
             Err(reason)
         };
         let refused = |reason: String| EntryError::Refused(reason);
-        if !(OLDEST_ENTRY_VERSION..=ENTRY_VERSION).contains(&e.v) {
-            return refuse(
-                self,
-                refused(format!(
-                    "entry format version {} (this build reads {OLDEST_ENTRY_VERSION} to \
-                     {ENTRY_VERSION})",
-                    e.v
-                )),
-            );
-        }
-        if e.v < self.newest_version {
-            return refuse(
-                self,
-                refused(format!(
-                    "made by an older Shapewright (entry version {}) after a newer one \
-                     (version {}) wrote to the session: the two compute some geometry \
-                     differently, so the older build's edits are refused here; update \
-                     Shapewright to go on editing together",
-                    e.v, self.newest_version
-                )),
-            );
+        if let Err(why) = self.check_version(e.v) {
+            return refuse(self, refused(why));
         }
         if !valid_author(&e.author) {
             return Err(refused(
