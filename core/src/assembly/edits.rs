@@ -408,15 +408,15 @@ fn slide(
 ///   revolution that is the turned part, not turned twice);
 /// - it is continuous in `m` (a spin of 1e-9 is a turn of 1e-9), except
 ///   where `m` turns the normal onto the spine tangent, which leaves no
-///   bearing to read.
+///   bearing to read: there it counts as no turn.
 ///
 /// It used to be the twist of `f_newᵀ m f_old`: that is the least
 /// rotation back onto the new normal, which differs from following the
 /// frames by the frames' own turn about the normal between the two
 /// anchors (first order in the slide on a bulged body), so the smallest
 /// spin jumped the part by that turn, where no rotation at all took none.
-/// There it counts as no turn. No trigonometry: the rotation is built from the
-/// cosine and sine (same bits everywhere).
+/// No trigonometry: the rotation is built from the cosine and sine (same
+/// bits everywhere).
 fn own_turn(f_old: &DAffine3, axis: DVec3, m: &DAffine3) -> DAffine3 {
     // No rotation is exactly no turn (rounding of fᵀf would leave ~1e-16).
     if m.matrix3 == glam::DMat3::IDENTITY {

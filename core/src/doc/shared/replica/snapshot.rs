@@ -6,7 +6,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::{Checkpoint, Effect, OpRec, Participant, Replica};
-use crate::doc::shared::{valid_author, ENTRY_VERSION, MAX_PARTICIPANTS, OLDEST_ENTRY_VERSION};
+use crate::doc::shared::{valid_author, ENTRY_VERSION, MAX_PARTICIPANTS};
 use crate::doc::{Document, LinearLog, Op};
 
 /// The format name of a replica snapshot.
@@ -84,13 +84,9 @@ impl Replica {
                 s.format, s.version, ENTRY_VERSION
             ));
         }
-        if !(OLDEST_ENTRY_VERSION..=ENTRY_VERSION).contains(&s.newest_version) {
-            return Err(format!(
-                "snapshot's newest entry version {} (this build reads {OLDEST_ENTRY_VERSION} to \
-                 {ENTRY_VERSION})",
-                s.newest_version
-            ));
-        }
+        let mut r = Self::new();
+        r.check_version(s.newest_version)
+            .map_err(|e| format!("snapshot's newest entry: {e}"))?;
         let np = s.participants.len();
         let slots_ok = s
             .participants
@@ -100,7 +96,6 @@ impl Replica {
         if !slots_ok || s.redo.len() != np || np as u32 > MAX_PARTICIPANTS {
             return Err("snapshot's participants are inconsistent".into());
         }
-        let mut r = Self::new();
         r.last_seq = s.last_seq;
         r.newest_version = s.newest_version;
         for (i, p) in s.participants.iter().enumerate() {
