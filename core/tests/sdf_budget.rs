@@ -64,6 +64,41 @@ fn an_update_over_the_time_limit_is_refused_at_once() {
     assert_eq!(log.document().content_hash(), before);
 }
 
+/// An export of a volume whose queue cannot be fused (the six spheres, over
+/// the time limit) is refused at once, naming the volume, how many
+/// operands wait and why, and changes nothing. A small sphere fused first
+/// gives the volume a printable result of its own: an export that left
+/// the queue out would print that sphere alone, with no word.
+#[test]
+fn an_export_of_a_queue_over_the_time_limit_is_refused_naming_the_volume() {
+    use shapewright::doc::print_document;
+    use shapewright::print::{PrintError, PrintSettings};
+    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let mut script = six_spheres();
+    let first = script.find('\n').unwrap() + 1;
+    script.insert_str(
+        first,
+        "{\"op\": \"sdf_add_operand\", \"volume\": 1, \"component\": {\"kind\": \"solid\", \"shape\": {\"kind\": \"sphere\", \"radius\": 0.05}}, \"csg\": \"union\"}\n{\"op\": \"sdf_update\", \"volume\": 1}\n",
+    );
+    let log = run(&script);
+    let before = log.document().content_hash();
+    let t0 = Instant::now();
+    let e = print_document(log.document(), &PrintSettings::default()).unwrap_err();
+    let took = t0.elapsed();
+    let text = e.to_string();
+    let PrintError::NotSolid { object, problems } = e else {
+        panic!("not a refusal of the volume: {text}")
+    };
+    assert_eq!(object, "#1 sdf_volume", "{text}");
+    assert!(
+        problems.contains("its 6 queued operand(s) cannot be fused")
+            && problems.contains(&format!("{TIME_LIMIT_SECONDS} s limit")),
+        "{text}"
+    );
+    assert!(took < Duration::from_secs(2), "refused after {took:?}");
+    assert_eq!(log.document().content_hash(), before);
+}
+
 /// What a run of the chain of copies measured, per op.
 struct Ran {
     what: String,

@@ -94,7 +94,6 @@ fn the_chair_made_a_component_at_1_cm_keeps_its_volume_or_is_refused() {
 }
 
 #[test]
-#[ignore = "12 s in the test profile (over CI's few seconds a test): cargo test -p shapewright --test sdf_reuse -- --ignored the_chair_made_a_component_keeps; passes (99.61%)"]
 fn the_chair_made_a_component_keeps_its_volume_legs_and_genus() {
     // At the finest step: 99.6% (a thin, many-part object; at 6 mm
     // 98.99%, at 1 cm 97.56%).
