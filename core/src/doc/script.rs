@@ -175,7 +175,7 @@ impl OpLog {
         self.command(cmd)?;
         #[cfg(test)]
         if let ScriptCommand::Op(op) = cmd {
-            applied::record(op.name());
+            applied::record(op);
         }
         Ok(())
     }
@@ -203,8 +203,24 @@ pub(crate) mod applied {
         static OPS: RefCell<Vec<&'static str>> = const { RefCell::new(Vec::new()) };
     }
 
-    pub(crate) fn record(op: &'static str) {
-        OPS.with(|o| o.borrow_mut().push(op));
+    /// Records `op` by its name, and a part edit also by its kind
+    /// (`gc_edit_part:bend`, ...): the reach table's rows for `gc_bend`
+    /// and the like are reached through that kind.
+    pub(crate) fn record(op: &crate::doc::Op) {
+        use crate::assembly::PartEdit;
+        let kind = match op {
+            crate::doc::Op::GcEditPart(e) => Some(match e.edit.edit {
+                PartEdit::Bend { .. } => "gc_edit_part:bend",
+                PartEdit::Resize { .. } => "gc_edit_part:resize",
+                PartEdit::Shift { .. } => "gc_edit_part:shift",
+                PartEdit::Twist { .. } => "gc_edit_part:twist",
+            }),
+            _ => None,
+        };
+        OPS.with(|o| {
+            o.borrow_mut()
+                .extend(std::iter::once(op.name()).chain(kind))
+        });
     }
 
     /// The ops applied on this thread since the last call.

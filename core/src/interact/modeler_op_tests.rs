@@ -441,7 +441,7 @@ pub(crate) fn print_settings_are_set_from_the_palette() {
 /// Both hands on a box with "Scale: x": the hands pulled apart stretch it
 /// along its own x only (one `set_transform` with a per-axis scale).
 #[test]
-fn a_two_hand_grab_scales_along_the_chosen_axis() {
+pub(crate) fn a_two_hand_grab_scales_along_the_chosen_axis() {
     let mut d = Driver::new(72.0, "object");
     d.close_palette();
     d.puppet.click(R, Button::Primary);

@@ -4,9 +4,11 @@
 //! gesture or palette entry, or which op does its job in the headset, or
 //! why it is left to the desktop. The README's "In the headset" table
 //! says the same for a user. The test below keeps this table complete and
-//! true: for each row a tool emits, it runs the test the row names (which
-//! makes the row's gesture with a puppet) and checks that the row's op got
-//! into the log through the tool, not by the test's own hand.
+//! true: for each row a tool emits, and each row another op reaches, it
+//! runs the test the row names (which makes the row's gesture with a
+//! puppet) and checks that the row's op (or the op, or the kind of part
+//! edit, that does its job) got into the log through the tool, not by the
+//! test's own hand.
 
 /// A test that drives a row's gesture: its path under `crate::interact`,
 /// and the test itself (made by [`t!`]).
@@ -38,6 +40,12 @@ pub enum How {
         op: &'static str,
         /// How.
         note: &'static str,
+        /// What the test must get into the log: the op's name, or for a
+        /// part edit its kind (`gc_edit_part:bend`).
+        emits: &'static str,
+        /// The test that drives the gesture `note` describes; the table's
+        /// own test runs it and checks `emits` reached the log.
+        test: Driver,
     },
     /// Needs a keyboard or a file dialog: Blender's panel or the CLI.
     Desktop {
@@ -72,27 +80,38 @@ const fn tool(op: &'static str, tool: &'static str, gesture: &'static str, test:
     }
 }
 
-const fn via(op: &'static str, by: &'static str, note: &'static str) -> Reach {
+const fn via(
+    op: &'static str,
+    by: &'static str,
+    note: &'static str,
+    emits: &'static str,
+    test: Driver,
+) -> Reach {
     Reach {
         op,
-        how: How::Via { op: by, note },
+        how: How::Via {
+            op: by,
+            note,
+            emits,
+            test,
+        },
     }
 }
 
 /// Every op, in the op table's order.
 pub const HEADSET_REACH: &[Reach] = &[
     tool("add_solid", "object", "A with nothing selected places the palette's Shape at the controller", t!(tools::tool_tests::select_copy_delete_undo_redo)),
-    via("edit_solid", "set_transform", "a solid's sizes change by scaling it (two hands, per axis from the palette's Scale)"),
+    via("edit_solid", "set_transform", "a solid's sizes change by scaling it (two hands, per axis from the palette's Scale)", "set_transform", t!(modeler_op_tests::a_two_hand_grab_scales_along_the_chosen_axis)),
     tool("set_transform", "object", "squeeze drags (one hand moves and turns, two hands scale)", t!(tools::tool_tests::grab_move_rotate_emits_one_op_per_release)),
-    via("transform_by", "set_transform", "a drag records the absolute placement"),
+    via("transform_by", "set_transform", "a drag records the absolute placement", "set_transform", t!(tools::tool_tests::grab_move_rotate_emits_one_op_per_release)),
     tool("duplicate", "object", "trigger selects, A copies the selection", t!(tools::tool_tests::select_copy_delete_undo_redo)),
     tool("delete", "object", "trigger selects, B deletes the selection", t!(tools::tool_tests::select_copy_delete_undo_redo)),
     tool("gc_create", "gc", "POINT (trigger) in empty space sketches a section, a second POINT stroke the spine", t!(tools::gc_tool::drawn_tests::a_section_then_a_spine_in_empty_space_make_a_new_assembly)),
-    via("gc_bend", "gc_edit_part", "FIST (squeeze) on a key point and drag (PartEdit::Bend)"),
+    via("gc_bend", "gc_edit_part", "FIST (squeeze) on a key point and drag (PartEdit::Bend)", "gc_edit_part:bend", t!(tools::gc_tool::tests::fist_on_a_key_point_bends_within_the_spine_plane)),
     tool("gc_replace_spine", "gc", "POINT (trigger) on a key point, then sketch the new spine", t!(tools::gc_tool::tests::point_on_a_key_point_replaces_the_spine_by_a_sketch)),
-    via("gc_resize", "gc_edit_part", "FIST (squeeze) on a section ring, drag across the spine (PartEdit::Resize)"),
-    via("gc_shift", "gc_edit_part", "FIST (squeeze) on a section ring, drag along the spine (PartEdit::Shift)"),
-    via("gc_twist", "gc_edit_part", "FIST (squeeze) on a section ring, turn about the spine (PartEdit::Twist)"),
+    via("gc_resize", "gc_edit_part", "FIST (squeeze) on a section ring, drag across the spine (PartEdit::Resize)", "gc_edit_part:resize", t!(tools::gc_tool::tests::fist_on_a_section_resizes_shifts_or_twists_by_the_motion_component)),
+    via("gc_shift", "gc_edit_part", "FIST (squeeze) on a section ring, drag along the spine (PartEdit::Shift)", "gc_edit_part:shift", t!(tools::gc_tool::tests::fist_on_a_section_resizes_shifts_or_twists_by_the_motion_component)),
+    via("gc_twist", "gc_edit_part", "FIST (squeeze) on a section ring, turn about the spine (PartEdit::Twist)", "gc_edit_part:twist", t!(tools::gc_tool::tests::fist_on_a_section_resizes_shifts_or_twists_by_the_motion_component)),
     tool("gc_replace_section", "gc", "POINT (trigger) on a section ring, then sketch the new section", t!(tools::gc_tool::tests::point_on_a_section_replaces_it_by_a_sketch)),
     tool("gc_delete_section", "gc", "OPEN (no button) held 3 s on a section ring", t!(tools::gc_tool::tests::an_open_hold_on_a_section_deletes_it)),
     tool("gc_insert_section", "gc", "OPEN (no button) held 3 s on a part's surface between sections", t!(tools::gc_tool::tests::an_open_hold_on_the_surface_inserts_a_section_once)),
@@ -205,10 +224,35 @@ mod tests {
         assert_eq!(rows, OP_NAMES, "one row per op, in the op table's order");
     }
 
-    /// Each row a tool emits is run: the test it names drives the tool's
-    /// gesture through a session or the tool, and the row's op must be
-    /// among those that reached the log through `OpLog::apply_command` (an op
-    /// the test applied by hand does not count).
+    /// Runs `test` (once: `ran` keeps what each test got into the log)
+    /// and says what is wrong unless `want` was among the ops it got
+    /// into the log through `OpLog::apply_command` (`row`: the row's op).
+    fn drive_and_check(
+        ran: &mut Vec<(&'static str, Vec<&'static str>)>,
+        test: Driver,
+        want: &str,
+        row: &str,
+    ) -> Option<String> {
+        let (test, drive) = test;
+        if !ran.iter().any(|(t, _)| *t == test) {
+            applied::take();
+            drive();
+            ran.push((test, applied::take()));
+        }
+        let ops = &ran.iter().find(|(t, _)| *t == test).unwrap().1;
+        // stringify! spaces (and may break) the path at its `::`.
+        let name: String = test.split_whitespace().collect();
+        (!ops.contains(&want))
+            .then(|| format!("{row}: {name} got {ops:?} into the log, not {want}"))
+    }
+
+    /// Each row a tool emits, and each row reached through another op, is
+    /// run: the test it names drives the row's gesture through a session
+    /// or the tool, and the row's op (for a row reached through another
+    /// op, that op, or for a part edit its kind: a bend for `gc_bend`)
+    /// must be among those that reached the log through
+    /// `OpLog::apply_command` (an op the test applied by hand does not
+    /// count).
     #[test]
     fn each_row_s_test_gets_its_op_into_the_log_through_the_tool() {
         let mut ran: Vec<(&str, Vec<&'static str>)> = Vec::new();
@@ -222,24 +266,25 @@ mod tests {
                 } => {
                     assert!(TOOL_NAMES.contains(&tool), "{}: no tool {tool}", r.op);
                     assert!(!gesture.is_empty());
-                    let (test, drive) = test;
-                    // stringify! spaces the path's `::`.
-                    let name = test.replace(' ', "");
-                    if !ran.iter().any(|(t, _)| *t == test) {
-                        applied::take();
-                        drive();
-                        ran.push((test, applied::take()));
-                    }
-                    let ops = &ran.iter().find(|(t, _)| *t == test).unwrap().1;
-                    if !ops.contains(&r.op) {
-                        failures.push(format!(
-                            "{}: {name} got {ops:?} into the log, not {}",
-                            r.op, r.op
-                        ));
+                    if let Some(f) = drive_and_check(&mut ran, test, r.op, r.op) {
+                        failures.push(f);
                     }
                 }
-                How::Via { op, note } => {
+                How::Via {
+                    op,
+                    note,
+                    emits,
+                    test,
+                } => {
                     assert!(!note.is_empty());
+                    assert!(
+                        emits == op || emits.strip_prefix(op).is_some_and(|k| k.starts_with(':')),
+                        "{}: {emits} is not {op} or one of its kinds",
+                        r.op
+                    );
+                    if let Some(f) = drive_and_check(&mut ran, test, emits, r.op) {
+                        failures.push(f);
+                    }
                     let by = HEADSET_REACH.iter().find(|b| b.op == op);
                     assert!(
                         matches!(by.map(|b| b.how), Some(How::Emitted { .. })),

@@ -137,7 +137,7 @@ pub(crate) fn fist_on_a_section_resizes_shifts_or_twists_by_the_motion_component
 }
 
 #[test]
-fn fist_on_a_key_point_bends_within_the_spine_plane() {
+pub(crate) fn fist_on_a_key_point_bends_within_the_spine_plane() {
     use crate::assembly::PartEdit;
     let mut r = rig();
     let key = DVec3::new(0.0, 0.0, 0.08);
