@@ -36,8 +36,8 @@
 //! relation and two parts); the refusal rate is printed and bounded.
 //! `PROPTEST_CASES` (default 100) sets the number of cases per example of
 //! the relation tests, `GC_TOPOLOGY_CASES` (default 80: 240 sequences, a
-//! minute in CI) those of the topology tests; `GC_TOPOLOGY_FULL=1` meshes those at the examples' own
-//! resolution (slower).
+//! minute in CI) those of the topology tests; `GC_TOPOLOGY_FULL=1` meshes
+//! those at the examples' own resolution (slower).
 
 mod gc_props;
 
