@@ -28,6 +28,7 @@ pub use format::{FileUnit, MeshFormat, PartNames, MESH_EXTENSIONS};
 pub use obj::{read_obj, write_obj};
 pub use ply::{read_ply, write_ply};
 pub use precision::{at_precision, at_precision_in, Precision};
+pub(crate) use selfx::triangles_cross;
 pub use selfx::{self_intersections, SelfIntersections, MAX_EXACT_COORDINATE};
 pub use stl::{read_stl, write_stl};
 pub use threemf::{read_3mf, write_3mf};

@@ -477,39 +477,44 @@ impl Ctx {
 
     /// Triangles at positions `a` and `b` of the BVH's order.
     fn pair_intersects(&self, a: usize, b: usize) -> bool {
-        let ta = self.tris[a];
-        let tb = self.tris[b];
-        // The corners the two share, as (corner of a, corner of b).
-        let mut shared = [(0usize, 0usize); 9];
-        let mut count = 0;
-        for (i, va) in ta.iter().enumerate() {
-            for (j, vb) in tb.iter().enumerate() {
-                if va == vb {
-                    shared[count] = (i, j);
-                    count += 1;
-                }
+        triangles_cross(self.tris[a], self.corners[a], self.tris[b], self.corners[b])
+    }
+}
+
+/// Whether two triangles of one mesh (vertex indices `ta`, `tb`, corner
+/// positions `pa`, `pb`) meet outside the vertices they share: the pair
+/// test of [`self_intersections`], for callers that pick the pairs
+/// themselves (the sculptor's collapse check).
+pub(crate) fn triangles_cross(ta: [u32; 3], pa: [DVec3; 3], tb: [u32; 3], pb: [DVec3; 3]) -> bool {
+    // The corners the two share, as (corner of a, corner of b).
+    let mut shared = [(0usize, 0usize); 9];
+    let mut count = 0;
+    for (i, va) in ta.iter().enumerate() {
+        for (j, vb) in tb.iter().enumerate() {
+            if va == vb {
+                shared[count] = (i, j);
+                count += 1;
             }
         }
-        let (pa, pb) = (self.corners[a], self.corners[b]);
-        match count {
-            0 => triangles_meet(pa, pb),
-            1 => {
-                let (i, j) = shared[0];
-                shares_vertex(pa, i, pb, j)
-            }
-            // Two shared corners on distinct corners of both: a shared edge.
-            2 if shared[0].0 != shared[1].0 && shared[0].1 != shared[1].1 => {
-                // The corners not on the shared edge.
-                let ia = 3 - shared[0].0 - shared[1].0;
-                let ib = 3 - shared[0].1 - shared[1].1;
-                let (e0, e1) = (pa[shared[0].0], pa[shared[1].0]);
-                folded_onto(e0, e1, pa[ia], pb[ib])
-            }
-            // The same triangle twice, or a degenerate one repeating a
-            // vertex (found by the mesh-reader fuzz test: two shared pairs
-            // on one corner): coincident sheets.
-            _ => true,
+    }
+    match count {
+        0 => triangles_meet(pa, pb),
+        1 => {
+            let (i, j) = shared[0];
+            shares_vertex(pa, i, pb, j)
         }
+        // Two shared corners on distinct corners of both: a shared edge.
+        2 if shared[0].0 != shared[1].0 && shared[0].1 != shared[1].1 => {
+            // The corners not on the shared edge.
+            let ia = 3 - shared[0].0 - shared[1].0;
+            let ib = 3 - shared[0].1 - shared[1].1;
+            let (e0, e1) = (pa[shared[0].0], pa[shared[1].0]);
+            folded_onto(e0, e1, pa[ia], pb[ib])
+        }
+        // The same triangle twice, or a degenerate one repeating a
+        // vertex (found by the mesh-reader fuzz test: two shared pairs
+        // on one corner): coincident sheets.
+        _ => true,
     }
 }
 

@@ -164,6 +164,13 @@ impl HalfEdgeMesh {
         if self.collapse_refusal(h, p, max_len2).is_some() {
             return false;
         }
+        self.collapse_edge(h, p);
+        true
+    }
+
+    /// Collapses the edge of `h` as [`Self::try_collapse`] does, once
+    /// [`Self::collapse_refusal`] allowed it.
+    pub(super) fn collapse_edge(&mut self, h: HalfEdgeId, p: DVec3) {
         let t = self.twin(h);
         let u = self.from(h);
         let v = self.to(h);
@@ -187,7 +194,6 @@ impl HalfEdgeMesh {
         self.remove_face(f1);
         self.remove_vertex(v);
         self.set_position(u, p);
-        true
     }
 
     /// Why collapsing the edge of `h` (removing `to(h)`, moving `from(h)`

@@ -180,6 +180,14 @@ impl VertexGrid {
     /// result never depends on bucket order; `scratch` is sorting space.
     pub fn query(&self, lo: DVec3, hi: DVec3, out: &mut Vec<VertId>, scratch: &mut Vec<VertId>) {
         out.clear();
+        self.for_each_near(lo, hi, |v| out.push(v));
+        sort_by_u32(out, scratch, |v| v.0);
+    }
+
+    /// Calls `f` with every vertex whose cell meets the box `[lo, hi]`, in
+    /// no fixed order (for callers whose answer does not depend on it;
+    /// [`Self::query`] sorts).
+    pub fn for_each_near(&self, lo: DVec3, hi: DVec3, mut f: impl FnMut(VertId)) {
         let a = self.key(lo);
         let b = self.key(hi);
         let ncell = (0..3)
@@ -189,7 +197,7 @@ impl VertexGrid {
             // Fewer occupied cells than cells in the box: scan buckets.
             for (k, bucket) in &self.cells {
                 if (0..3).all(|i| k[i] >= a[i] && k[i] <= b[i]) {
-                    out.extend(bucket.iter().map(|&v| VertId(v)));
+                    bucket.iter().for_each(|&v| f(VertId(v)));
                 }
             }
         } else {
@@ -197,13 +205,12 @@ impl VertexGrid {
                 for y in a[1]..=b[1] {
                     for x in a[0]..=b[0] {
                         if let Some(bucket) = self.cells.get(&[x, y, z]) {
-                            out.extend(bucket.iter().map(|&v| VertId(v)));
+                            bucket.iter().for_each(|&v| f(VertId(v)));
                         }
                     }
                 }
             }
         }
-        sort_by_u32(out, scratch, |v| v.0);
     }
 }
 

@@ -263,7 +263,13 @@ impl Sculptor {
                         continue;
                     };
                     let gone_faces = [h.face(), self.mesh.twin(h).face()];
-                    if self.mesh.try_collapse(h, p, max2) {
+                    // Where the guards pulled steps back (`!fused`), a
+                    // collapse may pass through a sheet close by
+                    // (`super::crossing_guard`).
+                    if self.mesh.collapse_refusal(h, p, max2).is_none()
+                        && (fused || !self.collapse_crosses(h, p, lim))
+                    {
+                        self.mesh.collapse_edge(h, p);
                         self.removed_faces.extend(gone_faces);
                         self.note_changed(keep);
                         self.grid.remove(gone);
