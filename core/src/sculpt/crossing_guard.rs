@@ -50,6 +50,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
+use super::fold_guard::push_unmarked_faces;
 use super::halfedge::{FaceId, HalfEdgeId, VertId};
 use super::sculptor::{Limits, Move, Sculptor};
 use crate::mesh::{self_intersections, triangles_cross, TriMesh};
@@ -96,16 +97,9 @@ impl Sculptor {
         {
             let (mesh, marks) = (&self.mesh, &mut self.face_mark);
             for &v in &near {
-                if !mesh.vert_alive(v) {
-                    continue;
+                if mesh.vert_alive(v) {
+                    push_unmarked_faces(mesh, marks, stamp, v, &mut faces);
                 }
-                mesh.for_each_out(v, |h| {
-                    let f = h.face();
-                    if marks[f.0 as usize] != stamp {
-                        marks[f.0 as usize] = stamp;
-                        faces.push(f);
-                    }
-                });
             }
         }
         *searched += faces.len();
@@ -183,16 +177,9 @@ impl Sculptor {
             // the fan. The answer is "any", so the order does not matter.
             self.grid.for_each_near(lo, hi, |w| {
                 let x = mesh.position(w);
-                if !(mesh.vert_alive(w) && x.cmpge(lo).all() && x.cmple(hi).all()) {
-                    return;
+                if mesh.vert_alive(w) && x.cmpge(lo).all() && x.cmple(hi).all() {
+                    push_unmarked_faces(mesh, marks, stamp, w, &mut faces);
                 }
-                mesh.for_each_out(w, |g| {
-                    let f = g.face();
-                    if marks[f.0 as usize] != stamp {
-                        marks[f.0 as usize] = stamp;
-                        faces.push(f);
-                    }
-                });
             });
         }
         // Each triangle of the fan (`v` merged into `u`) against every

@@ -18,7 +18,7 @@
 use glam::DVec3;
 
 use super::adapt::{quality, MIN_FACE_QUALITY};
-use super::halfedge::{FaceId, HalfEdgeId, VertId};
+use super::halfedge::{FaceId, HalfEdgeId, HalfEdgeMesh, VertId};
 use super::par;
 use super::sculptor::{Limits, Move, Sculptor};
 
@@ -356,16 +356,27 @@ impl Sculptor {
     pub(super) fn faces_around(&mut self, verts: &[VertId]) -> Vec<FaceId> {
         let stamp = self.next_face_stamp();
         let mut faces = Vec::new();
-        let (mesh, marks) = (&self.mesh, &mut self.face_mark);
         for &v in verts {
-            mesh.for_each_out(v, |h| {
-                let f = h.face();
-                if marks[f.0 as usize] != stamp {
-                    marks[f.0 as usize] = stamp;
-                    faces.push(f);
-                }
-            });
+            push_unmarked_faces(&self.mesh, &mut self.face_mark, stamp, v, &mut faces);
         }
         faces
     }
+}
+
+/// Appends to `out` the triangles at `v` that `marks` does not hold at
+/// `stamp`, marking them: over many vertices, each triangle once.
+pub(super) fn push_unmarked_faces(
+    mesh: &HalfEdgeMesh,
+    marks: &mut [u32],
+    stamp: u32,
+    v: VertId,
+    out: &mut Vec<FaceId>,
+) {
+    mesh.for_each_out(v, |h| {
+        let f = h.face();
+        if marks[f.0 as usize] != stamp {
+            marks[f.0 as usize] = stamp;
+            out.push(f);
+        }
+    });
 }
