@@ -151,17 +151,28 @@ pub fn run<Gx: Graphics>(
             Err(e) => break Err(e),
         }
     };
-    report.input = sink.input_stats();
-    if let Some(s) = &report.input {
-        report.poses_dropped = s.poses_untracked + s.poses_rejected;
-        report.joints_dropped = s.joints_rejected;
-    }
+    note_input_stats(&mut report, sink);
     if let Some(p) = &pacer {
         report.pace_steps = p.steps;
         report.pace_waits = p.waits;
     }
     report.display_frames = gfx.frames_submitted();
     result.map(|()| report)
+}
+
+/// Reads the sink's input counts into `report` once every frame the sink
+/// received has been stepped: frames held for a commit still running are
+/// stepped first ([`FrameSink::settle`]). Read before that, a run that
+/// ended during a slow commit counted the poses of its held frames as
+/// never dropped (a loaded machine's `testrt` run reported 0 of 60 NaN
+/// and lost poses, 2026-12-01).
+pub fn note_input_stats(report: &mut RunReport, sink: &mut dyn FrameSink) {
+    sink.settle();
+    report.input = sink.input_stats();
+    if let Some(s) = &report.input {
+        report.poses_dropped = s.poses_untracked + s.poses_rejected;
+        report.joints_dropped = s.joints_rejected;
+    }
 }
 
 fn run_instance<Gx: Graphics>(

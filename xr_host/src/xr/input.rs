@@ -83,7 +83,8 @@ pub trait FrameSink {
         None
     }
     /// Called after each delivered frame in a paced run, before the pace
-    /// is acknowledged: wait for anything the frame started (default:
+    /// is acknowledged, and once at the end of a run, before the input
+    /// counts are read: wait for anything the frames started (default:
     /// nothing to wait for).
     fn settle(&mut self) {}
     /// Op-log length and command count, for pace acknowledgements.
