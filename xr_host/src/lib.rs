@@ -14,6 +14,8 @@
 
 #![deny(unsafe_code)]
 
+#[allow(unsafe_code)]
+pub mod alloc;
 pub mod files;
 #[allow(unsafe_code)]
 pub mod gfx;
