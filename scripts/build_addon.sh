@@ -91,10 +91,12 @@ for p in "${platforms[@]}"; do
       -m blender_addon/native/Cargo.toml -o "$wheels_dir"
   else
     profile=(--release)
-    if [[ "$p" == windows-x64 && -n "${SHAPEWRIGHT_TEST_PROFILE:-}" ]]; then
-      # In tests, the profile the Windows host was built in
-      # (build_windows.sh): the two share the cross-built core.
-      profile=(--profile "$SHAPEWRIGHT_TEST_PROFILE")
+    if [[ "$p" == windows-x64 ]]; then
+      # The Windows host's target dir (build_windows.sh says why it has its
+      # own) and, in tests, the profile it was built in: the two share the
+      # cross-built core.
+      [ -n "${SHAPEWRIGHT_TEST_PROFILE:-}" ] && profile=(--profile "$SHAPEWRIGHT_TEST_PROFILE")
+      profile+=(--target-dir "${CARGO_TARGET_DIR:-$root/target}/windows")
     elif [[ " ${SHAPEWRIGHT_ADDON_LINK_CHECK:-} " == *" $p "* ]]; then
       # Its own target dir: test.sh builds it in the background while
       # pytest builds the linux wheel, and two maturins in one target dir

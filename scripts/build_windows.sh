@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Cross-builds the standalone host for Windows x86_64 (issue 32):
 #   bash scripts/build_windows.sh
-# writes target/x86_64-pc-windows-gnu/release/shapewright-xr.exe (and the
+# writes target/windows/x86_64-pc-windows-gnu/release/shapewright-xr.exe (and the
 # crash-test fixture crash_writer.exe beside it in examples/) and prints
 # the exe's path last. The OpenXR loader is linked statically (openxr-sys
 # `static`, built by cmake with the mingw toolchain file
@@ -33,13 +33,22 @@ fi
 # 375 s on two cores (2026-11-29), and the two hosts the wine tests compare
 # are built alike. Shipping (release.sh) unsets it.
 profile="${SHAPEWRIGHT_TEST_PROFILE:-release}"
+# Its own target dir (the Windows wheel of build_addon.sh uses it too, so
+# the two share the cross-built core). In the common one, this build held
+# the lock on target/debug (a cross build keeps its build scripts and proc
+# macros there) for all of its minutes, and scripts/test.sh's foreground
+# `cargo test` waited behind it (a cold run of 2026-12-01, seen in
+# /proc/locks): the background build did not fill the foreground's idle
+# time, it came first. The price: the host-side build scripts and proc
+# macros are compiled a second time.
+tdir="${CARGO_TARGET_DIR:-$root/target}/windows"
 start=$SECONDS
-cargo build --profile "$profile" --target "$target" -p shapewright-xr --bin shapewright-xr >&2
-cargo build --profile "$profile" --target "$target" -p shapewright-atomic --example crash_writer >&2
+cargo build --profile "$profile" --target "$target" --target-dir "$tdir" -p shapewright-xr --bin shapewright-xr >&2
+cargo build --profile "$profile" --target "$target" --target-dir "$tdir" -p shapewright-atomic --example crash_writer >&2
 echo "build_windows: built ($profile) in $((SECONDS - start)) s" >&2
 
 [ "$profile" = dev ] && dir=debug || dir="$profile"
-out="${CARGO_TARGET_DIR:-$root/target}/$target/$dir"
+out="$tdir/$target/$dir"
 exe="$out/shapewright-xr.exe"
 
 # The import table: every DLL must be one Windows ships. A mingw runtime

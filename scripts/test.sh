@@ -103,7 +103,8 @@ mac_wheels="$(mktemp -d)"
 bg macos "$(mktemp)" env SHAPEWRIGHT_ADDON_LINK_CHECK=macos-arm64 SHAPEWRIGHT_ADDON_WHEELS_ONLY="$mac_wheels" \
   bash scripts/build_addon.sh macos-arm64
 # And the Windows host the wine stage runs (dev profile, as the Linux host
-# it is compared with; its own target triple's dir, so no lock is shared).
+# it is compared with; its own target dir, target/windows: a cross build in
+# the common one holds target/debug's lock, and the foreground waited).
 bg windows "$(mktemp)" bash scripts/build_windows.sh
 # The test binaries that mostly wait (the Monado sessions paced by the
 # runtime's frames, the NATS servers' timeouts) run beside the others:
