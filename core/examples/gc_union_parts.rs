@@ -21,8 +21,7 @@
 //! unites the two halves of each node at once, and manifold-rust's own
 //! parallel sites run on the same pool, with the same bits on any number
 //! of threads (`core/src/mesh/union_tree.rs`). Allocator: mimalloc, the
-//! hosts', with their option when run as the bench runs it
-//! (`MIMALLOC_PURGE_DECOMMITS=0`; `xr_host/src/alloc.rs`).
+//! hosts'.
 //!
 //! Prints one JSON line: median and 25th–75th percentiles in ms, parts,
 //! input and output triangles, and whether the result is closed and its

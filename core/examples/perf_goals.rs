@@ -26,9 +26,7 @@
 //!   over all (op, rep) samples, the slowest op kind, and the median and
 //!   25th–75th percentiles of the per-rep p99.
 //!
-//! Threads: rayon's default (all cores). Allocator: mimalloc, the hosts',
-//! with their option when run as the bench runs it
-//! (`MIMALLOC_PURGE_DECOMMITS=0`; `xr_host/src/alloc.rs`).
+//! Threads: rayon's default (all cores). Allocator: mimalloc, the hosts'.
 
 use std::time::Instant;
 

@@ -170,8 +170,6 @@ def main() -> int:
         print(json.dumps(peer(sys.argv[2], int(sys.argv[3]), cpus)))
         return 0
     reps = int(sys.argv[1]) if len(sys.argv) > 1 else 7
-    # The hosts' allocator option, as run_all.py sets it (xr_host/src/alloc.rs).
-    os.environ["MIMALLOC_PURGE_DECOMMITS"] = "0"
     for r in run(reps):
         o, p = r["ours"], r["peer_value"]
         print(

@@ -64,11 +64,6 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 sys.path.insert(0, str(HERE))
-# Our examples run with the allocator option the hosts set in code
-# (xr_host/src/alloc.rs: purged memory is reset, not decommitted);
-# mimalloc reads it from the environment at process load. No peer uses
-# mimalloc.
-os.environ["MIMALLOC_PURGE_DECOMMITS"] = "0"
 
 EXAMPLES = [
     "sdf_bench",

@@ -14,8 +14,6 @@
 
 #![deny(unsafe_code)]
 
-#[allow(unsafe_code)]
-pub mod alloc;
 pub mod files;
 #[allow(unsafe_code)]
 pub mod gfx;

@@ -148,7 +148,6 @@ fn quiet_on_closed_pipe() {
 
 fn main() -> ExitCode {
     quiet_on_closed_pipe();
-    shapewright_xr::alloc::tune_mimalloc();
     let cli = Cli::parse();
     shapewright_xr::sdf_store::DirStore::install_default();
     let result = match cli.command {

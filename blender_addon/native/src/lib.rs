@@ -37,21 +37,10 @@ use pyo3::prelude::*;
 #[global_allocator]
 static ALLOC: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-/// Purges of freed memory reset it instead of decommitting it, as in the
-/// headset host (`xr_host/src/alloc.rs` says why and what it measured):
-/// mimalloc's `mi_option_purge_decommits` (index 5) set to 0.
-fn tune_mimalloc() {
-    // SAFETY: mi_option_set stores the option's value in mimalloc's option
-    // table (a plain store of a valid index); it may be called at any time
-    // from any thread.
-    unsafe { libmimalloc_sys::mi_option_set(5, 0) }
-}
-
 /// The native module.
 #[pymodule]
 #[pyo3(name = "_native")]
 fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    tune_mimalloc();
     m.add_class::<doc::Session>()?;
     m.add_class::<placement::Placement>()?;
     m.add_class::<placement::Pose>()?;
