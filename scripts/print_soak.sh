@@ -9,5 +9,5 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 uptime
 SHAPEWRIGHT_PRINT_DOCS="${1:-3000}" SHAPEWRIGHT_PRINT_SEED="${2:-1000}" \
-    cargo test -q --workspace --test print_props -- --nocapture
+    cargo test -q --workspace --test suite print_props:: -- --nocapture
 uptime

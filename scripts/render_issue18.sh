@@ -3,7 +3,7 @@
 # spine replace and a spout slide, a 6-sided patch (the hexagon prism of
 # scripts/styling/make_ngon_patch.py, top cap domed and sharpened), and a
 # sheet of every library component. Meshes come from the ignored test
-# core/tests/render_assets.rs; scripts/render.py (Blender Workbench) draws
+# core/tests/suite/render_assets.rs; scripts/render.py (Blender Workbench) draws
 # them. Usage: scripts/render_issue18.sh  (CARGO_TARGET_DIR is honoured)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -13,7 +13,7 @@ tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 "$py" "$root/scripts/styling/make_ngon_patch.py" "$tmp"
 (cd "$root/core" && SHAPEWRIGHT_RENDER_DIR="$tmp" SHAPEWRIGHT_NGON_DIR="$tmp" \
-    cargo test --test render_assets -- --ignored --nocapture)
+    cargo test --test suite render_assets:: -- --ignored --nocapture)
 img="$root/docs/images"
 mkdir -p "$img"
 r() { "$py" "$root/scripts/render.py" "$@"; }

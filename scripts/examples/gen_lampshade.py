@@ -8,7 +8,7 @@ open at the top and the bottom. The printable path thickens it into a
 
 The loop pieces name node indices; they were read from the network the
 draws build (nodes are numbered as intersections are found, in draw order)
-and are checked by core/tests/print_cases.rs.
+and are checked by core/tests/suite/print_cases.rs.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 //! Unit tests of the assembly module's geometry helpers (op-level tests
-//! are in core/tests/gc_assembly.rs).
+//! are in core/tests/suite/gc_assembly.rs).
 
 use glam::DVec3;
 

@@ -79,7 +79,7 @@
 //! and re-unites them all; any hollow part is assumed to cut every other
 //! (the bounding boxes that decide it are not known before meshing). The
 //! constants are CPU seconds of the release build on this machine (AMD
-//! EPYC, 2 cores), from `calibrate` in `core/tests/gc_time.rs`, rounded
+//! EPYC, 2 cores), from `calibrate` in `core/tests/timed/gc_time.rs`, rounded
 //! up. With the grouped union tree (2026-11-30) the estimate is 1.5-3.9
 //! times the measured CPU time of every edit over 0.3 s on the mug, the
 //! teapot, the chair and the rack at 128 to 724 segments (a boolean the

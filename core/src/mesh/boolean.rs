@@ -8,7 +8,7 @@
 //! `MeshGL::merge` panics on out-of-range indices. The crate's `parallel`
 //! feature is on: it parallelises only the sites whose output is identical
 //! to the sequential build (manifold-rust's `par.rs`), so results are the
-//! same bits on 1 or 2 threads (`tests/union_cache.rs` checks it).
+//! same bits on 1 or 2 threads (`tests/suite/union_cache.rs` checks it).
 //!
 //! [`union_snapped`] and [`snap`] give Manifold a tolerance: imported with
 //! `MeshGL::tolerance = t`, a mesh's epsilon becomes `t`, so Manifold's own

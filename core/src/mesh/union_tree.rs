@@ -43,7 +43,7 @@
 //! The same shape, whatever the threads: each node is one Manifold
 //! boolean of its two children, computed in parallel with `rayon::join`,
 //! and Manifold's own parallel sites give the sequential bits, so the
-//! union is the same bits on 1 or 2 threads (`tests/union_cache.rs`).
+//! union is the same bits on 1 or 2 threads (`tests/suite/union_cache.rs`).
 
 use std::collections::HashMap;
 use std::sync::Arc;

@@ -56,7 +56,7 @@
 //!
 //! The constants are measured on this machine (AMD EPYC, 2 cores; the
 //! release build, CPU seconds of both threads: an upper bound of the wall
-//! time on an idle machine) by the calibration in `core/tests/sculpt_time.rs`,
+//! time on an idle machine) by the calibration in `core/tests/timed/sculpt_time.rs`,
 //! which also runs each op kind at the limit and compares.
 //!
 //! The estimate assumes the reached surface is not crumpled; a backstop

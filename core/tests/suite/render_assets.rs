@@ -15,7 +15,7 @@
 //!
 //! `SHAPEWRIGHT_RENDER_DIR` names the output directory.
 
-mod common;
+use crate::common;
 
 use glam::{DAffine3, DVec3};
 use shapewright::doc::{Edit, ObjectId, ObjectKind, Op, OpLog};

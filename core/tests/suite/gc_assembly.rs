@@ -4,7 +4,7 @@
 //! parent is edited; a child off its parent's surface is a typed error
 //! that leaves the document unchanged; replay is bit-identical.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use shapewright::assembly::{

@@ -11,7 +11,7 @@
 //! - replacing a body section by a polygon, rectangle or sketched loop
 //!   was refused as breaking the coplanar relation with its child.
 
-mod common;
+use crate::common;
 
 use glam::{DAffine3, DQuat, DVec3};
 use shapewright::assembly::{

@@ -4,7 +4,7 @@
 //! or the op is refused with a typed error naming the step; thin and
 //! multi-part sources (the GC chair, the mug) as well as the paper's cup.
 
-mod common;
+use crate::common;
 
 use common::{data, run};
 use glam::DVec3;

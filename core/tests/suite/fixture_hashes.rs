@@ -4,7 +4,7 @@
 //! The table was recorded before the op vocabulary moved to the document
 //! floor (issue 15), so any refactor that changes what a fixture builds, bit
 //! for bit, fails here. A deliberate change of behaviour re-records the table
-//! with `SHAPEWRIGHT_BLESS=1 cargo test -p shapewright --test fixture_hashes`
+//! with `SHAPEWRIGHT_BLESS=1 cargo test -p shapewright --test suite fixture_hashes::`
 //! and says why in its commit.
 
 use std::collections::BTreeMap;

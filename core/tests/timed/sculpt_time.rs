@@ -12,11 +12,10 @@
 //! `--release --ignored --nocapture`) prints the measurements the
 //! constants come from.
 
-mod common;
+use crate::common;
 
 use common::timed;
 use shapewright::math::fm::DetMath as _;
-use std::sync::Mutex;
 
 use glam::{DQuat, DVec3};
 use shapewright::budget::OverBudget;
@@ -32,9 +31,6 @@ use shapewright::sculpt::{
 /// How much slower this build runs a sculpt op than the release build
 /// the constants are for.
 const BUILD_FACTOR: f64 = if cfg!(debug_assertions) { 2.5 } else { 1.0 };
-
-/// Timing tests run one at a time (CPU time is the process's).
-static SERIAL: Mutex<()> = Mutex::new(());
 
 fn create(radius: f64, edge: f64) -> Op {
     Op::SculptCreate(Create(SculptCreate {
@@ -179,7 +175,7 @@ fn refused_at_once(name: &str, mut log: OpLog, op: Op) {
 
 #[test]
 fn each_stroke_kind_at_the_time_limit_runs_within_it() {
-    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _one = crate::serial();
     let base = [create(1.0, 0.03)];
     let log = log_with(&base);
     let sphere = |r| BrushShape::Sphere { radius: r };
@@ -224,7 +220,7 @@ fn each_stroke_kind_at_the_time_limit_runs_within_it() {
 
 #[test]
 fn a_mesh_brush_stroke_at_the_time_limit_runs_within_it() {
-    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _one = crate::serial();
     let base = [create(1.0, 0.03)];
     let log = log_with(&base);
     let m = geodesic_sphere(0.3, 16);
@@ -258,7 +254,7 @@ fn a_mesh_brush_stroke_at_the_time_limit_runs_within_it() {
 
 #[test]
 fn a_base_mesh_at_the_time_limit_is_built_within_it() {
-    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _one = crate::serial();
     // The finest sphere under 0.9 of the limit (edge lengths in 2% steps).
     let mut edge = 0.0005;
     let ok = |e: f64| {
@@ -286,7 +282,7 @@ fn a_base_mesh_at_the_time_limit_is_built_within_it() {
 /// once, with a message whose estimate is above its limit.
 #[test]
 fn the_600_sample_stroke_is_refused_at_once() {
-    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _one = crate::serial();
     let base = [create(1.0, 0.06)];
     let s = settings(BrushShape::Sphere { radius: 0.7 }, 0.7, Warp::Drag, 0.0027);
     let op = stroke(&s, circle(600, 0.1, 0.6), false);
@@ -305,7 +301,7 @@ fn the_600_sample_stroke_is_refused_at_once() {
 /// and back either runs within the limit or is refused at once.
 #[test]
 fn a_mirrored_stroke_with_a_glitched_rotation_is_bounded() {
-    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _one = crate::serial();
     let base = [create(1.0, 0.06)];
     let s = settings(BrushShape::Sphere { radius: 0.7 }, 0.7, Warp::Drag, 0.05);
     let mut samples = circle(60, 0.3, 0.8);
@@ -331,7 +327,7 @@ fn a_mirrored_stroke_with_a_glitched_rotation_is_bounded() {
 #[test]
 #[ignore]
 fn calibrate() {
-    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _one = crate::serial();
     println!("case\tfaces\tgrid\tunits\tframes\testimate\tcpu\twall\test_tris\tfaces_after");
     let row = |name: &str, log: &mut OpLog, s: SculptStroke| {
         let ObjectKind::SculptMesh(m) = &log.document().get(ObjectId(1)).unwrap().kind else {

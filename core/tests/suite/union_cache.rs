@@ -3,7 +3,7 @@
 //! bit for bit the one a fresh full recompute gives, through edits of one
 //! part of a multi-part assembly, undo and redo.
 
-mod common;
+use crate::common;
 
 use shapewright::assembly::{
     union_mesh, union_mesh_cached, CacheStats, GcEditPart, PartEdit, UnionCache,

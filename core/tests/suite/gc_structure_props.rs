@@ -39,7 +39,7 @@
 //! minute in CI) those of the topology tests; `GC_TOPOLOGY_FULL=1` meshes
 //! those at the examples' own resolution (slower).
 
-mod gc_props;
+use crate::gc_props;
 
 use std::collections::BTreeMap;
 use std::sync::OnceLock;

@@ -8,12 +8,10 @@
 //! every profile; the core's own share (meshing) runs at `opt-level = 1`
 //! here, so a run may take [`BUILD_FACTOR`] times the release build's.
 //! `calibrate` (ignored; `cargo test --release -p shapewright --test
-//! gc_time -- --ignored --nocapture calibrate`) prints the estimate and
+//! timed gc_time::calibrate -- --ignored --nocapture`) prints the estimate and
 //! the measured time of the edits the constants come from.
 
-mod common;
-
-use std::sync::Mutex;
+use crate::common;
 
 use common::timed;
 use shapewright::budget::OverBudget;
@@ -25,9 +23,6 @@ use shapewright::math::fm::DetMath as _;
 /// How much slower this build runs a GC op than the release build the
 /// constants are for.
 const BUILD_FACTOR: f64 = if cfg!(debug_assertions) { 1.5 } else { 1.0 };
-
-/// Timing tests run one at a time (CPU time is the process's).
-static SERIAL: Mutex<()> = Mutex::new(());
 
 fn ops(name: &str) -> Vec<serde_json::Value> {
     common::data(name)
@@ -115,7 +110,7 @@ fn resolution_under(limit: f64) -> u32 {
 /// and 1000 × 1000 to 20 s, both accepted.
 #[test]
 fn an_edit_at_the_time_limit_runs_within_it() {
-    let _serial = SERIAL.lock().unwrap();
+    let _serial = crate::serial();
     let r = resolution_under(MAX_SECONDS);
     let (mut log, add, est) = body_and_handle_estimate(r);
     let (res, cpu, wall) = timed(|| log.apply(add));
@@ -137,7 +132,7 @@ fn an_edit_at_the_time_limit_runs_within_it() {
 /// estimate over the limit, and leaves the document as it was.
 #[test]
 fn an_edit_over_the_time_limit_is_refused_at_once() {
-    let _serial = SERIAL.lock().unwrap();
+    let _serial = crate::serial();
     let r = resolution_under(MAX_SECONDS) + 8;
     let (mut log, add, est) = body_and_handle_estimate(r);
     assert!(est > MAX_SECONDS);
@@ -168,7 +163,7 @@ fn an_edit_over_the_time_limit_is_refused_at_once() {
 /// for too much.
 #[test]
 fn many_long_point_profiles_are_refused_at_once() {
-    let _serial = SERIAL.lock().unwrap();
+    let _serial = crate::serial();
     let mut gc = mug_body(96);
     let n = 4096;
     gc["sections"] = (0..64)
@@ -194,7 +189,7 @@ fn many_long_point_profiles_are_refused_at_once() {
 /// Every example the project ships is far under the limit.
 #[test]
 fn the_examples_are_far_under_the_limit() {
-    let _serial = SERIAL.lock().unwrap();
+    let _serial = crate::serial();
     for name in [
         "mug.jsonl",
         "teapot.jsonl",
@@ -229,7 +224,7 @@ fn the_examples_are_far_under_the_limit() {
 #[test]
 #[ignore]
 fn calibrate() {
-    let _serial = SERIAL.lock().unwrap();
+    let _serial = crate::serial();
     for r in [256u32, 512, 724] {
         let mut log = OpLog::new();
         let create = op(&mug_body(r));

@@ -7,9 +7,7 @@
 //! The estimate's constant is for the release build; this build runs the
 //! core at `opt-level = 1`, measured at most [`BUILD_FACTOR`] times slower.
 
-mod common;
-
-use std::sync::Mutex;
+use crate::common;
 
 use common::timed;
 use shapewright::budget::OverBudget;
@@ -19,9 +17,6 @@ use shapewright::math::DVec3;
 use shapewright::styling::budget::{CURVE_TOOL_SECONDS, MAX_SECONDS};
 use shapewright::styling::tools::{CurveSession, SmoothParams};
 use shapewright::styling::{fit_curve, FitMode, StylingError};
-
-/// Timing tests run one at a time (CPU time is the process's).
-static SERIAL: Mutex<()> = Mutex::new(());
 
 /// How much slower this build runs a held curve tool than release.
 const BUILD_FACTOR: f64 = if cfg!(debug_assertions) { 3.0 } else { 1.0 };
@@ -66,13 +61,13 @@ fn a_held_curve_tool_at_the_time_limit_runs_within_it() {
 }
 
 #[test]
-#[ignore = "the whole limit: cargo test --release -p shapewright --test styling_time -- --ignored"]
+#[ignore = "the whole limit: cargo test --release -p shapewright --test timed styling_time:: -- --ignored"]
 fn a_held_curve_tool_at_the_whole_time_limit_runs_within_it() {
     run_at(0.95);
 }
 
 fn run_at(share: f64) {
-    let _serial = SERIAL.lock().unwrap();
+    let _serial = crate::serial();
     let mut s = session(200);
     let frames = frames_at(&s, share);
     let est = frames as f64 * 3.0 * s.curve.n() as f64 * CURVE_TOOL_SECONDS;
@@ -97,7 +92,7 @@ fn run_at(share: f64) {
 /// naming its estimate over the limit, and leaves the curve as it was.
 #[test]
 fn a_held_curve_tool_over_the_time_limit_is_refused_at_once() {
-    let _serial = SERIAL.lock().unwrap();
+    let _serial = crate::serial();
     let mut s = session(2048);
     let before = s.curve.clone();
     let (r, cpu, _) = timed(|| s.smooth(&params(), &path(800)));

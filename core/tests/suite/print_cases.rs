@@ -20,7 +20,7 @@ use shapewright::mesh::{
 use shapewright::print::{ClosedSurfaces, PrintError, PrintSettings, Printable, Treatment};
 use shapewright::solid::SolidShape;
 
-mod common;
+use crate::common;
 use common::{crossing_sculpt, data, run};
 
 /// Writes the printable mesh as STL, reads it back and checks it with both

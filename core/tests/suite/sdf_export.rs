@@ -4,7 +4,7 @@
 //! is; before, the queue was silently left out (a cup whose update was
 //! never pressed exported as nothing).
 
-mod common;
+use crate::common;
 
 use common::{data, run};
 use shapewright::doc::print_document;

@@ -5,9 +5,8 @@
 //! counted memory only and only after the grid was built, so such a queue
 //! was fused in full (a chain of fused copies was refused after 47 s).
 
-mod common;
+use crate::common;
 
-use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use common::run;
@@ -18,9 +17,6 @@ use shapewright::sdf::SdfError;
 fn op(json: &str) -> Op {
     serde_json::from_str(json).unwrap_or_else(|e| panic!("{json}: {e}"))
 }
-
-/// Timing tests run one at a time (CPU time is the process's).
-static SERIAL: Mutex<()> = Mutex::new(());
 
 /// Six spheres 5 m across queued side by side in a 1 cm volume: each is
 /// accepted alone (estimated 2.3 s, 117 MiB), together they are within
@@ -38,7 +34,7 @@ fn six_spheres() -> String {
 
 #[test]
 fn an_update_over_the_time_limit_is_refused_at_once() {
-    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _one = crate::serial();
     let mut log = run(&six_spheres());
     let before = log.document().content_hash();
     let t0 = Instant::now();
@@ -73,7 +69,7 @@ fn an_update_over_the_time_limit_is_refused_at_once() {
 fn an_export_of_a_queue_over_the_time_limit_is_refused_naming_the_volume() {
     use shapewright::doc::print_document;
     use shapewright::print::{PrintError, PrintSettings};
-    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _one = crate::serial();
     let mut script = six_spheres();
     let first = script.find('\n').unwrap() + 1;
     script.insert_str(
@@ -179,7 +175,7 @@ fn check_chain(ran: &[Ran]) {
 /// Six copies (up to 64 cups; a few seconds): within their estimates.
 #[test]
 fn a_chain_of_fused_copies_runs_within_its_estimates() {
-    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _one = crate::serial();
     let (ran, refused) = chain_of_copies(6);
     assert!(refused.is_none(), "{refused:?}");
     check_chain(&ran);
@@ -188,9 +184,9 @@ fn a_chain_of_fused_copies_runs_within_its_estimates() {
 /// The whole chain, to the refusal (23 s): every accepted op within the
 /// time limit and its estimate, and the refusal at once.
 #[test]
-#[ignore = "23 s: cargo test -p shapewright --test sdf_budget -- --ignored --nocapture"]
+#[ignore = "23 s: cargo test -p shapewright --test timed sdf_budget:: -- --ignored --nocapture"]
 fn a_chain_of_fused_copies_is_refused_at_once_when_over_the_limit() {
-    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let _one = crate::serial();
     let (ran, refused) = chain_of_copies(20);
     check_chain(&ran);
     for r in &ran {

@@ -22,7 +22,7 @@ use shapewright::print::{
     MAX_WALL_THICKNESS, MIN_WALL_THICKNESS,
 };
 
-mod common;
+use crate::common;
 use common::{crossing_sculpt, data, run};
 
 fn op(json: &str) -> Op {
