@@ -110,7 +110,7 @@ class Lane(threading.Thread):
                     partial = partial.decode(errors="replace")
                 code, out = "timeout", partial + f"\n(stopped after {TIMEOUT_SECONDS} s)\n"
             took = time.monotonic() - start
-            label = f"{b['name']} ({b['kind']})"
+            label = f"{os.path.basename(b['dir'])}/{b['name']} ({b['kind']})"
             summary = [line for line in out.splitlines() if line.startswith("test result:")]
             with self.lock:
                 if code != 0:

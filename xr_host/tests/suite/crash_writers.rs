@@ -166,7 +166,7 @@ fn every_writer_survives_kill_9_at_random_moments() {
         let (mut mid_write, mut max_version) = (0, 0);
         for run in 0..runs {
             let child = testkit::Writer::spawn(
-                "crash_child_writer",
+                "crash_writers::crash_child_writer",
                 ENV,
                 format!("{format}:{}", target.display()),
             );

@@ -13,7 +13,7 @@
 //! Plus the property that every document reachable by ops saves and
 //! reloads to the same content hash.
 
-mod common;
+use crate::common;
 
 use shapewright::math::fm::DetMath as _;
 use std::path::{Path, PathBuf};

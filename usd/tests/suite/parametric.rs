@@ -2,7 +2,7 @@
 //! styling patches, the prims of every GC and curve-network example, and
 //! the load-time cross-check.
 
-mod common;
+use crate::common;
 
 use shapewright::doc::ObjectKind;
 use shapewright::math::fm::DetMath as _;

@@ -8,7 +8,7 @@
 //! the file must hold n or n + 1 ops (the op in flight when the process
 //! died may or may not have landed), exactly the ops the child applied.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -76,7 +76,7 @@ fn killed_writer_never_loses_acknowledged_ops() {
         if run % 4 == run % 8 {
             let _ = std::fs::remove_file(&path);
         }
-        let child = testkit::Writer::spawn("crash_child_writer", ENV, &path);
+        let child = testkit::Writer::spawn("crash::crash_child_writer", ENV, &path);
         // One run in eight is killed during start-up (before or during the
         // first save); the others once the first save was acknowledged,
         // after a random 0-100 ms, which lands between saves and in the

@@ -1,7 +1,7 @@
 //! Document -> USD -> document: same ops, same cursor, bit-identical meshes;
 //! undo/redo after reopening; versions; geometry/log disagreement.
 
-mod common;
+use crate::common;
 
 use openusd::sdf::{self, AbstractData, Value};
 use shapewright::doc::OpLog;

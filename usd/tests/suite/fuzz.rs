@@ -10,7 +10,7 @@
 //! machine, a case that took over 20 s and could not be shown);
 //! `FUZZ_SEED=N` explores others.
 
-mod common;
+use crate::common;
 
 use std::cell::Cell;
 use std::sync::{mpsc, Arc, Mutex};
