@@ -16,6 +16,13 @@ cargo runs it (in its package's directory, with its manifest dir set),
 then runs the doc tests with cargo. Every binary's time is printed, and a
 failing binary's whole output; the exit status is 1 if any failed.
 
+An integration-test binary whose tests are in modules (a crate's
+`tests/suite`, one module per subject) runs one subject at a time, each
+its own process with its own time and timeout, as when each subject was a
+binary: folded into one binary the core's subjects ran past the timeout
+beside CI's cold background builds (1,200 s, 2026-12-02), and a slow run
+should say which subject was slow.
+
 Tests that measure time measure their own process's CPU time
 (`core/tests/common`), so a binary beside them does not change what they
 assert; the waiting lane's binaries share nothing with the others (each
@@ -80,6 +87,31 @@ def test_binaries(cargo_args: list[str]) -> list[dict]:
     return bins
 
 
+def subjects(b: dict) -> list[dict]:
+    """`b` as one run per top-level module of its tests (by exact names),
+    or as itself when its tests are not in modules."""
+    if b["kind"] != "test":
+        return [b]
+    listing = subprocess.run(
+        [b["exe"], "--list", "--format", "terse"],
+        cwd=b["dir"],
+        env=dict(os.environ, CARGO_MANIFEST_DIR=b["dir"]),
+        stdout=subprocess.PIPE,
+        text=True,
+        check=True,
+    ).stdout
+    groups: dict[str, list[str]] = {}
+    for line in listing.splitlines():
+        name, sep, kind = line.rpartition(": ")
+        if sep and kind == "test":
+            groups.setdefault(name.split("::")[0] if "::" in name else "", []).append(name)
+    if len(groups) < 2 or "" in groups:
+        return [b]
+    return [
+        dict(b, subject=module, args=["--exact", *names]) for module, names in sorted(groups.items())
+    ]
+
+
 class Lane(threading.Thread):
     def __init__(self, name: str, bins: list[dict], lock: threading.Lock, nice: int):
         super().__init__(name=name)
@@ -94,7 +126,7 @@ class Lane(threading.Thread):
             start = time.monotonic()
             try:
                 p = subprocess.run(
-                    ["nice", "-n", str(self.nice), b["exe"], "-q"],
+                    ["nice", "-n", str(self.nice), b["exe"], "-q", *b.get("args", [])],
                     cwd=b["dir"],
                     env=env,
                     stdout=subprocess.PIPE,
@@ -110,7 +142,8 @@ class Lane(threading.Thread):
                     partial = partial.decode(errors="replace")
                 code, out = "timeout", partial + f"\n(stopped after {TIMEOUT_SECONDS} s)\n"
             took = time.monotonic() - start
-            label = f"{os.path.basename(b['dir'])}/{b['name']} ({b['kind']})"
+            subject = f"::{b['subject']}" if "subject" in b else ""
+            label = f"{os.path.basename(b['dir'])}/{b['name']}{subject} ({b['kind']})"
             summary = [line for line in out.splitlines() if line.startswith("test result:")]
             with self.lock:
                 if code != 0:
@@ -140,7 +173,7 @@ def main() -> int:
     if missing:
         print(f"test_lanes: no test target named {sorted(missing)}", file=sys.stderr)
         return 2
-    rest = [b for b in bins if b not in waits]
+    rest = [s for b in bins if b not in waits for s in subjects(b)]
     lock = threading.Lock()
     lanes = [Lane("compute", rest, lock, 10), Lane("waiting", waits, lock, 0)]
     t1 = time.monotonic()
