@@ -54,35 +54,39 @@ fn settings(brush: BrushShape, influence: f64, warp: Warp, max_edge_rel: f64) ->
     }
 }
 
-/// `n` samples on a circle of radius `ring` at height `z` around the
-/// sphere's axis, the brush turning slowly.
-fn circle(n: usize, ring: f64, z: f64) -> Vec<StrokeSample> {
+/// `n` samples on half a circle, sample `i` at the angle `a` =
+/// π·i/n placed by `place(a)` (position, brush rotation).
+fn half_circle(n: usize, place: impl Fn(f64) -> ([f64; 3], DQuat)) -> Vec<StrokeSample> {
     (0..n)
         .map(|i| {
-            let a = std::f64::consts::TAU * i as f64 / n.max(1) as f64 * 0.5;
+            let (position, rotation) =
+                place(std::f64::consts::TAU * i as f64 / n.max(1) as f64 * 0.5);
             StrokeSample {
-                position: [ring * a.fcos(), ring * a.fsin(), z],
-                rotation: DQuat::from_rotation_z(0.3 * a).to_array(),
+                position,
+                rotation: rotation.to_array(),
                 pressure: 1.0,
             }
         })
         .collect()
 }
 
+/// `n` samples on a circle of radius `ring` at height `z` around the
+/// sphere's axis, the brush turning slowly.
+fn circle(n: usize, ring: f64, z: f64) -> Vec<StrokeSample> {
+    half_circle(n, |a| {
+        let p = [ring * a.fcos(), ring * a.fsin(), z];
+        (p, DQuat::from_rotation_z(0.3 * a))
+    })
+}
+
 /// `n` samples on half a circle of radius `ring` around the X axis at
 /// `x`: a path that stays on the +X side, so its mirror image in the
 /// X = 0 plane stays on the other (the two brushes never meet).
 fn circle_around_x(n: usize, ring: f64, x: f64) -> Vec<StrokeSample> {
-    (0..n)
-        .map(|i| {
-            let a = std::f64::consts::TAU * i as f64 / n.max(1) as f64 * 0.5;
-            StrokeSample {
-                position: [x, ring * a.fcos(), ring * a.fsin()],
-                rotation: DQuat::from_rotation_x(0.3 * a).to_array(),
-                pressure: 1.0,
-            }
-        })
-        .collect()
+    half_circle(n, |a| {
+        let p = [x, ring * a.fcos(), ring * a.fsin()];
+        (p, DQuat::from_rotation_x(0.3 * a))
+    })
 }
 
 fn stroke(settings: &StrokeSettings, samples: Vec<StrokeSample>, mirror: bool) -> SculptStroke {
@@ -154,8 +158,8 @@ fn run_at_limit(name: &str, mut log: OpLog, op: Op, estimated: f64) -> f64 {
     // already smooth (measured 5.5x pessimistic, 2026-11-29; 8.9x in the
     // release build once the fold guard tested each pair of triangles
     // once, 2026-11-30). A mirrored stroke whose mirror image retraces
-    // its own path (a half circle around the mirror plane's normal's
-    // perpendicular axis) is charged both brushes in full, but the second
+    // its own path (a half circle around Z, which the X = 0 plane maps
+    // onto itself, walked back) is charged both brushes in full, but the second
     // refines what the first already refined: up to twice the plain
     // pessimism (measured 4.35x once in a loaded full run, 2026-12-01).
     let pessimism = if name.starts_with("whittle") {
