@@ -13,7 +13,7 @@ use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc::{channel, Receiver};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// The number of kills a crash test makes: `CRASH_RUNS`, or `default`.
 pub fn runs(default: usize) -> usize {
@@ -91,6 +91,26 @@ impl Writer {
     /// none came.
     pub fn first_ack(&self, timeout: Duration) -> Option<usize> {
         self.acks.recv_timeout(timeout).ok()
+    }
+
+    /// Waits up to `timeout` for an acknowledgement of at least `n`
+    /// writes; returns it, or `None` when none came in time (the child
+    /// stopped or is slower than that).
+    ///
+    /// A kill timed from a count the child reached, rather than from its
+    /// start, lands mid-session however slow the machine: a kill delay
+    /// of fixed milliseconds from the first acknowledgement landed before
+    /// the next write returned in most runs of a loaded CI machine.
+    pub fn ack_at_least(&self, n: usize, timeout: Duration) -> Option<usize> {
+        let deadline = Instant::now() + timeout;
+        loop {
+            let left = deadline.checked_duration_since(Instant::now())?;
+            match self.acks.recv_timeout(left) {
+                Ok(k) if k >= n => return Some(k),
+                Ok(_) => continue,
+                Err(_) => return None,
+            }
+        }
     }
 
     /// Kills the child (SIGKILL; `TerminateProcess` on Windows) and
