@@ -79,18 +79,10 @@ trap summary EXIT
 
 stage "cargo fmt"
 cargo fmt --all -- --check
-stage "cargo clippy"
-cargo clippy --workspace --all-targets -q -- -D warnings
-# The API docs' links resolve (issue 36): a renamed item breaks the build
-# here, not a reader's click.
-stage "cargo doc"
-RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps -q
-# xr: Monado, the real OpenXR runtime xr_host/tests/monado.rs runs the host
-# against (built once into target/monado, cached with the target; then a
-# one-second check).
-stage "monado"
-SHAPEWRIGHT_MONADO_MANIFEST="$(bash scripts/monado.sh)"
-export SHAPEWRIGHT_MONADO_MANIFEST
+# The background builds start before clippy: a cold clippy, doc and Monado
+# build leave a core idle part of the time too. A CI run of 2026-12-02 on
+# a slow machine (its cold clippy took 599 s, 225 s here) spent most of
+# its 85 minutes compiling; the Windows build ended 10 minutes before it.
 # The fuzz targets (a sanitizer-coverage build of the core, in their own
 # target dir) build in the background at low priority while the tests run:
 # test binaries, pytest and wine leave a core idle much of the time, and
@@ -106,6 +98,18 @@ bg macos "$(mktemp)" env SHAPEWRIGHT_ADDON_LINK_CHECK=macos-arm64 SHAPEWRIGHT_AD
 # it is compared with; its own target dir, target/windows: a cross build in
 # the common one holds target/debug's lock, and the foreground waited).
 bg windows "$(mktemp)" bash scripts/build_windows.sh
+stage "cargo clippy"
+cargo clippy --workspace --all-targets -q -- -D warnings
+# The API docs' links resolve (issue 36): a renamed item breaks the build
+# here, not a reader's click.
+stage "cargo doc"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps -q
+# xr: Monado, the real OpenXR runtime xr_host/tests/monado.rs runs the host
+# against (built once into target/monado, cached with the target; then a
+# one-second check).
+stage "monado"
+SHAPEWRIGHT_MONADO_MANIFEST="$(bash scripts/monado.sh)"
+export SHAPEWRIGHT_MONADO_MANIFEST
 # The test binaries that mostly wait (the Monado sessions paced by the
 # runtime's frames, the NATS servers' timeouts) run beside the others:
 # `cargo test --workspace` in two lanes (scripts/test_lanes.py says which
