@@ -42,11 +42,23 @@ stage() {
 # Background builds: `bg NAME LOG CMD...` runs CMD at low priority in its own
 # process group and ends LOG with its time; `wait_bg NAME` waits for it (the
 # wait is a stage time of its own in the summary) and shows LOG on failure.
+# Low priority means the session's autogroup too: setsid makes a session,
+# and with autogroups (Debian's kernels, sched_autogroup_enabled=1) the
+# scheduler shares the CPU between sessions equally whatever their
+# processes' nice values, so three builds at nice 10 held three quarters of
+# the machine and the foreground's build and tests a quarter (seen in
+# /proc/PID/autogroup, 2026-12-02). `bg --even` keeps a session's share
+# equal to the foreground's: the wine tests, which time their writers.
 declare -A bg_pid bg_log
 bg() {
+  local group_nice=10
+  [ "$1" = --even ] && { group_nice=0; shift; }
   local name=$1 log=$2
   shift 2
-  setsid nice -n 10 bash -c 's=$SECONDS; "$@"; rc=$?; echo "bg $0: $((SECONDS - s)) s, exit $rc"; exit $rc' \
+  # The kernel takes one unprivileged autogroup change per 100 ms.
+  setsid nice -n 10 bash -c 'for _ in 1 2 3 4 5; do [ -e /proc/self/autogroup ] || break
+      echo "'$group_nice'" 2>/dev/null >/proc/self/autogroup && break; sleep 0.2; done
+    s=$SECONDS; "$@"; rc=$?; echo "bg $0: $((SECONDS - s)) s, exit $rc"; exit $rc' \
     "$name" "$@" >"$log" 2>&1 &
   bg_pid[$name]=$!
   bg_log[$name]=$log
@@ -126,10 +138,10 @@ stage "ruff"
 # were 90 s of CI's time one after the other); their build step waits on
 # cargo's lock for the background Windows build.
 if [ "${CI:-}" = "true" ]; then
-  bg wine "$(mktemp)" env SHAPEWRIGHT_ANDROID_CHECK=0 bash scripts/test_windows.sh \
+  bg --even wine "$(mktemp)" env SHAPEWRIGHT_ANDROID_CHECK=0 bash scripts/test_windows.sh \
     -k "not scripts_apply and not traces_replay or mug"
 else
-  bg wine "$(mktemp)" bash scripts/test_windows.sh
+  bg --even wine "$(mktemp)" bash scripts/test_windows.sh
 fi
 stage "pytest"
 host="${CARGO_TARGET_DIR:-$root/target}/debug/shapewright-xr"
