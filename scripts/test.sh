@@ -92,9 +92,8 @@ trap summary EXIT
 stage "cargo fmt"
 cargo fmt --all -- --check
 # The background builds start before clippy: a cold clippy, doc and Monado
-# build leave a core idle part of the time too. A CI run of 2026-12-02 on
-# a slow machine (its cold clippy took 599 s, 225 s here) spent most of
-# its 85 minutes compiling; the Windows build ended 10 minutes before it.
+# build leave a core idle part of the time too (at low priority, above,
+# they take only what the foreground leaves).
 # The fuzz targets (a sanitizer-coverage build of the core, in their own
 # target dir) build in the background at low priority while the tests run:
 # test binaries, pytest and wine leave a core idle much of the time, and
