@@ -73,15 +73,34 @@ fn deep_nesting_imports_in_near_linear_time_with_transforms_composed() {
     let big = write(&dir, "n2000.usda", &nested(2000));
     // Warm up (first stage open pays one-time costs).
     import_secs(&small);
-    let (t_small, z_small) = import_secs(&small);
-    let (t_big, z_big) = import_secs(&big);
+    // The small file is timed as 16 imports in a row, so both timings are
+    // about as long (a quarter second here) and a machine that shares the
+    // CPU stretches both alike: one import of it took 8 ms, and beside
+    // other tests the one big import took twice its quiet time (32.8x the
+    // small one in a full run, 2026-12-02). The best of three rounds of
+    // each is kept.
+    const REPEAT: usize = 16;
+    let (mut t_small, mut t_big) = (f64::INFINITY, f64::INFINITY);
+    let (mut z_small, mut z_big) = (0.0, 0.0);
+    for _ in 0..3 {
+        let mut batch = 0.0;
+        for _ in 0..REPEAT {
+            let (t, z) = import_secs(&small);
+            batch += t;
+            z_small = z;
+        }
+        t_small = t_small.min(batch / REPEAT as f64);
+        let (t, z) = import_secs(&big);
+        t_big = t_big.min(t);
+        z_big = z;
+    }
     // Every level's translation is applied once.
     assert!((z_small - 0.5).abs() < 1e-9, "{z_small}");
     assert!((z_big - 2.0).abs() < 1e-9, "{z_big}");
     // 4x the depth: linear work is 4x; the old cubic walk was 64x (and took
     // over a minute at 2,000). Path strings grow with the depth, so allow
     // up to quadratic (16x) and some noise on a loaded machine.
-    let ratio = t_big / t_small.max(1e-3);
+    let ratio = t_big / t_small.max(1e-4);
     eprintln!("import: 500 nested {t_small:.3} s, 2000 nested {t_big:.3} s, ratio {ratio:.1}");
     assert!(
         ratio < 24.0,
