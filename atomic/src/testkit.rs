@@ -90,7 +90,7 @@ impl Writer {
     /// Waits up to `timeout` for the first acknowledgement; `None` when
     /// none came.
     pub fn first_ack(&self, timeout: Duration) -> Option<usize> {
-        self.acks.recv_timeout(timeout).ok()
+        self.ack_at_least(0, timeout)
     }
 
     /// Waits up to `timeout` for an acknowledgement of at least `n`
