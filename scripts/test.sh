@@ -49,10 +49,17 @@ stage() {
 # the machine and the foreground's build and tests a quarter (seen in
 # /proc/PID/autogroup, 2026-12-02). `bg --even` keeps a session's share
 # equal to the foreground's: the wine tests, which time their writers.
+# `bg --later` gives a build needed only after the Windows build (the macOS
+# wheel, the fuzz targets) a third of the Windows build's share (autogroup
+# nice 15 against 10): in a cold run with the shares equal, the foreground
+# reached the Windows stage at 2,312 s and waited 939 s for that build and
+# the wine tests after it, while the fuzz and macOS builds, needed last,
+# had finished at 2,680 and 2,168 s (2026-12-02).
 declare -A bg_pid bg_log
 bg() {
   local group_nice=10
   [ "$1" = --even ] && { group_nice=0; shift; }
+  [ "$1" = --later ] && { group_nice=15; shift; }
   local name=$1 log=$2
   shift 2
   # The kernel takes one unprivileged autogroup change per 100 ms.
@@ -98,12 +105,12 @@ cargo fmt --all -- --check
 # target dir) build in the background at low priority while the tests run:
 # test binaries, pytest and wine leave a core idle much of the time, and
 # this build was 7 of CI's 71 minutes when it ran alone.
-bg fuzz "$(mktemp)" env SW_FUZZ_BUILD_ONLY=1 bash scripts/fuzz.sh
+bg --later fuzz "$(mktemp)" env SW_FUZZ_BUILD_ONLY=1 bash scripts/fuzz.sh
 # The same for the macOS wheel the extension stage checks (a zig cross
 # build in the link-check profile, 3.5 min cold; its own target dirs, so no
 # cargo lock is shared with the foreground).
 mac_wheels="$(mktemp -d)"
-bg macos "$(mktemp)" env SHAPEWRIGHT_ADDON_LINK_CHECK=macos-arm64 SHAPEWRIGHT_ADDON_WHEELS_ONLY="$mac_wheels" \
+bg --later macos "$(mktemp)" env SHAPEWRIGHT_ADDON_LINK_CHECK=macos-arm64 SHAPEWRIGHT_ADDON_WHEELS_ONLY="$mac_wheels" \
   bash scripts/build_addon.sh macos-arm64
 # And the Windows host the wine stage runs (dev profile, as the Linux host
 # it is compared with; its own target dir, target/windows: a cross build in
