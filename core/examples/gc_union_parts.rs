@@ -23,9 +23,17 @@
 //! of threads (`core/src/mesh/union_tree.rs`). Allocator: mimalloc, the
 //! hosts'.
 //!
+//! Also timed, per rep (issue 37's floor of a GC commit): one *step*, the
+//! last part added to the union of all the others, which is what an edit
+//! commit does at the least when the rest of the union is kept whole: the
+//! part imported, one boolean with the kept rest, the result exported.
+//! The rest is united and imported before the timer (a commit finds it in
+//! its cache). The peer times the same step on the same arrays.
+//!
 //! Prints one JSON line: median and 25th–75th percentiles in ms, parts,
 //! input and output triangles, and whether the result is closed and its
-//! genus.
+//! genus; the step's quartiles, its added part's and its output's
+//! triangles.
 //!
 //! `cargo run --release -p shapewright --example gc_union_parts -- SCRIPT OUT_DIR RUNS`
 
@@ -36,7 +44,9 @@ static ALLOC: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 use shapewright::doc::{parse_script, run_script, ObjectId, ObjectKind, OpLog};
 use shapewright::gc::mesh_gc;
-use shapewright::mesh::{f64_le_bytes, u32_le_bytes, union, validate, write_stl, TriMesh};
+use shapewright::mesh::{
+    f64_le_bytes, u32_le_bytes, union, validate, write_stl, TriMesh, UnionOperand,
+};
 
 /// Median, 25th and 75th percentiles (nearest rank) of sorted values.
 fn quartiles(sorted: &[f64]) -> [f64; 3] {
@@ -79,16 +89,36 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     times.sort_by(f64::total_cmp);
     let [med, p25, p75] = quartiles(&times);
+    // The step: the last part added to the kept union of the others.
+    let (last, others) = refs.split_last().ok_or("no parts")?;
+    let kept = UnionOperand::import_group(&[(0, &union(others)?)])
+        .map_err(|(_, e)| e)?
+        .ok_or("the other parts are empty")?;
+    let mut step = Vec::new();
+    let mut stepped = TriMesh::default();
+    for _ in 0..runs.max(1) + 1 {
+        let t = Instant::now();
+        let part = UnionOperand::import_group(&[(others.len(), last)])
+            .map_err(|(_, e)| e)?
+            .ok_or("the last part is empty")?;
+        stepped = kept.union(&part).to_mesh()?;
+        step.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    step.remove(0); // warm-up
+    step.sort_by(f64::total_cmp);
+    let [s50, s25, s75] = quartiles(&step);
     let r = validate(&out, &Default::default());
     println!(
-        "{{\"parts\": {}, \"input_triangles\": {}, \"output_triangles\": {}, \"ms\": [{med:.4}, {p25:.4}, {p75:.4}], \"runs\": {}, \"threads\": {}, \"closed\": {}, \"genus\": {}}}",
+        "{{\"parts\": {}, \"input_triangles\": {}, \"output_triangles\": {}, \"ms\": [{med:.4}, {p25:.4}, {p75:.4}], \"runs\": {}, \"threads\": {}, \"closed\": {}, \"genus\": {}, \"step_ms\": [{s50:.4}, {s25:.4}, {s75:.4}], \"step_part_triangles\": {}, \"step_output_triangles\": {}}}",
         parts.len(),
         parts.iter().map(|m| m.triangles.len()).sum::<usize>(),
         out.triangles.len(),
         times.len(),
         rayon::current_num_threads(),
         r.is_closed(),
-        r.genus.unwrap_or(-1)
+        r.genus.unwrap_or(-1),
+        last.triangles.len(),
+        stepped.triangles.len(),
     );
     Ok(())
 }

@@ -11,7 +11,10 @@ Rows (what each measures is in the module that makes it):
   every cell" floor, fast-surface-nets and scikit-image (sdf.py);
 - assembly union, teapot, chair and the 30-part shelf, vs manifold3d with the same threads
   (import + union + export timed on both sides) and with its default
-  threads (scripts/bench/gc_union.py);
+  threads (scripts/bench/gc_union.py); and the *step* on the same parts,
+  the last part added to the kept union of the others (one part import,
+  one boolean, the export), the least a GC edit commit does: no goal of
+  its own, the floor under the commit's (same file);
 - styling per-frame solve vs SciPy SuperLU, curve and surface systems
   (scripts/bench/styling.py; the SuperLU-SPD ratio in the note);
 - goals without a peer: sculpt bench stroke at 2M and 5M vertices, p99
