@@ -127,6 +127,27 @@ def _pin(cpus: int):
     return f
 
 
+def pair_row(
+    workload: str, key: str, ours: dict, p: dict, same: bool, goal: str, note: str, load: tuple
+) -> dict:
+    """One row of run_all.py: our `key` timings against the peer's, both on
+    one CPU (`same`) or on every CPU."""
+    return {
+        "workload": workload + ("" if same else ", every CPU on both sides"),
+        "unit": "ms",
+        "ours": ours[key],
+        "ours_threads": ours["threads"],
+        "peer": "manifold3d " + ("1 CPU" if same else f"{p['cpus']} CPUs"),
+        "peer_value": p[key],
+        "peer_threads": p["cpus"],
+        "ratio": ours[key][0] / p[key][0],
+        "goal": goal,
+        "note": note,
+        "load_before": load[0],
+        "load_after": load[1],
+    }
+
+
 def run(reps: int = 7, bin_path: str | None = None) -> list[dict]:
     """Both sides on the teapot, the chair and the shelf; rows for run_all.py."""
     if bin_path is None:
@@ -160,57 +181,48 @@ def run(reps: int = 7, bin_path: str | None = None) -> list[dict]:
                     subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
                 )
             load_after = os.getloadavg()
-        for label, p in peers.items():
+        # The union rows, then the step rows, each on one CPU and on every CPU.
+        for step, (label, p) in [(s, lp) for s in (False, True) for lp in peers.items()]:
             same = label == "same"
             ours = ours_on[label]
+            load = (load_before, load_after)
+            pinned = "; both pinned to 1 CPU" if same else f"; ours on {ours['threads']} threads"
+            if not step:
+                rows.append(
+                    pair_row(
+                        f"union {name} ({ours['parts']} parts, {ours['input_triangles']} tris)",
+                        "ms",
+                        ours,
+                        p,
+                        same,
+                        # Issue 37: no slower at one CPU each, nor when both may
+                        # use every core.
+                        "<= 1.0x",
+                        f"out: ours {ours['output_triangles']} tris genus {ours['genus']} closed {ours['closed']}, "
+                        f"manifold3d {p['output_triangles']} tris genus {p['genus']} (process threads: {p['threads']})"
+                        + pinned,
+                        load,
+                    )
+                )
+                continue
             rows.append(
-                {
-                    "workload": f"union {name} ({ours['parts']} parts, {ours['input_triangles']} tris)"
-                    + ("" if same else ", every CPU on both sides"),
-                    "unit": "ms",
-                    "ours": ours["ms"],
-                    "ours_threads": ours["threads"],
-                    "peer": "manifold3d " + ("1 CPU" if same else f"{p['cpus']} CPUs"),
-                    "peer_value": p["ms"],
-                    "peer_threads": p["cpus"],
-                    "ratio": ours["ms"][0] / p["ms"][0],
-                    # Issue 37: no slower at one CPU each, nor when both may
-                    # use every core.
-                    "goal": "<= 1.0x",
-                    "note": f"out: ours {ours['output_triangles']} tris genus {ours['genus']} closed {ours['closed']}, "
-                    f"manifold3d {p['output_triangles']} tris genus {p['genus']} (process threads: {p['threads']})"
-                    + ("; both pinned to 1 CPU" if same else f"; ours on {ours['threads']} threads"),
-                    "load_before": load_before,
-                    "load_after": load_after,
-                }
-            )
-        for label, p in peers.items():
-            same = label == "same"
-            ours = ours_on[label]
-            rows.append(
-                {
-                    "workload": f"union step {name}: part {ours['parts']} added to the other {ours['parts'] - 1} "
-                    f"({ours['step_part_triangles']} tris to {ours['step_output_triangles']})"
-                    + ("" if same else ", every CPU on both sides"),
-                    "unit": "ms",
-                    "ours": ours["step_ms"],
-                    "ours_threads": ours["threads"],
-                    "peer": "manifold3d " + ("1 CPU" if same else f"{p['cpus']} CPUs"),
-                    "peer_value": p["step_ms"],
-                    "peer_threads": p["cpus"],
-                    "ratio": ours["step_ms"][0] / p["step_ms"][0],
+                pair_row(
+                    f"union step {name}: part {ours['parts']} added to the other {ours['parts'] - 1} "
+                    f"({ours['step_part_triangles']} tris to {ours['step_output_triangles']})",
+                    "step_ms",
+                    ours,
+                    p,
+                    same,
                     # No goal of its own: the least a GC commit does when the
                     # rest of the union is kept whole (issue 37's goal for a
                     # commit is < 30 ms).
-                    "goal": "",
-                    "note": f"floor of a GC commit (goal < 30 ms): manifold3d's step alone is "
+                    "",
+                    f"floor of a GC commit (goal < 30 ms): manifold3d's step alone is "
                     f"{p['step_ms'][0] / 30.0:.1f}x that goal; part import + 1 boolean + export timed, the rest "
                     f"kept whole; out: ours {ours['step_output_triangles']} tris, manifold3d "
-                    f"{p['step_output_triangles']} tris"
-                    + ("; both pinned to 1 CPU" if same else f"; ours on {ours['threads']} threads"),
-                    "load_before": load_before,
-                    "load_after": load_after,
-                }
+                    f"{p['step_output_triangles']} tris" + pinned,
+                    load,
+                )
             )
     return rows
 
