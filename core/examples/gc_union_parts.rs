@@ -33,7 +33,8 @@
 //! Prints one JSON line: median and 25th–75th percentiles in ms, parts,
 //! input and output triangles, and whether the result is closed and its
 //! genus; the step's quartiles, its added part's and its output's
-//! triangles.
+//! triangles; and every rep's time of both (`all_ms`, `step_all_ms`), which
+//! `scripts/bench/gc_union.py` pools over its rounds.
 //!
 //! `cargo run --release -p shapewright --example gc_union_parts -- SCRIPT OUT_DIR RUNS`
 
@@ -109,14 +110,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let [s50, s25, s75] = quartiles(&step);
     let r = validate(&out, &Default::default());
     println!(
-        "{{\"parts\": {}, \"input_triangles\": {}, \"output_triangles\": {}, \"ms\": [{med:.4}, {p25:.4}, {p75:.4}], \"runs\": {}, \"threads\": {}, \"closed\": {}, \"genus\": {}, \"step_ms\": [{s50:.4}, {s25:.4}, {s75:.4}], \"step_part_triangles\": {}, \"step_output_triangles\": {}}}",
+        "{{\"parts\": {}, \"input_triangles\": {}, \"output_triangles\": {}, \"ms\": [{med:.4}, {p25:.4}, {p75:.4}], \"all_ms\": {:?}, \"runs\": {}, \"threads\": {}, \"closed\": {}, \"genus\": {}, \"step_ms\": [{s50:.4}, {s25:.4}, {s75:.4}], \"step_all_ms\": {:?}, \"step_part_triangles\": {}, \"step_output_triangles\": {}}}",
         parts.len(),
         parts.iter().map(|m| m.triangles.len()).sum::<usize>(),
         out.triangles.len(),
+        times,
         times.len(),
         rayon::current_num_threads(),
         r.is_closed(),
         r.genus.unwrap_or(-1),
+        step,
         last.triangles.len(),
         stepped.triangles.len(),
     );

@@ -21,6 +21,12 @@ side first):
   and its position and triangle arrays as NumPy arrays).
 Not timed on either side: meshing the parts, reading the files.
 
+The two sides take turns in 3 rounds per row (ours, the peer, ours, ...),
+each process timing a third of the reps after its own untimed warm-up
+rep; each side's reps are pooled for its median and spread. On a machine
+whose speed drifts over minutes (this one's did by 1.3x within an hour,
+2026-12-02), a ratio then compares times taken in the same minutes.
+
 The *step* rows time the least a GC edit commit does once the rest of the
 union is kept (issue 37): the last part added to the union of all the
 others, which each side unites and imports before its timer. Timed: the
@@ -53,6 +59,10 @@ ROOT = Path(__file__).resolve().parents[2]
 # Name -> script under tests/data (the shelf is the 30-part assembly of
 # issue 37, kept out of the folder the slicer, USD and Windows tests read).
 WORKLOADS = {"teapot": "teapot.jsonl", "chair": "chair.jsonl", "shelf": "bench/shelf.jsonl"}
+
+
+# Rounds in which both sides take turns (see run()).
+ROUNDS = 3
 
 
 def spread(ts: list[float]) -> list[float]:
@@ -111,8 +121,10 @@ def peer(d: str, reps: int, cpus: int | None) -> dict:
     threads = int(next(ln.split()[1] for ln in open("/proc/self/status") if ln.startswith("Threads:")))
     return {
         "step_ms": spread(step[1:]),
+        "step_all_ms": step[1:],
         "step_output_triangles": len(stepped),
         "ms": spread(times),
+        "all_ms": times,
         "output_triangles": len(tris),
         "genus": u.genus(),
         "threads": threads,
@@ -163,23 +175,34 @@ def run(reps: int = 7, bin_path: str | None = None) -> list[dict]:
         with tempfile.TemporaryDirectory(prefix="gc_union_") as d:
             load_before = os.getloadavg()
             script = str(ROOT / "tests" / "data" / file)
-            ours_on = {}
+            # Both sides alternate in rounds (ours, then the peer, ROUNDS
+            # times, each process timing its share of the reps), so that a
+            # machine whose speed drifts over minutes slows both alike; each
+            # side's reps are pooled over its rounds.
+            per_round = max(1, -(-reps // ROUNDS))
+            ours_on, peers = {}, {}
             for label, cpus in (("same", 1), ("default", None)):
-                ours_on[label] = json.loads(
-                    subprocess.run(
-                        [bin_path, script, d, str(reps)],
-                        check=True,
-                        capture_output=True,
-                        text=True,
-                        preexec_fn=_pin(cpus) if cpus else None,
-                    ).stdout
-                )
-            peers = {}
-            for label, cpus in (("same", 1), ("default", None)):
-                cmd = [sys.executable, __file__, "--peer", d, str(reps)] + ([str(cpus)] if cpus else [])
-                peers[label] = json.loads(
-                    subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
-                )
+                for _ in range(ROUNDS):
+                    ours = json.loads(
+                        subprocess.run(
+                            [bin_path, script, d, str(per_round)],
+                            check=True,
+                            capture_output=True,
+                            text=True,
+                            preexec_fn=_pin(cpus) if cpus else None,
+                        ).stdout
+                    )
+                    cmd = [sys.executable, __file__, "--peer", d, str(per_round)] + (
+                        [str(cpus)] if cpus else []
+                    )
+                    p = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
+                    for side, new in ((ours_on, ours), (peers, p)):
+                        old = side.get(label)
+                        if old:
+                            for key in ("all_ms", "step_all_ms"):
+                                new[key] = old[key] + new[key]
+                        new["ms"], new["step_ms"] = spread(new["all_ms"]), spread(new["step_all_ms"])
+                        side[label] = new
             load_after = os.getloadavg()
         # The union rows, then the step rows, each on one CPU and on every CPU.
         for step, (label, p) in [(s, lp) for s in (False, True) for lp in peers.items()]:
