@@ -154,10 +154,56 @@ def pair_row(
         "peer_threads": p["cpus"],
         "ratio": ours[key][0] / p[key][0],
         "goal": goal,
-        "note": note,
+        "note": note + ("; both pinned to 1 CPU" if same else f"; ours on {ours['threads']} threads"),
         "load_before": load[0],
         "load_after": load[1],
     }
+
+
+def union_row(name: str, ours: dict, p: dict, same: bool, load: tuple) -> dict:
+    """The whole union of the parts."""
+    return pair_row(
+        f"union {name} ({ours['parts']} parts, {ours['input_triangles']} tris)",
+        "ms",
+        ours,
+        p,
+        same,
+        # Issue 37: no slower at one CPU each, nor when both may use every core.
+        "<= 1.0x",
+        f"out: ours {ours['output_triangles']} tris genus {ours['genus']} closed {ours['closed']}, "
+        f"manifold3d {p['output_triangles']} tris genus {p['genus']} (process threads: {p['threads']})",
+        load,
+    )
+
+
+def step_row(name: str, ours: dict, p: dict, same: bool, load: tuple) -> dict:
+    """The step: the last part added to the kept union of the others."""
+    return pair_row(
+        f"union step {name}: part {ours['parts']} added to the other {ours['parts'] - 1} "
+        f"({ours['step_part_triangles']} tris to {ours['step_output_triangles']})",
+        "step_ms",
+        ours,
+        p,
+        same,
+        # No goal of its own: the least a GC commit does when the rest of the
+        # union is kept whole (issue 37's goal for a commit is < 30 ms).
+        "",
+        f"floor of a GC commit (goal < 30 ms): manifold3d's step alone is "
+        f"{p['step_ms'][0] / 30.0:.1f}x that goal; part import + 1 boolean + export timed, the rest "
+        f"kept whole; out: ours {ours['step_output_triangles']} tris, manifold3d "
+        f"{p['step_output_triangles']} tris",
+        load,
+    )
+
+
+def pooled(before: dict | None, new: dict) -> dict:
+    """`new` (one process's output) with the reps of `before` (the same
+    side's earlier rounds) added, and its spreads taken over all of them."""
+    if before:
+        for key in ("all_ms", "step_all_ms"):
+            new[key] = before[key] + new[key]
+    new["ms"], new["step_ms"] = spread(new["all_ms"]), spread(new["step_all_ms"])
+    return new
 
 
 def run(reps: int = 7, bin_path: str | None = None) -> list[dict]:
@@ -196,57 +242,13 @@ def run(reps: int = 7, bin_path: str | None = None) -> list[dict]:
                         [str(cpus)] if cpus else []
                     )
                     p = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
-                    for side, new in ((ours_on, ours), (peers, p)):
-                        old = side.get(label)
-                        if old:
-                            for key in ("all_ms", "step_all_ms"):
-                                new[key] = old[key] + new[key]
-                        new["ms"], new["step_ms"] = spread(new["all_ms"]), spread(new["step_all_ms"])
-                        side[label] = new
-            load_after = os.getloadavg()
+                    ours_on[label] = pooled(ours_on.get(label), ours)
+                    peers[label] = pooled(peers.get(label), p)
+            load = (load_before, os.getloadavg())
         # The union rows, then the step rows, each on one CPU and on every CPU.
-        for step, (label, p) in [(s, lp) for s in (False, True) for lp in peers.items()]:
-            same = label == "same"
-            ours = ours_on[label]
-            load = (load_before, load_after)
-            pinned = "; both pinned to 1 CPU" if same else f"; ours on {ours['threads']} threads"
-            if not step:
-                rows.append(
-                    pair_row(
-                        f"union {name} ({ours['parts']} parts, {ours['input_triangles']} tris)",
-                        "ms",
-                        ours,
-                        p,
-                        same,
-                        # Issue 37: no slower at one CPU each, nor when both may
-                        # use every core.
-                        "<= 1.0x",
-                        f"out: ours {ours['output_triangles']} tris genus {ours['genus']} closed {ours['closed']}, "
-                        f"manifold3d {p['output_triangles']} tris genus {p['genus']} (process threads: {p['threads']})"
-                        + pinned,
-                        load,
-                    )
-                )
-                continue
-            rows.append(
-                pair_row(
-                    f"union step {name}: part {ours['parts']} added to the other {ours['parts'] - 1} "
-                    f"({ours['step_part_triangles']} tris to {ours['step_output_triangles']})",
-                    "step_ms",
-                    ours,
-                    p,
-                    same,
-                    # No goal of its own: the least a GC commit does when the
-                    # rest of the union is kept whole (issue 37's goal for a
-                    # commit is < 30 ms).
-                    "",
-                    f"floor of a GC commit (goal < 30 ms): manifold3d's step alone is "
-                    f"{p['step_ms'][0] / 30.0:.1f}x that goal; part import + 1 boolean + export timed, the rest "
-                    f"kept whole; out: ours {ours['step_output_triangles']} tris, manifold3d "
-                    f"{p['step_output_triangles']} tris" + pinned,
-                    load,
-                )
-            )
+        for make in (union_row, step_row):
+            for label, p in peers.items():
+                rows.append(make(name, ours_on[label], p, label == "same", load))
     return rows
 
 
