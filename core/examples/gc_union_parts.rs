@@ -12,7 +12,7 @@
 //! a `MeshGL64` per part and `Manifold::from_mesh_gl64` (Manifold's own
 //! merge and manifold check), status checked; (2) the batch union;
 //! (3) the export back to a `TriMesh` (positions, triangles, per-triangle
-//! sources, and vertex normals, which the peer does not compute). Not
+//! sources; no vertex normals, as on the peer's side). Not
 //! timed: meshing the parts (the peer gets them as files). One untimed
 //! warm-up rep first, as the peer does.
 //!

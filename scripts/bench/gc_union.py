@@ -13,8 +13,8 @@ side first):
 - ours (`shapewright::mesh::union`): import of every part (index and
   coordinate checks, `MeshGL64`, `Manifold::from_mesh_gl64` with Manifold's
   merge and manifold check, status checked), the batch union, export back
-  to a `TriMesh` (positions, triangles, per-triangle sources, and vertex
-  normals, which the peer does not compute);
+  to a `TriMesh` (positions, triangles, per-triangle sources; no vertex
+  normals since issue 37's last change, as on the peer's side);
 - peer: import of every part (`Mesh64` from the position array and the
   triangle array widened to u64, `Manifold(mesh)`, status checked), the
   batch union (`Manifold.batch_boolean(..., Add)`), export (`to_mesh64()`

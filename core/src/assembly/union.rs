@@ -305,7 +305,6 @@ fn collapse_slivers(mesh: TriMesh) -> (TriMesh, bool) {
     let mut flipped = mesh.clone();
     if flip_caps(&mut flipped, area_tol) {
         if clean(&flipped) {
-            flipped.compute_normals();
             return (flipped, true);
         }
         if let Some(out) = collapse_short_edges(&flipped, area_tol) {
@@ -369,7 +368,6 @@ fn collapse_short_edges(mesh: &TriMesh, area_tol: f64) -> Option<TriMesh> {
             }
         }
     }
-    out.compute_normals();
     clean(&out).then_some(out)
 }
 

@@ -124,18 +124,29 @@ impl MeshFormat {
     }
 
     /// Writes `mesh` in this format, naming its parts (3MF) by the objects
-    /// their triangles come from.
+    /// their triangles come from. OBJ and PLY carry vertex normals: the
+    /// mesh's own, or computed here ([`TriMesh::compute_normals`]) when it
+    /// has none (a boolean's result, a moved mesh).
     pub fn write_named(
         self,
         mesh: &TriMesh,
         names: &PartNames,
         w: &mut impl Write,
     ) -> std::io::Result<()> {
+        let with_normals = || {
+            if mesh.normals.len() == mesh.positions.len() {
+                std::borrow::Cow::Borrowed(mesh)
+            } else {
+                let mut m = mesh.clone();
+                m.compute_normals();
+                std::borrow::Cow::Owned(m)
+            }
+        };
         match self {
             Self::Stl => write_stl(mesh, w),
             Self::ThreeMf => write_3mf(mesh, names, w),
-            Self::Obj => write_obj(mesh, w),
-            Self::Ply => write_ply(mesh, w),
+            Self::Obj => write_obj(&with_normals(), w),
+            Self::Ply => write_ply(&with_normals(), w),
         }
     }
 
@@ -147,5 +158,58 @@ impl MeshFormat {
             Self::Obj => read_obj(bytes),
             Self::Ply => read_ply(bytes),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solid::{tessellate, SolidShape};
+
+    /// A union's result has no vertex normals; its OBJ and PLY files still
+    /// carry one per vertex, the angle-weighted ones, while STL (facet
+    /// normals from the corners) is unchanged.
+    #[test]
+    fn obj_and_ply_of_a_union_carry_its_vertex_normals() {
+        let ball = |x: f64, id: u32| {
+            let mut m = tessellate(&SolidShape::Sphere { radius: 0.02 }, 24).expect("sphere");
+            m.transform(&glam::DAffine3::from_translation(glam::DVec3::new(
+                x, 0.0, 0.0,
+            )));
+            m.set_source(id);
+            m
+        };
+        let (a, b) = (ball(0.0, 1), ball(0.025, 2));
+        let u = crate::mesh::union(&[&a, &b]).expect("union");
+        assert!(u.normals.is_empty(), "the union computes no normals");
+        let mut want = u.clone();
+        want.compute_normals();
+
+        let mut obj = Vec::new();
+        MeshFormat::Obj.write(&u, &mut obj).unwrap();
+        let obj = String::from_utf8(obj).unwrap();
+        let vn: Vec<[f64; 3]> = obj
+            .lines()
+            .filter_map(|l| l.strip_prefix("vn "))
+            .map(|l| {
+                let x: Vec<f64> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+                [x[0], x[1], x[2]]
+            })
+            .collect();
+        assert_eq!(vn, want.normals, "OBJ: one exact vn per vertex");
+        assert!(obj.lines().any(|l| l.starts_with("f ") && l.contains("//")));
+
+        let mut ply = Vec::new();
+        MeshFormat::Ply.write(&u, &mut ply).unwrap();
+        let head = String::from_utf8_lossy(&ply[..ply.len().min(400)]).into_owned();
+        assert!(
+            head.contains("property float nx"),
+            "PLY has normals: {head}"
+        );
+
+        let (mut stl_u, mut stl_w) = (Vec::new(), Vec::new());
+        MeshFormat::Stl.write(&u, &mut stl_u).unwrap();
+        MeshFormat::Stl.write(&want, &mut stl_w).unwrap();
+        assert_eq!(stl_u, stl_w);
     }
 }

@@ -414,7 +414,6 @@ pub fn rotated(mut m: TriMesh, q: [f64; 4]) -> TriMesh {
 pub fn union(parts: &[TriMesh]) -> TriMesh {
     let refs: Vec<&TriMesh> = parts.iter().collect();
     let mut m = crate::mesh::union(&refs).expect("library parts are closed");
-    m.normals.clear();
     m.tri_source.clear();
     m
 }
@@ -423,7 +422,6 @@ pub fn union(parts: &[TriMesh]) -> TriMesh {
 pub fn difference(a: &TriMesh, cutters: &[TriMesh]) -> TriMesh {
     let refs: Vec<&TriMesh> = cutters.iter().collect();
     let mut m = crate::mesh::difference(a, &refs).expect("library parts are closed");
-    m.normals.clear();
     m.tri_source.clear();
     m
 }
