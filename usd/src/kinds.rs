@@ -81,19 +81,12 @@ pub fn points_f32(mesh: &TriMesh) -> Vec<gf::Vec3f> {
 /// are instead of subdividing them.
 pub fn mesh_prim(name: &str, mesh: &TriMesh) -> PrimOut {
     let points = points_f32(mesh);
-    let normals: Vec<gf::Vec3f> = if mesh.normals.len() == mesh.positions.len() {
-        mesh.normals
-            .iter()
-            .map(|n| gf::vec3f(n[0] as f32, n[1] as f32, n[2] as f32))
-            .collect()
-    } else {
-        let mut m = mesh.clone();
-        m.compute_normals();
-        m.normals
-            .iter()
-            .map(|n| gf::vec3f(n[0] as f32, n[1] as f32, n[2] as f32))
-            .collect()
-    };
+    let normals: Vec<gf::Vec3f> = mesh
+        .with_normals()
+        .normals
+        .iter()
+        .map(|n| gf::vec3f(n[0] as f32, n[1] as f32, n[2] as f32))
+        .collect();
     let indices: Vec<i32> = mesh
         .triangles
         .iter()

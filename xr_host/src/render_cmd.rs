@@ -11,9 +11,7 @@ use crate::cmd::read_mesh;
 /// Renders `file` to `png` at `width`×`height`.
 pub fn render(file: &Path, png: &Path, width: u32, height: u32) -> Result<()> {
     let mut mesh = read_mesh(file)?;
-    if mesh.normals.len() != mesh.positions.len() {
-        mesh.compute_normals();
-    }
+    mesh.ensure_normals();
     let settings = RenderSettings {
         width,
         height,

@@ -300,9 +300,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         let model = match &args.model {
             Some(p) => {
                 let mut m = crate::cmd::read_mesh(p)?;
-                if m.normals.len() != m.positions.len() {
-                    m.compute_normals();
-                }
+                m.ensure_normals();
                 Some(m)
             }
             None => None,

@@ -21,10 +21,12 @@
 //! `GetMeshGL64` carries none: every caller that draws or writes them
 //! computes its own ([`TriMesh::compute_normals`]): the headset host over
 //! the whole drawn document, the renderer from faces where they are
-//! missing, the OBJ and PLY writers ([`super::MeshFormat::write_named`]);
-//! Blender, the slicer formats and the USD history never read them. The
+//! missing, the OBJ and PLY writers ([`super::MeshFormat::write_named`])
+//! and the USD writer (`shapewright-usd`'s mesh prims), each the same
+//! bits as before; Blender and the slicer formats never read them. The
 //! export used to compute them on every union (three `acos` per
-//! triangle, 15% of one boolean step in issue 37's profile) for no reader.
+//! triangle, 15% of one boolean step in issue 37's profile), for readers
+//! that recomputed them or had none.
 
 use std::sync::Arc;
 

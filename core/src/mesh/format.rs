@@ -125,28 +125,19 @@ impl MeshFormat {
 
     /// Writes `mesh` in this format, naming its parts (3MF) by the objects
     /// their triangles come from. OBJ and PLY carry vertex normals: the
-    /// mesh's own, or computed here ([`TriMesh::compute_normals`]) when it
-    /// has none (a boolean's result, a moved mesh).
+    /// mesh's own, or computed when it has none ([`TriMesh::with_normals`]:
+    /// a boolean's result, a moved mesh).
     pub fn write_named(
         self,
         mesh: &TriMesh,
         names: &PartNames,
         w: &mut impl Write,
     ) -> std::io::Result<()> {
-        let with_normals = || {
-            if mesh.normals.len() == mesh.positions.len() {
-                std::borrow::Cow::Borrowed(mesh)
-            } else {
-                let mut m = mesh.clone();
-                m.compute_normals();
-                std::borrow::Cow::Owned(m)
-            }
-        };
         match self {
             Self::Stl => write_stl(mesh, w),
             Self::ThreeMf => write_3mf(mesh, names, w),
-            Self::Obj => write_obj(&with_normals(), w),
-            Self::Ply => write_ply(&with_normals(), w),
+            Self::Obj => write_obj(&mesh.with_normals(), w),
+            Self::Ply => write_ply(&mesh.with_normals(), w),
         }
     }
 

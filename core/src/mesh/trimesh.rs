@@ -120,6 +120,28 @@ impl TriMesh {
             .collect();
     }
 
+    /// `self` with per-vertex normals: borrowed when it has one per vertex,
+    /// else a copy with [`Self::compute_normals`] run. What the writers
+    /// that carry normals (OBJ, PLY, USD) take: a boolean's result has
+    /// none ([`super::union`]).
+    pub fn with_normals(&self) -> std::borrow::Cow<'_, TriMesh> {
+        if self.normals.len() == self.positions.len() {
+            std::borrow::Cow::Borrowed(self)
+        } else {
+            let mut m = self.clone();
+            m.compute_normals();
+            std::borrow::Cow::Owned(m)
+        }
+    }
+
+    /// Runs [`Self::compute_normals`] when the mesh has not one normal per
+    /// vertex (a renderer's smooth shading needs them).
+    pub fn ensure_normals(&mut self) {
+        if self.normals.len() != self.positions.len() {
+            self.compute_normals();
+        }
+    }
+
     /// Applies an affine transform to positions (and normals, by the inverse
     /// transpose). A transform with negative determinant flips the triangle
     /// winding so that the mesh stays outward-facing.
