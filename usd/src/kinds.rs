@@ -82,8 +82,7 @@ pub fn points_f32(mesh: &TriMesh) -> Vec<gf::Vec3f> {
 pub fn mesh_prim(name: &str, mesh: &TriMesh) -> PrimOut {
     let points = points_f32(mesh);
     let normals: Vec<gf::Vec3f> = mesh
-        .with_normals()
-        .normals
+        .normals_or_computed()
         .iter()
         .map(|n| gf::vec3f(n[0] as f32, n[1] as f32, n[2] as f32))
         .collect();

@@ -96,6 +96,12 @@ impl TriMesh {
     /// vertex in triangle order, as a sequential loop sums them: the same
     /// bits on any number of threads.
     pub fn compute_normals(&mut self) {
+        self.normals = self.vertex_normals();
+    }
+
+    /// The normals [`Self::compute_normals`] would set, without setting
+    /// them.
+    pub fn vertex_normals(&self) -> Vec<[f64; 3]> {
         use rayon::prelude::*;
         const BLOCK: usize = 8192;
         let mut acc = vec![DVec3::ZERO; self.positions.len()];
@@ -114,23 +120,34 @@ impl TriMesh {
                 }
             }
         }
-        self.normals = acc
-            .into_iter()
+        acc.into_iter()
             .map(|n| n.try_normalize().unwrap_or(DVec3::Z).to_array())
-            .collect();
+            .collect()
     }
 
-    /// `self` with per-vertex normals: borrowed when it has one per vertex,
-    /// else a copy with [`Self::compute_normals`] run. What the writers
-    /// that carry normals (OBJ, PLY, USD) take: a boolean's result has
-    /// none ([`super::union`]).
-    pub fn with_normals(&self) -> std::borrow::Cow<'_, TriMesh> {
+    /// The mesh's own normals when it has one per vertex, else
+    /// [`Self::vertex_normals`]: what a writer that only needs the normals
+    /// (USD) takes, without copying the mesh.
+    pub fn normals_or_computed(&self) -> std::borrow::Cow<'_, [[f64; 3]]> {
         if self.normals.len() == self.positions.len() {
-            std::borrow::Cow::Borrowed(self)
+            std::borrow::Cow::Borrowed(&self.normals)
         } else {
-            let mut m = self.clone();
-            m.compute_normals();
-            std::borrow::Cow::Owned(m)
+            std::borrow::Cow::Owned(self.vertex_normals())
+        }
+    }
+
+    /// `self` with per-vertex normals ([`Self::normals_or_computed`]):
+    /// borrowed when it has them, else a copy with them. What the OBJ and
+    /// PLY writers take: a boolean's result has none ([`super::union`]).
+    pub fn with_normals(&self) -> std::borrow::Cow<'_, TriMesh> {
+        match self.normals_or_computed() {
+            std::borrow::Cow::Borrowed(_) => std::borrow::Cow::Borrowed(self),
+            std::borrow::Cow::Owned(normals) => std::borrow::Cow::Owned(TriMesh {
+                positions: self.positions.clone(),
+                normals,
+                triangles: self.triangles.clone(),
+                tri_source: self.tri_source.clone(),
+            }),
         }
     }
 
@@ -246,6 +263,24 @@ pub fn u32_le_bytes<'a>(xs: impl IntoIterator<Item = &'a u32>) -> Vec<u8> {
 mod tests {
     use super::*;
     use crate::solid::{tessellate, SolidShape};
+
+    /// A mesh with normals lends them; one without gets exactly the
+    /// normals `compute_normals` sets, and `with_normals` copies nothing
+    /// else but them.
+    #[test]
+    fn normals_or_computed_borrows_or_computes_the_same_bits() {
+        let mut m = tessellate(&SolidShape::Sphere { radius: 1.0 }, 16).expect("sphere");
+        m.normals.clear();
+        let got = m.normals_or_computed().into_owned();
+        let w = m.with_normals().into_owned();
+        m.compute_normals();
+        assert!(!got.is_empty() && got == m.normals && w == m);
+        assert!(matches!(
+            m.normals_or_computed(),
+            std::borrow::Cow::Borrowed(n) if std::ptr::eq(n, m.normals.as_slice())
+        ));
+        assert!(matches!(m.with_normals(), std::borrow::Cow::Borrowed(b) if std::ptr::eq(b, &m)));
+    }
 
     /// The sequential loop the parallel one replaced.
     fn normals_sequential(m: &TriMesh) -> Vec<[f64; 3]> {
