@@ -14,8 +14,8 @@ use shapewright::mesh::TriMesh;
 use shapewright_usd::Autosaver;
 
 use super::commit::{
-    commit_loop, document_mesh, lock, lock_status, people_of, with_normals, Committed, Job,
-    LogGuard, ModelBox, Person, Shared, Status,
+    commit_loop, document_mesh, lock, lock_status, people_of, with_normals, Committed,
+    DrawnNormals, Job, LogGuard, ModelBox, Person, Shared, Status,
 };
 use super::sink::wrap;
 use crate::gfx::text::Font;
@@ -161,7 +161,7 @@ impl Interaction {
         let doc = log.document().clone();
         let presence = link.as_ref().map(shapewright_net::Link::presence);
         let people = people_of(&log);
-        let drawn = document_mesh(&doc);
+        let drawn = document_mesh(&doc, &mut DrawnNormals::default());
         let scene = Scene {
             version: 1,
             document: drawn.mesh,
@@ -443,7 +443,7 @@ impl Interaction {
                 // The frame thread's document is the log's.
                 let doc = lock(&self.shared).log.document().clone();
                 if doc.content_hash() != self.doc.content_hash() {
-                    let drawn = document_mesh(&doc);
+                    let drawn = document_mesh(&doc, &mut DrawnNormals::default());
                     self.doc = doc;
                     self.scene.document = drawn.mesh;
                     self.scene.document_objects = drawn.objects;

@@ -306,3 +306,60 @@ fn wrapped_messages_fit_the_width() {
     assert_eq!(wrap(&"x".repeat(50), 20).lines().count(), 3);
     assert!(wrap(&"word ".repeat(100), 10).ends_with("..."));
 }
+
+/// The drawn document's normals are those of the whole combined mesh,
+/// bit for bit, while only the objects an edit changed have theirs
+/// computed again (kept normals are reused exactly while an object's mesh
+/// is the same one).
+#[test]
+fn drawn_normals_are_the_whole_documents_computed_per_changed_object() {
+    use shapewright::doc::{parse_script, run_script_with, Document};
+    use shapewright::mesh::TriMesh;
+    let p = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../tests/data/primitives.jsonl"
+    );
+    let lines = parse_script(&std::fs::read_to_string(p).unwrap()).unwrap();
+    let mut log = OpLog::new();
+    run_script_with(&mut log, &lines, |_, _| {}).unwrap();
+    // What the host drew before: every object appended, then the normals
+    // of the whole.
+    let whole = |doc: &Document| {
+        let mut m = TriMesh::default();
+        for (_, o) in doc.objects() {
+            m.append(&o.mesh);
+        }
+        m.compute_normals();
+        m
+    };
+    let same = |drawn: &DrawnDocument, doc: &Document| {
+        let (d, w) = (drawn.mesh.as_ref().unwrap(), whole(doc));
+        assert_eq!(d.positions, w.positions);
+        assert_eq!(d.triangles, w.triangles);
+        assert_eq!(d.normals.len(), w.normals.len());
+        let bits =
+            |n: &[[f64; 3]]| -> Vec<u64> { n.iter().flatten().map(|x| x.to_bits()).collect() };
+        assert!(
+            bits(&d.normals) == bits(&w.normals),
+            "drawn normals differ from the whole mesh's"
+        );
+    };
+    let objects = log.document().len();
+    assert!(objects >= 6);
+    let mut kept = DrawnNormals::default();
+    same(&document_mesh(log.document(), &mut kept), log.document());
+    assert_eq!(kept.computed, objects);
+    // Turning one object changes its mesh (and its normals) only.
+    let edit = r#"{"op":"transform_by","id":1,"transform":{"rotate":[0.0,0.0,0.3826834323650898,0.9238795325112867]}}"#;
+    let edit = parse_script(edit).unwrap();
+    log.apply_command(&edit[0].command).unwrap();
+    same(&document_mesh(log.document(), &mut kept), log.document());
+    assert_eq!(
+        kept.computed,
+        objects + 1,
+        "only the moved object is computed again"
+    );
+    // Unchanged: nothing computed.
+    same(&document_mesh(log.document(), &mut kept), log.document());
+    assert_eq!(kept.computed, objects + 1);
+}
