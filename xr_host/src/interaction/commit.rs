@@ -137,9 +137,10 @@ pub(super) struct DrawnDocument {
     pub(super) objects: Vec<(ObjectId, Range<u32>)>,
 }
 
-/// `doc` as drawn, with smooth normals: each object's from `kept` when its
-/// mesh is the one they were computed for, else computed (and kept for
-/// the next call; objects gone from `doc` are dropped).
+/// `doc` as drawn, with smooth normals: each object's own when its mesh
+/// has one per vertex (as the previews and the `render` command draw it), else
+/// computed, or taken from `kept` when its mesh is the one they were
+/// computed for (objects gone from `doc` are dropped from `kept`).
 pub(super) fn document_mesh(doc: &Document, kept: &mut DrawnNormals) -> DrawnDocument {
     let mut normals = HashMap::with_capacity(doc.len());
     if doc.is_empty() {
@@ -155,6 +156,10 @@ pub(super) fn document_mesh(doc: &Document, kept: &mut DrawnNormals) -> DrawnDoc
         m.normals.clear();
         m.append(&o.mesh);
         objects.push((id, first..m.triangles.len() as u32));
+        if o.mesh.normals.len() == o.mesh.positions.len() {
+            drawn_normals.extend_from_slice(&o.mesh.normals);
+            continue;
+        }
         let n = match kept.by_object.remove(&id) {
             Some((mesh, n)) if Arc::ptr_eq(&mesh, &o.mesh) => n,
             _ => {
@@ -176,17 +181,17 @@ pub(super) fn document_mesh(doc: &Document, kept: &mut DrawnNormals) -> DrawnDoc
 /// An object's mesh and its normals.
 type KeptNormals = (Arc<TriMesh>, Vec<[f64; 3]>);
 
-/// Each object's drawn normals, kept from one [`document_mesh`] to the
-/// next for the objects whose mesh is the same (`Arc`): a commit then
-/// computes the normals of the objects it changed, not of the whole
-/// document (those of a 4M-triangle sphere take 262 ms on the 2-core test
-/// machine: every commit paid that beside a large sculpt, the edit of a
-/// small part included). An object's own vertex normals
-/// are bit for bit its part of the combined mesh's
-/// ([`TriMesh::vertex_normals`] sums a vertex's triangles in order, and
-/// objects share no vertex), so the drawn mesh is the same as computed
-/// whole. Holding an object's mesh keeps its address from being reused
-/// while it is a key.
+/// The normals [`document_mesh`] computed for objects whose mesh has none
+/// (a boolean's result, as a GC assembly's union), kept for the next
+/// call while the object's mesh is the same (`Arc`). Before, every commit
+/// recomputed the normals of the whole combined mesh, those of objects
+/// that carry their own included (a sculpt, a solid, an SDF mesh): 262 ms
+/// for a 4M-triangle sphere on the 2-core test machine, on every stroke
+/// commit of a large sculpt and every edit of a small part beside it.
+/// Computed normals are bit for bit the object's part of the combined
+/// mesh's ([`TriMesh::vertex_normals`] sums a vertex's triangles in
+/// order, and objects share no vertex). Holding an object's mesh keeps
+/// its address from being reused while it is a key.
 #[derive(Default)]
 pub(super) struct DrawnNormals {
     by_object: HashMap<ObjectId, KeptNormals>,
@@ -194,12 +199,16 @@ pub(super) struct DrawnNormals {
     pub(super) computed: usize,
 }
 
-/// `mesh` with normals (for the renderer's smooth shading), computed once
+/// `mesh` with normals (for the renderer's smooth shading): its own when
+/// it has one per vertex (as in the drawn document), else computed once
 /// per mesh: `cache` keeps the last source and its result.
 pub(super) fn with_normals(
     cache: &mut Option<(Arc<TriMesh>, Arc<TriMesh>)>,
     mesh: Arc<TriMesh>,
 ) -> Arc<TriMesh> {
+    if mesh.normals.len() == mesh.positions.len() {
+        return mesh;
+    }
     if let Some((src, out)) = cache {
         if Arc::ptr_eq(src, &mesh) {
             return Arc::clone(out);

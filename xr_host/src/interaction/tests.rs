@@ -307,59 +307,78 @@ fn wrapped_messages_fit_the_width() {
     assert!(wrap(&"word ".repeat(100), 10).ends_with("..."));
 }
 
-/// The drawn document's normals are those of the whole combined mesh,
-/// bit for bit, while only the objects an edit changed have theirs
-/// computed again (kept normals are reused exactly while an object's mesh
-/// is the same one).
+/// The drawn document carries each object's own normals where its mesh
+/// has them, and computed ones, bit for bit those of its part of the
+/// combined mesh, where it has none (a GC assembly's union); only the
+/// objects an edit changed have theirs computed again (kept normals are
+/// reused exactly while an object's mesh is the same one).
 #[test]
-fn drawn_normals_are_the_whole_documents_computed_per_changed_object() {
+fn drawn_normals_are_each_objects_computed_once_per_changed_mesh() {
     use shapewright::doc::{parse_script, run_script_with, Document};
-    use shapewright::mesh::TriMesh;
-    let p = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../tests/data/primitives.jsonl"
-    );
-    let lines = parse_script(&std::fs::read_to_string(p).unwrap()).unwrap();
+    let p = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data/chair.jsonl");
+    let mut text = std::fs::read_to_string(p).unwrap();
+    // Two solids beside the chair (their meshes carry normals).
+    text.push_str(concat!(
+        "\n{\"op\":\"add_solid\",\"shape\":{\"kind\":\"box\",\"size\":[0.3,0.3,0.3]},",
+        "\"transform\":{\"translate\":[1.0,0.0,0.15]}}\n",
+        "{\"op\":\"add_solid\",\"shape\":{\"kind\":\"sphere\",\"radius\":0.17},",
+        "\"transform\":{\"translate\":[1.5,0.0,0.17]}}\n",
+    ));
     let mut log = OpLog::new();
-    run_script_with(&mut log, &lines, |_, _| {}).unwrap();
-    // What the host drew before: every object appended, then the normals
-    // of the whole.
-    let whole = |doc: &Document| {
-        let mut m = TriMesh::default();
+    run_script_with(&mut log, &parse_script(&text).unwrap(), |_, _| {}).unwrap();
+    // Each object's own normals, or those of the whole combined mesh
+    // (what the host drew before) for the ones without.
+    let expected = |doc: &Document| -> Vec<u64> {
+        let mut out = Vec::new();
         for (_, o) in doc.objects() {
-            m.append(&o.mesh);
+            let n = o.mesh.normals_or_computed();
+            out.extend(n.iter().flatten().map(|x| x.to_bits()));
         }
-        m.compute_normals();
-        m
+        out
     };
     let same = |drawn: &DrawnDocument, doc: &Document| {
-        let (d, w) = (drawn.mesh.as_ref().unwrap(), whole(doc));
-        assert_eq!(d.positions, w.positions);
-        assert_eq!(d.triangles, w.triangles);
-        assert_eq!(d.normals.len(), w.normals.len());
-        let bits =
-            |n: &[[f64; 3]]| -> Vec<u64> { n.iter().flatten().map(|x| x.to_bits()).collect() };
+        let d = drawn.mesh.as_ref().unwrap();
+        let bits: Vec<u64> = d.normals.iter().flatten().map(|x| x.to_bits()).collect();
+        assert_eq!(d.normals.len(), d.positions.len());
         assert!(
-            bits(&d.normals) == bits(&w.normals),
-            "drawn normals differ from the whole mesh's"
+            bits == expected(doc),
+            "drawn normals differ from each object's"
         );
     };
-    let objects = log.document().len();
-    assert!(objects >= 6);
+    let bare = |doc: &Document| {
+        doc.objects()
+            .filter(|(_, o)| o.mesh.normals.len() != o.mesh.positions.len())
+            .count()
+    };
+    let doc = log.document();
+    assert!(
+        bare(doc) >= 1 && bare(doc) < doc.len(),
+        "a union without normals and solids with"
+    );
     let mut kept = DrawnNormals::default();
-    same(&document_mesh(log.document(), &mut kept), log.document());
-    assert_eq!(kept.computed, objects);
-    // Turning one object changes its mesh (and its normals) only.
-    let edit = r#"{"op":"transform_by","id":1,"transform":{"rotate":[0.0,0.0,0.3826834323650898,0.9238795325112867]}}"#;
-    let edit = parse_script(edit).unwrap();
-    log.apply_command(&edit[0].command).unwrap();
+    same(&document_mesh(doc, &mut kept), doc);
+    let first = kept.computed;
+    assert_eq!(first, bare(doc));
+    let turn = |log: &mut OpLog, id: u32| {
+        let edit = format!(
+            "{{\"op\":\"transform_by\",\"id\":{id},\"transform\":{{\"rotate\":[0.0,0.0,0.3826834323650898,0.9238795325112867]}}}}"
+        );
+        log.apply_command(&parse_script(&edit).unwrap()[0].command)
+            .unwrap();
+    };
+    // Turning a solid computes nothing: the chair's normals are kept.
+    let solid = log.document().objects().last().map(|(id, _)| id.0).unwrap();
+    turn(&mut log, solid);
     same(&document_mesh(log.document(), &mut kept), log.document());
     assert_eq!(
-        kept.computed,
-        objects + 1,
-        "only the moved object is computed again"
+        kept.computed, first,
+        "an unchanged union's normals are kept"
     );
+    // Turning the chair computes its normals again (and only its).
+    turn(&mut log, 1);
+    same(&document_mesh(log.document(), &mut kept), log.document());
+    assert_eq!(kept.computed, first + 1);
     // Unchanged: nothing computed.
     same(&document_mesh(log.document(), &mut kept), log.document());
-    assert_eq!(kept.computed, objects + 1);
+    assert_eq!(kept.computed, first + 1);
 }
