@@ -138,9 +138,9 @@ pub(super) struct DrawnDocument {
 }
 
 /// `doc` as drawn, with smooth normals: each object's own when its mesh
-/// has one per vertex (as the previews and the `render` command draw it), else
-/// computed, or taken from `kept` when its mesh is the one they were
-/// computed for (objects gone from `doc` are dropped from `kept`).
+/// has one per vertex (as the previews and the `render` command draw
+/// it), else computed, or taken from `kept` when its mesh is the one they
+/// were computed for (objects gone from `doc` are dropped from `kept`).
 pub(super) fn document_mesh(doc: &Document, kept: &mut DrawnNormals) -> DrawnDocument {
     let mut normals = HashMap::with_capacity(doc.len());
     if doc.is_empty() {
@@ -152,7 +152,8 @@ pub(super) fn document_mesh(doc: &Document, kept: &mut DrawnNormals) -> DrawnDoc
     let mut drawn_normals = Vec::new();
     for (id, o) in doc.objects() {
         let first = m.triangles.len() as u32;
-        // (The drawn normals are set below: `append` copies none.)
+        // Cleared, so that `append` skips normals after the first object
+        // (the drawn normals are set below).
         m.normals.clear();
         m.append(&o.mesh);
         objects.push((id, first..m.triangles.len() as u32));
