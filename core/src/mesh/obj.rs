@@ -25,7 +25,7 @@ pub fn write_obj(mesh: &TriMesh, w: &mut impl Write) -> std::io::Result<()> {
     for p in &mesh.positions {
         writeln!(w, "v {} {} {}", p[0], p[1], p[2])?;
     }
-    let with_normals = mesh.normals.len() == mesh.positions.len() && !mesh.normals.is_empty();
+    let with_normals = mesh.has_vertex_normals();
     if with_normals {
         for n in &mesh.normals {
             writeln!(w, "vn {} {} {}", n[0], n[1], n[2])?;

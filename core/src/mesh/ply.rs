@@ -19,7 +19,7 @@ use super::{MeshIoError, TriMesh};
 
 /// Writes `mesh` as binary little-endian PLY.
 pub fn write_ply(mesh: &TriMesh, w: &mut impl Write) -> std::io::Result<()> {
-    let with_normals = mesh.normals.len() == mesh.positions.len() && !mesh.normals.is_empty();
+    let with_normals = mesh.has_vertex_normals();
     let mut head = String::from(
         "ply\nformat binary_little_endian 1.0\ncomment Shapewright\ncomment units: metres (1 unit = 1 m)\n",
     );

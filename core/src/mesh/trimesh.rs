@@ -125,11 +125,18 @@ impl TriMesh {
             .collect()
     }
 
+    /// Whether the mesh carries one normal per vertex (a non-empty mesh:
+    /// a boolean's result has none, see [`super::union`]). What every
+    /// "its own normals, else computed" reader asks.
+    pub fn has_vertex_normals(&self) -> bool {
+        !self.positions.is_empty() && self.normals.len() == self.positions.len()
+    }
+
     /// The mesh's own normals when it has one per vertex, else
     /// [`Self::vertex_normals`]: what a writer that only needs the normals
     /// (USD) takes, without copying the mesh.
     pub fn normals_or_computed(&self) -> std::borrow::Cow<'_, [[f64; 3]]> {
-        if self.normals.len() == self.positions.len() {
+        if self.has_vertex_normals() {
             std::borrow::Cow::Borrowed(&self.normals)
         } else {
             std::borrow::Cow::Owned(self.vertex_normals())
@@ -154,7 +161,7 @@ impl TriMesh {
     /// Runs [`Self::compute_normals`] when the mesh has not one normal per
     /// vertex (a renderer's smooth shading needs them).
     pub fn ensure_normals(&mut self) {
-        if self.normals.len() != self.positions.len() {
+        if !self.has_vertex_normals() {
             self.compute_normals();
         }
     }

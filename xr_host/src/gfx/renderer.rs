@@ -138,7 +138,7 @@ pub struct Renderer {
 /// spheres both shade right. 30° crease threshold.
 fn expand_vertices(mesh: &TriMesh) -> Vec<MeshVertex> {
     let cos_crease = 30f64.to_radians().fcos();
-    let has_normals = mesh.normals.len() == mesh.positions.len();
+    let has_normals = mesh.has_vertex_normals();
     let mut out = Vec::with_capacity(mesh.triangles.len() * 3);
     for t in &mesh.triangles {
         let idx = t.map(|i| i as usize);

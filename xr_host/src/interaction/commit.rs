@@ -147,17 +147,25 @@ pub(super) fn document_mesh(doc: &Document, kept: &mut DrawnNormals) -> DrawnDoc
         kept.by_object = normals;
         return DrawnDocument::default();
     }
-    let mut m = TriMesh::default();
+    let (verts, tris) = doc.objects().fold((0, 0), |(v, t), (_, o)| {
+        (v + o.mesh.positions.len(), t + o.mesh.triangles.len())
+    });
+    let mut m = TriMesh {
+        positions: Vec::with_capacity(verts),
+        triangles: Vec::with_capacity(tris),
+        tri_source: Vec::with_capacity(tris),
+        ..TriMesh::default()
+    };
     let mut objects = Vec::with_capacity(doc.len());
-    let mut drawn_normals = Vec::new();
+    let mut drawn_normals = Vec::with_capacity(verts);
     for (id, o) in doc.objects() {
         let first = m.triangles.len() as u32;
-        // Cleared, so that `append` skips normals after the first object
-        // (the drawn normals are set below).
+        // Cleared, so that `append` copies no normals after the first
+        // object's (the drawn normals are set below).
         m.normals.clear();
         m.append(&o.mesh);
         objects.push((id, first..m.triangles.len() as u32));
-        if o.mesh.normals.len() == o.mesh.positions.len() {
+        if o.mesh.has_vertex_normals() {
             drawn_normals.extend_from_slice(&o.mesh.normals);
             continue;
         }
@@ -207,7 +215,7 @@ pub(super) fn with_normals(
     cache: &mut Option<(Arc<TriMesh>, Arc<TriMesh>)>,
     mesh: Arc<TriMesh>,
 ) -> Arc<TriMesh> {
-    if mesh.normals.len() == mesh.positions.len() {
+    if mesh.has_vertex_normals() {
         return mesh;
     }
     if let Some((src, out)) = cache {
@@ -215,9 +223,7 @@ pub(super) fn with_normals(
             return Arc::clone(out);
         }
     }
-    let mut m = (*mesh).clone();
-    m.compute_normals();
-    let out = Arc::new(m);
+    let out = Arc::new(mesh.with_normals().into_owned());
     *cache = Some((mesh, Arc::clone(&out)));
     out
 }
@@ -267,17 +273,21 @@ pub(super) fn pump_link(s: &mut Shared) -> Option<(Document, Vec<String>)> {
     Some((s.log.document().clone(), messages))
 }
 
+/// The commit thread: applies the frame thread's commands to the log,
+/// pumps a shared session's link and autosaves, and sends each new
+/// document back drawn. `drawn` holds the normals the frame thread
+/// computed for the document it started with.
 pub(super) fn commit_loop(
     shared: Arc<Mutex<Shared>>,
     jobs: Receiver<Job>,
     done: Sender<Committed>,
+    mut drawn: DrawnNormals,
 ) {
     let tick = if lock(&shared).link.is_some() {
         NET_TICK
     } else {
         TICK
     };
-    let mut drawn = DrawnNormals::default();
     #[cfg(test)]
     let mut slow = std::time::Duration::ZERO;
     loop {

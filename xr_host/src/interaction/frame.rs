@@ -161,7 +161,10 @@ impl Interaction {
         let doc = log.document().clone();
         let presence = link.as_ref().map(shapewright_net::Link::presence);
         let people = people_of(&log);
-        let drawn = document_mesh(&doc, &mut DrawnNormals::default());
+        // Kept for the commit thread: a large opened assembly's normals
+        // are not computed again on its first commit.
+        let mut kept = DrawnNormals::default();
+        let drawn = document_mesh(&doc, &mut kept);
         let scene = Scene {
             version: 1,
             document: drawn.mesh,
@@ -183,7 +186,7 @@ impl Interaction {
         let s2 = Arc::clone(&shared);
         let worker = std::thread::Builder::new()
             .name("shapewright-commit".into())
-            .spawn(move || commit_loop(s2, jobs_rx, done_tx))?;
+            .spawn(move || commit_loop(s2, jobs_rx, done_tx, kept))?;
         Ok(Self {
             session,
             doc,

@@ -347,7 +347,7 @@ fn drawn_normals_are_each_objects_computed_once_per_changed_mesh() {
     };
     let bare = |doc: &Document| {
         doc.objects()
-            .filter(|(_, o)| o.mesh.normals.len() != o.mesh.positions.len())
+            .filter(|(_, o)| !o.mesh.has_vertex_normals())
             .count()
     };
     let doc = log.document();
