@@ -150,20 +150,18 @@ pub(super) fn document_mesh(doc: &Document, kept: &mut DrawnNormals) -> DrawnDoc
     let (verts, tris) = doc.objects().fold((0, 0), |(v, t), (_, o)| {
         (v + o.mesh.positions.len(), t + o.mesh.triangles.len())
     });
-    let mut m = TriMesh {
-        positions: Vec::with_capacity(verts),
-        triangles: Vec::with_capacity(tris),
-        tri_source: Vec::with_capacity(tris),
-        ..TriMesh::default()
-    };
+    // Positions and triangles only: the drawn normals are gathered
+    // below, and nothing reads the drawn mesh's sources (objects are
+    // told apart by their triangle ranges). `TriMesh::append` would copy
+    // the first object's normals (into an empty mesh) and every source.
+    let mut m = TriMesh::new(Vec::with_capacity(verts), Vec::with_capacity(tris));
     let mut objects = Vec::with_capacity(doc.len());
     let mut drawn_normals = Vec::with_capacity(verts);
     for (id, o) in doc.objects() {
-        let first = m.triangles.len() as u32;
-        // Cleared, so that `append` copies no normals after the first
-        // object's (the drawn normals are set below).
-        m.normals.clear();
-        m.append(&o.mesh);
+        let (base, first) = (m.positions.len() as u32, m.triangles.len() as u32);
+        m.positions.extend_from_slice(&o.mesh.positions);
+        m.triangles
+            .extend(o.mesh.triangles.iter().map(|t| t.map(|i| i + base)));
         objects.push((id, first..m.triangles.len() as u32));
         if o.mesh.has_vertex_normals() {
             drawn_normals.extend_from_slice(&o.mesh.normals);
